@@ -1,0 +1,31 @@
+#pragma once
+/// \file model.hpp
+/// A simulation's state: grid, particles, materials, boundary conditions, clock.
+
+#include "sparsempm/boundary.hpp"
+#include "sparsempm/grid.hpp"
+#include "sparsempm/material.hpp"
+#include "sparsempm/particles.hpp"
+
+#include <array>
+#include <vector>
+
+namespace smpm {
+
+struct Model {
+  Grid grid;
+  Particles particles;
+  std::vector<Material> materials;
+  BoundaryConditions bcs;
+  std::array<double, 3> body_force{0, 0, 0}; ///< acceleration B (per unit mass), d entries used
+  double time = 0;                            ///< simulated time t
+  long step = 0;                              ///< number of steps taken
+
+  /// A model on `grid` with no particles and no constraints.
+  explicit Model(const Grid& g) : grid(g), bcs(BoundaryConditions::none(g)) {}
+};
+
+/// Δt = C Δx_min / max(c_wave, max_p |V_p|) (FMPM 2026 §3.3). Throws InputError for C ≤ 0.
+double stable_time_step(const Model& model, double courant);
+
+} // namespace smpm

@@ -1,0 +1,54 @@
+#pragma once
+/// \file operators.hpp
+/// The operators of one MPM time step as explicit sparse matrices (FMPM 2026 §2.1):
+///     p = Sᵀ M V,   m = Sᵀ M,   m̃ = Sᵀ M S,   S⁺ = m⁻¹ Sᵀ M,   A = I − S⁺ S = I − m⁻¹ m̃.
+
+#include "sparsempm/grid.hpp"
+#include "sparsempm/particles.hpp"
+#include "sparsempm/shape.hpp"
+
+#include <Eigen/SparseCore>
+#include <array>
+#include <vector>
+
+namespace smpm {
+
+/// n × n (or n × N) sparse matrix, column-major.
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// Relative tolerance of an active node: m_i > kMassTolerance · max_j m_j (Buzzi §4.4 M_TOL).
+inline constexpr double kMassTolerance = 1e-10;
+
+/// Everything a time step needs from the particle configuration, assembled once per step.
+struct Operators {
+  int dim = 1;
+  SparseRowMatrix S;                ///< N × n shape-function weights S_pi
+  std::array<SparseRowMatrix, 3> G; ///< G[a]: N × n gradient weights ∂S_pi/∂x_a (a < d)
+  Eigen::VectorXd M;                ///< N particle masses (the diagonal of 𝗠)
+  Eigen::VectorXd m;                ///< n lumped nodal masses m = Sᵀ M
+  Eigen::Array<bool, Eigen::Dynamic, 1> active; ///< n: m_i > kMassTolerance · max m
+  Eigen::VectorXd m_inv;            ///< n: 1/m_i on active nodes, 0 elsewhere
+  std::vector<ShapeSupport> support; ///< workspace: the pattern of S and G
+  Index num_particles() const { return S.rows(); }
+  Index num_nodes() const { return S.cols(); }
+};
+
+/// Assembles S, G, M, m and the active set for the current configuration, reusing the
+/// sparsity pattern (and all storage) when no particle changed its node box.
+void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops);
+/// Convenience form returning fresh operators.
+Operators assemble(const Grid& grid, const Particles& particles, Shape shape);
+
+/// Indices of the active nodes, ascending.
+Eigen::VectorXi active_nodes(const Operators& ops);
+
+/// Consistent (full) mass matrix m̃ = Sᵀ diag(M) S, n × n, symmetric positive
+/// semidefinite; its row sums are the lumped masses (FMPM 2026 §2.1).
+SparseMatrix consistent_mass(const Operators& ops);
+/// Lumped reverse map S⁺ = m⁻¹ Sᵀ M, n × N; rows of inactive nodes are zero (FMPM 2026 §2.1).
+SparseMatrix S_plus(const Operators& ops);
+/// Expansion matrix A = I − m⁻¹ m̃ = I − S⁺ S (FMPM 2026 Eq. 1), n × n, restricted to the
+/// active nodes: rows and columns of inactive nodes are zero.
+SparseMatrix expansion_matrix(const Operators& ops);
+
+} // namespace smpm

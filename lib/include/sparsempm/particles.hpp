@@ -1,0 +1,44 @@
+#pragma once
+/// \file particles.hpp
+/// Material points as a structure of arrays (one row per particle).
+
+#include "sparsempm/grid.hpp"
+
+#include <Eigen/Core>
+#include <array>
+
+namespace smpm {
+
+/// N material points in dimension d. Tensors are stored one particle per row, the d × d
+/// tensor flattened row-major: column a d + b holds component (a, b).
+struct Particles {
+  int dim = 1;
+  Eigen::MatrixXd X;           ///< N × d positions
+  Eigen::MatrixXd V;           ///< N × d velocities
+  Eigen::MatrixXd F;           ///< N × d² deformation gradients
+  Eigen::MatrixXd stress;      ///< N × d² Cauchy stresses
+  Eigen::VectorXd mass;        ///< N masses M_p
+  Eigen::VectorXd volume0;     ///< N initial volumes V_p^(0)
+  Eigen::VectorXi material;    ///< N material ids (index into the material list)
+  Eigen::MatrixXd half_length; ///< N × d initial half-lengths r⁰ of the particle domain
+
+  Index size() const { return X.rows(); }
+  /// Resizes to N particles of dimension d with F = I and every other field zero.
+  void resize(int d, Index N);
+  /// Current volumes V_p = det(F_p) V_p^(0), one entry per particle.
+  Eigen::VectorXd volume() const;
+  /// det F_p for every particle.
+  Eigen::VectorXd jacobian() const;
+  /// Appends the particles of `other` (same dimension) after the existing ones.
+  void append(const Particles& other);
+};
+
+/// Particles on a regular lattice filling the box [lo, hi]: `ppc[a]` particles per cell
+/// along axis a, each owning an axis-aligned cell fraction (half-length h_a / (2 ppc_a)),
+/// mass = density × volume, F = I, V = 0, stress 0. Throws InputError if the box is
+/// empty, not inside the grid, or ppc < 1.
+Particles make_block(const Grid& grid, const std::array<double, 3>& lo,
+                     const std::array<double, 3>& hi, const std::array<int, 3>& ppc,
+                     double density, int material_id);
+
+} // namespace smpm

@@ -1,0 +1,16 @@
+#pragma once
+/// \file sparsempm.hpp
+/// Umbrella header: MPM operators as explicit sparse matrices.
+
+#include "sparsempm/boundary.hpp"
+#include "sparsempm/diagnostics.hpp"
+#include "sparsempm/errors.hpp"
+#include "sparsempm/grid.hpp"
+#include "sparsempm/material.hpp"
+#include "sparsempm/model.hpp"
+#include "sparsempm/operators.hpp"
+#include "sparsempm/particles.hpp"
+#include "sparsempm/shape.hpp"
+#include "sparsempm/stages.hpp"
+#include "sparsempm/step.hpp"
+#include "sparsempm/version.hpp"

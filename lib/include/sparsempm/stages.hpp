@@ -1,0 +1,52 @@
+#pragma once
+/// \file stages.hpp
+/// The stages of an explicit MPM step as matrix expressions over the assembled operators.
+/// A scheme (USL, USF) is the order in which step.cpp calls them. n × d nodal fields hold one
+/// row per node; N × d particle fields one row per particle.
+
+#include "sparsempm/material.hpp"
+#include "sparsempm/operators.hpp"
+#include "sparsempm/particles.hpp"
+
+#include <Eigen/Core>
+#include <array>
+
+namespace smpm {
+
+/// Grid fields of one step (all n × d).
+struct GridState {
+  Eigen::MatrixXd p;      ///< momentum p = Sᵀ M V (after BC1)
+  Eigen::MatrixXd f;      ///< total force (after BC2)
+  Eigen::MatrixXd p_plus; ///< updated momentum p⁺ = p + f Δt
+  Eigen::MatrixXd v;      ///< v = m⁻¹ p
+  Eigen::MatrixXd v_plus; ///< v⁺ = m⁻¹ p⁺
+  Eigen::MatrixXd a;      ///< a = m⁻¹ f
+};
+
+/// p = Sᵀ (M ∘ V)  (FMPM 2026 task 1; Buzzi Eq. 26).
+void map_momentum(const Operators& ops, const Particles& P, Eigen::MatrixXd& p);
+/// f = −Σ_b G_bᵀ (Ω J σ_{·b}): internal force from Kirchhoff stress τ = Jσ and initial
+/// volumes Ω (FMPM 2026 task 2; Buzzi Eq. 15).
+void internal_force(const Operators& ops, const Particles& P, Eigen::MatrixXd& f);
+/// f += Sᵀ M B for a uniform body acceleration B, i.e. f += m Bᵀ (Buzzi Eq. 14).
+void add_body_force(const Operators& ops, const std::array<double, 3>& B, Eigen::MatrixXd& f);
+/// v = m⁻¹ x on active nodes, 0 on inactive ones.
+void lumped_solve(const Operators& ops, const Eigen::MatrixXd& x, Eigen::MatrixXd& v);
+
+/// FLIP (FMPM 2026 Eq. 8): V ← V + S a Δt,  X ← X + S v⁺ Δt − (1 − α) S a Δt².
+void update_particles_flip(const Operators& ops, const GridState& g, double dt, double alpha,
+                           Particles& P);
+/// PIC, i.e. FMPM(1) (FMPM 2026 Eq. 9): V' = S v⁺,  X ← X + (α V' + (1 − α) V) Δt.
+void update_particles_pic(const Operators& ops, const Eigen::MatrixXd& v_plus, double dt,
+                          double alpha, Particles& P);
+
+/// Velocity gradients L_p = Σ_i v_i ⊗ G_pi: column a d + b of L (N × d²) is (G_b v)_{·a}.
+void velocity_gradient(const Operators& ops, const Eigen::MatrixXd& v, Eigen::MatrixXd& L);
+/// F_p ← (I + L_p Δt) F_p for every particle.
+void update_deformation_gradient(const Eigen::MatrixXd& L, double dt, Particles& P);
+
+/// Throws NumericalError naming the first particle with a non-finite position, velocity or
+/// stress, or with det F ≤ 0.
+void check_particles(const Particles& P);
+
+} // namespace smpm

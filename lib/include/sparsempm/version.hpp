@@ -1,0 +1,6 @@
+#pragma once
+/// \file version.hpp
+namespace smpm {
+/// Library version, "major.minor.patch".
+inline constexpr const char* kVersion = "0.1.0";
+} // namespace smpm

@@ -1,0 +1,141 @@
+#include "sparsempm/material.hpp"
+
+#include "sparsempm/errors.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+
+namespace smpm {
+
+std::string_view to_string(MaterialModel m) {
+  switch (m) {
+  case MaterialModel::Linear: return "linear";
+  case MaterialModel::NeoHookean: return "neo-hookean";
+  case MaterialModel::Hyperelastic: return "hyperelastic";
+  }
+  return "?";
+}
+
+MaterialModel material_model_from_string(std::string_view name) {
+  for (auto m : {MaterialModel::Linear, MaterialModel::NeoHookean, MaterialModel::Hyperelastic})
+    if (to_string(m) == name)
+      return m;
+  throw InputError("unknown material model '" + std::string(name) +
+                   "' (expected linear | neo-hookean | hyperelastic)");
+}
+
+double Material::wave_speed(int dim) const {
+  if (model == MaterialModel::Linear && dim == 1)
+    return std::sqrt(youngs / density);
+  return std::sqrt((lame_lambda() + 2 * shear_modulus()) / density);
+}
+
+void validate(const Material& mat) {
+  const std::string who = "material '" + mat.name + "': ";
+  if (!(mat.density > 0) || !std::isfinite(mat.density))
+    throw InputError(who + "density must be positive, got " + std::to_string(mat.density));
+  if (!(mat.youngs > 0) || !std::isfinite(mat.youngs))
+    throw InputError(who + "youngs must be positive, got " + std::to_string(mat.youngs));
+  if (!(mat.poisson > -1 && mat.poisson < 0.5))
+    throw InputError(who + "poisson must lie in (-1, 0.5), got " + std::to_string(mat.poisson));
+}
+
+Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3d& F) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double G = mat.shear_modulus();
+  switch (mat.model) {
+  case MaterialModel::Linear: {
+    if (dim == 1) { // bar in uniaxial stress
+      Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+      s(0, 0) = mat.youngs * (F(0, 0) - 1);
+      return s;
+    }
+    const Eigen::Matrix3d eps = 0.5 * (F + F.transpose()) - I;
+    return mat.lame_lambda() * eps.trace() * I + 2 * G * eps;
+  }
+  case MaterialModel::NeoHookean: { // FMPM 2026 Eq. (14)
+    const double J = F.determinant();
+    return 0.5 * mat.lame_lambda() * (J - 1 / J) * I + (G / J) * (F * F.transpose() - I);
+  }
+  case MaterialModel::Hyperelastic: { // contact 2020 Eq. (18): σ = (G/J) dev(B̄) + (K/2J)(J² − 1) I
+    const double J = F.determinant();
+    const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
+    const Eigen::Matrix3d dev = Bbar - (Bbar.trace() / 3.0) * I;
+    return (G / J) * dev + (0.5 * mat.bulk_modulus() * (J * J - 1) / J) * I;
+  }
+  }
+  return Eigen::Matrix3d::Zero();
+}
+
+double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d& F) {
+  const double G = mat.shear_modulus();
+  switch (mat.model) {
+  case MaterialModel::Linear: {
+    if (dim == 1)
+      return 0.5 * mat.youngs * (F(0, 0) - 1) * (F(0, 0) - 1);
+    const Eigen::Matrix3d eps = 0.5 * (F + F.transpose()) - Eigen::Matrix3d::Identity();
+    return 0.5 * (cauchy_stress(mat, dim, F).cwiseProduct(eps)).sum();
+  }
+  case MaterialModel::NeoHookean: {
+    // W = (G/2)(I₁ − 3 − 2 ln J) + (λ/4)(J² − 1 − 2 ln J) gives Eq. (14) through τ = (∂W/∂F) Fᵀ.
+    const double J = F.determinant(), I1 = (F.transpose() * F).trace();
+    return 0.5 * G * (I1 - 3 - 2 * std::log(J)) +
+           0.25 * mat.lame_lambda() * (J * J - 1 - 2 * std::log(J));
+  }
+  case MaterialModel::Hyperelastic: {
+    const double J = F.determinant(), I1 = (F.transpose() * F).trace();
+    return 0.5 * G * (I1 * std::pow(J, -2.0 / 3.0) - 3) +
+           0.5 * mat.bulk_modulus() * (0.5 * (J * J - 1) - std::log(J));
+  }
+  }
+  return 0;
+}
+
+namespace {
+Eigen::Matrix3d particle_F(const Particles& P, Index p) {
+  const int d = P.dim;
+  Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+  for (int a = 0; a < d; ++a)
+    for (int b = 0; b < d; ++b)
+      F(a, b) = P.F(p, a * d + b);
+  return F;
+}
+const Material& material_of(const std::vector<Material>& mats, const Particles& P, Index p) {
+  const int id = P.material[p];
+  if (id < 0 || id >= int(mats.size()))
+    throw InputError("particle " + std::to_string(p) + " has material id " + std::to_string(id) +
+                     " but only " + std::to_string(mats.size()) + " materials are defined");
+  return mats[id];
+}
+} // namespace
+
+void update_stress(const std::vector<Material>& materials, Particles& P) {
+  const int d = P.dim;
+  for (Index p = 0; p < P.size(); ++p) {
+    const Eigen::Matrix3d s = cauchy_stress(material_of(materials, P, p), d, particle_F(P, p));
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        P.stress(p, a * d + b) = s(a, b);
+  }
+}
+
+double strain_energy(const std::vector<Material>& materials, const Particles& P) {
+  double W = 0;
+  for (Index p = 0; p < P.size(); ++p)
+    W += P.volume0[p] * strain_energy_density(material_of(materials, P, p), P.dim, particle_F(P, p));
+  return W;
+}
+
+double max_wave_speed(const std::vector<Material>& materials, const Particles& P) {
+  double c = 0;
+  std::vector<char> used(materials.size(), 0);
+  for (Index p = 0; p < P.size(); ++p)
+    if (material_of(materials, P, p).density > 0)
+      used[size_t(P.material[p])] = 1;
+  for (size_t i = 0; i < materials.size(); ++i)
+    if (used[i])
+      c = std::max(c, materials[i].wave_speed(P.dim));
+  return c;
+}
+
+} // namespace smpm

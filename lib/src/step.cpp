@@ -1,0 +1,106 @@
+#include "sparsempm/step.hpp"
+
+#include "sparsempm/errors.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace smpm {
+
+std::string_view to_string(UpdateScheme s) { return s == UpdateScheme::USL ? "USL" : "USF"; }
+std::string_view to_string(VelocityUpdate v) { return v == VelocityUpdate::FLIP ? "FLIP" : "PIC"; }
+
+UpdateScheme update_scheme_from_string(std::string_view name) {
+  if (name == "USL") return UpdateScheme::USL;
+  if (name == "USF") return UpdateScheme::USF;
+  throw InputError("unknown update scheme '" + std::string(name) + "' (expected USL | USF)");
+}
+
+VelocityUpdate velocity_update_from_string(std::string_view name) {
+  if (name == "FLIP") return VelocityUpdate::FLIP;
+  if (name == "PIC") return VelocityUpdate::PIC;
+  throw InputError("unknown velocity update '" + std::string(name) + "' (expected FLIP | PIC)");
+}
+
+double stable_time_step(const Model& model, double courant) {
+  if (!(courant > 0) || !std::isfinite(courant))
+    throw InputError("courant number must be positive, got " + std::to_string(courant));
+  const double c = max_wave_speed(model.materials, model.particles);
+  const double vmax = model.particles.size() ? model.particles.V.rowwise().norm().maxCoeff() : 0;
+  const double speed = std::max(c, vmax);
+  if (!(speed > 0))
+    throw InputError("cannot choose a time step: no wave speed and no particle velocity");
+  return courant * model.grid.min_cell_size() / speed;
+}
+
+void Stepper::step(Model& model, double dt) {
+  try {
+    if (opt_.scheme == UpdateScheme::USL)
+      step_usl(model, dt);
+    else
+      step_usf(model, dt);
+    check_particles(model.particles);
+  } catch (const NumericalError& e) {
+    throw at_step(e, model.step + 1, model.time + dt);
+  }
+  model.time += dt;
+  ++model.step;
+}
+
+// Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).
+void Stepper::strain_update(Model& model, const Eigen::MatrixXd& v, double dt) {
+  const Eigen::MatrixXd* vs = &v;
+  if (opt_.bc_ordering == BCOrdering::Improper) { // BC3: zero velocity only for the strains
+    v_strain_ = v;
+    model.bcs.apply(v_strain_);
+    vs = &v_strain_;
+  }
+  velocity_gradient(ops_, *vs, L_);
+  update_deformation_gradient(L_, dt, model.particles);
+  update_stress(model.materials, model.particles);
+}
+
+// Forces, BC2, p⁺ = p + f Δt and the particle update (FMPM 2026 tasks 2–4).
+namespace {
+void momentum_update(const Model& model, const Operators& ops, GridState& g, double dt) {
+  internal_force(ops, model.particles, g.f);
+  add_body_force(ops, model.body_force, g.f);
+  model.bcs.apply(g.f); // BC2: zero rate of momentum on fixed directions (Buzzi Eq. 28)
+  g.p_plus = g.p + dt * g.f;
+  lumped_solve(ops, g.p_plus, g.v_plus);
+  lumped_solve(ops, g.f, g.a);
+}
+} // namespace
+
+void Stepper::step_usl(Model& model, double dt) {
+  Particles& P = model.particles;
+  assemble(model.grid, P, opt_.shape, ops_);
+  map_momentum(ops_, P, g_.p);
+  if (opt_.bc_ordering == BCOrdering::Correct)
+    model.bcs.apply(g_.p); // BC1: zero momentum on fixed directions (Buzzi Eq. 27)
+  lumped_solve(ops_, g_.p, g_.v);
+  momentum_update(model, ops_, g_, dt);
+  if (opt_.velocity == VelocityUpdate::FLIP)
+    update_particles_flip(ops_, g_, dt, opt_.position_alpha, P);
+  else
+    update_particles_pic(ops_, g_.v_plus, dt, opt_.position_alpha, P);
+  strain_update(model, g_.v_plus, dt);
+}
+
+void Stepper::step_usf(Model& model, double dt) {
+  Particles& P = model.particles;
+  assemble(model.grid, P, opt_.shape, ops_);
+  map_momentum(ops_, P, g_.p);
+  if (opt_.bc_ordering == BCOrdering::Correct)
+    model.bcs.apply(g_.p); // BC1
+  lumped_solve(ops_, g_.p, g_.v);
+  strain_update(model, g_.v, dt);
+  momentum_update(model, ops_, g_, dt);
+  if (opt_.velocity == VelocityUpdate::FLIP)
+    update_particles_flip(ops_, g_, dt, opt_.position_alpha, P);
+  else
+    update_particles_pic(ops_, g_.v_plus, dt, opt_.position_alpha, P);
+}
+
+} // namespace smpm
