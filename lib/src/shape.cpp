@@ -149,8 +149,8 @@ void tensor_values(const Grid& g, const Particles& P, Index p, Shape shape, cons
     for (int k = 0; k < s.count[a]; ++k) {
       const double r = xi - (s.first[a] + k);
       switch (shape) {
-      case Shape::Linear: // two nodes, t ∈ [0, 1) from the left one
-        s1[a][k] = k == 0 ? 1 - r : r;
+      case Shape::Linear: // two nodes; r ∈ [0, 1) for the left one, r − 1 for the right one
+        s1[a][k] = k == 0 ? 1 - r : 1 + r;
         g1[a][k] = (k == 0 ? -1.0 : 1.0) / h;
         break;
       case Shape::BSpline2:

@@ -10,6 +10,7 @@
 #include "sparsempm/model.hpp"
 #include "sparsempm/operators.hpp"
 #include "sparsempm/particles.hpp"
+#include "sparsempm/problems.hpp"
 #include "sparsempm/shape.hpp"
 #include "sparsempm/stages.hpp"
 #include "sparsempm/step.hpp"

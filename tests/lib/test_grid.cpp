@@ -1,0 +1,48 @@
+// Grid numbering (Buzzi Eq. 21), particles set-up and boundary selection.
+
+#include "support.hpp"
+
+using namespace smpm;
+using smpm::test::approx;
+
+TEST_CASE("node index and (i, j, k) are inverse maps", "[grid]") {
+  const Grid g(3, {1, 2, 3}, {0.5, 1, 2}, {4, 3, 2});
+  CHECK(g.num_nodes() == 5 * 4 * 3);
+  for (Index n = 0; n < g.num_nodes(); ++n) {
+    const auto ijk = g.node_ijk(n);
+    CHECK(g.node_index(ijk[0], ijk[1], ijk[2]) == n);
+  }
+  CHECK(g.node_index(1, 2, 1) == 1 + 5 * (2 + 4 * 1)); // Buzzi Eq. 21 numbering
+  CHECK(g.node_coordinate(g.node_index(4, 3, 2), 0) == approx(3.0, 1e-15));
+  CHECK(g.node_coordinate(g.node_index(4, 3, 2), 2) == approx(7.0, 1e-15));
+  CHECK(g.min_cell_size() == 0.5);
+}
+
+TEST_CASE("bad grids are rejected with the offending value", "[grid]") {
+  CHECK_THROWS_WITH(Grid(4, {0, 0, 0}, {1, 1, 1}, {1, 1, 1}), Catch::Contains("dimension"));
+  CHECK_THROWS_WITH(Grid(2, {0, 0, 0}, {1, -1, 1}, {1, 1, 1}), Catch::Contains("cell_size[1]"));
+  CHECK_THROWS_WITH(Grid(1, {0, 0, 0}, {1, 1, 1}, {0, 1, 1}), Catch::Contains("cells[0]"));
+}
+
+TEST_CASE("make_block fills a box with ppc^d particles per cell", "[particles]") {
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {10, 10, 1});
+  const Particles P = make_block(g, {1, 2, 0}, {4, 4, 0}, {2, 3, 1}, 2.0, 0);
+  CHECK(P.size() == 6 * 6);                                  // (3·2) × (2·3)
+  CHECK(P.mass.sum() == approx(2.0 * 3 * 2, 1e-13));         // ρ × area
+  CHECK(P.volume0.sum() == approx(6.0, 1e-13));
+  CHECK(P.X.col(0).minCoeff() == approx(1.25, 1e-15));       // half a spacing in
+  CHECK(P.half_length(0, 1) == approx(1.0 / 6.0, 1e-15));
+  CHECK_THROWS_AS(make_block(g, {1, 2, 0}, {14, 4, 0}, {2, 2, 1}, 1.0, 0), InputError);
+  CHECK_THROWS_AS(make_block(g, {1, 2, 0}, {4, 4, 0}, {2, 2, 1}, -1.0, 0), InputError);
+}
+
+TEST_CASE("fixed planes select the nodes on them", "[boundary]") {
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {4, 3, 1});
+  BoundaryConditions bc = BoundaryConditions::none(g);
+  CHECK(fix_plane(g, 0, 0.0, {true, false, false}, bc) == 4); // the x = 0 column
+  CHECK(bc.num_fixed() == 4);
+  CHECK(fix_box(g, {3.5, -1, 0}, {5, 5, 0}, {true, true, false}, bc) == 4);
+  CHECK(bc.num_fixed() == 12);
+  CHECK_THROWS_WITH(fix_plane(g, 0, 0.5, {true, false, false}, bc),
+                    Catch::Contains("contains no grid node"));
+}

@@ -1,0 +1,150 @@
+// Shape functions: partition of unity, linear completeness and gradient consistency
+// (Buzzi Eqs. 17–18; Sadeghirad et al. 2011 for CPDI), on seeded random clouds.
+
+#include "support.hpp"
+
+#include <Eigen/Dense>
+
+using namespace smpm;
+using smpm::test::approx;
+
+namespace {
+const Shape kAllShapes[] = {Shape::Linear, Shape::GIMP, Shape::BSpline2, Shape::CPDI,
+                            Shape::B2CPDI};
+}
+
+TEST_CASE("shape functions reproduce constant and linear fields", "[shape]") {
+  for (int dim = 1; dim <= 3; ++dim)
+    for (Shape shape : kAllShapes) {
+      CAPTURE(dim, to_string(shape));
+      const Grid g = smpm::test::test_grid(dim, 10);
+      // 3 cells from every edge: supports (≤ 1.5 cells + deformed domain) stay inside.
+      const Particles P = smpm::test::random_cloud(g, 60, 17u + dim, 3.0, true);
+      SparseRowMatrix S;
+      std::array<SparseRowMatrix, 3> G;
+      std::vector<ShapeSupport> support;
+      assemble_shape(g, P, shape, S, G, support);
+      const Eigen::MatrixXd x = g.node_positions();
+      const Eigen::VectorXd one = Eigen::VectorXd::Ones(g.num_nodes());
+
+      // Partition of unity, S 1 = 1 (exact up to round-off: 1e-13).
+      CHECK((S * one - Eigen::VectorXd::Ones(P.size())).cwiseAbs().maxCoeff() < 1e-13);
+      // Linear completeness, S x = X (round-off on coordinates of size ≤ 25: 1e-12).
+      CHECK((S * x - P.X).cwiseAbs().maxCoeff() < 1e-12);
+      for (int b = 0; b < dim; ++b) {
+        // Σ_i G_pi = 0 (gradient of a constant), relative to 1/h ≥ 0.5: 1e-12.
+        CHECK((G[b] * one).cwiseAbs().maxCoeff() < 1e-12);
+        // Σ_i (G_b)_pi x_ia = δ_ab (gradient of a linear field).
+        for (int a = 0; a < dim; ++a) {
+          const double expected = a == b ? 1.0 : 0.0;
+          CHECK(((G[b] * x.col(a)).array() - expected).abs().maxCoeff() < 1e-11);
+        }
+      }
+      // Weights are non-negative (all five families are).
+      CHECK(Eigen::Map<const Eigen::VectorXd>(S.valuePtr(), S.nonZeros()).minCoeff() >= 0.0);
+    }
+}
+
+TEST_CASE("1D CPDI is the corner average of the hat and its secant slope", "[shape]") {
+  // Issue definition: S_pi = ½(N_i(a) + N_i(b)), G_pi = (N_i(b) − N_i(a))/(b − a).
+  const Grid g(1, {0, 0, 0}, {1, 1, 1}, {6, 1, 1});
+  Particles P;
+  P.resize(1, 1);
+  P.X(0, 0) = 2.3;
+  P.half_length(0, 0) = 0.25;
+  P.F(0, 0) = 1.2; // domain [a, b] = [2.0, 2.6]
+  P.mass[0] = 1;
+  const Operators ops = assemble(g, P, Shape::CPDI);
+  const Eigen::MatrixXd S = Eigen::MatrixXd(ops.S), G = Eigen::MatrixXd(ops.G[0]);
+  // N_2(2.0) = 1, N_2(2.6) = 0.4, N_3(2.6) = 0.6.
+  CHECK(S(0, 2) == approx(0.7, 1e-15));
+  CHECK(S(0, 3) == approx(0.3, 1e-15));
+  CHECK(G(0, 2) == approx((0.4 - 1.0) / 0.6, 1e-14));
+  CHECK(G(0, 3) == approx((0.6 - 0.0) / 0.6, 1e-14));
+}
+
+TEST_CASE("1D uGIMP averages the hat over the particle domain", "[shape]") {
+  // Domain [0.85, 1.35] around node 1: (1/0.5)(∫_{-0.15}^0 (1+r) dr + ∫_0^{0.35} (1−r) dr)
+  //   = (0.13875 + 0.28875)/0.5 = 0.855; gradient (N_1(1.35) − N_1(0.85))/0.5 = −0.2/0.5.
+  const Grid g(1, {0, 0, 0}, {1, 1, 1}, {4, 1, 1});
+  Particles P;
+  P.resize(1, 1);
+  P.X(0, 0) = 1.1;
+  P.half_length(0, 0) = 0.25;
+  P.mass[0] = 1;
+  const Operators ops = assemble(g, P, Shape::GIMP);
+  CHECK(Eigen::MatrixXd(ops.S)(0, 1) == approx(0.855, 1e-14));
+  CHECK(Eigen::MatrixXd(ops.G[0])(0, 1) == approx(-0.4, 1e-14));
+}
+
+TEST_CASE("2D CPDI gradient is the domain average of the corner interpolant's gradient",
+          "[shape]") {
+  // Independent evaluation of G_pi = (1/V_p) ∫ ∇(Σ_c Q_c N_i(x_c)) dV over a sheared
+  // parallelogram by a 40×40 midpoint rule in the reference square; the integrand is linear in
+  // ξ, so the rule is exact and the two agree to round-off (1e-12).
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {6, 6, 1});
+  Particles P;
+  P.resize(2, 1);
+  P.X.row(0) << 2.4, 2.7;
+  P.half_length.row(0) << 0.3, 0.4;
+  P.F.row(0) << 1.1, 0.35, -0.2, 0.9; // F = [[1.1, 0.35], [−0.2, 0.9]]
+  P.mass[0] = 1;
+  const Operators ops = assemble(g, P, Shape::CPDI);
+  Eigen::Matrix2d F;
+  F << 1.1, 0.35, -0.2, 0.9;
+  const Eigen::Matrix2d R = F * Eigen::Vector2d(0.3, 0.4).asDiagonal();
+  auto hat = [](double r) { return std::max(0.0, 1 - std::abs(r)); };
+  for (Index i = 0; i < g.num_nodes(); ++i) {
+    const Eigen::Vector2d xi(g.node_coordinate(i, 0), g.node_coordinate(i, 1));
+    double Nc[4];
+    for (int c = 0; c < 4; ++c) {
+      const Eigen::Vector2d s((c & 1) ? 1 : -1, (c & 2) ? 1 : -1);
+      const Eigen::Vector2d xc = Eigen::Vector2d(2.4, 2.7) + R * s;
+      Nc[c] = hat(xc[0] - xi[0]) * hat(xc[1] - xi[1]);
+    }
+    // ∇_x = R^{-T} ∇_ξ of Σ_c N_c (1 + s1 ξ1)(1 + s2 ξ2)/4, averaged over ξ ∈ [−1, 1]².
+    Eigen::Vector2d avg = Eigen::Vector2d::Zero();
+    const int q = 40;
+    for (int a = 0; a < q; ++a)
+      for (int b = 0; b < q; ++b) {
+        const double x1 = -1 + (a + 0.5) * 2.0 / q, x2 = -1 + (b + 0.5) * 2.0 / q;
+        Eigen::Vector2d gxi = Eigen::Vector2d::Zero();
+        for (int c = 0; c < 4; ++c) {
+          const double s1 = (c & 1) ? 1 : -1, s2 = (c & 2) ? 1 : -1;
+          gxi[0] += Nc[c] * s1 * (1 + s2 * x2) / 4;
+          gxi[1] += Nc[c] * s2 * (1 + s1 * x1) / 4;
+        }
+        avg += R.transpose().inverse() * gxi / double(q * q);
+      }
+    CAPTURE(i);
+    CHECK(Eigen::MatrixXd(ops.G[0])(0, i) == approx(avg[0], 1e-12));
+    CHECK(Eigen::MatrixXd(ops.G[1])(0, i) == approx(avg[1], 1e-12));
+  }
+}
+
+TEST_CASE("the sparsity pattern is reused while no particle changes its node box", "[shape]") {
+  const Grid g = smpm::test::test_grid(2, 10);
+  Particles P = smpm::test::random_cloud(g, 30, 5u, 3.0, true);
+  Operators ops = assemble(g, P, Shape::CPDI);
+  const int* inner_before = ops.S.innerIndexPtr();
+  P.X.array() += 1e-9; // too small to cross a cell boundary for this seed
+  assemble(g, P, Shape::CPDI, ops);
+  CHECK(ops.S.innerIndexPtr() == inner_before);
+  const Operators fresh = assemble(g, P, Shape::CPDI);
+  // Same values as a fresh assembly: exact.
+  CHECK((Eigen::MatrixXd(ops.S) - Eigen::MatrixXd(fresh.S)).cwiseAbs().maxCoeff() == 0.0);
+  CHECK((Eigen::MatrixXd(ops.G[1]) - Eigen::MatrixXd(fresh.G[1])).cwiseAbs().maxCoeff() == 0.0);
+}
+
+TEST_CASE("a particle whose support leaves the grid is reported by index", "[shape]") {
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
+  Particles P;
+  P.resize(2, 2);
+  P.X.row(0) << 2.0, 2.0;
+  P.X.row(1) << 3.9, 0.6; // B-spline support reaches node x = 5 > 4
+  P.half_length.setConstant(0.25);
+  P.mass.setOnes();
+  CHECK_NOTHROW(assemble(g, P, Shape::Linear));
+  CHECK_THROWS_WITH(assemble(g, P, Shape::BSpline2),
+                    Catch::Contains("particle 1") && Catch::Contains("left the grid"));
+}

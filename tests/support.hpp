@@ -1,0 +1,71 @@
+#pragma once
+// Shared test helpers: one approx() and seeded random particle clouds.
+
+#include <catch2/catch.hpp>
+#include <sparsempm/sparsempm.hpp>
+
+#include <random>
+
+namespace smpm::test {
+
+/// |actual − value| ≤ abs + rel |value|.
+inline Catch::Detail::Approx approx(double value, double abs, double rel = 0) {
+  return Catch::Detail::Approx(value).margin(abs).epsilon(rel);
+}
+
+/// A grid of `cells` cells per axis with a different cell size on each axis.
+inline Grid test_grid(int dim, int cells) {
+  return Grid(dim, {-1.0, 0.5, 2.0}, {1.0, 0.5, 2.0}, {cells, cells, cells});
+}
+
+/// N particles at random positions at least `margin` cells inside the grid, with random
+/// half-lengths in [0.1, 0.5] h and, when `deform`, F = I + 0.3 U(−1, 1) (det F > 0.2).
+inline Particles random_cloud(const Grid& g, Index N, unsigned seed, double margin,
+                              bool deform) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int d = g.dim();
+  Particles P;
+  P.resize(d, N);
+  for (Index p = 0; p < N; ++p) {
+    for (int a = 0; a < d; ++a) {
+      const double h = g.cell_size(a);
+      P.X(p, a) = g.origin(a) + h * (margin + u(rng) * (g.cells(a) - 2 * margin));
+      P.half_length(p, a) = h * (0.1 + 0.4 * u(rng));
+    }
+    if (deform) {
+      for (;;) {
+        for (int k = 0; k < d * d; ++k)
+          P.F(p, k) = (k % (d + 1) == 0 ? 1.0 : 0.0) + 0.3 * (2 * u(rng) - 1);
+        if (P.jacobian()[p] > 0.2)
+          break;
+      }
+    }
+    P.mass[p] = 0.5 + u(rng);
+    P.volume0[p] = 1;
+  }
+  return P;
+}
+
+/// Particles on a regular lattice (ppc per axis) over cells [lo, lo + count) of each axis,
+/// each jittered by up to ±jitter of its spacing, with half-lengths shrunk by (1 − 2 jitter)
+/// so that every domain stays inside its own lattice site (and the block).
+inline Particles jittered_lattice(const Grid& g, int lo, int count, int ppc, double jitter,
+                                  unsigned seed) {
+  std::array<double, 3> a_lo{}, a_hi{};
+  for (int a = 0; a < g.dim(); ++a) {
+    a_lo[a] = g.origin(a) + lo * g.cell_size(a);
+    a_hi[a] = a_lo[a] + count * g.cell_size(a);
+  }
+  Particles P = make_block(g, a_lo, a_hi, {ppc, ppc, ppc}, 1.0, 0);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (Index p = 0; p < P.size(); ++p)
+    for (int a = 0; a < g.dim(); ++a) {
+      P.X(p, a) += jitter * 2 * P.half_length(p, a) * u(rng);
+      P.half_length(p, a) *= 1 - 2 * jitter;
+    }
+  return P;
+}
+
+} // namespace smpm::test
