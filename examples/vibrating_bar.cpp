@@ -63,10 +63,9 @@ int main(int argc, char** argv) try {
   const double period = bar_period(bar);
   std::printf("free-vibrating bar (FMPM 2026 sec. 3.3): L = %g, %d particles per cell, %s, USL, "
               "C = %g, period %g\n",
-              bar.length, bar.ppc, std::string(to_string(opt.shape)).c_str(), opt.courant,
-              period);
-  std::printf("%-6s %6s %8s %12s %12s %12s %10s\n", "update", "period", "time", "kinetic",
-              "strain", "total", "change");
+              bar.length, bar.ppc, std::string(to_string(opt.shape)).c_str(), opt.courant, period);
+  std::printf("%-6s %6s %8s %12s %12s %12s %10s\n", "update", "period", "time", "kinetic", "strain",
+              "total", "change");
   for (VelocityUpdate vel : {VelocityUpdate::FLIP, VelocityUpdate::PIC}) {
     Model model = vibrating_bar(bar); // 2. particles, material and the fixed node at x = 0
     Stepper stepper({opt.shape, UpdateScheme::USL, vel, 1.0, BCOrdering::Correct});
@@ -75,11 +74,12 @@ int main(int argc, char** argv) try {
     for (int k = 0; k <= opt.periods; ++k) {
       // 3. step to the end of period k, the last step shortened to land on it
       while (model.time < k * period - 1e-9 * period)
-        stepper.step(model, std::min(stable_time_step(model, opt.courant), k * period - model.time));
+        stepper.step(model,
+                     std::min(stable_time_step(model, opt.courant), k * period - model.time));
       const Energies e = energies(model); // 4. report
       std::printf("%-6s %6d %8.1f %12.6e %12.6e %12.6e %9.4f%%\n",
-                  std::string(to_string(vel)).c_str(), k, model.time, e.kinetic, e.strain,
-                  e.total, 100 * (e.total - e0) / e0);
+                  std::string(to_string(vel)).c_str(), k, model.time, e.kinetic, e.strain, e.total,
+                  100 * (e.total - e0) / e0);
     }
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -20,8 +20,7 @@ inline Grid test_grid(int dim, int cells) {
 
 /// N particles at random positions at least `margin` cells inside the grid, with random
 /// half-lengths in [0.1, 0.5] h and, when `deform`, F = I + 0.3 U(−1, 1) (det F > 0.2).
-inline Particles random_cloud(const Grid& g, Index N, unsigned seed, double margin,
-                              bool deform) {
+inline Particles random_cloud(const Grid& g, Index N, unsigned seed, double margin, bool deform) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   const int d = g.dim();

@@ -8,7 +8,9 @@
 namespace smpm {
 
 BoundaryConditions BoundaryConditions::none(const Grid& grid) {
-  return {Eigen::ArrayXXd::Ones(grid.num_nodes(), grid.dim())};
+  BoundaryConditions bc;
+  bc.free.setOnes(grid.num_nodes(), grid.dim());
+  return bc;
 }
 
 namespace {
@@ -36,9 +38,8 @@ Index fix_plane(const Grid& grid, int axis, double at, const std::array<bool, 3>
     throw InputError("boundary plane axis " + std::to_string(axis) + " is not an axis of a " +
                      std::to_string(grid.dim()) + "D grid");
   const double tol = 1e-9 * grid.cell_size(axis);
-  const Index count = fix_where(grid, dirs, bc, [&](Index i) {
-    return std::abs(grid.node_coordinate(i, axis) - at) <= tol;
-  });
+  const Index count = fix_where(
+      grid, dirs, bc, [&](Index i) { return std::abs(grid.node_coordinate(i, axis) - at) <= tol; });
   if (count == 0)
     throw InputError("boundary plane at " + std::to_string(at) + " on axis " +
                      std::to_string(axis) + " contains no grid node");

@@ -14,8 +14,8 @@ Grid::Grid(int dim, const std::array<double, 3>& origin, const std::array<double
     throw InputError("grid dimension must be 1, 2 or 3, got " + std::to_string(dim));
   for (int a = 0; a < dim; ++a) {
     if (!(cell_size[a] > 0) || !std::isfinite(cell_size[a]))
-      throw InputError("grid cell_size[" + std::to_string(a) +
-                       "] must be positive, got " + std::to_string(cell_size[a]));
+      throw InputError("grid cell_size[" + std::to_string(a) + "] must be positive, got " +
+                       std::to_string(cell_size[a]));
     if (cells[a] < 1)
       throw InputError("grid cells[" + std::to_string(a) + "] must be at least 1, got " +
                        std::to_string(cells[a]));
@@ -39,8 +39,8 @@ std::array<int, 3> Grid::node_ijk(Index node) const {
   return {int(node % nx), int((node / nx) % ny), int(node / (nx * ny))};
 }
 
-Eigen::MatrixXd Grid::node_positions() const {
-  Eigen::MatrixXd x(num_nodes(), dim_);
+Field Grid::node_positions() const {
+  Field x(num_nodes(), dim_);
   for (Index i = 0; i < x.rows(); ++i)
     for (int a = 0; a < dim_; ++a)
       x(i, a) = node_coordinate(i, a);

@@ -9,9 +9,12 @@ namespace smpm {
 
 std::string_view to_string(MaterialModel m) {
   switch (m) {
-  case MaterialModel::Linear: return "linear";
-  case MaterialModel::NeoHookean: return "neo-hookean";
-  case MaterialModel::Hyperelastic: return "hyperelastic";
+  case MaterialModel::Linear:
+    return "linear";
+  case MaterialModel::NeoHookean:
+    return "neo-hookean";
+  case MaterialModel::Hyperelastic:
+    return "hyperelastic";
   }
   return "?";
 }
@@ -122,7 +125,8 @@ void update_stress(const std::vector<Material>& materials, Particles& P) {
 double strain_energy(const std::vector<Material>& materials, const Particles& P) {
   double W = 0;
   for (Index p = 0; p < P.size(); ++p)
-    W += P.volume0[p] * strain_energy_density(material_of(materials, P, p), P.dim, particle_F(P, p));
+    W +=
+        P.volume0[p] * strain_energy_density(material_of(materials, P, p), P.dim, particle_F(P, p));
   return W;
 }
 

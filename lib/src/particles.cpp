@@ -2,7 +2,6 @@
 
 #include "sparsempm/errors.hpp"
 
-#include <Eigen/LU>
 #include <cmath>
 #include <string>
 
@@ -23,25 +22,33 @@ void Particles::resize(int d, Index N) {
 }
 
 Eigen::VectorXd Particles::jacobian() const {
-  Eigen::VectorXd J(size());
-  const int d = dim;
-  for (Index p = 0; p < size(); ++p) {
-    if (d == 1) {
-      J[p] = F(p, 0);
-    } else if (d == 2) {
-      J[p] = F(p, 0) * F(p, 3) - F(p, 1) * F(p, 2);
-    } else {
-      Eigen::Matrix3d Fp;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          Fp(a, b) = F(p, 3 * a + b);
-      J[p] = Fp.determinant();
-    }
-  }
+  Eigen::VectorXd J;
+  jacobian(J);
   return J;
 }
 
-Eigen::VectorXd Particles::volume() const { return jacobian().cwiseProduct(volume0); }
+double Particles::det_F(Index p) const {
+  switch (dim) {
+  case 1:
+    return F(p, 0);
+  case 2:
+    return F(p, 0) * F(p, 3) - F(p, 1) * F(p, 2);
+  default:
+    return F(p, 0) * (F(p, 4) * F(p, 8) - F(p, 5) * F(p, 7)) -
+           F(p, 1) * (F(p, 3) * F(p, 8) - F(p, 5) * F(p, 6)) +
+           F(p, 2) * (F(p, 3) * F(p, 7) - F(p, 4) * F(p, 6));
+  }
+}
+
+void Particles::jacobian(Eigen::VectorXd& J) const {
+  J.resize(size());
+  for (Index p = 0; p < size(); ++p)
+    J[p] = det_F(p);
+}
+
+Eigen::VectorXd Particles::volume() const {
+  return jacobian().cwiseProduct(volume0);
+}
 
 void Particles::append(const Particles& o) {
   if (size() == 0) {
@@ -67,8 +74,8 @@ void Particles::append(const Particles& o) {
 }
 
 Particles make_block(const Grid& grid, const std::array<double, 3>& lo,
-                     const std::array<double, 3>& hi, const std::array<int, 3>& ppc,
-                     double density, int material_id) {
+                     const std::array<double, 3>& hi, const std::array<int, 3>& ppc, double density,
+                     int material_id) {
   const int d = grid.dim();
   if (!(density > 0))
     throw InputError("density must be positive, got " + std::to_string(density));
@@ -78,8 +85,8 @@ Particles make_block(const Grid& grid, const std::array<double, 3>& lo,
     if (ppc[a] < 1)
       throw InputError("ppc[" + std::to_string(a) + "] must be at least 1");
     if (!(hi[a] > lo[a]))
-      throw InputError("block max[" + std::to_string(a) + "] must exceed min[" +
-                       std::to_string(a) + "]");
+      throw InputError("block max[" + std::to_string(a) + "] must exceed min[" + std::to_string(a) +
+                       "]");
     spacing[a] = grid.cell_size(a) / ppc[a];
     count[a] = std::max<Index>(1, Index(std::llround((hi[a] - lo[a]) / spacing[a])));
     spacing[a] = (hi[a] - lo[a]) / double(count[a]);

@@ -20,14 +20,16 @@ Model vibrating_bar(const BarSetup& s) {
   mat.youngs = s.youngs;
   validate(mat);
   model.materials = {mat};
-  model.particles = make_block(model.grid, {0, 0, 0}, {s.length, 0, 0}, {s.ppc, 1, 1},
-                               s.density, 0);
+  model.particles =
+      make_block(model.grid, {0, 0, 0}, {s.length, 0, 0}, {s.ppc, 1, 1}, s.density, 0);
   const double beta = std::numbers::pi / (2 * s.length);
   model.particles.V.col(0) = s.v0 * (beta * model.particles.X.col(0).array()).sin();
   fix_plane(model.grid, 0, 0.0, {true, false, false}, model.bcs);
   return model;
 }
 
-double bar_period(const BarSetup& s) { return 4 * s.length / std::sqrt(s.youngs / s.density); }
+double bar_period(const BarSetup& s) {
+  return 4 * s.length / std::sqrt(s.youngs / s.density);
+}
 
 } // namespace smpm

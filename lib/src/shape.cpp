@@ -11,11 +11,16 @@ namespace smpm {
 
 std::string_view to_string(Shape s) {
   switch (s) {
-  case Shape::Linear: return "linear";
-  case Shape::GIMP: return "gimp";
-  case Shape::BSpline2: return "bspline2";
-  case Shape::CPDI: return "cpdi";
-  case Shape::B2CPDI: return "b2cpdi";
+  case Shape::Linear:
+    return "linear";
+  case Shape::GIMP:
+    return "gimp";
+  case Shape::BSpline2:
+    return "bspline2";
+  case Shape::CPDI:
+    return "cpdi";
+  case Shape::B2CPDI:
+    return "b2cpdi";
   }
   return "?";
 }
@@ -39,33 +44,46 @@ inline double hat(double r) {
 }
 // ∫_{−∞}^{r} hat: the antiderivative used by uGIMP.
 inline double hat_integral(double r) {
-  if (r <= -1) return 0;
-  if (r <= 0) return 0.5 * (1 + r) * (1 + r);
-  if (r < 1) return 1 - 0.5 * (1 - r) * (1 - r);
+  if (r <= -1)
+    return 0;
+  if (r <= 0)
+    return 0.5 * (1 + r) * (1 + r);
+  if (r < 1)
+    return 1 - 0.5 * (1 - r) * (1 - r);
   return 1;
 }
 // Quadratic B-spline on nodes (support ±1.5 cells) and its derivative.
 inline double bspline2(double r) {
   const double q = std::abs(r);
-  if (q < 0.5) return 0.75 - q * q;
-  if (q < 1.5) return 0.5 * (1.5 - q) * (1.5 - q);
+  if (q < 0.5)
+    return 0.75 - q * q;
+  if (q < 1.5)
+    return 0.5 * (1.5 - q) * (1.5 - q);
   return 0;
 }
 inline double bspline2_slope(double r) {
   const double q = std::abs(r);
-  if (q < 0.5) return -2 * r;
-  if (q < 1.5) return (r > 0 ? -1.0 : 1.0) * (1.5 - q);
+  if (q < 0.5)
+    return -2 * r;
+  if (q < 1.5)
+    return (r > 0 ? -1.0 : 1.0) * (1.5 - q);
   return 0;
 }
 
-bool uses_bspline(Shape s) { return s == Shape::BSpline2 || s == Shape::B2CPDI; }
-bool uses_corners(Shape s) { return s == Shape::CPDI || s == Shape::B2CPDI; }
+bool uses_bspline(Shape s) {
+  return s == Shape::BSpline2 || s == Shape::B2CPDI;
+}
+bool uses_corners(Shape s) {
+  return s == Shape::CPDI || s == Shape::B2CPDI;
+}
 
 // First node of the box of a point at ξ (cell units) and the box width for a point.
 inline int first_node(double xi, bool bspline) {
   return bspline ? int(std::floor(xi + 0.5)) - 1 : int(std::floor(xi));
 }
-inline int point_count(bool bspline) { return bspline ? 3 : 2; }
+inline int point_count(bool bspline) {
+  return bspline ? 3 : 2;
+}
 
 [[noreturn]] void throw_outside(Index p, const Particles& P, std::string_view why) {
   std::ostringstream os;
@@ -177,8 +195,8 @@ void tensor_values(const Grid& g, const Particles& P, Index p, Shape shape, cons
       }
 }
 
-void corner_values(const Grid& g, const Particles& P, Index p, Shape shape,
-                   const ShapeSupport& s, BoxValues& out) {
+void corner_values(const Grid& g, const Particles& P, Index p, Shape shape, const ShapeSupport& s,
+                   BoxValues& out) {
   const int d = P.dim, nc = 1 << d;
   const bool bs = uses_bspline(shape);
   double xi_c[8][3];

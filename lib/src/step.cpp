@@ -8,18 +8,26 @@
 
 namespace smpm {
 
-std::string_view to_string(UpdateScheme s) { return s == UpdateScheme::USL ? "USL" : "USF"; }
-std::string_view to_string(VelocityUpdate v) { return v == VelocityUpdate::FLIP ? "FLIP" : "PIC"; }
+std::string_view to_string(UpdateScheme s) {
+  return s == UpdateScheme::USL ? "USL" : "USF";
+}
+std::string_view to_string(VelocityUpdate v) {
+  return v == VelocityUpdate::FLIP ? "FLIP" : "PIC";
+}
 
 UpdateScheme update_scheme_from_string(std::string_view name) {
-  if (name == "USL") return UpdateScheme::USL;
-  if (name == "USF") return UpdateScheme::USF;
+  if (name == "USL")
+    return UpdateScheme::USL;
+  if (name == "USF")
+    return UpdateScheme::USF;
   throw InputError("unknown update scheme '" + std::string(name) + "' (expected USL | USF)");
 }
 
 VelocityUpdate velocity_update_from_string(std::string_view name) {
-  if (name == "FLIP") return VelocityUpdate::FLIP;
-  if (name == "PIC") return VelocityUpdate::PIC;
+  if (name == "FLIP")
+    return VelocityUpdate::FLIP;
+  if (name == "PIC")
+    return VelocityUpdate::PIC;
   throw InputError("unknown velocity update '" + std::string(name) + "' (expected FLIP | PIC)");
 }
 
@@ -49,8 +57,8 @@ void Stepper::step(Model& model, double dt) {
 }
 
 // Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).
-void Stepper::strain_update(Model& model, const Eigen::MatrixXd& v, double dt) {
-  const Eigen::MatrixXd* vs = &v;
+void Stepper::strain_update(Model& model, const Field& v, double dt) {
+  const Field* vs = &v;
   if (opt_.bc_ordering == BCOrdering::Improper) { // BC3: zero velocity only for the strains
     v_strain_ = v;
     model.bcs.apply(v_strain_);
@@ -63,11 +71,12 @@ void Stepper::strain_update(Model& model, const Eigen::MatrixXd& v, double dt) {
 
 // Forces, BC2, p⁺ = p + f Δt and the particle update (FMPM 2026 tasks 2–4).
 namespace {
-void momentum_update(const Model& model, const Operators& ops, GridState& g, double dt) {
-  internal_force(ops, model.particles, g.f);
+void momentum_update(const Model& model, const Operators& ops, GridState& g, double dt,
+                     StageWorkspace& w) {
+  internal_force(ops, model.particles, g.f, w);
   add_body_force(ops, model.body_force, g.f);
   model.bcs.apply(g.f); // BC2: zero rate of momentum on fixed directions (Buzzi Eq. 28)
-  g.p_plus = g.p + dt * g.f;
+  g.p_plus.noalias() = g.p + dt * g.f;
   lumped_solve(ops, g.p_plus, g.v_plus);
   lumped_solve(ops, g.f, g.a);
 }
@@ -76,31 +85,31 @@ void momentum_update(const Model& model, const Operators& ops, GridState& g, dou
 void Stepper::step_usl(Model& model, double dt) {
   Particles& P = model.particles;
   assemble(model.grid, P, opt_.shape, ops_);
-  map_momentum(ops_, P, g_.p);
+  map_momentum(ops_, P, g_.p, w_);
   if (opt_.bc_ordering == BCOrdering::Correct)
     model.bcs.apply(g_.p); // BC1: zero momentum on fixed directions (Buzzi Eq. 27)
   lumped_solve(ops_, g_.p, g_.v);
-  momentum_update(model, ops_, g_, dt);
+  momentum_update(model, ops_, g_, dt, w_);
   if (opt_.velocity == VelocityUpdate::FLIP)
-    update_particles_flip(ops_, g_, dt, opt_.position_alpha, P);
+    update_particles_flip(ops_, g_, dt, opt_.position_alpha, P, w_);
   else
-    update_particles_pic(ops_, g_.v_plus, dt, opt_.position_alpha, P);
+    update_particles_pic(ops_, g_.v_plus, dt, opt_.position_alpha, P, w_);
   strain_update(model, g_.v_plus, dt);
 }
 
 void Stepper::step_usf(Model& model, double dt) {
   Particles& P = model.particles;
   assemble(model.grid, P, opt_.shape, ops_);
-  map_momentum(ops_, P, g_.p);
+  map_momentum(ops_, P, g_.p, w_);
   if (opt_.bc_ordering == BCOrdering::Correct)
     model.bcs.apply(g_.p); // BC1
   lumped_solve(ops_, g_.p, g_.v);
   strain_update(model, g_.v, dt);
-  momentum_update(model, ops_, g_, dt);
+  momentum_update(model, ops_, g_, dt, w_);
   if (opt_.velocity == VelocityUpdate::FLIP)
-    update_particles_flip(ops_, g_, dt, opt_.position_alpha, P);
+    update_particles_flip(ops_, g_, dt, opt_.position_alpha, P, w_);
   else
-    update_particles_pic(ops_, g_.v_plus, dt, opt_.position_alpha, P);
+    update_particles_pic(ops_, g_.v_plus, dt, opt_.position_alpha, P, w_);
 }
 
 } // namespace smpm

@@ -27,10 +27,10 @@ TEST_CASE("bad grids are rejected with the offending value", "[grid]") {
 TEST_CASE("make_block fills a box with ppc^d particles per cell", "[particles]") {
   const Grid g(2, {0, 0, 0}, {1, 1, 1}, {10, 10, 1});
   const Particles P = make_block(g, {1, 2, 0}, {4, 4, 0}, {2, 3, 1}, 2.0, 0);
-  CHECK(P.size() == 6 * 6);                                  // (3·2) × (2·3)
-  CHECK(P.mass.sum() == approx(2.0 * 3 * 2, 1e-13));         // ρ × area
+  CHECK(P.size() == 6 * 6);                          // (3·2) × (2·3)
+  CHECK(P.mass.sum() == approx(2.0 * 3 * 2, 1e-13)); // ρ × area
   CHECK(P.volume0.sum() == approx(6.0, 1e-13));
-  CHECK(P.X.col(0).minCoeff() == approx(1.25, 1e-15));       // half a spacing in
+  CHECK(P.X.col(0).minCoeff() == approx(1.25, 1e-15)); // half a spacing in
   CHECK(P.half_length(0, 1) == approx(1.0 / 6.0, 1e-15));
   CHECK_THROWS_AS(make_block(g, {1, 2, 0}, {14, 4, 0}, {2, 2, 1}, 1.0, 0), InputError);
   CHECK_THROWS_AS(make_block(g, {1, 2, 0}, {4, 4, 0}, {2, 2, 1}, -1.0, 0), InputError);

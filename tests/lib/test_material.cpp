@@ -68,8 +68,8 @@ TEST_CASE("large-strain models satisfy tau = (dW/dF) F^T", "[material]") {
           Eigen::Matrix3d Fp = F, Fm = F;
           Fp(a, b) += eps;
           Fm(a, b) -= eps;
-          P(a, b) = (strain_energy_density(m, dim, Fp) - strain_energy_density(m, dim, Fm)) /
-                    (2 * eps);
+          P(a, b) =
+              (strain_energy_density(m, dim, Fp) - strain_energy_density(m, dim, Fm)) / (2 * eps);
         }
       const Eigen::Matrix3d tau = F.determinant() * cauchy_stress(m, dim, F);
       const Eigen::Matrix3d PFt = P * F.transpose();
@@ -80,7 +80,8 @@ TEST_CASE("large-strain models satisfy tau = (dW/dF) F^T", "[material]") {
 }
 
 TEST_CASE("large-strain models reduce to linear elasticity at small strain", "[material]") {
-  // σ(I + H) = C : sym(H) + O(|H|²): with |H| = 1e-6 the difference is ~1e-11 with E = 3 and |H_ij| < 1: tolerance 1e-10.
+  // σ(I + H) = C : sym(H) + O(|H|²): with |H| = 1e-6 the difference is ~1e-11 with E = 3 and |H_ij|
+  // < 1: tolerance 1e-10.
   Eigen::Matrix3d H;
   H << 0.3, -0.2, 0.5, 0.1, -0.4, 0.2, 0.7, 0.3, 0.1;
   const Eigen::Matrix3d F = Eigen::Matrix3d::Identity() + 1e-6 * H;

@@ -55,7 +55,8 @@ TEST_CASE("spectrum of m^-1 m~ lies in (0, 1] and spec(A) in [0, 1)", "[operator
       const Eigen::MatrixXd mt = active_block(consistent_mass(ops), act);
       const Eigen::VectorXd m = ops.m(act);
       // PSD (in fact PD here): eigenvalues of the symmetric m̃.
-      const Eigen::VectorXd lam_mt = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(mt).eigenvalues();
+      const Eigen::VectorXd lam_mt =
+          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(mt).eigenvalues();
       CHECK(lam_mt.minCoeff() > 0.0);
       // m⁻¹m̃ is similar to the symmetric m^{-1/2} m̃ m^{-1/2}.
       const Eigen::VectorXd r = m.cwiseSqrt().cwiseInverse();

@@ -68,7 +68,7 @@ PointErrors single_point_vibration(double dt, UpdateScheme scheme) {
   for (long s = 0; s < steps; ++s) {
     stepper.step(model, dt);
     const double t = model.time;
-    const double va = v0 * std::cos(omega * t);                         // Buzzi Eq. (32)
+    const double va = v0 * std::cos(omega * t);                              // Buzzi Eq. (32)
     const double xa = x0 * std::exp(v0 / (L * omega) * std::sin(omega * t)); // Eq. (33)
     err.velocity = std::max(err.velocity, std::abs(model.particles.V(0, 0) - va) / v0);
     err.position =

@@ -45,8 +45,7 @@ BarRun buzzi_bar(UpdateScheme scheme, int cells, int ppc, double periods) {
 }
 } // namespace
 
-TEST_CASE("continuum bar, first mode: centre-of-mass velocity (Buzzi Eqs. 34-37)",
-          "[validation]") {
+TEST_CASE("continuum bar, first mode: centre-of-mass velocity (Buzzi Eqs. 34-37)", "[validation]") {
   // 20 cells, 2 particles per cell, two periods. The remaining error is the spatial
   // dispersion of mode 1 and the USL/USF energy error.
   const BarRun usf = buzzi_bar(UpdateScheme::USF, 20, 2, 2.0);

@@ -12,14 +12,14 @@ namespace smpm {
 
 /// n × d mask of free directions: free(i, a) = 0 when direction a of node i is fixed.
 struct BoundaryConditions {
-  Eigen::ArrayXXd free;
+  Eigen::Array<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> free;
 
   /// No constraint on any of the grid's nodes.
   static BoundaryConditions none(const Grid& grid);
   /// Number of constrained (node, direction) pairs.
   Index num_fixed() const { return Index((free == 0.0).count()); }
   /// x ← Φ x: zero the constrained components of an n × d nodal field (Buzzi Eqs. 27–28).
-  void apply(Eigen::MatrixXd& x) const { x.array() *= free; }
+  void apply(Field& x) const { x.array() *= free; }
 };
 
 /// Fixes the directions `dirs` (dirs[a] true ⇒ direction a fixed) of every node whose

@@ -9,9 +9,9 @@
 namespace smpm {
 
 struct Energies {
-  double kinetic = 0;  ///< ½ Σ_p M_p |V_p|²
-  double strain = 0;   ///< Σ_p V_p^(0) W(F_p)
-  double total = 0;    ///< kinetic + strain
+  double kinetic = 0;                                 ///< ½ Σ_p M_p |V_p|²
+  double strain = 0;                                  ///< Σ_p V_p^(0) W(F_p)
+  double total = 0;                                   ///< kinetic + strain
   Eigen::Vector3d momentum = Eigen::Vector3d::Zero(); ///< Σ_p M_p V_p (d entries used)
 };
 

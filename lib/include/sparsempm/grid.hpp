@@ -2,12 +2,11 @@
 /// \file grid.hpp
 /// Structured background grid in 1, 2 or 3 dimensions (dimension chosen at run time).
 
-#include <Eigen/Core>
+#include "sparsempm/types.hpp"
+
 #include <array>
 
 namespace smpm {
-
-using Index = Eigen::Index;
 
 /// A structured grid of `cells[a]` cells of size `cell_size[a]` along each axis a < dim,
 /// starting at `origin`. Nodes are numbered i + nx (j + ny k) (Buzzi et al., Eq. 21), so
@@ -41,7 +40,7 @@ public:
     return origin_[axis] + h_[axis] * node_ijk(node)[axis];
   }
   /// n × d matrix of node positions, one row per node.
-  Eigen::MatrixXd node_positions() const;
+  Field node_positions() const;
   /// True when x (first d entries used) lies inside the box [origin, origin + cells h].
   bool contains(const std::array<double, 3>& x) const;
 

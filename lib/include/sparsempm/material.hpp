@@ -15,8 +15,8 @@
 namespace smpm {
 
 enum class MaterialModel {
-  Linear,      ///< σ = λ tr(ε) I + 2Gε, ε = sym(F) − I (1D: σ = E (F − 1))
-  NeoHookean,  ///< σ = (λ/2)(J − 1/J) I + (G/J)(F Fᵀ − I)   (FMPM 2026 Eq. 14)
+  Linear,     ///< σ = λ tr(ε) I + 2Gε, ε = sym(F) − I (1D: σ = E (F − 1))
+  NeoHookean, ///< σ = (λ/2)(J − 1/J) I + (G/J)(F Fᵀ − I)   (FMPM 2026 Eq. 14)
   Hyperelastic ///< W = (G/2)(I₁/J^{2/3} − 3) + (K/2)(½(J² − 1) − ln J)  (contact 2020 Eq. 18)
 };
 

@@ -18,8 +18,8 @@ struct Model {
   std::vector<Material> materials;
   BoundaryConditions bcs;
   std::array<double, 3> body_force{0, 0, 0}; ///< acceleration B (per unit mass), d entries used
-  double time = 0;                            ///< simulated time t
-  long step = 0;                              ///< number of steps taken
+  double time = 0;                           ///< simulated time t
+  long step = 0;                             ///< number of steps taken
 
   /// A model on `grid` with no particles and no constraints.
   explicit Model(const Grid& g) : grid(g), bcs(BoundaryConditions::none(g)) {}

@@ -13,9 +13,6 @@
 
 namespace smpm {
 
-/// n × n (or n × N) sparse matrix, column-major.
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-
 /// Relative tolerance of an active node: m_i > kMassTolerance · max_j m_j (Buzzi §4.4 M_TOL).
 inline constexpr double kMassTolerance = 1e-10;
 
@@ -27,8 +24,8 @@ struct Operators {
   Eigen::VectorXd M;                ///< N particle masses (the diagonal of 𝗠)
   Eigen::VectorXd m;                ///< n lumped nodal masses m = Sᵀ M
   Eigen::Array<bool, Eigen::Dynamic, 1> active; ///< n: m_i > kMassTolerance · max m
-  Eigen::VectorXd m_inv;            ///< n: 1/m_i on active nodes, 0 elsewhere
-  std::vector<ShapeSupport> support; ///< workspace: the pattern of S and G
+  Eigen::VectorXd m_inv;                        ///< n: 1/m_i on active nodes, 0 elsewhere
+  std::vector<ShapeSupport> support;            ///< workspace: the pattern of S and G
   Index num_particles() const { return S.rows(); }
   Index num_nodes() const { return S.cols(); }
 };

@@ -13,14 +13,14 @@ namespace smpm {
 /// tensor flattened row-major: column a d + b holds component (a, b).
 struct Particles {
   int dim = 1;
-  Eigen::MatrixXd X;           ///< N × d positions
-  Eigen::MatrixXd V;           ///< N × d velocities
-  Eigen::MatrixXd F;           ///< N × d² deformation gradients
-  Eigen::MatrixXd stress;      ///< N × d² Cauchy stresses
-  Eigen::VectorXd mass;        ///< N masses M_p
-  Eigen::VectorXd volume0;     ///< N initial volumes V_p^(0)
-  Eigen::VectorXi material;    ///< N material ids (index into the material list)
-  Eigen::MatrixXd half_length; ///< N × d initial half-lengths r⁰ of the particle domain
+  Field X;                  ///< N × d positions
+  Field V;                  ///< N × d velocities
+  Field F;                  ///< N × d² deformation gradients
+  Field stress;             ///< N × d² Cauchy stresses
+  Eigen::VectorXd mass;     ///< N masses M_p
+  Eigen::VectorXd volume0;  ///< N initial volumes V_p^(0)
+  Eigen::VectorXi material; ///< N material ids (index into the material list)
+  Field half_length;        ///< N × d initial half-lengths r⁰ of the particle domain
 
   Index size() const { return X.rows(); }
   /// Resizes to N particles of dimension d with F = I and every other field zero.
@@ -29,6 +29,10 @@ struct Particles {
   Eigen::VectorXd volume() const;
   /// det F_p for every particle.
   Eigen::VectorXd jacobian() const;
+  /// det F_p of one particle.
+  double det_F(Index p) const;
+  /// det F_p for every particle, written into J (resized to N).
+  void jacobian(Eigen::VectorXd& J) const;
   /// Appends the particles of `other` (same dimension) after the existing ones.
   void append(const Particles& other);
 };
@@ -38,7 +42,7 @@ struct Particles {
 /// mass = density × volume, F = I, V = 0, stress 0. Throws InputError if the box is
 /// empty, not inside the grid, or ppc < 1.
 Particles make_block(const Grid& grid, const std::array<double, 3>& lo,
-                     const std::array<double, 3>& hi, const std::array<int, 3>& ppc,
-                     double density, int material_id);
+                     const std::array<double, 3>& hi, const std::array<int, 3>& ppc, double density,
+                     int material_id);
 
 } // namespace smpm

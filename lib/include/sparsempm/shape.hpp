@@ -13,9 +13,6 @@
 
 namespace smpm {
 
-/// N × n sparse matrix with one row per particle (row-major: a particle's nodes are contiguous).
-using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-
 /// Shape-function families. All are tensor products of a 1D grid function N on each axis.
 enum class Shape {
   Linear,   ///< classic MPM: S_pi = N_i(X_p) with linear hat N (Sulsky et al. 1994)

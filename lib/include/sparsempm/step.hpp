@@ -58,12 +58,13 @@ public:
 private:
   void step_usl(Model& model, double dt);
   void step_usf(Model& model, double dt);
-  void strain_update(Model& model, const Eigen::MatrixXd& v, double dt);
+  void strain_update(Model& model, const Field& v, double dt);
 
   StepOptions opt_;
   Operators ops_;
   GridState g_;
-  Eigen::MatrixXd v_strain_, L_;
+  StageWorkspace w_;
+  Field v_strain_, L_;
 };
 
 } // namespace smpm

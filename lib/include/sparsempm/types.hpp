@@ -1,0 +1,22 @@
+#pragma once
+/// \file types.hpp
+/// Matrix types shared by the library.
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace smpm {
+
+using Index = Eigen::Index;
+
+/// A dense field with one row per particle (N × d, N × d²) or per node (n × d). Row-major,
+/// so that one sparse product S x moves all d components in a single pass over S and each
+/// particle's tensor is contiguous.
+using Field = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// N × n sparse matrix with one row per particle (row-major: a particle's nodes are contiguous).
+using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+/// n × n (or n × N) sparse matrix, column-major.
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+} // namespace smpm
