@@ -7,58 +7,128 @@
 
 namespace smpm {
 
-BoundaryConditions BoundaryConditions::none(const Grid& grid) {
-  BoundaryConditions bc;
-  bc.free.setOnes(grid.num_nodes(), grid.dim());
-  return bc;
+Index BoundaryConditions::num_constrained() const {
+  Index n = 0;
+  for (const auto& c : conditions)
+    n += Index(c.nodes.size());
+  return n;
 }
 
 namespace {
-template <class Select>
-Index fix_where(const Grid& grid, const std::array<bool, 3>& dirs, BoundaryConditions& bc,
-                Select&& selected) {
-  if (bc.free.rows() != grid.num_nodes() || bc.free.cols() != grid.dim())
-    bc = BoundaryConditions::none(grid);
-  Index count = 0;
+Eigen::Vector3d node_x(const Grid& g, Index i) {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int a = 0; a < g.dim(); ++a)
+    x[a] = g.node_coordinate(i, a);
+  return x;
+}
+} // namespace
+
+void BoundaryConditions::constrain_momentum(const Grid& grid, const Eigen::VectorXd& m, double t,
+                                            Field& p) const {
+  const int d = int(p.cols());
+  for (const auto& c : conditions)
+    for (Index i : c.nodes) {
+      const auto n = c.direction.head(d);
+      auto pi = p.row(i);
+      pi -= pi.dot(n) * n.transpose();
+      if (c.value)
+        pi += m[i] * c.value_at(t, node_x(grid, i)) * n.transpose();
+    }
+}
+
+void BoundaryConditions::constrain_update(const Grid& grid, const Eigen::VectorXd& m, double t,
+                                          double dt, Field& p_plus, Field& f) const {
+  const int d = int(p_plus.cols());
+  for (const auto& c : conditions)
+    for (Index i : c.nodes) {
+      const auto n = c.direction.head(d);
+      auto pi = p_plus.row(i);
+      double target = 0;
+      if (c.value)
+        target = m[i] * c.value_at(t, node_x(grid, i));
+      const double change = target - pi.dot(n); // Δp = (m v_b − p⁺·n̂) n̂
+      pi += change * n.transpose();
+      f.row(i) += (change / dt) * n.transpose();
+    }
+}
+
+void BoundaryConditions::constrain_velocity(const Grid& grid, double t, Field& v) const {
+  const int d = int(v.cols());
+  for (const auto& c : conditions)
+    for (Index i : c.nodes) {
+      const auto n = c.direction.head(d);
+      auto vi = v.row(i);
+      vi -= vi.dot(n) * n.transpose();
+      if (c.value)
+        vi += c.value_at(t, node_x(grid, i)) * n.transpose();
+    }
+}
+
+void BoundaryConditions::zero_directions(Field& v) const {
+  const int d = int(v.cols());
+  for (const auto& c : conditions)
+    for (Index i : c.nodes) {
+      const auto n = c.direction.head(d);
+      auto vi = v.row(i);
+      vi -= vi.dot(n) * n.transpose();
+    }
+}
+
+std::vector<Index> nodes_on_plane(const Grid& grid, int axis, double at) {
+  if (axis < 0 || axis >= grid.dim())
+    throw InputError("boundary plane axis " + std::to_string(axis) + " is not an axis of a " +
+                     std::to_string(grid.dim()) + "D grid");
+  const double tol = 1e-9 * grid.cell_size(axis);
+  std::vector<Index> nodes;
+  for (Index i = 0; i < grid.num_nodes(); ++i)
+    if (std::abs(grid.node_coordinate(i, axis) - at) <= tol)
+      nodes.push_back(i);
+  if (nodes.empty())
+    throw InputError("boundary plane at " + std::to_string(at) + " on axis " +
+                     std::to_string(axis) + " contains no grid node");
+  return nodes;
+}
+
+std::vector<Index> nodes_in_box(const Grid& grid, const std::array<double, 3>& lo,
+                                const std::array<double, 3>& hi) {
+  std::vector<Index> nodes;
   for (Index i = 0; i < grid.num_nodes(); ++i) {
-    if (!selected(i))
-      continue;
-    ++count;
-    for (int a = 0; a < grid.dim(); ++a)
-      if (dirs[a])
-        bc.free(i, a) = 0.0;
+    bool inside = true;
+    for (int a = 0; a < grid.dim(); ++a) {
+      const double x = grid.node_coordinate(i, a), tol = 1e-9 * grid.cell_size(a);
+      inside = inside && x >= lo[a] - tol && x <= hi[a] + tol;
+    }
+    if (inside)
+      nodes.push_back(i);
   }
-  return count;
+  if (nodes.empty())
+    throw InputError("boundary box contains no grid node");
+  return nodes;
+}
+
+namespace {
+Index add_fixed(const Grid& grid, const std::vector<Index>& nodes, const std::array<bool, 3>& dirs,
+                BoundaryConditions& bc) {
+  for (int a = 0; a < grid.dim(); ++a)
+    if (dirs[a]) {
+      VelocityCondition c;
+      c.nodes = nodes;
+      c.direction = Eigen::Vector3d::Unit(a);
+      c.label = std::string("fixed ") + "xyz"[a];
+      bc.conditions.push_back(std::move(c));
+    }
+  return Index(nodes.size());
 }
 } // namespace
 
 Index fix_plane(const Grid& grid, int axis, double at, const std::array<bool, 3>& dirs,
                 BoundaryConditions& bc) {
-  if (axis < 0 || axis >= grid.dim())
-    throw InputError("boundary plane axis " + std::to_string(axis) + " is not an axis of a " +
-                     std::to_string(grid.dim()) + "D grid");
-  const double tol = 1e-9 * grid.cell_size(axis);
-  const Index count = fix_where(
-      grid, dirs, bc, [&](Index i) { return std::abs(grid.node_coordinate(i, axis) - at) <= tol; });
-  if (count == 0)
-    throw InputError("boundary plane at " + std::to_string(at) + " on axis " +
-                     std::to_string(axis) + " contains no grid node");
-  return count;
+  return add_fixed(grid, nodes_on_plane(grid, axis, at), dirs, bc);
 }
 
 Index fix_box(const Grid& grid, const std::array<double, 3>& lo, const std::array<double, 3>& hi,
               const std::array<bool, 3>& dirs, BoundaryConditions& bc) {
-  const Index count = fix_where(grid, dirs, bc, [&](Index i) {
-    for (int a = 0; a < grid.dim(); ++a) {
-      const double x = grid.node_coordinate(i, a), tol = 1e-9 * grid.cell_size(a);
-      if (x < lo[a] - tol || x > hi[a] + tol)
-        return false;
-    }
-    return true;
-  });
-  if (count == 0)
-    throw InputError("boundary box contains no grid node");
-  return count;
+  return add_fixed(grid, nodes_in_box(grid, lo, hi), dirs, bc);
 }
 
 } // namespace smpm

@@ -59,9 +59,9 @@ void Stepper::step(Model& model, double dt) {
 // Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).
 void Stepper::strain_update(Model& model, const Field& v, double dt) {
   const Field* vs = &v;
-  if (opt_.bc_ordering == BCOrdering::Improper) { // BC3: zero velocity only for the strains
+  if (opt_.bc_ordering == BCOrdering::Improper) { // BC3: BC velocity only for the strains
     v_strain_ = v;
-    model.bcs.apply(v_strain_);
+    model.bcs.constrain_velocity(model.grid, model.time, v_strain_);
     vs = &v_strain_;
   }
   velocity_gradient(ops_, *vs, L_);
@@ -72,11 +72,19 @@ void Stepper::strain_update(Model& model, const Field& v, double dt) {
 // Forces, BC2, p⁺ = p + f Δt and the particle update (FMPM 2026 tasks 2–4).
 namespace {
 void momentum_update(const Model& model, const Operators& ops, GridState& g, double dt,
-                     StageWorkspace& w) {
+                     BCOrdering ordering, StageWorkspace& w) {
   internal_force(ops, model.particles, g.f, w);
   add_body_force(ops, model.body_force, g.f);
-  model.bcs.apply(g.f); // BC2: zero rate of momentum on fixed directions (Buzzi Eq. 28)
-  g.p_plus.noalias() = g.p + dt * g.f;
+  if (ordering == BCOrdering::Improper) {
+    model.bcs.zero_directions(g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
+    g.p_plus.noalias() = g.p + dt * g.f;
+  } else {
+    // BC2: p⁺ takes the BC velocity at t + Δt and f the reaction f^(BC) = Δp/Δt that does it
+    // (FMPM 2026 task 2.a); for a fixed direction with BC1 applied this is Buzzi's zeroing of
+    // the rate of momentum (Eq. 28).
+    g.p_plus.noalias() = g.p + dt * g.f;
+    model.bcs.constrain_update(model.grid, ops.m, model.time + dt, dt, g.p_plus, g.f);
+  }
   lumped_solve(ops, g.p_plus, g.v_plus);
   lumped_solve(ops, g.f, g.a);
 }
@@ -87,9 +95,9 @@ void Stepper::step_usl(Model& model, double dt) {
   assemble(model.grid, P, opt_.shape, ops_);
   map_momentum(ops_, P, g_.p, w_);
   if (opt_.bc_ordering == BCOrdering::Correct)
-    model.bcs.apply(g_.p); // BC1: zero momentum on fixed directions (Buzzi Eq. 27)
+    model.bcs.constrain_momentum(model.grid, ops_.m, model.time, g_.p); // BC1 (Buzzi Eq. 27)
   lumped_solve(ops_, g_.p, g_.v);
-  momentum_update(model, ops_, g_, dt, w_);
+  momentum_update(model, ops_, g_, dt, opt_.bc_ordering, w_);
   if (opt_.velocity == VelocityUpdate::FLIP)
     update_particles_flip(ops_, g_, dt, opt_.position_alpha, P, w_);
   else
@@ -102,10 +110,10 @@ void Stepper::step_usf(Model& model, double dt) {
   assemble(model.grid, P, opt_.shape, ops_);
   map_momentum(ops_, P, g_.p, w_);
   if (opt_.bc_ordering == BCOrdering::Correct)
-    model.bcs.apply(g_.p); // BC1
+    model.bcs.constrain_momentum(model.grid, ops_.m, model.time, g_.p); // BC1
   lumped_solve(ops_, g_.p, g_.v);
   strain_update(model, g_.v, dt);
-  momentum_update(model, ops_, g_, dt, w_);
+  momentum_update(model, ops_, g_, dt, opt_.bc_ordering, w_);
   if (opt_.velocity == VelocityUpdate::FLIP)
     update_particles_flip(ops_, g_, dt, opt_.position_alpha, P, w_);
   else

@@ -40,9 +40,9 @@ TEST_CASE("fixed planes select the nodes on them", "[boundary]") {
   const Grid g(2, {0, 0, 0}, {1, 1, 1}, {4, 3, 1});
   BoundaryConditions bc = BoundaryConditions::none(g);
   CHECK(fix_plane(g, 0, 0.0, {true, false, false}, bc) == 4); // the x = 0 column
-  CHECK(bc.num_fixed() == 4);
+  CHECK(bc.num_constrained() == 4);
   CHECK(fix_box(g, {3.5, -1, 0}, {5, 5, 0}, {true, true, false}, bc) == 4);
-  CHECK(bc.num_fixed() == 12);
+  CHECK(bc.num_constrained() == 12);
   CHECK_THROWS_WITH(fix_plane(g, 0, 0.5, {true, false, false}, bc),
                     Catch::Contains("contains no grid node"));
 }
