@@ -13,6 +13,8 @@ namespace smpm {
 /// the node index grows fastest along x.
 class Grid {
 public:
+  /// A 1D grid of one unit cell at the origin (a placeholder to be assigned over).
+  Grid() : Grid(1, {0, 0, 0}, {1, 1, 1}, {1, 1, 1}) {}
   /// Throws InputError unless 1 ≤ dim ≤ 3, every cell size is positive and finite and
   /// every cell count is at least 1.
   Grid(int dim, const std::array<double, 3>& origin, const std::array<double, 3>& cell_size,

@@ -21,6 +21,7 @@ struct Model {
   double time = 0;                           ///< simulated time t
   long step = 0;                             ///< number of steps taken
 
+  Model() = default;
   /// A model on `grid` with no particles and no constraints.
   explicit Model(const Grid& g) : grid(g), bcs(BoundaryConditions::none(g)) {}
 };

@@ -1,0 +1,144 @@
+// smpm: runs MPM simulations described by TOML input files and inspects their output.
+//
+//   smpm run input.toml [--set section.key=value ...] [-o out.h5] [--quiet]
+//   smpm run --restart out.h5
+//   smpm info out.h5
+//
+// Exit status: 0 success, 2 bad input (nothing that looks like a run is written),
+// 3 numerical failure (frames written so far are kept), 1 any other error.
+
+#include "progress.hpp"
+
+#include <sparsempm/errors.hpp>
+#include <sparsempm/output.hpp>
+#include <sparsempm/run.hpp>
+#include <sparsempm/version.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+int run_command(const std::string& input, const std::vector<std::string>& sets,
+                const std::string& output, const std::string& restart, bool quiet) {
+  using namespace smpm;
+  RunOptions options;
+  RunConfig cfg;
+  if (!restart.empty()) {
+    if (!input.empty() || !sets.empty())
+      throw InputError("--restart takes the input and overrides stored in " + restart +
+                       "; do not give an input file or --set");
+    cfg = stored_config(restart);
+    options.output = restart;
+    options.restart = true;
+  } else {
+    if (input.empty())
+      throw InputError("smpm run: give an input file (or --restart out.h5)");
+    cfg = read_input_file(input, sets);
+    options.output = output;
+  }
+  const double t0 = cfg.model.time; // 0, or replaced by the restart frame inside run()
+  app::Progress bar(stderr, isatty(fileno(stderr)) != 0);
+  double start_time = t0;
+  bool first = true;
+  RunReport r;
+  try {
+    r = run(cfg, options, [&](const Model& m, double end) {
+      if (first) {
+        start_time = m.time - 1e-300;
+        first = false;
+      }
+      if (!quiet)
+        bar.update(m.step, m.time, options.restart ? start_time : 0.0, end);
+    });
+  } catch (...) {
+    if (!quiet && !first)
+      bar.finish();
+    throw;
+  }
+  if (!quiet) {
+    bar.finish();
+    const double change = r.energy_start != 0
+                              ? 100 * (r.energy_end - r.energy_start) / std::abs(r.energy_start)
+                              : 0.0;
+    std::printf("completed %ld steps in %.3f s (%.0f steps/s); total energy %.6g -> %.6g "
+                "(%+.4f%%); %d frames in %s (ParaView: %s)\n",
+                r.steps, r.wall_seconds, r.wall_seconds > 0 ? r.steps / r.wall_seconds : 0.0,
+                r.energy_start, r.energy_end, change, r.frames, r.output.c_str(),
+                xdmf_path(r.output).c_str());
+  }
+  return 0;
+}
+
+int info_command(const std::string& path) {
+  const smpm::StoredRun run = smpm::read_stored_run(path);
+  std::printf("file:     %s\nversion:  %s\nstatus:   %s\n", path.c_str(), run.version.c_str(),
+              run.status.c_str());
+  std::printf("frames:   %zu", run.frame_times.size());
+  if (!run.frame_times.empty())
+    std::printf(" (t = %g ... %g)", run.frame_times.front(), run.frame_times.back());
+  std::printf("\nfields:   particles/<frame>/{X, V, stress, F, mass, volume, volume0, "
+              "half_length, material}, grid/<frame>/{m, p, v}, series/{step, t, kinetic, strain, "
+              "total, momentum}\n");
+  if (!run.series.empty()) {
+    const auto& a = run.series.front();
+    const auto& b = run.series.back();
+    std::printf("steps:    %zu rows of series (step %ld ... %ld)\n", run.series.size(), a.step,
+                b.step);
+    std::printf("energy:   start t = %g: kinetic %.6g strain %.6g total %.6g\n", a.t, a.e.kinetic,
+                a.e.strain, a.e.total);
+    std::printf("          end   t = %g: kinetic %.6g strain %.6g total %.6g (%+.4f%%)\n", b.t,
+                b.e.kinetic, b.e.strain, b.e.total,
+                a.e.total != 0 ? 100 * (b.e.total - a.e.total) / std::abs(a.e.total) : 0.0);
+  }
+  for (const auto& o : run.overrides)
+    std::printf("override: %s\n", o.c_str());
+  std::printf("input:\n%s\n", run.input.c_str());
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"sparsempm: the Material Point Method with explicit sparse operators"};
+  app.set_version_flag("--version", std::string(smpm::kVersion));
+  app.require_subcommand(1);
+
+  std::string input, output, restart, info_path;
+  std::vector<std::string> sets;
+  bool quiet = false;
+  CLI::App* run = app.add_subcommand("run", "run a simulation from a TOML input file");
+  run->add_option("input", input, "input file (TOML)");
+  run->add_option("--set", sets, "override an input entry, e.g. --set time.courant=0.3")
+      ->allow_extra_args(false);
+  run->add_option("-o,--output", output, "output HDF5 file (default: output.file of the input)");
+  run->add_option("--restart", restart, "continue the run stored in this HDF5 file");
+  run->add_flag("-q,--quiet", quiet, "no progress and no summary");
+  CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
+  info->add_option("file", info_path, "HDF5 file written by smpm run")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    if (*run)
+      return run_command(input, sets, output, restart, quiet);
+    return info_command(info_path);
+  } catch (const smpm::InputError& e) {
+    std::fprintf(stderr, "smpm: error: %s\n", e.what());
+    return 2;
+  } catch (const smpm::NumericalError& e) {
+    std::fprintf(stderr, "smpm: numerical failure: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "smpm: error: %s\n", e.what());
+    return 1;
+  }
+}

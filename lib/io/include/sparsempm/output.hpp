@@ -1,0 +1,80 @@
+#pragma once
+/// \file output.hpp
+/// HDF5 output of a run, one file per run, with an XDMF sidecar for ParaView.
+///
+/// Layout (frames numbered 000000, 000001, …):
+///   /particles/<frame>/{X, V, stress, F, mass, volume, volume0, half_length, material}
+///                      attributes time, step, complete
+///   /grid/<frame>/{m, p, v}      P2G of the frame's particle state (n × 1, n × d, n × d)
+///   /matrices/<frame>/{S, G0, G1, G2, consistent_mass}/{data, indices, indptr, shape}
+///                                (CSR; only with output.matrices = true)
+///   /series/{step, t, kinetic, strain, total, momentum}   one row per step
+///   root attributes: input (the input text), overrides, version, status
+/// Every frame is flushed when written; the HDF5 metadata cache keeps evictions off, so a run
+/// killed between two flushes leaves a file that opens with every completed frame.
+
+#include "sparsempm/diagnostics.hpp"
+#include "sparsempm/input.hpp"
+#include "sparsempm/operators.hpp"
+
+#include <string>
+#include <vector>
+
+namespace smpm {
+
+/// One row of the energy series.
+struct SeriesRow {
+  long step = 0;
+  double t = 0;
+  Energies e;
+};
+
+class OutputFile {
+public:
+  /// Creates `path` (truncating it) for the run `cfg`. Throws InputError naming the path when
+  /// it cannot be created.
+  OutputFile(const std::string& path, const RunConfig& cfg);
+  /// Opens an existing run for restart: the state of its last complete frame is loaded into
+  /// `cfg.model` (the rest of `cfg` must come from the run's stored input), later frames and
+  /// series rows are discarded, and `next_frame` is set to the frame that follows.
+  static OutputFile reopen(const std::string& path, RunConfig& cfg, int& next_frame);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  OutputFile(OutputFile&&) noexcept;
+
+  /// Buffers one row of the series (written with the next frame).
+  void add_series(const SeriesRow& row) { pending_.push_back(row); }
+  /// Writes frame `frame` of the model (and its matrices when cfg.output.matrices), the
+  /// buffered series rows, and flushes the file.
+  void write_frame(int frame, const Model& model, Shape shape, bool matrices);
+  /// Records the run's end ("completed" or the failure) and flushes.
+  void set_status(const std::string& status);
+  const std::string& path() const { return path_; }
+
+private:
+  OutputFile() = default;
+  void write_xdmf() const;
+  std::string path_;
+  long file_ = -1;
+  int dim_ = 1;
+  std::vector<std::pair<int, double>> frames_; // (frame, time) written so far
+  std::vector<Index> frame_particles_;
+  std::vector<SeriesRow> pending_;
+};
+
+/// The input text, overrides and frame list stored in a run file.
+struct StoredRun {
+  std::string input;
+  std::vector<std::string> overrides;
+  std::string version, status;
+  std::vector<double> frame_times;
+  std::vector<SeriesRow> series;
+};
+/// Reads the description of a run file (for `smpm info` and `--restart`).
+StoredRun read_stored_run(const std::string& path);
+
+/// Name of the XDMF sidecar of an HDF5 path: "run.h5" → "run.xmf".
+std::string xdmf_path(const std::string& h5_path);
+
+} // namespace smpm

@@ -1,0 +1,72 @@
+#pragma once
+// Small RAII helpers over the HDF5 C API (internal to sparsempm_io).
+
+#include "sparsempm/types.hpp"
+
+#include <hdf5.h>
+#include <string>
+#include <vector>
+
+namespace smpm::h5 {
+
+/// Owns an hid_t and closes it with the matching H5*close.
+class Id {
+public:
+  Id() = default;
+  Id(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  ~Id() { reset(); }
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+  Id(Id&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
+  Id& operator=(Id&& o) noexcept {
+    reset();
+    id_ = o.id_;
+    close_ = o.close_;
+    o.id_ = -1;
+    return *this;
+  }
+  void reset() {
+    if (id_ >= 0 && close_)
+      close_(id_);
+    id_ = -1;
+  }
+  hid_t get() const { return id_; }
+  explicit operator bool() const { return id_ >= 0; }
+
+private:
+  hid_t id_ = -1;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+/// Throws std::runtime_error "HDF5: <what>" when status < 0.
+void check(long status, const std::string& what);
+
+Id create_group(hid_t parent, const std::string& name);
+Id open_group(hid_t parent, const std::string& name);
+bool exists(hid_t parent, const std::string& path);
+
+/// A row-major rows × cols array of doubles (cols = 0: 1D of length rows).
+void write_doubles(hid_t group, const std::string& name, const double* data, hsize_t rows,
+                   hsize_t cols);
+void write_ints(hid_t group, const std::string& name, const int* data, hsize_t n);
+/// Reads a 1D or 2D double dataset into a row-major field (1D → rows × 1).
+Field read_doubles(hid_t group, const std::string& name);
+std::vector<int> read_ints(hid_t group, const std::string& name);
+
+void set_attribute(hid_t obj, const std::string& name, double value);
+void set_attribute(hid_t obj, const std::string& name, long value);
+void set_attribute(hid_t obj, const std::string& name, const std::string& value);
+void set_attribute(hid_t obj, const std::string& name, const std::vector<std::string>& value);
+double get_double_attribute(hid_t obj, const std::string& name);
+long get_long_attribute(hid_t obj, const std::string& name);
+std::string get_string_attribute(hid_t obj, const std::string& name);
+std::vector<std::string> get_strings_attribute(hid_t obj, const std::string& name);
+bool has_attribute(hid_t obj, const std::string& name);
+
+/// An extendible 1D (cols = 0) or 2D double dataset; appends rows.
+void create_series(hid_t group, const std::string& name, hsize_t cols);
+void append_series(hid_t group, const std::string& name, const double* rows, hsize_t count,
+                   hsize_t cols);
+void truncate_series(hid_t group, const std::string& name, hsize_t rows);
+
+} // namespace smpm::h5

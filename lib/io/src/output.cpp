@@ -1,0 +1,345 @@
+#include "sparsempm/output.hpp"
+
+#include "hdf5_util.hpp"
+#include "sparsempm/errors.hpp"
+#include "sparsempm/stages.hpp"
+#include "sparsempm/version.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace smpm {
+
+namespace {
+
+std::string frame_name(int frame) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%06d", frame);
+  return buf;
+}
+
+// File access with the metadata cache never evicting: metadata reaches the disk only at
+// H5Fflush, so the file on disk is always the state of the last flush.
+h5::Id access_plist() {
+  h5::Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5AC_cache_config_t cfg;
+  cfg.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+  H5Pget_mdc_config(fapl.get(), &cfg);
+  cfg.evictions_enabled = false;
+  cfg.incr_mode = H5C_incr__off;
+  cfg.flash_incr_mode = H5C_flash_incr__off;
+  cfg.decr_mode = H5C_decr__off;
+  cfg.set_initial_size = true;
+  cfg.initial_size = 16 * 1024 * 1024;
+  cfg.max_size = 64 * 1024 * 1024;
+  cfg.min_size = 1024 * 1024;
+  h5::check(H5Pset_mdc_config(fapl.get(), &cfg), "metadata cache configuration");
+  return fapl;
+}
+
+void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) {
+  h5::Id g = h5::create_group(parent, name);
+  h5::write_doubles(g.get(), "data", A.valuePtr(), hsize_t(A.nonZeros()), 0);
+  h5::write_ints(g.get(), "indices", A.innerIndexPtr(), hsize_t(A.nonZeros()));
+  h5::write_ints(g.get(), "indptr", A.outerIndexPtr(), hsize_t(A.rows() + 1));
+  const int shape[2] = {int(A.rows()), int(A.cols())};
+  h5::write_ints(g.get(), "shape", shape, 2);
+}
+
+const char* kSeries[] = {"step", "t", "kinetic", "strain", "total"};
+
+} // namespace
+
+std::string xdmf_path(const std::string& h5_path) {
+  std::filesystem::path p(h5_path);
+  p.replace_extension(".xmf");
+  return p.string();
+}
+
+OutputFile::OutputFile(const std::string& path, const RunConfig& cfg)
+    : path_(path), dim_(cfg.model.grid.dim()) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const h5::Id fapl = access_plist();
+  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  if (file_ < 0)
+    throw InputError("output.file = \"" + path +
+                     "\": cannot create the file (is the directory "
+                     "writable?)");
+  h5::set_attribute(file_, "input", cfg.text);
+  h5::set_attribute(file_, "overrides", cfg.overrides);
+  h5::set_attribute(file_, "source", cfg.source);
+  h5::set_attribute(file_, "version", std::string(kVersion));
+  h5::set_attribute(file_, "status", std::string("running"));
+  h5::create_group(file_, "particles");
+  h5::create_group(file_, "grid");
+  if (cfg.output.matrices)
+    h5::create_group(file_, "matrices");
+  h5::Id series = h5::create_group(file_, "series");
+  for (const char* s : kSeries)
+    h5::create_series(series.get(), s, 0);
+  h5::create_series(series.get(), "momentum", hsize_t(dim_));
+  h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
+}
+
+OutputFile::~OutputFile() {
+  if (file_ >= 0)
+    H5Fclose(file_);
+}
+
+OutputFile::OutputFile(OutputFile&& o) noexcept
+    : path_(std::move(o.path_)), file_(o.file_), dim_(o.dim_), frames_(std::move(o.frames_)),
+      frame_particles_(std::move(o.frame_particles_)), pending_(std::move(o.pending_)) {
+  o.file_ = -1;
+}
+
+void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool matrices) {
+  const Particles& P = model.particles;
+  const std::string name = frame_name(frame);
+  {
+    h5::Id parts = h5::open_group(file_, "particles");
+    h5::Id g = h5::create_group(parts.get(), name);
+    const hsize_t N = hsize_t(P.size()), d = hsize_t(P.dim);
+    h5::write_doubles(g.get(), "X", P.X.data(), N, d);
+    h5::write_doubles(g.get(), "V", P.V.data(), N, d);
+    h5::write_doubles(g.get(), "stress", P.stress.data(), N, d * d);
+    h5::write_doubles(g.get(), "F", P.F.data(), N, d * d);
+    h5::write_doubles(g.get(), "mass", P.mass.data(), N, 0);
+    const Eigen::VectorXd vol = P.volume();
+    h5::write_doubles(g.get(), "volume", vol.data(), N, 0);
+    h5::write_doubles(g.get(), "volume0", P.volume0.data(), N, 0);
+    h5::write_doubles(g.get(), "half_length", P.half_length.data(), N, d);
+    h5::write_ints(g.get(), "material", P.material.data(), N);
+    if (P.dim == 1) { // ParaView needs three coordinates
+      Field xyz = Field::Zero(P.size(), 3);
+      xyz.col(0) = P.X.col(0);
+      h5::write_doubles(g.get(), "xyz", xyz.data(), N, 3);
+    }
+    h5::set_attribute(g.get(), "time", model.time);
+    h5::set_attribute(g.get(), "step", model.step);
+  }
+  // Grid fields and matrices of the frame's configuration.
+  const Operators ops = assemble(model.grid, P, shape);
+  {
+    Field p, v;
+    StageWorkspace w;
+    map_momentum(ops, P, p, w);
+    lumped_solve(ops, p, v);
+    h5::Id grid = h5::open_group(file_, "grid");
+    h5::Id g = h5::create_group(grid.get(), name);
+    const hsize_t n = hsize_t(ops.num_nodes()), d = hsize_t(P.dim);
+    h5::write_doubles(g.get(), "m", ops.m.data(), n, 0);
+    h5::write_doubles(g.get(), "p", p.data(), n, d);
+    h5::write_doubles(g.get(), "v", v.data(), n, d);
+  }
+  if (matrices) {
+    if (!h5::exists(file_, "matrices"))
+      h5::create_group(file_, "matrices");
+    h5::Id mats = h5::open_group(file_, "matrices");
+    h5::Id g = h5::create_group(mats.get(), name);
+    write_csr(g.get(), "S", ops.S);
+    for (int a = 0; a < P.dim; ++a)
+      write_csr(g.get(), "G" + std::to_string(a), ops.G[size_t(a)]);
+    write_csr(g.get(), "consistent_mass", SparseRowMatrix(consistent_mass(ops)));
+  }
+  // Series rows accumulated since the last frame.
+  {
+    h5::Id series = h5::open_group(file_, "series");
+    const size_t k = pending_.size();
+    std::vector<double> col(k), mom(k * size_t(dim_));
+    for (int s = 0; s < 5; ++s) {
+      for (size_t r = 0; r < k; ++r) {
+        const SeriesRow& row = pending_[r];
+        const double vals[5] = {double(row.step), row.t, row.e.kinetic, row.e.strain, row.e.total};
+        col[r] = vals[s];
+      }
+      h5::append_series(series.get(), kSeries[s], col.data(), k, 0);
+    }
+    for (size_t r = 0; r < k; ++r)
+      for (int a = 0; a < dim_; ++a)
+        mom[r * size_t(dim_) + size_t(a)] = pending_[r].e.momentum[a];
+    h5::append_series(series.get(), "momentum", mom.data(), k, hsize_t(dim_));
+    pending_.clear();
+  }
+  {
+    h5::Id parts = h5::open_group(file_, "particles");
+    h5::Id g = h5::open_group(parts.get(), name);
+    h5::set_attribute(g.get(), "complete", 1L); // written last: the frame is whole
+  }
+  h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
+  frames_.emplace_back(frame, model.time);
+  frame_particles_.push_back(P.size());
+  write_xdmf();
+}
+
+void OutputFile::set_status(const std::string& status) {
+  h5::set_attribute(file_, "status", status);
+  h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
+}
+
+void OutputFile::write_xdmf() const {
+  const std::string file = std::filesystem::path(path_).filename().string();
+  const int d = dim_;
+  const char* axes = "xyz";
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+    << "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (size_t k = 0; k < frames_.size(); ++k) {
+    const std::string name = frame_name(frames_[k].first), base = file + ":/particles/" + name;
+    const Index N = frame_particles_[k];
+    auto data = [&](const std::string& set, Index cols) {
+      std::ostringstream s;
+      s << "<DataItem Dimensions=\"" << N << (cols ? " " + std::to_string(cols) : "")
+        << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << base << "/" << set
+        << "</DataItem>";
+      return s.str();
+    };
+    auto column = [&](const std::string& label, const std::string& set, Index cols, Index c) {
+      x << "    <Attribute Name=\"" << label << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+        << "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"" << N << " 1\">\n"
+        << "      <DataItem Dimensions=\"3 2\" Format=\"XML\">0 " << c << " 1 1 " << N
+        << " 1</DataItem>\n      " << data(set, cols) << "\n     </DataItem>\n    </Attribute>\n";
+    };
+    x << "   <Grid Name=\"frame " << name << "\" GridType=\"Uniform\">\n"
+      << "    <Time Value=\"" << frames_[k].second << "\"/>\n"
+      << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
+      << "\" NodesPerElement=\"1\"/>\n"
+      << "    <Geometry GeometryType=\"" << (d == 2 ? "XY" : "XYZ") << "\">\n     "
+      << (d == 1 ? data("xyz", 3) : data("X", d)) << "\n    </Geometry>\n";
+    for (int a = 0; a < d; ++a)
+      column(std::string("v") + axes[a], "V", d, a);
+    for (int a = 0; a < d; ++a)
+      for (int b = a; b < d; ++b)
+        column(std::string("stress_") + axes[a] + axes[b], "stress", d * d, a * d + b);
+    for (const char* s : {"mass", "volume"})
+      x << "    <Attribute Name=\"" << s << "\" AttributeType=\"Scalar\" Center=\"Node\">\n     "
+        << data(s, 0) << "\n    </Attribute>\n";
+    x << "    <Attribute Name=\"material\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+      << "     <DataItem Dimensions=\"" << N << "\" NumberType=\"Int\" Precision=\"4\" "
+      << "Format=\"HDF\">" << base << "/material</DataItem>\n    </Attribute>\n";
+    x << "   </Grid>\n";
+  }
+  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  const std::string target = xdmf_path(path_), tmp = target + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << x.str();
+  }
+  std::filesystem::rename(tmp, target);
+}
+
+namespace {
+// Complete frames of a file, ascending.
+std::vector<int> complete_frames(hid_t file) {
+  std::vector<int> frames;
+  h5::Id parts = h5::open_group(file, "particles");
+  H5G_info_t info;
+  H5Gget_info(parts.get(), &info);
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    char name[64] = {};
+    H5Lget_name_by_idx(parts.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
+                       H5P_DEFAULT);
+    h5::Id g = h5::open_group(parts.get(), name);
+    if (h5::has_attribute(g.get(), "complete"))
+      frames.push_back(std::stoi(name));
+  }
+  return frames;
+}
+} // namespace
+
+StoredRun read_stored_run(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    throw InputError(path + ": cannot open as an HDF5 run file");
+  h5::Id file(f, H5Fclose);
+  StoredRun run;
+  try {
+    run.input = h5::get_string_attribute(f, "input");
+    run.overrides = h5::get_strings_attribute(f, "overrides");
+    run.version = h5::get_string_attribute(f, "version");
+    run.status = h5::get_string_attribute(f, "status");
+    h5::Id parts = h5::open_group(f, "particles");
+    for (int frame : complete_frames(f)) {
+      h5::Id g = h5::open_group(parts.get(), frame_name(frame));
+      run.frame_times.push_back(h5::get_double_attribute(g.get(), "time"));
+    }
+    h5::Id series = h5::open_group(f, "series");
+    const Field step = h5::read_doubles(series.get(), "step"),
+                t = h5::read_doubles(series.get(), "t");
+    const Field kin = h5::read_doubles(series.get(), "kinetic");
+    const Field str = h5::read_doubles(series.get(), "strain");
+    const Field tot = h5::read_doubles(series.get(), "total");
+    for (Index r = 0; r < step.rows(); ++r) {
+      SeriesRow row;
+      row.step = long(step(r, 0));
+      row.t = t(r, 0);
+      row.e.kinetic = kin(r, 0);
+      row.e.strain = str(r, 0);
+      row.e.total = tot(r, 0);
+      run.series.push_back(row);
+    }
+  } catch (const std::runtime_error& e) {
+    throw InputError(path + ": not a sparsempm run file (" + e.what() + ")");
+  }
+  return run;
+}
+
+OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next_frame) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const h5::Id fapl = access_plist();
+  OutputFile out;
+  out.path_ = path;
+  out.dim_ = cfg.model.grid.dim();
+  out.file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get());
+  if (out.file_ < 0)
+    throw InputError(path + ": cannot open the run file for restart");
+  const std::vector<int> frames = complete_frames(out.file_);
+  if (frames.empty())
+    throw InputError(path + ": no complete frame to restart from");
+  const int last = frames.back();
+  // Drop incomplete frames after the last complete one.
+  for (const char* group : {"particles", "grid", "matrices"}) {
+    if (!h5::exists(out.file_, group))
+      continue;
+    h5::Id g = h5::open_group(out.file_, group);
+    for (int k = last + 1; h5::exists(g.get(), frame_name(k)); ++k)
+      H5Ldelete(g.get(), frame_name(k).c_str(), H5P_DEFAULT);
+  }
+  // Load the state of the last frame.
+  h5::Id parts = h5::open_group(out.file_, "particles");
+  h5::Id g = h5::open_group(parts.get(), frame_name(last));
+  Particles& P = cfg.model.particles;
+  P.X = h5::read_doubles(g.get(), "X");
+  P.V = h5::read_doubles(g.get(), "V");
+  P.F = h5::read_doubles(g.get(), "F");
+  P.stress = h5::read_doubles(g.get(), "stress");
+  P.mass = h5::read_doubles(g.get(), "mass").col(0);
+  P.volume0 = h5::read_doubles(g.get(), "volume0").col(0);
+  P.half_length = h5::read_doubles(g.get(), "half_length");
+  const std::vector<int> mat = h5::read_ints(g.get(), "material");
+  P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
+  cfg.model.time = h5::get_double_attribute(g.get(), "time");
+  cfg.model.step = h5::get_long_attribute(g.get(), "step");
+  // Keep the series rows up to that step.
+  h5::Id series = h5::open_group(out.file_, "series");
+  const Field step = h5::read_doubles(series.get(), "step");
+  hsize_t keep = 0;
+  while (keep < hsize_t(step.rows()) && long(step(Index(keep), 0)) <= cfg.model.step)
+    ++keep;
+  for (const char* s : kSeries)
+    h5::truncate_series(series.get(), s, keep);
+  h5::truncate_series(series.get(), "momentum", keep);
+  h5::set_attribute(out.file_, "status", std::string("running"));
+  for (int k : frames) {
+    h5::Id fg = h5::open_group(parts.get(), frame_name(k));
+    out.frames_.emplace_back(k, h5::get_double_attribute(fg.get(), "time"));
+    out.frame_particles_.push_back(P.size());
+  }
+  h5::check(H5Fflush(out.file_, H5F_SCOPE_GLOBAL), "flush");
+  next_frame = last + 1;
+  return out;
+}
+
+} // namespace smpm
