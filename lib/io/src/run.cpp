@@ -19,8 +19,15 @@ void check_energy(const Energies& e, double e0, const Model& model) {
   if (!std::isfinite(e.total))
     throw at_step(NumericalError("total energy is not finite"), model.step, model.time);
   if (e0 > 0 && e.total > 10 * e0) {
+    const Particles& P = model.particles;
+    Index fastest = 0;
+    P.V.rowwise().squaredNorm().maxCoeff(&fastest);
     std::ostringstream os;
-    os << "total energy " << e.total << " exceeds 10 times its start " << e0 << " (unstable)";
+    os << "total energy " << e.total << " exceeds 10 times its start " << e0
+       << " (unstable; fastest particle " << fastest << " at (";
+    for (int a = 0; a < P.dim; ++a)
+      os << (a ? ", " : "") << P.X(fastest, a);
+    os << ") with speed " << P.V.row(fastest).norm() << ")";
     throw at_step(NumericalError(os.str()), model.step, model.time);
   }
 }

@@ -1,0 +1,232 @@
+#!/usr/bin/python3
+"""End-to-end tests of `smpm`: bad input, numerical failure, restart, a killed run, the CSR
+matrices loaded with scipy, the XDMF sidecar and the analysis scripts.
+
+Run by ctest with SMPM (the binary) and SMPM_SOURCE (the source tree) in the environment.
+"""
+import os
+import pathlib
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import xml.etree.ElementTree as ET
+
+import h5py
+import numpy as np
+import scipy.sparse
+
+SMPM = os.environ.get("SMPM", "smpm")
+SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
+EXAMPLES = SOURCE / "examples"
+
+
+def smpm(*args, cwd=None):
+    return subprocess.run([SMPM, *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=600)
+
+
+class Base(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = pathlib.Path(self.tmp.name)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+
+class BadInput(Base):
+    """One test per class of bad input: exit status 2, one line naming file, key (and line),
+    and no output file."""
+
+    def run_bad(self, text=None, extra=(), expect=()):
+        src = (EXAMPLES / "vibrating_bar.toml").read_text()
+        for old, new in text or []:
+            self.assertIn(old, src)
+            src = src.replace(old, new, 1)
+        path = self.dir / "bad.toml"
+        path.write_text(src)
+        out = self.dir / "out.h5"
+        r = smpm("run", path, "-o", out, "-q", *extra)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        lines = r.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, r.stderr)
+        for e in expect:
+            self.assertIn(e, lines[0])
+        self.assertFalse(out.exists(), "an output file was left behind")
+        self.assertFalse(out.with_suffix(".xmf").exists())
+        return lines[0]
+
+    def test_unknown_key_suggests(self):
+        self.run_bad([("cell_size", "cell_sizes")], expect=["bad.toml:14:", "grid.cell_sizes", "did you mean 'cell_size'"])
+
+    def test_missing_key(self):
+        self.run_bad([("end = 400.0", "")], expect=["bad.toml", "time.end", "missing required key"])
+
+    def test_wrong_type(self):
+        self.run_bad([("youngs = 2.0", "youngs = [2.0]")], expect=["bad.toml:21:", "material.bar.youngs", "expected a number"])
+
+    def test_non_positive_density(self):
+        self.run_bad([("density = 0.5", "density = -0.5")], expect=["bad.toml:20:", "material.bar.density = -0.5", "must be positive"])
+
+    def test_non_positive_modulus(self):
+        self.run_bad([("youngs = 2.0", "youngs = 0")], expect=["material.bar.youngs = 0", "must be positive"])
+
+    def test_non_positive_cell_size(self):
+        self.run_bad([("cell_size = [1.0]", "cell_size = [-1.0]")], expect=["bad.toml:14:", "grid.cell_size"])
+
+    def test_non_positive_courant(self):
+        self.run_bad(extra=["--set", "time.courant=-0.1"], expect=["time.courant = -0.1", "must be positive"])
+
+    def test_particles_outside_grid(self):
+        self.run_bad([("max = [40.0]", "max = [50.0]")], expect=["bad.toml", "particles outside the grid"])
+
+    def test_expression_does_not_parse(self):
+        self.run_bad([("sin(pi*X/80)", "sin(pi*X/80")], expect=["bad.toml:30:", "body.0.velocity", "cannot parse"])
+
+    def test_unknown_override(self):
+        self.run_bad(extra=["--set", "scheme.shap=gimp"], expect=["scheme.shap", "did you mean 'shape'"])
+
+    def test_output_not_writable(self):
+        src = self.dir / "ok.toml"
+        src.write_text((EXAMPLES / "vibrating_bar.toml").read_text())
+        r = smpm("run", src, "-o", self.dir / "no" / "such" / "dir.h5", "-q")
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1)
+        self.assertIn("cannot create the file", r.stderr)
+        self.assertFalse((self.dir / "no").exists())
+
+    def test_missing_input_file(self):
+        r = smpm("run", self.dir / "absent.toml")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("absent.toml: cannot open the input file", r.stderr)
+
+
+class NumericalFailure(Base):
+    def test_unstable_run_stops_with_step_and_particle(self):
+        # C = 1.5 is far above the FLIP limit (~0.84, FMPM 2026 §3.3): the bar blows up.
+        out = self.dir / "unstable.h5"
+        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "-o", out, "-q", "--set", "time.courant=1.5", "--set", "output.every=2")
+        self.assertEqual(r.returncode, 3, r.stderr)
+        line = r.stderr.strip()
+        self.assertEqual(len(line.splitlines()), 1)
+        self.assertRegex(line, r"step \d+ \(t = [0-9.e+-]+\): .*particle \d+")
+        with h5py.File(out, "r") as f:  # frames written before the failure are kept
+            self.assertIn("failed", f.attrs["status"])
+            self.assertGreaterEqual(len(f["particles"]), 1)
+            for frame in f["particles"].values():
+                self.assertTrue(np.all(np.isfinite(frame["X"][:])))
+
+
+class RunFiles(Base):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmpc = tempfile.TemporaryDirectory()
+        d = pathlib.Path(cls.tmpc.name)
+        cls.disks = d / "disks.h5"
+        r = smpm("run", EXAMPLES / "two_disks.toml", "-o", cls.disks, "-q", "--set", "time.end=1.0", "--set", "output.matrices=true", "--set", "output.every=0.5")
+        assert r.returncode == 0, r.stderr
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmpc.cleanup()
+
+    def test_csr_matrices_load_with_scipy(self):
+        with h5py.File(self.disks, "r") as f:
+            for name, frame in f["matrices"].items():
+                g = frame["S"]
+                S = scipy.sparse.csr_matrix((g["data"][:], g["indices"][:], g["indptr"][:]), shape=tuple(g["shape"][:]))
+                # Partition of unity, S 1 = 1 (round-off: 1e-13).
+                self.assertLess(np.abs(S @ np.ones(S.shape[1]) - 1).max(), 1e-13)
+                c = frame["consistent_mass"]
+                mt = scipy.sparse.csr_matrix((c["data"][:], c["indices"][:], c["indptr"][:]), shape=tuple(c["shape"][:]))
+                m = f["grid"][name]["m"][:]
+                # Rows of the consistent mass sum to the lumped mass (round-off relative 1e-13).
+                self.assertLess(np.abs(mt @ np.ones(mt.shape[1]) - m).max(), 1e-13 * m.max())
+
+    def test_xdmf_points_at_existing_datasets(self):
+        xmf = self.disks.with_suffix(".xmf")
+        root = ET.parse(xmf).getroot()
+        grids = root.findall(".//Grid[@GridType='Uniform']")
+        with h5py.File(self.disks, "r") as f:
+            self.assertEqual(len(grids), len(f["particles"]))
+            checked = 0
+            for item in root.iter("DataItem"):
+                if item.get("Format") != "HDF":
+                    continue
+                file, path = item.text.strip().split(":", 1)
+                self.assertEqual(file, self.disks.name)
+                self.assertIn(path, f)
+                dims = tuple(int(x) for x in item.get("Dimensions").split())
+                self.assertEqual(f[path].shape, dims)
+                checked += 1
+            self.assertGreater(checked, 10)
+
+    def test_info(self):
+        r = smpm("info", self.disks)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("frames:   3", r.stdout)
+        self.assertIn("status:   completed", r.stdout)
+        self.assertIn("energy:", r.stdout)
+
+    def test_analysis_scripts_write_pngs(self):
+        for script, args in (("plot_energy.py", []), ("plot_particles.py", ["--frame", "1", "--field", "stress_xx"])):
+            r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / script, self.disks, "-o", self.dir / "p.png", *args], capture_output=True, text=True)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertGreater((self.dir / "p.png").stat().st_size, 10000)
+
+
+class Restart(Base):
+    def test_killed_run_keeps_frames_and_restart_is_bit_for_bit(self):
+        args = ["--set", "time.end=0.3", "--set", "output.every=0.01"]
+        full = self.dir / "full.h5"
+        r = smpm("run", EXAMPLES / "block_impact.toml", "-o", full, "-q", *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        # Same run, killed (SIGKILL) once a few frames are on disk.
+        cut = self.dir / "cut.h5"
+        p = subprocess.Popen([SMPM, "run", EXAMPLES / "block_impact.toml", "-o", cut, "-q", *args])
+        xmf = cut.with_suffix(".xmf")
+        deadline = time.time() + 300
+        while time.time() < deadline and p.poll() is None:
+            if xmf.exists() and xmf.read_text().count("<Time ") >= 4:
+                break
+            time.sleep(0.02)
+        if p.poll() is not None:
+            self.skipTest("the run finished before it could be killed")
+        p.send_signal(signal.SIGKILL)
+        p.wait()
+        with h5py.File(cut, "r") as f:  # opens, with every completed frame
+            frames = [k for k, g in f["particles"].items() if "complete" in g.attrs]
+            self.assertGreaterEqual(len(frames), 4)
+            self.assertEqual(f.attrs["status"], "running")
+        r = smpm("run", "--restart", cut, "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(full, "r") as a, h5py.File(cut, "r") as b:
+            self.assertEqual(sorted(a["particles"]), sorted(b["particles"]))
+            for name in a["particles"]:
+                for field in ("X", "V", "F", "stress"):
+                    self.assertTrue(np.array_equal(a["particles"][name][field][:], b["particles"][name][field][:]), f"{name}/{field}")
+            for s in ("step", "t", "kinetic", "strain", "total", "momentum"):
+                self.assertTrue(np.array_equal(a["series"][s][:], b["series"][s][:]), s)
+            self.assertEqual(b.attrs["status"], "completed")
+
+
+class Examples(Base):
+    """Every example runs (short versions where the full one is long)."""
+
+    def test_examples_run(self):
+        short = {"block_impact": ["--set", "time.end=0.02"], "two_disks": ["--set", "time.end=1.0"]}
+        for toml in sorted(EXAMPLES.glob("*.toml")):
+            with self.subTest(example=toml.stem):
+                out = self.dir / (toml.stem + ".h5")
+                r = smpm("run", toml, "-o", out, *short.get(toml.stem, []))
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertRegex(r.stdout, r"completed \d+ steps")
+                with h5py.File(out, "r") as f:
+                    self.assertEqual(f.attrs["status"], "completed")
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)

@@ -1,0 +1,123 @@
+// Reading runs from TOML: the example input round trip, --set overrides, and the one-line
+// messages for each class of bad input (file, line, key, value).
+
+#include "support.hpp"
+
+#include <sparsempm/input.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+using namespace smpm;
+using smpm::test::approx;
+
+namespace {
+std::string example(const std::string& name) {
+  std::ifstream in(std::string(SMPM_EXAMPLES_DIR) + "/" + name);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+// "file:line:" of the first line of `text` containing `needle`.
+std::string at(const std::string& text, const std::string& needle) {
+  const size_t pos = text.find(needle);
+  REQUIRE(pos != std::string::npos);
+  return "bar.toml:" +
+         std::to_string(1 + std::count(text.begin(), text.begin() + long(pos), '\n')) + ": ";
+}
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    (void)read_input(text, "bar.toml", sets);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+} // namespace
+
+TEST_CASE("the vibrating bar input reads back as the FMPM 2026 §3.3 set-up", "[input]") {
+  const RunConfig cfg = read_input(example("vibrating_bar.toml"), "vibrating_bar.toml");
+  const Model& m = cfg.model;
+  CHECK(m.grid.dim() == 1);
+  CHECK(m.grid.num_nodes() == 49);
+  CHECK(m.grid.origin(0) == -2.0);
+  REQUIRE(m.particles.size() == 80); // 40 cells × 2 per cell
+  CHECK(m.particles.mass.sum() == approx(0.5 * 40, 1e-12));
+  for (Index p = 0; p < m.particles.size(); ++p) // v = 0.16 sin(πX/80), evaluated by muparser
+    CHECK(m.particles.V(p, 0) ==
+          approx(0.16 * std::sin(std::numbers::pi * m.particles.X(p, 0) / 80), 1e-15));
+  REQUIRE(m.bcs.conditions.size() == 1);
+  CHECK(m.bcs.conditions[0].nodes == std::vector<Index>{2}); // the node at x = 0
+  CHECK(m.materials[0].youngs == 2.0);
+  CHECK(cfg.time.courant == 0.5);
+  CHECK(cfg.time.end == 400.0);
+  CHECK(cfg.step.shape == Shape::CPDI);
+  CHECK(cfg.step.velocity == VelocityUpdate::FLIP);
+  CHECK(cfg.output.file == "vibrating_bar.h5");
+  CHECK(cfg.output.every == 10.0);
+  CHECK(cfg.text == example("vibrating_bar.toml"));
+}
+
+TEST_CASE("--set overrides scalars, named materials and absent tables", "[input]") {
+  const RunConfig cfg =
+      read_input(example("vibrating_bar.toml"), "vibrating_bar.toml",
+                 {"time.courant=0.3", "material.bar.youngs=3", "scheme.velocity=PIC",
+                  "output.matrices=true", "loads.gravity=[-1.0]"});
+  CHECK(cfg.time.courant == 0.3);
+  CHECK(cfg.model.materials[0].youngs == 3.0);
+  CHECK(cfg.step.velocity == VelocityUpdate::PIC);
+  CHECK(cfg.output.matrices);
+  CHECK(cfg.model.body_force[0] == -1.0);
+  CHECK(cfg.text.find("#   time.courant=0.3") != std::string::npos); // recorded in the input
+  CHECK_THROWS_WITH(read_input(example("vibrating_bar.toml"), "b.toml", {"time.courrant=0.3"}),
+                    Catch::Contains("did you mean 'courant'"));
+  CHECK_THROWS_WITH(
+      read_input(example("vibrating_bar.toml"), "b.toml", {"material.steel.youngs=1"}),
+      Catch::Contains("no [[material]] named or numbered 'steel'"));
+}
+
+TEST_CASE("each class of bad input has a one-line message with file, line and key", "[input]") {
+  const std::string bar = example("vibrating_bar.toml");
+  // Unknown key, with the nearest valid key suggested and the line of the entry.
+  CHECK_THAT(error_of(replace(bar, "cell_size = [1.0]", "cell_sizes = [1.0]")),
+             Catch::StartsWith(at(bar, "cell_size") + "grid.cell_sizes") &&
+                 Catch::Contains("unknown key (did you mean 'cell_size'?)"));
+  // Missing required key.
+  CHECK_THAT(error_of(replace(bar, "end = 400.0", "")),
+             Catch::Contains("bar.toml: time.end: missing required key"));
+  // Wrong type.
+  CHECK_THAT(
+      error_of(replace(bar, "density = 0.5", "density = \"heavy\"")),
+      Catch::Contains(at(bar, "density") + "material.bar.density = 'heavy': expected a number"));
+  // Non-positive density, modulus, cell size, Courant number.
+  CHECK_THAT(error_of(replace(bar, "density = 0.5", "density = 0.0")),
+             Catch::Contains(at(bar, "density") + "material.bar.density = 0.0: must be positive"));
+  CHECK_THAT(error_of(replace(bar, "youngs = 2.0", "youngs = -2.0")),
+             Catch::Contains(at(bar, "youngs") + "material.bar.youngs = -2.0: must be positive"));
+  CHECK_THAT(error_of(replace(bar, "cell_size = [1.0]", "cell_size = [0.0]")),
+             Catch::Contains("grid.cell_size: every cell size must be positive"));
+  CHECK_THAT(error_of(replace(bar, "courant = 0.5 ", "courant = 0.0 ")),
+             Catch::Contains(at(bar, "courant =") + "time.courant = 0.0: must be positive"));
+  // Particles outside the grid.
+  CHECK_THAT(error_of(replace(bar, "max = [40.0]", "max = [60.0]")),
+             Catch::Contains("body.0.min/max") && Catch::Contains("particles outside the grid"));
+  // An expression that does not parse.
+  CHECK_THAT(error_of(replace(bar, "0.16*sin(pi*X/80)", "0.16*sin(pi*X/80")),
+             Catch::Contains(at(bar, "velocity = [") + "body.0.velocity") &&
+                 Catch::Contains("cannot parse"));
+  // A TOML syntax error names its line.
+  CHECK_THAT(error_of(replace(bar, "dim = 1", "dim = = 1")), Catch::StartsWith(at(bar, "dim = 1")));
+  // Unknown choices name the valid ones.
+  CHECK_THAT(error_of(replace(bar, "shape = \"cpdi\"", "shape = \"cpdx\"")),
+             Catch::Contains("scheme.shape = 'cpdx'") && Catch::Contains("cpdi"));
+  // Every message is one line.
+  CHECK(error_of(replace(bar, "end = 400.0", "")).find('\n') == std::string::npos);
+}
