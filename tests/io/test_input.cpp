@@ -66,7 +66,7 @@ TEST_CASE("the vibrating bar input reads back as the FMPM 2026 §3.3 set-up", "[
   CHECK(cfg.text == example("vibrating_bar.toml"));
 }
 
-TEST_CASE("--set overrides scalars, named materials and absent tables", "[input]") {
+TEST_CASE("overrides given with --set change scalars, named materials and absent tables", "[input]") {
   const RunConfig cfg =
       read_input(example("vibrating_bar.toml"), "vibrating_bar.toml",
                  {"time.courant=0.3", "material.bar.youngs=3", "scheme.velocity=PIC",
