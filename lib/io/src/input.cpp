@@ -14,9 +14,19 @@
 #include <memory>
 #include <sstream>
 
+#ifndef SMPM_INPUT_MAX_PARTICLES
+#define SMPM_INPUT_MAX_PARTICLES 20000000 // ~20 GB of particle and operator storage
+#endif
+#ifndef SMPM_INPUT_MAX_NODES
+#define SMPM_INPUT_MAX_NODES 50000000
+#endif
+
 namespace smpm {
 
 namespace {
+
+constexpr double kMaxParticles = SMPM_INPUT_MAX_PARTICLES;
+constexpr double kMaxNodes = SMPM_INPUT_MAX_NODES;
 
 // Valid keys of every table of the schema ("" is the top level).
 const std::map<std::string, std::vector<std::string>>& schema() {
@@ -249,8 +259,10 @@ Grid read_grid(const Reader& r, const toml::table& root) {
   double total = 1;
   for (int a = 0; a < d; ++a)
     total *= cells[a] + 1.0;
-  if (total > 2e8)
-    r.fail(g.get("cells"), "grid.cells", "more than 2e8 nodes");
+  if (total > kMaxNodes)
+    r.fail(g.get("cells"), "grid.cells",
+           "the grid would have " + std::to_string(long(total)) + " nodes, more than the " +
+               std::to_string(long(kMaxNodes)) + " this build accepts");
   std::array<double, 3> o{0, 0, 0}, hh{1, 1, 1};
   for (int a = 0; a < d; ++a) {
     o[a] = origin[a];
@@ -343,6 +355,13 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
       r.fail(t->get("material"), key + "material", "no such material" + suggest(mname, names));
     const std::string region = r.string(*t, "region", key + "region", "box");
     const auto ppc = r.counts(*t, "ppc", key + "ppc", d);
+    double estimate = 1; // particles of the body's bounding lattice
+    for (int a = 0; a < d; ++a)
+      estimate *= (g.cells(a) + 1.0) * ppc[a];
+    if (estimate > kMaxParticles)
+      r.fail(t->get("ppc"), key + "ppc",
+             "up to " + std::to_string(long(estimate)) + " particles, more than the " +
+                 std::to_string(long(kMaxParticles)) + " this build accepts");
     Particles P;
     if (region == "box") {
       const auto lo = r.vector(*t, "min", key + "min", d, true);
