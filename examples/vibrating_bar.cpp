@@ -68,7 +68,7 @@ int main(int argc, char** argv) try {
               "total", "change");
   for (VelocityUpdate vel : {VelocityUpdate::FLIP, VelocityUpdate::PIC}) {
     Model model = vibrating_bar(bar); // 2. particles, material and the fixed node at x = 0
-    Stepper stepper({opt.shape, UpdateScheme::USL, vel, 1.0, BCOrdering::Correct});
+    Stepper stepper({.shape = opt.shape, .scheme = UpdateScheme::USL, .velocity = vel});
     const double e0 = energies(model).total;
     const auto start = std::chrono::steady_clock::now();
     for (int k = 0; k <= opt.periods; ++k) {

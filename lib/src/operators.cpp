@@ -1,9 +1,12 @@
 #include "sparsempm/operators.hpp"
 
+#include <algorithm>
+
 namespace smpm {
 
 void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops) {
   ops.dim = grid.dim();
+  ops.grid_nodes = {grid.nodes(0), grid.nodes(1), grid.nodes(2)};
   assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support);
   ops.M = particles.mass;
   ops.m.noalias() = ops.S.transpose() * ops.M; // m = Sᵀ M
@@ -27,9 +30,110 @@ Eigen::VectorXi active_nodes(const Operators& ops) {
 }
 
 SparseMatrix consistent_mass(const Operators& ops) {
-  const SparseRowMatrix MS = ops.M.asDiagonal() * ops.S;
-  SparseMatrix mt = SparseMatrix(ops.S.transpose()) * MS;
-  return mt;
+  ConsistentMass mt;
+  assemble_consistent_mass(ops, mt);
+  SparseMatrix out(mt.matrix);
+  out.prune(0.0);
+  return out;
+}
+
+namespace {
+// First node and width of row i's stencil along an axis.
+inline void stencil(int i, int w, int nodes, int& lo, int& count) {
+  lo = std::max(0, i - w);
+  count = std::min(nodes - 1, i + w) - lo + 1;
+}
+} // namespace
+
+void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
+  const Index n = ops.num_nodes(), N = ops.num_particles();
+  const auto& nodes = ops.grid_nodes;
+  // Stencil half-width and touched nodes decide the pattern.
+  std::array<int, 3> w{0, 0, 0};
+  for (const ShapeSupport& s : ops.support)
+    for (int a = 0; a < 3; ++a)
+      w[a] = std::max(w[a], s.count[a] - 1);
+  std::vector<char> touched(size_t(n), 0);
+  const int* outer = ops.S.outerIndexPtr();
+  const int* inner = ops.S.innerIndexPtr();
+  for (Index k = 0; k < ops.S.nonZeros(); ++k)
+    touched[size_t(inner[k])] = 1;
+  mt.pattern_reused = w == mt.half_width && touched == mt.touched && mt.matrix.rows() == n;
+  if (!mt.pattern_reused) {
+    mt.half_width = w;
+    mt.touched.swap(touched);
+    Index nnz = 0;
+    std::vector<int> row_nnz(size_t(n), 0);
+    for (Index i = 0; i < n; ++i) {
+      if (!mt.touched[size_t(i)])
+        continue;
+      const Index ijk[3] = {i % nodes[0], (i / nodes[0]) % nodes[1],
+                            i / (Index(nodes[0]) * nodes[1])};
+      int count = 1;
+      for (int a = 0; a < 3; ++a) {
+        int lo, c;
+        stencil(int(ijk[a]), w[a], nodes[a], lo, c);
+        count *= c;
+      }
+      row_nnz[size_t(i)] = count;
+      nnz += count;
+    }
+    SparseRowMatrix& A = mt.matrix;
+    A.resize(n, n);
+    A.resizeNonZeros(nnz);
+    int* ro = A.outerIndexPtr();
+    int* ri = A.innerIndexPtr();
+    Index pos = 0;
+    for (Index i = 0; i < n; ++i) {
+      ro[i] = int(pos);
+      if (!row_nnz[size_t(i)])
+        continue;
+      const int ijk[3] = {int(i % nodes[0]), int((i / nodes[0]) % nodes[1]),
+                          int(i / (Index(nodes[0]) * nodes[1]))};
+      int lo[3], c[3];
+      for (int a = 0; a < 3; ++a)
+        stencil(ijk[a], w[a], nodes[a], lo[a], c[a]);
+      for (int k2 = 0; k2 < c[2]; ++k2)
+        for (int k1 = 0; k1 < c[1]; ++k1)
+          for (int k0 = 0; k0 < c[0]; ++k0)
+            ri[pos++] = int((lo[0] + k0) +
+                            Index(nodes[0]) * ((lo[1] + k1) + Index(nodes[1]) * (lo[2] + k2)));
+    }
+    ro[n] = int(pos);
+  }
+  // Values: m̃_ij += M_p S_pi S_pj for every pair (i, j) of particle p's box (FMPM 2026 §2.1).
+  SparseRowMatrix& A = mt.matrix;
+  std::fill(A.valuePtr(), A.valuePtr() + A.nonZeros(), 0.0);
+  const int* ro = A.outerIndexPtr();
+  double* val = A.valuePtr();
+  const double* sv = ops.S.valuePtr();
+  for (Index p = 0; p < N; ++p) {
+    const ShapeSupport& s = ops.support[size_t(p)];
+    const int begin = outer[p];
+    const double Mp = ops.M[p];
+    int qa = 0;
+    for (int a2 = 0; a2 < s.count[2]; ++a2)
+      for (int a1 = 0; a1 < s.count[1]; ++a1)
+        for (int a0 = 0; a0 < s.count[0]; ++a0, ++qa) {
+          const double wa = Mp * sv[begin + qa];
+          if (wa == 0)
+            continue;
+          int lo[3], c[3];
+          stencil(s.first[0] + a0, w[0], nodes[0], lo[0], c[0]);
+          stencil(s.first[1] + a1, w[1], nodes[1], lo[1], c[1]);
+          stencil(s.first[2] + a2, w[2], nodes[2], lo[2], c[2]);
+          double* row = val + ro[inner[begin + qa]];
+          const double* sb = sv + begin;
+          for (int b2 = 0; b2 < s.count[2]; ++b2)
+            for (int b1 = 0; b1 < s.count[1]; ++b1) {
+              double* r = row +
+                          ((s.first[2] + b2 - lo[2]) * c[1] + (s.first[1] + b1 - lo[1])) * c[0] +
+                          (s.first[0] - lo[0]);
+              for (int b0 = 0; b0 < s.count[0]; ++b0)
+                r[b0] += wa * *sb++;
+            }
+        }
+  }
 }
 
 SparseMatrix S_plus(const Operators& ops) {

@@ -143,8 +143,7 @@ void BM_AssembleOperators(benchmark::State& state) {
 
 void BM_FlipStep(benchmark::State& state) {
   smpm::Model model = block_model(side());
-  smpm::Stepper stepper({smpm::Shape::Linear, smpm::UpdateScheme::USL, smpm::VelocityUpdate::FLIP,
-                         1.0, smpm::BCOrdering::Correct});
+  smpm::Stepper stepper({.shape = smpm::Shape::Linear, .velocity = smpm::VelocityUpdate::FLIP});
   stepper.step(model, 1e-4); // warm-up: sizes every workspace once
   for (auto _ : state)
     stepper.step(model, 1e-4);

@@ -25,7 +25,7 @@ TEST_CASE("a block in uniform translation keeps its velocity exactly", "[step]")
       model.particles.V.col(0).setConstant(0.3);
       model.particles.V.col(1).setConstant(-0.2);
       const Eigen::MatrixXd X0 = model.particles.X;
-      Stepper stepper({shape, UpdateScheme::USL, vel, 1.0, BCOrdering::Correct});
+      Stepper stepper({.shape = shape, .velocity = vel});
       const double dt = 0.02;
       for (int s = 0; s < 50; ++s)
         stepper.step(model, dt);
@@ -62,7 +62,7 @@ PointErrors single_point_vibration(double dt, UpdateScheme scheme) {
   model.particles.volume0[0] = 1;
   model.particles.half_length(0, 0) = 0.5;
   fix_plane(model.grid, 0, 0.0, {true, false, false}, model.bcs);
-  Stepper stepper({Shape::Linear, scheme, VelocityUpdate::FLIP, 1.0, BCOrdering::Correct});
+  Stepper stepper({.shape = Shape::Linear, .scheme = scheme});
   PointErrors err{0, 0};
   const long steps = std::lround(2.0 / dt); // two periods (ω = 2π)
   for (long s = 0; s < steps; ++s) {
@@ -117,7 +117,7 @@ TEST_CASE("BC ordering: only the correct method keeps the fixed node's momentum 
   bar.cells_right = 1;
   for (BCOrdering ordering : {BCOrdering::Correct, BCOrdering::Improper}) {
     Model model = vibrating_bar(bar);
-    Stepper stepper({Shape::Linear, UpdateScheme::USF, VelocityUpdate::FLIP, 1.0, ordering});
+    Stepper stepper({.shape = Shape::Linear, .scheme = UpdateScheme::USF, .bc_ordering = ordering});
     double max_fixed = 0, max_any = 0;
     for (int s = 0; s < 1000; ++s) { // Δt = 10⁻³ as in Buzzi Figs. 23–24
       stepper.step(model, 1e-3);
@@ -149,7 +149,7 @@ TEST_CASE("a prescribed velocity condition holds on its nodes after every step",
   pull.direction = Eigen::Vector3d(1, 1, 0).normalized();
   pull.value = [](double t, const Eigen::Vector3d&) { return 0.01 * t; };
   model.bcs.conditions.push_back(pull);
-  Stepper stepper({Shape::CPDI, UpdateScheme::USL, VelocityUpdate::FLIP, 1.0, BCOrdering::Correct});
+  Stepper stepper({.shape = Shape::CPDI});
   double worst = 0, moved = 0;
   for (int s = 0; s < 100; ++s) {
     stepper.step(model, 0.05);

@@ -26,6 +26,7 @@ struct Operators {
   Eigen::Array<bool, Eigen::Dynamic, 1> active; ///< n: m_i > kMassTolerance · max m
   Eigen::VectorXd m_inv;                        ///< n: 1/m_i on active nodes, 0 elsewhere
   std::vector<ShapeSupport> support;            ///< workspace: the pattern of S and G
+  std::array<int, 3> grid_nodes{1, 1, 1};       ///< nodes per axis of the grid
   Index num_particles() const { return S.rows(); }
   Index num_nodes() const { return S.cols(); }
 };
@@ -40,8 +41,21 @@ Operators assemble(const Grid& grid, const Particles& particles, Shape shape);
 Eigen::VectorXi active_nodes(const Operators& ops);
 
 /// Consistent (full) mass matrix m̃ = Sᵀ diag(M) S, n × n, symmetric positive
-/// semidefinite; its row sums are the lumped masses (FMPM 2026 §2.1).
+/// semidefinite; its row sums are the lumped masses (FMPM 2026 §2.1). Exact zeros pruned.
 SparseMatrix consistent_mass(const Operators& ops);
+
+/// Storage of m̃ in its stencil pattern, reused from step to step: row i holds every node
+/// within the stencil half-width w_a = max_p (box_a − 1) of node i along each axis (structural
+/// zeros allowed); rows of nodes no particle touches are empty.
+struct ConsistentMass {
+  SparseRowMatrix matrix;                    ///< n × n, symmetric
+  std::array<int, 3> half_width{-1, -1, -1}; ///< stencil half-width of the pattern
+  std::vector<char> touched;                 ///< n: node in some particle's box
+  bool pattern_reused = false;               ///< the last assembly kept the pattern
+};
+/// m̃_ij = Σ_p M_p S_pi S_pj scattered directly into the stencil pattern (no sparse × sparse
+/// product); the pattern is rebuilt only when the stencil width or the touched set changes.
+void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt);
 /// Lumped reverse map S⁺ = m⁻¹ Sᵀ M, n × N; rows of inactive nodes are zero (FMPM 2026 §2.1).
 SparseMatrix S_plus(const Operators& ops);
 /// Expansion matrix A = I − m⁻¹ m̃ = I − S⁺ S (FMPM 2026 Eq. 1), n × n, restricted to the

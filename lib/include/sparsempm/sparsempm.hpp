@@ -5,6 +5,7 @@
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/errors.hpp"
+#include "sparsempm/fmpm.hpp"
 #include "sparsempm/grid.hpp"
 #include "sparsempm/material.hpp"
 #include "sparsempm/model.hpp"

@@ -1,0 +1,95 @@
+#pragma once
+/// \file fmpm.hpp
+/// The approximate full-mass inverse FMPM(k) (Nairn 2026, §2.2, Table 1) and XPIC(m)
+/// (Nairn, Hammerquist & Smith 2020, Eqs. 36, 41–43), as products with the assembled m̃.
+///
+///   v⁺(k) = m̃_k⁻¹ p⁺ = Σ_{ℓ=1}^{k} Δv(ℓ),  Δv(1) = m⁻¹ p⁺,  Δv(ℓ) = A Δv(ℓ−1)   (Eqs. 5–6)
+///   A = I − m⁻¹ m̃ = I − S⁺ S                                                     (Eq. 1)
+
+#include "sparsempm/boundary.hpp"
+#include "sparsempm/operators.hpp"
+
+#include <string_view>
+#include <vector>
+
+namespace smpm {
+
+/// Velocity-BC methods compared in FMPM 2026 §3.1.
+enum class BCMethod {
+  Incremental, ///< lumped BCs on v⁺(1), then zero BC directions of every Δv(ℓ) (the paper's new
+               ///< method)
+  Lumped,   ///< lumped BCs on v⁺(1) only
+  Velocity, ///< no lumped BCs; set the BC velocities on v⁺(k) after the loop
+  Combined  ///< lumped BCs on v⁺(1) and the BC velocities set on v⁺(k) after the loop
+};
+/// Convergence metrics of dynamic FMPM (FMPM 2026 §3.4).
+enum class ConvergenceMetric {
+  None,  ///< run to the order k
+  Means, ///< Σ_i |Δv_i(ℓ)| / Σ_i |v⁺_i(ℓ)|
+  Changes ///< mean over active nodes of |Δv_i(ℓ)| / (|v⁺_i(ℓ)| + ε), ε = 1% of max_i |v⁺_i(ℓ)|
+};
+
+std::string_view to_string(BCMethod m);
+BCMethod bc_method_from_string(std::string_view name);
+std::string_view to_string(ConvergenceMetric m);
+ConvergenceMetric convergence_metric_from_string(std::string_view name);
+
+struct FmpmOptions {
+  int order = 1;            ///< k, the number of terms (the maximum order when dynamic)
+  double blend_alpha = 1.0; ///< α of the blended recursion (FMPM 2026 §3.3); 1: no blending
+  int blend_every = 1;      ///< m: scale by α when ℓ mod m = 1 or m = 1 (FMPM 2026 §3.3)
+  BCMethod bc_method = BCMethod::Incremental;
+  ConvergenceMetric metric = ConvergenceMetric::None;
+  double dynamic_limit = 0; ///< stop at the first ℓ whose metric is below this
+};
+
+/// Throws InputError unless order ≥ 1, 0 ≤ α ≤ 1, m ≥ 1 and the dynamic limit is ≥ 0.
+void validate(const FmpmOptions& opt);
+
+/// Scale factor of pass ℓ ≥ 2: α if m = 1 or ℓ mod m = 1, else 1 (FMPM 2026 §3.3).
+double blend_factor(const FmpmOptions& opt, int ell);
+
+/// What the velocity BC hooks of the loop need.
+struct LoopConstraints {
+  const Grid* grid = nullptr;
+  const BoundaryConditions* bcs = nullptr; ///< null: no velocity BCs
+  double time = 0;                         ///< time at which BC values are evaluated
+};
+
+/// How the loop ended.
+struct FmpmReport {
+  int order = 1;     ///< ℓ reached (k unless dynamic FMPM converged earlier)
+  double metric = 0; ///< convergence metric at that ℓ (0 when none was computed)
+};
+
+/// Scratch storage of the loop (n × d each).
+struct FmpmWorkspace {
+  Field prev, next;
+};
+
+/// The FMPM loop of FMPM 2026 Table 1. On entry `v` holds v⁺(1) = m⁻¹ p⁺ (with the lumped BCs
+/// of Table 2's top block already applied unless the method is Velocity); on return v⁺(k).
+/// Each pass is one product with m̃ (n × n) on the n × d block: Δv(ℓ) = Δv(ℓ−1) − m⁻¹ m̃ Δv(ℓ−1),
+/// scaled by blend_factor(ℓ), then hook (1) zeroes the BC directions (Incremental), hook (2)
+/// (contact) is empty, and hook (3) stops dynamic FMPM when the metric falls below the limit.
+FmpmReport fmpm_loop(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
+                     const LoopConstraints& bc, Field& v, FmpmWorkspace& w);
+
+/// The convergence metric of FMPM 2026 §3.4 for an increment dv and the evolving v⁺(ℓ).
+double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
+                          const Operators& ops);
+
+/// XPIC(m) projection (contact 2020 Eqs. 36, 41–43, single material):
+///     P V = m S (v − v*),  v* = Σ_{k=2}^{m} (−1)^k v*_k,  v*_1 = v,
+///     v*_k = ((m + 1 − k)/k) S⁺S v*_{k−1},
+/// for the lumped grid velocity v = m⁻¹ p of the particle velocities. Returns the n × d grid
+/// field u = m (v − v*), so that P V = S u; XPIC(1) gives u = v (PIC).
+void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, const Field& v,
+                        Field& u, FmpmWorkspace& w);
+
+/// For analysis on small problems: m̃_k⁻¹ = (Σ_{ℓ=1}^{k} c_ℓ A^{ℓ−1}) m⁻¹ with the blending
+/// coefficients c_1 = 1, c_ℓ = c_{ℓ−1} blend_factor(ℓ), assembled as an n × n sparse matrix
+/// (rows and columns of inactive nodes zero). Without blending this is Σ_{j<k} Aʲ m⁻¹.
+SparseMatrix fmpm_inverse(const Operators& ops, const FmpmOptions& opt);
+
+} // namespace smpm

@@ -1,0 +1,158 @@
+#include "sparsempm/fmpm.hpp"
+
+#include "sparsempm/errors.hpp"
+#include "sparsempm/products.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace smpm {
+
+std::string_view to_string(BCMethod m) {
+  switch (m) {
+  case BCMethod::Incremental:
+    return "incremental";
+  case BCMethod::Lumped:
+    return "lumped";
+  case BCMethod::Velocity:
+    return "velocity";
+  case BCMethod::Combined:
+    return "combined";
+  }
+  return "?";
+}
+
+BCMethod bc_method_from_string(std::string_view name) {
+  for (auto m : {BCMethod::Incremental, BCMethod::Lumped, BCMethod::Velocity, BCMethod::Combined})
+    if (to_string(m) == name)
+      return m;
+  throw InputError("unknown BC method '" + std::string(name) +
+                   "' (expected incremental | lumped | velocity | combined)");
+}
+
+std::string_view to_string(ConvergenceMetric m) {
+  switch (m) {
+  case ConvergenceMetric::None:
+    return "none";
+  case ConvergenceMetric::Means:
+    return "means";
+  case ConvergenceMetric::Changes:
+    return "changes";
+  }
+  return "?";
+}
+
+ConvergenceMetric convergence_metric_from_string(std::string_view name) {
+  for (auto m : {ConvergenceMetric::None, ConvergenceMetric::Means, ConvergenceMetric::Changes})
+    if (to_string(m) == name)
+      return m;
+  throw InputError("unknown convergence metric '" + std::string(name) +
+                   "' (expected means | changes)");
+}
+
+void validate(const FmpmOptions& opt) {
+  if (opt.order < 1)
+    throw InputError("FMPM order must be at least 1, got " + std::to_string(opt.order));
+  if (!(opt.blend_alpha >= 0 && opt.blend_alpha <= 1))
+    throw InputError("blend_alpha must lie in [0, 1], got " + std::to_string(opt.blend_alpha));
+  if (opt.blend_every < 1)
+    throw InputError("blend_every must be at least 1, got " + std::to_string(opt.blend_every));
+  if (!(opt.dynamic_limit >= 0))
+    throw InputError("dynamic_limit must be non-negative");
+}
+
+double blend_factor(const FmpmOptions& opt, int ell) {
+  return (opt.blend_every == 1 || ell % opt.blend_every == 1) ? opt.blend_alpha : 1.0;
+}
+
+double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
+                          const Operators& ops) {
+  const Eigen::VectorXd dn = dv.rowwise().norm(), vn = v.rowwise().norm();
+  if (metric == ConvergenceMetric::Means) {
+    const double den = vn.sum();
+    return den > 0 ? dn.sum() / den : 0.0;
+  }
+  const double eps = 0.01 * vn.maxCoeff();
+  double sum = 0;
+  Index count = 0;
+  for (Index i = 0; i < dn.size(); ++i)
+    if (ops.active[i]) {
+      const double den = vn[i] + eps;
+      sum += den > 0 ? dn[i] / den : 0.0;
+      ++count;
+    }
+  return count ? sum / double(count) : 0.0;
+}
+
+namespace {
+// next ← m⁻¹ m̃ x = S⁺ S x.
+void apply_SpS(const Operators& ops, const SparseRowMatrix& mt, const Field& x, Field& next) {
+  multiply(mt, x, next);
+  next.array().colwise() *= ops.m_inv.array();
+}
+} // namespace
+
+FmpmReport fmpm_loop(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
+                     const LoopConstraints& bc, Field& v, FmpmWorkspace& w) {
+  FmpmReport report;
+  w.prev = v; // Δv(1) = v⁺(1)
+  const bool incremental = bc.bcs && opt.bc_method == BCMethod::Incremental;
+  for (int ell = 2; ell <= opt.order; ++ell) {
+    apply_SpS(ops, mt, w.prev, w.next); // S⁺S Δv(ℓ−1)
+    w.prev -= w.next;                   // Δv(ℓ) = A Δv(ℓ−1)          (Eq. 6)
+    const double c = blend_factor(opt, ell);
+    if (c != 1)
+      w.prev *= c; // blended recursion (§3.3)
+    if (incremental)
+      bc.bcs->zero_directions(w.prev); // (1) Table 2, bottom block
+    // (2) contact: no multimaterial contact in this library yet.
+    v += w.prev; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                        (Eq. 5)
+    report.order = ell;
+    if (opt.metric != ConvergenceMetric::None) { // (3) dynamic FMPM (§3.4)
+      report.metric = convergence_metric(opt.metric, w.prev, v, ops);
+      if (report.metric < opt.dynamic_limit)
+        break;
+    }
+  }
+  if (bc.bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
+    bc.bcs->constrain_velocity(*bc.grid, bc.time, v);
+  return report;
+}
+
+void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, const Field& v,
+                        Field& u, FmpmWorkspace& w) {
+  if (m < 1)
+    throw InputError("XPIC order must be at least 1, got " + std::to_string(m));
+  // v* = Σ_{k=2}^{m} (−1)^k v*_k with v*_k = ((m + 1 − k)/k) S⁺S v*_{k−1}   (Eqs. 42–43)
+  w.prev = v;
+  u.setZero(v.rows(), v.cols());
+  for (int k = 2; k <= m; ++k) {
+    apply_SpS(ops, mt, w.prev, w.next);
+    w.prev = (double(m + 1 - k) / k) * w.next;
+    if (k % 2 == 0)
+      u += w.prev;
+    else
+      u -= w.prev;
+  }
+  u = double(m) * (v - u); // P V = m S (v − v*)                          (Eq. 41)
+}
+
+SparseMatrix fmpm_inverse(const Operators& ops, const FmpmOptions& opt) {
+  validate(opt);
+  const SparseMatrix A = expansion_matrix(ops);
+  const Index n = ops.num_nodes();
+  SparseMatrix term(n, n), sum(n, n);
+  term.setIdentity();
+  for (Index i = 0; i < n; ++i) // identity on active nodes only
+    if (!ops.active[i])
+      term.coeffRef(i, i) = 0;
+  term.prune(0.0);
+  sum = term;
+  for (int ell = 2; ell <= opt.order; ++ell) {
+    term = SparseMatrix(blend_factor(opt, ell) * (A * term));
+    sum += term;
+  }
+  return sum * ops.m_inv.asDiagonal();
+}
+
+} // namespace smpm
