@@ -52,10 +52,14 @@ void BoundaryConditions::constrain_update(const Grid& grid, const Eigen::VectorX
     }
 }
 
-void BoundaryConditions::constrain_velocity(const Grid& grid, double t, Field& v) const {
+void BoundaryConditions::constrain_velocity(
+    const Grid& grid, double t, Field& v,
+    const Eigen::Array<bool, Eigen::Dynamic, 1>* active) const {
   const int d = int(v.cols());
   for (const auto& c : conditions)
     for (Index i : c.nodes) {
+      if (active && !(*active)[i])
+        continue;
       const auto n = c.direction.head(d);
       auto vi = v.row(i);
       vi -= vi.dot(n) * n.transpose();

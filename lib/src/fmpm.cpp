@@ -115,7 +115,7 @@ FmpmReport fmpm_loop(const Operators& ops, const SparseRowMatrix& mt, const Fmpm
     }
   }
   if (bc.bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
-    bc.bcs->constrain_velocity(*bc.grid, bc.time, v);
+    bc.bcs->constrain_velocity(*bc.grid, bc.time, v, &ops.active);
   return report;
 }
 

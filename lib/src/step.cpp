@@ -90,7 +90,7 @@ void Stepper::strain_update(Model& model, const Field& v, double dt) {
   const Field* vs = &v;
   if (opt_.bc_ordering == BCOrdering::Improper) { // BC3: BC velocity only for the strains
     v_strain_ = v;
-    model.bcs.constrain_velocity(model.grid, model.time, v_strain_);
+    model.bcs.constrain_velocity(model.grid, model.time, v_strain_, &ops_.active);
     vs = &v_strain_;
   }
   velocity_gradient(ops_, *vs, L_);

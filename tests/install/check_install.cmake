@@ -7,8 +7,11 @@ if(rc)
   message(FATAL_ERROR "cmake --install failed: ${rc}")
 endif()
 set(extra "")
-if(SANITIZE) # the installed static library was built with the sanitizers
-  set(extra -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined)
+if(SANITIZE)
+  # The installed static library was built with the sanitizers; under AddressSanitizer Eigen
+  # changes its allocator, so the consumer must be compiled the same way.
+  set(extra -DCMAKE_CXX_FLAGS=-fsanitize=address,undefined
+            -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined)
 endif()
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build
                         -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release ${extra}

@@ -40,8 +40,10 @@ struct BoundaryConditions {
   /// (FMPM 2026 task 2.a), so that f stays consistent with p⁺ = p + f Δt.
   void constrain_update(const Grid& grid, const Eigen::VectorXd& m, double t, double dt,
                         Field& p_plus, Field& f) const;
-  /// v_i ← v_i − (v_i · n̂) n̂ + v_b(t, x_i) n̂ on every constrained node.
-  void constrain_velocity(const Grid& grid, double t, Field& v) const;
+  /// v_i ← v_i − (v_i · n̂) n̂ + v_b(t, x_i) n̂ on every constrained node (only on the nodes
+  /// where `active` is true when a mask is given: nodes without mass keep v = 0).
+  void constrain_velocity(const Grid& grid, double t, Field& v,
+                          const Eigen::Array<bool, Eigen::Dynamic, 1>* active = nullptr) const;
   /// v_i ← v_i − (v_i · n̂) n̂: zero the constrained directions (FMPM 2026 Table 2, bottom).
   void zero_directions(Field& v) const;
 };

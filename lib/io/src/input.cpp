@@ -2,6 +2,7 @@
 
 #include "expression.hpp"
 #include "sparsempm/errors.hpp"
+#include "sparsempm/exact.hpp"
 #include "sparsempm/operators.hpp"
 
 #include <toml++/toml.h>
@@ -41,7 +42,9 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"bc.box", {"min", "max"}},
       {"bc.velocity", {"direction", "value"}},
       {"time", {"courant", "end"}},
-      {"scheme", {"update", "velocity", "shape", "position_alpha"}},
+      {"scheme",
+       {"update", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
+        "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization"}},
       {"output", {"file", "every", "matrices"}},
       {"loads", {"gravity"}},
   };
@@ -504,6 +507,56 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
   return bcs;
 }
 
+// FMPM(k), XPIC(m), blending, periodic and dynamic FMPM, BC method, exact solver options.
+void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
+  FmpmOptions& f = step.fmpm;
+  const toml::node* on = scheme.get("order");
+  if (on) {
+    const auto k = on->value<int64_t>();
+    if (!k || !on->is_integer() || *k < 1 || *k > 100000)
+      r.fail(on, "scheme.order", "must be an integer of at least 1");
+    f.order = int(*k);
+  } else if (step.velocity == VelocityUpdate::FMPM || step.velocity == VelocityUpdate::XPIC) {
+    r.fail(nullptr, "scheme.order", "missing required key (the order k of FMPM or m of XPIC)");
+  }
+  f.blend_alpha = r.number(scheme, "blend_alpha", "scheme.blend_alpha", 1.0);
+  if (!(f.blend_alpha >= 0 && f.blend_alpha <= 1))
+    r.fail(scheme.get("blend_alpha"), "scheme.blend_alpha", "must lie in [0, 1]");
+  if (const toml::node* mn = scheme.get("blend_every")) {
+    const auto m = mn->value<int64_t>();
+    if (!m || !mn->is_integer() || *m < 1 || *m > 100000)
+      r.fail(mn, "scheme.blend_every", "must be an integer of at least 1");
+    f.blend_every = int(*m);
+  }
+  step.periodic_cx = r.number(scheme, "periodic_cx", "scheme.periodic_cx", 0.0);
+  if (scheme.get("periodic_cx") && !(step.periodic_cx > 0))
+    r.fail(scheme.get("periodic_cx"), "scheme.periodic_cx", "must be positive");
+  try {
+    f.metric = convergence_metric_from_string(
+        r.string(scheme, "dynamic_metric", "scheme.dynamic_metric", "none"));
+  } catch (const InputError& e) {
+    r.fail(scheme.get("dynamic_metric"), "scheme.dynamic_metric", e.what());
+  }
+  f.dynamic_limit = r.number(scheme, "dynamic_limit", "scheme.dynamic_limit", 0.0);
+  if (!(f.dynamic_limit >= 0))
+    r.fail(scheme.get("dynamic_limit"), "scheme.dynamic_limit", "must be non-negative");
+  if (f.metric != ConvergenceMetric::None && !scheme.get("dynamic_limit"))
+    r.fail(scheme.get("dynamic_metric"), "scheme.dynamic_metric",
+           "needs scheme.dynamic_limit (the convergence limit)");
+  try {
+    f.bc_method =
+        bc_method_from_string(r.string(scheme, "bc_method", "scheme.bc_method", "incremental"));
+  } catch (const InputError& e) {
+    r.fail(scheme.get("bc_method"), "scheme.bc_method", e.what());
+  }
+  const double reg = r.number(scheme, "exact_regularization", "scheme.exact_regularization", 0.0);
+  if (!(reg >= 0))
+    r.fail(scheme.get("exact_regularization"), "scheme.exact_regularization",
+           "must be non-negative");
+  if (step.velocity == VelocityUpdate::Exact)
+    step.solver = make_cholmod_solver(reg);
+}
+
 // Parses a --set value as a TOML value, or keeps it as a string.
 void assign(toml::table& t, const std::string& key, const std::string& value) {
   try {
@@ -639,9 +692,14 @@ RunConfig read_input(const std::string& text, const std::string& source,
   } catch (const InputError& e) {
     r.fail(scheme->get("shape"), "scheme.shape", e.what());
   }
-  cfg.step.position_alpha = r.number(*scheme, "position_alpha", "scheme.position_alpha", 1.0);
+  // α of Eqs. (8)–(9): 1 for FLIP (the common choice), ½ for grid-velocity updates (Eq. 9's
+  // consistent choice, FMPM 2026 §2.3).
+  const double alpha_default = cfg.step.velocity == VelocityUpdate::FLIP ? 1.0 : 0.5;
+  cfg.step.position_alpha =
+      r.number(*scheme, "position_alpha", "scheme.position_alpha", alpha_default);
   if (!(cfg.step.position_alpha >= 0 && cfg.step.position_alpha <= 1))
     r.fail(scheme->get("position_alpha"), "scheme.position_alpha", "must lie in [0, 1]");
+  read_fmpm(r, *scheme, cfg.step);
 
   const toml::table* loads = r.table(root, "loads", "[loads]", false);
   if (loads) {

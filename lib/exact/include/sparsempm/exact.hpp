@@ -1,0 +1,47 @@
+#pragma once
+/// \file exact.hpp
+/// The exact consistent-mass inverse v = m̃⁻¹ p ("FMPM(∞)") with a CHOLMOD Cholesky factor
+/// of m̃ restricted to the active, unconstrained nodes.
+
+#include "sparsempm/step.hpp"
+
+#include <memory>
+
+namespace smpm {
+
+/// Solves m̃_FF v_F = p_F − m̃_FC v_C for each velocity component, F the active nodes free in
+/// that component and C those whose component is prescribed (v_C = v_b). This is the k → ∞
+/// limit of the incremental BC method of FMPM 2026 §3.1: (I − ΦA)⁻¹ v⁺(1). Velocity
+/// conditions must be along axes. The symbolic factorisation is reused while the pattern of
+/// m̃ and the sets F are unchanged; the numeric one is redone every call.
+///
+/// When m̃_FF is not positive definite a NumericalError names the node where CHOLMOD found a
+/// non-positive pivot and the nodes of smallest lumped mass. With regularization ε > 0 the
+/// solver factors m̃ + ε m instead (a documented departure from m̃⁻¹).
+class CholmodSolver final : public MassSolver {
+public:
+  explicit CholmodSolver(double regularization = 0);
+  ~CholmodSolver() override;
+  CholmodSolver(const CholmodSolver&) = delete;
+  CholmodSolver& operator=(const CholmodSolver&) = delete;
+
+  void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
+             const Field& p, Field& v) override;
+
+  double regularization() const { return regularization_; }
+  /// Number of symbolic analyses and numeric factorisations so far.
+  long analyses() const;
+  long factorizations() const;
+  /// CHOLMOD's reciprocal condition estimate (min diag L / max diag L)² of the last factor.
+  double last_rcond() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  double regularization_;
+};
+
+/// A shared CholmodSolver for StepOptions::solver.
+std::shared_ptr<MassSolver> make_cholmod_solver(double regularization = 0);
+
+} // namespace smpm

@@ -1,0 +1,222 @@
+#include "sparsempm/exact.hpp"
+
+#include "sparsempm/errors.hpp"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <string>
+
+namespace smpm {
+
+namespace {
+// A factor of m̃ restricted to one set F of free active nodes.
+struct Factor {
+  std::vector<int> free;           // local → node
+  std::vector<int> colptr, rowind; // pattern of the restricted matrix (CSC, full symmetric)
+  std::vector<double> values;
+  cholmod_factor* L = nullptr;
+};
+} // namespace
+
+struct CholmodSolver::Impl {
+  cholmod_common c;
+  std::vector<Factor> factors;
+  long analyses = 0, factorizations = 0;
+  double rcond = std::numeric_limits<double>::quiet_NaN();
+  Impl() {
+    cholmod_start(&c);
+    c.print = 0; // failures are reported as NumericalError, not printed
+    c.error_handler = nullptr;
+  }
+  ~Impl() {
+    for (Factor& f : factors)
+      if (f.L)
+        cholmod_free_factor(&f.L, &c);
+    cholmod_finish(&c);
+  }
+};
+
+CholmodSolver::CholmodSolver(double regularization)
+    : impl_(std::make_unique<Impl>()), regularization_(regularization) {
+  if (!(regularization >= 0))
+    throw InputError("exact_regularization must be non-negative");
+}
+CholmodSolver::~CholmodSolver() = default;
+long CholmodSolver::analyses() const {
+  return impl_->analyses;
+}
+long CholmodSolver::factorizations() const {
+  return impl_->factorizations;
+}
+double CholmodSolver::last_rcond() const {
+  return impl_->rcond;
+}
+
+std::shared_ptr<MassSolver> make_cholmod_solver(double regularization) {
+  return std::make_shared<CholmodSolver>(regularization);
+}
+
+namespace {
+int axis_of(const VelocityCondition& c, int d) {
+  for (int a = 0; a < d; ++a)
+    if (std::abs(std::abs(c.direction[a]) - 1) < 1e-12)
+      return a;
+  throw InputError("the exact velocity update supports velocity conditions along axes only ('" +
+                   c.label + "' is not)");
+}
+
+Eigen::Vector3d node_x(const Grid& g, Index i) {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int a = 0; a < g.dim(); ++a)
+    x[a] = g.node_coordinate(i, a);
+  return x;
+}
+
+[[noreturn]] void not_positive_definite(const Operators& ops, const Factor& f, long minor) {
+  std::vector<int> order(f.free);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return ops.m[a] < ops.m[b]; });
+  std::ostringstream os;
+  os << "the consistent mass matrix is not positive definite on the active nodes: CHOLMOD found "
+        "a non-positive pivot at node "
+     << (minor >= 0 && minor < long(f.free.size()) ? f.free[size_t(minor)] : -1)
+     << "; smallest lumped masses: ";
+  for (size_t k = 0; k < std::min<size_t>(3, order.size()); ++k)
+    os << (k ? ", " : "") << "node " << order[k] << " (m = " << ops.m[order[k]] << ")";
+  os << " (set scheme.exact_regularization > 0 to factor m~ + eps m)";
+  throw NumericalError(os.str());
+}
+} // namespace
+
+void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
+                          const LoopConstraints& bc, const Field& p, Field& v) {
+  const Index n = ops.num_nodes();
+  const int d = int(p.cols());
+  cholmod_common& c = impl_->c;
+  // Prescribed components: value per (node, axis), NaN when free.
+  Field prescribed = Field::Constant(n, d, std::numeric_limits<double>::quiet_NaN());
+  if (bc.bcs)
+    for (const VelocityCondition& cond : bc.bcs->conditions) {
+      const int a = axis_of(cond, d);
+      const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
+      for (Index i : cond.nodes)
+        if (ops.active[i])
+          prescribed(i, a) = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
+    }
+  v.setZero(n, d);
+  // Group the components by their free set F.
+  std::vector<std::vector<int>> free_sets(static_cast<size_t>(d));
+  for (int a = 0; a < d; ++a)
+    for (Index i = 0; i < n; ++i)
+      if (ops.active[i] && std::isnan(prescribed(i, a)))
+        free_sets[size_t(a)].push_back(int(i));
+  std::vector<char> done(static_cast<size_t>(d), 0);
+  size_t slot = 0;
+  for (int a = 0; a < d; ++a) {
+    if (done[size_t(a)])
+      continue;
+    std::vector<int> comps;
+    for (int b = a; b < d; ++b)
+      if (!done[size_t(b)] && free_sets[size_t(b)] == free_sets[size_t(a)]) {
+        comps.push_back(b);
+        done[size_t(b)] = 1;
+      }
+    const std::vector<int>& F = free_sets[size_t(a)];
+    if (slot >= impl_->factors.size())
+      impl_->factors.emplace_back();
+    Factor& f = impl_->factors[slot++];
+    // m̃_FF (+ ε m_F) in CSC; m̃ is symmetric, so row j of the CSR array is column j.
+    std::vector<int> local(static_cast<size_t>(n), -1);
+    for (size_t k = 0; k < F.size(); ++k)
+      local[size_t(F[k])] = int(k);
+    std::vector<int> colptr(F.size() + 1, 0), rowind;
+    std::vector<double> values;
+    const int* ro = mt.outerIndexPtr();
+    const int* ri = mt.innerIndexPtr();
+    const double* rv = mt.valuePtr();
+    for (size_t k = 0; k < F.size(); ++k) {
+      const int j = F[k];
+      for (int q = ro[j]; q < ro[j + 1]; ++q)
+        if (local[size_t(ri[q])] >= 0) {
+          rowind.push_back(local[size_t(ri[q])]);
+          values.push_back(rv[q] + (ri[q] == j ? regularization_ * ops.m[j] : 0.0));
+        }
+      colptr[k + 1] = int(rowind.size());
+    }
+    const bool same_pattern = f.L && f.free == F && f.colptr == colptr && f.rowind == rowind;
+    f.free = F;
+    f.colptr.swap(colptr);
+    f.rowind.swap(rowind);
+    f.values.swap(values);
+    cholmod_sparse A{};
+    A.nrow = A.ncol = F.size();
+    A.nzmax = f.rowind.size();
+    A.p = f.colptr.data();
+    A.i = f.rowind.data();
+    A.x = f.values.data();
+    A.stype = -1; // symmetric, lower triangle used
+    A.itype = CHOLMOD_INT;
+    A.xtype = CHOLMOD_REAL;
+    A.dtype = CHOLMOD_DOUBLE;
+    A.sorted = 1;
+    A.packed = 1;
+    if (F.empty())
+      continue;
+    if (!same_pattern) {
+      if (f.L)
+        cholmod_free_factor(&f.L, &c);
+      f.L = cholmod_analyze(&A, &c);
+      if (!f.L)
+        throw NumericalError("CHOLMOD could not analyse the consistent mass matrix");
+      ++impl_->analyses;
+    }
+    cholmod_factorize(&A, f.L, &c);
+    ++impl_->factorizations;
+    if (c.status == CHOLMOD_NOT_POSDEF || f.L->minor < f.L->n)
+      not_positive_definite(ops, f, long(f.L->minor));
+    impl_->rcond = cholmod_rcond(f.L, &c);
+    // Right-hand sides b = p_F − m̃_FC v_C, one column per component of the group.
+    Eigen::MatrixXd B(F.size(), comps.size());
+    for (size_t k = 0; k < comps.size(); ++k) {
+      const int comp = comps[k];
+      for (size_t q = 0; q < F.size(); ++q)
+        B(Index(q), Index(k)) = p(F[q], comp);
+      for (Index i = 0; i < n; ++i) {
+        const double vc = prescribed(i, comp);
+        if (!ops.active[i] || std::isnan(vc))
+          continue;
+        v(i, comp) = vc;
+        for (int q = ro[i]; q < ro[i + 1]; ++q)
+          if (const int l = local[size_t(ri[q])]; l >= 0)
+            B(l, Index(k)) -= rv[q] * vc;
+      }
+    }
+    cholmod_dense rhs{};
+    rhs.nrow = F.size();
+    rhs.ncol = comps.size();
+    rhs.nzmax = rhs.nrow * rhs.ncol;
+    rhs.d = rhs.nrow;
+    rhs.x = B.data();
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* X = cholmod_solve(CHOLMOD_A, f.L, &rhs, &c);
+    if (!X)
+      throw NumericalError("CHOLMOD could not solve with the consistent mass matrix");
+    const double* x = static_cast<const double*>(X->x);
+    for (size_t k = 0; k < comps.size(); ++k)
+      for (size_t q = 0; q < F.size(); ++q)
+        v(F[q], comps[k]) = x[k * X->d + q];
+    cholmod_free_dense(&X, &c);
+  }
+  // Components whose free set is empty keep only their prescribed values (set above).
+  for (int a = 0; a < d; ++a)
+    for (Index i = 0; i < n; ++i)
+      if (ops.active[i] && !std::isnan(prescribed(i, a)))
+        v(i, a) = prescribed(i, a);
+}
+
+} // namespace smpm
