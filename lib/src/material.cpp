@@ -112,10 +112,46 @@ const Material& material_of(const std::vector<Material>& mats, const Particles& 
 }
 } // namespace
 
+// Linear elasticity written out for dimension D (the common case, kept cheap on the hot path):
+// σ = λ tr(ε) I + 2Gε with ε = sym(F) − I (D ≥ 2), σ = E (F − 1) in 1D.
+template <int D>
+void linear_stress(const Material& m, const double* F, double* sigma) {
+  if constexpr (D == 1) {
+    sigma[0] = m.youngs * (F[0] - 1);
+  } else {
+    const double lam = m.lame_lambda(), G2 = 2 * m.shear_modulus();
+    double tr = 0;
+    for (int a = 0; a < D; ++a)
+      tr += F[a * D + a] - 1;
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) {
+        const double eps = 0.5 * (F[a * D + b] + F[b * D + a]) - (a == b ? 1.0 : 0.0);
+        sigma[a * D + b] = G2 * eps + (a == b ? lam * tr : 0.0);
+      }
+  }
+}
+
 void update_stress(const std::vector<Material>& materials, Particles& P) {
   const int d = P.dim;
   for (Index p = 0; p < P.size(); ++p) {
-    const Eigen::Matrix3d s = cauchy_stress(material_of(materials, P, p), d, particle_F(P, p));
+    const Material& mat = material_of(materials, P, p);
+    if (mat.model == MaterialModel::Linear) {
+      const double* F = P.F.data() + p * d * d;
+      double* sigma = P.stress.data() + p * d * d;
+      switch (d) {
+      case 1:
+        linear_stress<1>(mat, F, sigma);
+        break;
+      case 2:
+        linear_stress<2>(mat, F, sigma);
+        break;
+      default:
+        linear_stress<3>(mat, F, sigma);
+        break;
+      }
+      continue;
+    }
+    const Eigen::Matrix3d s = cauchy_stress(mat, d, particle_F(P, p));
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
         P.stress(p, a * d + b) = s(a, b);

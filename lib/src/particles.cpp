@@ -12,8 +12,9 @@ void Particles::resize(int d, Index N) {
   X.setZero(N, d);
   V.setZero(N, d);
   F.setZero(N, d * d);
-  for (int a = 0; a < d; ++a)
-    F.col(a * d + a).setOnes();
+  for (Index p = 0; p < N; ++p)
+    for (int a = 0; a < d; ++a)
+      F(p, a * d + a) = 1;
   stress.setZero(N, d * d);
   mass.setZero(N);
   volume0.setZero(N);

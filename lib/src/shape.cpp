@@ -248,6 +248,98 @@ void corner_values(const Grid& g, const Particles& P, Index p, Shape shape, cons
       }
 }
 
+// Fast path for the point-based families (linear hat, quadratic B-spline): dimension and
+// family known at compile time, values written straight into the CSR arrays.
+template <int D, bool BS>
+void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
+                    bool& changed, Index& nnz) {
+  constexpr int width = BS ? 3 : 2;
+  double o[3], inv_h[3];
+  for (int a = 0; a < D; ++a) {
+    o[a] = g.origin(a);
+    inv_h[a] = 1.0 / g.cell_size(a);
+  }
+  const double* X = P.X.data();
+  for (Index p = 0; p < P.size(); ++p) {
+    ShapeSupport s;
+    for (int a = 0; a < D; ++a) {
+      const double xi = (X[p * D + a] - o[a]) * inv_h[a];
+      if (!std::isfinite(xi))
+        throw_outside(p, P, "has a non-finite position or domain");
+      const int first = first_node(xi, BS);
+      if (first < 0 || first + width - 1 > g.cells(a))
+        throw_outside(p, P,
+                      "has left the grid (its shape-function support needs nodes outside it)");
+      s.first[a] = first;
+      s.count[a] = width;
+    }
+    changed = changed || !(s == support[size_t(p)]);
+    support[size_t(p)] = s;
+    nnz += BS ? (D == 1 ? 3 : D == 2 ? 9 : 27) : (1 << D);
+  }
+}
+
+template <int D, bool BS>
+void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupport>& support,
+                  const int* outer, double* sv, double* const* gv) {
+  constexpr int width = BS ? 3 : 2;
+  double o[3], inv_h[3];
+  for (int a = 0; a < D; ++a) {
+    o[a] = g.origin(a);
+    inv_h[a] = 1.0 / g.cell_size(a);
+  }
+  const double* X = P.X.data();
+  for (Index p = 0; p < P.size(); ++p) {
+    const ShapeSupport& s = support[size_t(p)];
+    double w[3][width], dw[3][width];
+    for (int a = 0; a < 3; ++a) {
+      if (a >= D) {
+        w[a][0] = 1;
+        dw[a][0] = 0;
+        continue;
+      }
+      const double r0 = (X[p * D + a] - o[a]) * inv_h[a] - s.first[a];
+      for (int k = 0; k < width; ++k) {
+        const double r = r0 - k;
+        if constexpr (BS) {
+          w[a][k] = bspline2(r);
+          dw[a][k] = bspline2_slope(r) * inv_h[a];
+        } else {
+          w[a][k] = k == 0 ? 1 - r : 1 + r;
+          dw[a][k] = (k == 0 ? -1.0 : 1.0) * inv_h[a];
+        }
+      }
+    }
+    int q = outer[p];
+    for (int k2 = 0; k2 < (D > 2 ? width : 1); ++k2)
+      for (int k1 = 0; k1 < (D > 1 ? width : 1); ++k1)
+        for (int k0 = 0; k0 < width; ++k0, ++q) {
+          const double w0 = w[0][k0], w1 = w[1][k1], w2 = w[2][k2];
+          sv[q] = w0 * w1 * w2;
+          gv[0][q] = dw[0][k0] * w1 * w2;
+          if constexpr (D > 1)
+            gv[1][q] = w0 * dw[1][k1] * w2;
+          if constexpr (D > 2)
+            gv[2][q] = w0 * w1 * dw[2][k2];
+        }
+  }
+}
+
+template <bool BS>
+void dispatch_point(int d, auto&& f) {
+  switch (d) {
+  case 1:
+    f.template operator()<1, BS>();
+    break;
+  case 2:
+    f.template operator()<2, BS>();
+    break;
+  default:
+    f.template operator()<3, BS>();
+    break;
+  }
+}
+
 void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
   if (A.rows() != N || A.cols() != n)
     A.resize(N, n);
@@ -267,11 +359,20 @@ void assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   bool changed = Index(support.size()) != N || S.rows() != N || S.cols() != n;
   support.resize(N);
   Index nnz = 0;
-  for (Index p = 0; p < N; ++p) {
-    const ShapeSupport s = support_of(grid, P, p, shape);
-    changed = changed || !(s == support[p]);
-    support[p] = s;
-    nnz += Index(s.count[0]) * s.count[1] * s.count[2];
+  const bool point = shape == Shape::Linear || shape == Shape::BSpline2;
+  if (point) {
+    auto f = [&]<int D, bool BS>() { point_supports<D, BS>(grid, P, support, changed, nnz); };
+    if (shape == Shape::BSpline2)
+      dispatch_point<true>(d, f);
+    else
+      dispatch_point<false>(d, f);
+  } else {
+    for (Index p = 0; p < N; ++p) {
+      const ShapeSupport s = support_of(grid, P, p, shape);
+      changed = changed || !(s == support[p]);
+      support[p] = s;
+      nnz += Index(s.count[0]) * s.count[1] * s.count[2];
+    }
   }
   if (changed) {
     set_pattern(S, N, n, nnz);
@@ -298,11 +399,19 @@ void assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     }
   }
   // Pass 2: values.
-  BoxValues box;
   double* sv = S.valuePtr();
   double* gv[3] = {G[0].valuePtr(), d > 1 ? G[1].valuePtr() : nullptr,
                    d > 2 ? G[2].valuePtr() : nullptr};
   const int* outer = S.outerIndexPtr();
+  if (point) {
+    auto f = [&]<int D, bool BS>() { point_values<D, BS>(grid, P, support, outer, sv, gv); };
+    if (shape == Shape::BSpline2)
+      dispatch_point<true>(d, f);
+    else
+      dispatch_point<false>(d, f);
+    return;
+  }
+  BoxValues box;
   for (Index p = 0; p < N; ++p) {
     const ShapeSupport& s = support[p];
     if (uses_corners(shape))

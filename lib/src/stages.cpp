@@ -8,16 +8,92 @@
 
 namespace smpm {
 
-void map_momentum(const Operators& ops, const Particles& P, Field& p, StageWorkspace& w) {
-  w.particle.noalias() = ops.M.asDiagonal() * P.V;
-  multiply_transpose(ops.S, w.particle, p);
+namespace {
+
+// The CSR arrays of an N × n operator.
+struct Csr {
+  const int* outer;
+  const int* inner;
+  const double* val;
+  explicit Csr(const SparseRowMatrix& A)
+      : outer(A.outerIndexPtr()), inner(A.innerIndexPtr()), val(A.valuePtr()) {}
+};
+
+template <class Kernel>
+void by_dim(int d, Kernel&& k) {
+  switch (d) {
+  case 1:
+    k.template operator()<1>();
+    break;
+  case 2:
+    k.template operator()<2>();
+    break;
+  default:
+    k.template operator()<3>();
+    break;
+  }
 }
 
-void internal_force(const Operators& ops, const Particles& P, Field& f, StageWorkspace& w) {
-  P.jacobian(w.volume);
-  w.volume.array() *= -P.volume0.array(); // −Ω J: −V_p^(0) det F_p
-  w.tensor.noalias() = w.volume.asDiagonal() * P.stress;
-  divergence_product(ops.G, P.dim, w.tensor, f); // f_ia = Σ_p Σ_b G_b(p,i) (−V_p σ_p,ab)
+template <int D>
+double det(const double* F) {
+  if constexpr (D == 1)
+    return F[0];
+  else if constexpr (D == 2)
+    return F[0] * F[3] - F[1] * F[2];
+  else
+    return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+           F[2] * (F[3] * F[7] - F[4] * F[6]);
+}
+
+[[noreturn]] void bad_particle(Index p, const char* what, double value) {
+  std::ostringstream os;
+  os << "particle " << p << " has " << what << " (" << value << ")";
+  throw NumericalError(os.str());
+}
+
+} // namespace
+
+void map_momentum(const Operators& ops, const Particles& P, Field& p, StageWorkspace&) {
+  // p = Sᵀ (M ∘ V): one pass over the rows of S.
+  const Csr S(ops.S);
+  p.setZero(ops.num_nodes(), P.dim);
+  by_dim(P.dim, [&]<int D>() {
+    for (Index q = 0; q < P.size(); ++q) {
+      double mv[D];
+      for (int a = 0; a < D; ++a)
+        mv[a] = ops.M[q] * P.V(q, a);
+      for (int k = S.outer[q]; k < S.outer[q + 1]; ++k) {
+        double* pi = p.data() + Index(S.inner[k]) * D;
+        for (int a = 0; a < D; ++a)
+          pi[a] += S.val[k] * mv[a];
+      }
+    }
+  });
+}
+
+void internal_force(const Operators& ops, const Particles& P, Field& f, StageWorkspace&) {
+  // f_ia = −Σ_p Σ_b G_b(p, i) V_p^(0) J_p σ_p,ab: one pass over the rows of the G_b.
+  const Csr G0(ops.G[0]);
+  const double* g[3] = {ops.G[0].valuePtr(), P.dim > 1 ? ops.G[1].valuePtr() : nullptr,
+                        P.dim > 2 ? ops.G[2].valuePtr() : nullptr};
+  f.setZero(ops.num_nodes(), P.dim);
+  by_dim(P.dim, [&]<int D>() {
+    for (Index q = 0; q < P.size(); ++q) {
+      const double vol = -P.volume0[q] * det<D>(P.F.data() + q * D * D); // −Ω J
+      double tau[D * D];
+      for (int c = 0; c < D * D; ++c)
+        tau[c] = vol * P.stress.data()[q * D * D + c];
+      for (int k = G0.outer[q]; k < G0.outer[q + 1]; ++k) {
+        double* fi = f.data() + Index(G0.inner[k]) * D;
+        for (int a = 0; a < D; ++a) {
+          double sum = 0;
+          for (int b = 0; b < D; ++b)
+            sum += tau[a * D + b] * g[b][k];
+          fi[a] += sum;
+        }
+      }
+    }
+  });
 }
 
 void add_body_force(const Operators& ops, const std::array<double, 3>& B, Field& f) {
@@ -31,53 +107,100 @@ void lumped_solve(const Operators& ops, const Field& x, Field& v) {
 }
 
 void update_particles_flip(const Operators& ops, const GridState& g, double dt, double alpha,
-                           Particles& P, StageWorkspace& w) {
-  const Index d = g.a.cols();
-  w.node2.resize(g.a.rows(), 2 * d);
-  w.node2.leftCols(d) = g.v_plus;
-  w.node2.rightCols(d) = g.a;
-  multiply(ops.S, w.node2, w.particle2); // [S v⁺  S a]
-  P.X.noalias() += dt * w.particle2.leftCols(d);
-  if (alpha != 1)
-    P.X.noalias() -= ((1 - alpha) * dt * dt) * w.particle2.rightCols(d);
-  P.V.noalias() += dt * w.particle2.rightCols(d);
+                           Particles& P, StageWorkspace&) {
+  // One pass over S: (S v⁺)_p and (S a)_p, then V += Δt S a, X += Δt S v⁺ − (1 − α) Δt² S a.
+  const Csr S(ops.S);
+  by_dim(P.dim, [&]<int D>() {
+    const double c = (1 - alpha) * dt * dt;
+    for (Index q = 0; q < P.size(); ++q) {
+      double sv[D] = {}, sa[D] = {};
+      for (int k = S.outer[q]; k < S.outer[q + 1]; ++k) {
+        const Index i = S.inner[k];
+        for (int a = 0; a < D; ++a) {
+          sv[a] += S.val[k] * g.v_plus.data()[i * D + a];
+          sa[a] += S.val[k] * g.a.data()[i * D + a];
+        }
+      }
+      for (int a = 0; a < D; ++a) {
+        double& x = P.X.data()[q * D + a];
+        double& v = P.V.data()[q * D + a];
+        x += dt * sv[a] - c * sa[a];
+        v += dt * sa[a];
+        if (!std::isfinite(x) || !std::isfinite(v))
+          bad_particle(q, "a non-finite position or velocity", v);
+      }
+    }
+  });
 }
 
 void update_particles_pic(const Operators& ops, const Field& v_plus, double dt, double alpha,
-                          Particles& P, StageWorkspace& w) {
-  multiply(ops.S, v_plus, w.particle); // V' = S v⁺
-  P.X.noalias() += (alpha * dt) * w.particle + ((1 - alpha) * dt) * P.V;
-  P.V.swap(w.particle);
+                          Particles& P, StageWorkspace&) {
+  // One pass over S: V' = (S v⁺)_p, X += (α V' + (1 − α) V) Δt, V = V'.
+  const Csr S(ops.S);
+  by_dim(P.dim, [&]<int D>() {
+    for (Index q = 0; q < P.size(); ++q) {
+      double sv[D] = {};
+      for (int k = S.outer[q]; k < S.outer[q + 1]; ++k)
+        for (int a = 0; a < D; ++a)
+          sv[a] += S.val[k] * v_plus.data()[Index(S.inner[k]) * D + a];
+      for (int a = 0; a < D; ++a) {
+        double& x = P.X.data()[q * D + a];
+        double& v = P.V.data()[q * D + a];
+        x += (alpha * sv[a] + (1 - alpha) * v) * dt;
+        v = sv[a];
+        if (!std::isfinite(x) || !std::isfinite(v))
+          bad_particle(q, "a non-finite position or velocity", v);
+      }
+    }
+  });
 }
 
 void velocity_gradient(const Operators& ops, const Field& v, Field& L) {
   gradient_product(ops.G, ops.dim, v, L); // (G_b v)_{pa} = ∂v_a/∂x_b at particle p
 }
 
-namespace {
-template <int D>
-void update_F(const Field& L, double dt, Field& F) {
-  using Mat = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
-  for (Index p = 0; p < F.rows(); ++p) {
-    Eigen::Map<Mat> Fp(F.row(p).data());
-    const Mat Fn = (Mat::Identity() + dt * Eigen::Map<const Mat>(L.row(p).data())) * Fp;
-    Fp = Fn;
-  }
-}
-} // namespace
-
 void update_deformation_gradient(const Field& L, double dt, Particles& P) {
-  switch (P.dim) {
-  case 1:
-    P.F.col(0).array() *= 1 + dt * L.col(0).array();
-    break;
-  case 2:
-    update_F<2>(L, dt, P.F);
-    break;
-  default:
-    update_F<3>(L, dt, P.F);
-    break;
-  }
+  by_dim(P.dim, [&]<int D>() {
+    using Mat = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
+    for (Index q = 0; q < P.size(); ++q) {
+      Eigen::Map<Mat> Fq(P.F.row(q).data());
+      const Mat Fn = (Mat::Identity() + dt * Eigen::Map<const Mat>(L.row(q).data())) * Fq;
+      Fq = Fn;
+    }
+  });
+}
+
+void update_deformation_from_velocity(const Operators& ops, const Field& v, double dt,
+                                      Particles& P) {
+  // One pass over the G_b: L_p = Σ_i v_i ⊗ G_pi, F_p ← (I + L_p Δt) F_p, det F_p > 0.
+  const Csr G0(ops.G[0]);
+  const double* g[3] = {ops.G[0].valuePtr(), P.dim > 1 ? ops.G[1].valuePtr() : nullptr,
+                        P.dim > 2 ? ops.G[2].valuePtr() : nullptr};
+  by_dim(P.dim, [&]<int D>() {
+    for (Index q = 0; q < P.size(); ++q) {
+      double L[D * D] = {};
+      for (int k = G0.outer[q]; k < G0.outer[q + 1]; ++k) {
+        const double* vi = v.data() + Index(G0.inner[k]) * D;
+        for (int b = 0; b < D; ++b)
+          for (int a = 0; a < D; ++a)
+            L[a * D + b] += vi[a] * g[b][k];
+      }
+      double* F = P.F.data() + q * D * D;
+      double Fn[D * D];
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b) {
+          double sum = F[a * D + b];
+          for (int c = 0; c < D; ++c)
+            sum += dt * L[a * D + c] * F[c * D + b];
+          Fn[a * D + b] = sum;
+        }
+      for (int c = 0; c < D * D; ++c)
+        F[c] = Fn[c];
+      const double J = det<D>(F);
+      if (!(J > 0))
+        bad_particle(q, "det F <= 0", J);
+    }
+  });
 }
 
 void check_particles(const Particles& P) {

@@ -76,8 +76,7 @@ Stepper::Stepper(const StepOptions& options) : opt_(options) {
 
 void Stepper::step(Model& model, double dt) {
   try {
-    run_step(model, dt);
-    check_particles(model.particles);
+    run_step(model, dt); // the stages check X, V (particle update) and det F (F update)
   } catch (const NumericalError& e) {
     throw at_step(e, model.step + 1, model.time + dt);
   }
@@ -93,8 +92,7 @@ void Stepper::strain_update(Model& model, const Field& v, double dt) {
     model.bcs.constrain_velocity(model.grid, model.time, v_strain_, &ops_.active);
     vs = &v_strain_;
   }
-  velocity_gradient(ops_, *vs, L_);
-  update_deformation_gradient(L_, dt, model.particles);
+  update_deformation_from_velocity(ops_, *vs, dt, model.particles); // L, F, det F > 0
   update_stress(model.materials, model.particles);
 }
 

@@ -66,7 +66,8 @@ TEST_CASE("the vibrating bar input reads back as the FMPM 2026 §3.3 set-up", "[
   CHECK(cfg.text == example("vibrating_bar.toml"));
 }
 
-TEST_CASE("overrides given with --set change scalars, named materials and absent tables", "[input]") {
+TEST_CASE("overrides given with --set change scalars, named materials and absent tables",
+          "[input]") {
   const RunConfig cfg =
       read_input(example("vibrating_bar.toml"), "vibrating_bar.toml",
                  {"time.courant=0.3", "material.bar.youngs=3", "scheme.velocity=PIC",
@@ -118,6 +119,13 @@ TEST_CASE("each class of bad input has a one-line message with file, line and ke
   // Unknown choices name the valid ones.
   CHECK_THAT(error_of(replace(bar, "shape = \"cpdi\"", "shape = \"cpdx\"")),
              Catch::Contains("scheme.shape = 'cpdx'") && Catch::Contains("cpdi"));
+  // Non-ASCII characters are allowed in comments and strings only (TOML), and rejected with
+  // their line before the parser sees them.
+  CHECK(read_input(replace(bar, "file = \"vibrating_bar.h5\"", "file = \"stab_ü.h5\" # ρ, 漢字"),
+                   "bar.toml", {"scheme.shape=\"cpdi\" "})
+            .output.file == "stab_ü.h5");
+  CHECK_THAT(error_of(replace(bar, "density = 0.5", "density = 0.5 ρ")),
+             Catch::StartsWith(at(bar, "density")) && Catch::Contains("non-ASCII"));
   // Every message is one line.
   CHECK(error_of(replace(bar, "end = 400.0", "")).find('\n') == std::string::npos);
 }

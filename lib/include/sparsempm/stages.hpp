@@ -43,11 +43,12 @@ void add_body_force(const Operators& ops, const std::array<double, 3>& B, Field&
 /// v = m⁻¹ x on active nodes, 0 on inactive ones.
 void lumped_solve(const Operators& ops, const Field& x, Field& v);
 
-/// FLIP (FMPM 2026 Eq. 8): V ← V + S a Δt,  X ← X + S v⁺ Δt − (1 − α) S a Δt².
-/// One pass over S computes S [v⁺ a].
+/// FLIP (FMPM 2026 Eq. 8): V ← V + S a Δt,  X ← X + S v⁺ Δt − (1 − α) S a Δt², in one pass
+/// over S. Throws NumericalError naming the first particle with a non-finite X or V.
 void update_particles_flip(const Operators& ops, const GridState& g, double dt, double alpha,
                            Particles& P, StageWorkspace& w);
-/// PIC, i.e. FMPM(1) (FMPM 2026 Eq. 9): V' = S v⁺,  X ← X + (α V' + (1 − α) V) Δt.
+/// PIC, i.e. FMPM(1) (FMPM 2026 Eq. 9): V' = S v⁺,  X ← X + (α V' + (1 − α) V) Δt; with v⁺(k)
+/// this is the FMPM(k) update. Throws NumericalError for a non-finite X or V.
 void update_particles_pic(const Operators& ops, const Field& v_plus, double dt, double alpha,
                           Particles& P, StageWorkspace& w);
 
@@ -55,6 +56,10 @@ void update_particles_pic(const Operators& ops, const Field& v_plus, double dt, 
 void velocity_gradient(const Operators& ops, const Field& v, Field& L);
 /// F_p ← (I + L_p Δt) F_p for every particle.
 void update_deformation_gradient(const Field& L, double dt, Particles& P);
+/// The two above in one pass over the G_b: L_p = Σ_i v_i ⊗ G_pi, F_p ← (I + L_p Δt) F_p.
+/// Throws NumericalError naming the first particle with det F ≤ 0.
+void update_deformation_from_velocity(const Operators& ops, const Field& v, double dt,
+                                      Particles& P);
 
 /// Throws NumericalError naming the first particle with a non-finite position, velocity or
 /// stress, or with det F ≤ 0.

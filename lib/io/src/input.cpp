@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -49,6 +50,69 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"loads", {"gravity"}},
   };
   return keys;
+}
+
+// TOML allows non-ASCII characters only inside strings and comments. toml++ 3.3 reaches
+// undefined behaviour (an unreachable branch in is_non_ascii_horizontal_whitespace) when one
+// stands where whitespace may be, so such input is rejected here before it is parsed.
+void check_non_ascii(const std::string& text, const std::string& source) {
+  enum class State { Code, Comment, Basic, Literal, MultiBasic, MultiLiteral } state = State::Code;
+  long line = 1;
+  for (size_t k = 0; k < text.size(); ++k) {
+    const char c = text[k];
+    auto starts = [&](const char* s) { return text.compare(k, std::strlen(s), s) == 0; };
+    if (c == '\n') {
+      ++line;
+      if (state == State::Comment || state == State::Basic || state == State::Literal)
+        state = State::Code; // comments end; single-line strings cannot span lines
+      continue;
+    }
+    switch (state) {
+    case State::Code:
+      if (static_cast<unsigned char>(c) >= 0x80)
+        throw InputError(source + ":" + std::to_string(line) +
+                         ": non-ASCII character outside a string or comment");
+      if (c == '#')
+        state = State::Comment;
+      else if (starts("\"\"\"")) {
+        state = State::MultiBasic;
+        k += 2;
+      } else if (starts("'''")) {
+        state = State::MultiLiteral;
+        k += 2;
+      } else if (c == '"')
+        state = State::Basic;
+      else if (c == '\'')
+        state = State::Literal;
+      break;
+    case State::Comment:
+      break;
+    case State::Basic:
+      if (c == '\\')
+        ++k;
+      else if (c == '"')
+        state = State::Code;
+      break;
+    case State::Literal:
+      if (c == '\'')
+        state = State::Code;
+      break;
+    case State::MultiBasic:
+      if (c == '\\')
+        ++k;
+      else if (starts("\"\"\"")) {
+        state = State::Code;
+        k += 2;
+      }
+      break;
+    case State::MultiLiteral:
+      if (starts("'''")) {
+        state = State::Code;
+        k += 2;
+      }
+      break;
+    }
+  }
 }
 
 size_t edit_distance(const std::string& a, const std::string& b) {
@@ -559,6 +623,7 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
 
 // Parses a --set value as a TOML value, or keeps it as a string.
 void assign(toml::table& t, const std::string& key, const std::string& value) {
+  check_non_ascii("v = " + value, "--set " + key);
   try {
     toml::table v = toml::parse("v = " + value, std::string_view("--set"));
     toml::node* n = v.get("v");
@@ -638,6 +703,7 @@ void apply_override(const Reader& r, toml::table& root, const std::string& spec)
 RunConfig read_input(const std::string& text, const std::string& source,
                      const std::vector<std::string>& overrides) {
   const Reader r(source);
+  check_non_ascii(text, source);
   toml::table root;
   try {
     root = toml::parse(text, std::string_view(source));
