@@ -273,8 +273,10 @@ void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>
       s.first[a] = first;
       s.count[a] = width;
     }
-    changed = changed || !(s == support[size_t(p)]);
-    support[size_t(p)] = s;
+    if (!(s == support[size_t(p)])) { // write only what changed: the pattern is usually kept
+      changed = true;
+      support[size_t(p)] = s;
+    }
     nnz += BS ? (D == 1 ? 3 : D == 2 ? 9 : 27) : (1 << D);
   }
 }

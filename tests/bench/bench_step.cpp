@@ -1,12 +1,18 @@
-// Cost of the matrix form of an MPM step against a lean matrix-free step measured in the same
-// run. Block of particles (2 × 2 per cell, i.e. 4 per cell) in 2D plane strain, linear
-// shape functions, USL FLIP, linear elastic. Prints each benchmark and then the ratios.
+// Cost of the matrix form of MPM against a lean matrix-free step measured in the same run
+// (FMPM 2026 §3.4, Eq. 3: relative time 1 + φ(k − 1)F).
 //
 //   build/tests/bench/bench_step [--benchmark_filter=...]
 //
-// The block fills side × side cells, side = 500 by default (10⁶ particles, 251,001
-// nodes); set SMPM_BENCH_SIDE to change it.
+// Problems: "block", a 2D block of side × side cells with 2 × 2 particles per cell (linear
+// shape functions, linear elastic; side = 500 gives 10⁶ particles and 251,001 nodes; set
+// SMPM_BENCH_SIDE to change it), and "impact", examples/block_impact.toml (CPDI, neo-Hookean,
+// 8000 particles). For each problem the baseline is the matrix-free USL FLIP step below, run
+// on the same particles with linear shape functions. Printed after the runs: every time as a
+// ratio to that baseline, F = (one FMPM pass)/(baseline), FMPM(20)/FLIP, exact/FMPM(k), and the
+// peak resident memory per particle.
 
+#include <sparsempm/exact.hpp>
+#include <sparsempm/input.hpp>
 #include <sparsempm/sparsempm.hpp>
 
 #include <benchmark/benchmark.h>
@@ -16,6 +22,7 @@
 #include <cstdlib>
 #include <map>
 #include <string>
+#include <sys/resource.h>
 
 namespace {
 
@@ -39,6 +46,25 @@ smpm::Model block_model(int n) {
     P.V(p, 1) = 0.01 * std::cos(0.1 * P.X(p, 0));
   }
   return model;
+}
+
+struct Problem {
+  std::string name;
+  smpm::Model model;
+  smpm::Shape shape;
+  double dt;
+};
+
+Problem make_problem(const std::string& name) {
+  if (name == "block") {
+    smpm::Model m = block_model(side());
+    return {name, m, smpm::Shape::Linear, 1e-4};
+  }
+  smpm::RunConfig cfg =
+      smpm::read_input_file(std::string(SMPM_EXAMPLES_DIR) + "/block_impact.toml");
+  // The cost of a step does not depend on Δt: a tiny one keeps the particles in place however
+  // many iterations the benchmark runs.
+  return {name, cfg.model, cfg.step.shape, 1e-6 * smpm::stable_time_step(cfg.model, 0.2)};
 }
 
 // The baseline: one USL FLIP step written as plain loops over particles and nodes.
@@ -124,75 +150,174 @@ struct MatrixFree {
   }
 };
 
-void BM_MatrixFreeStep(benchmark::State& state) {
-  smpm::Model model = block_model(side());
-  MatrixFree mf{side() + 1, side() + 1, {}, {}, {}, {}, {}};
-  mf.step(model, 1e-4); // warm-up
+
+// The matrix-free baseline works on linear shape functions and linear elasticity: give it the
+// problem's particles with a linear material of the same moduli.
+void BM_MatrixFree(benchmark::State& state, const std::string& problem) {
+  Problem pb = make_problem(problem);
+  for (auto& m : pb.model.materials)
+    m.model = smpm::MaterialModel::Linear;
+  const smpm::Grid& g = pb.model.grid;
+  // shift to a grid with origin 0 and unit cells, as the baseline indexes cells directly
+  for (int a = 0; a < 2; ++a)
+    pb.model.particles.X.col(a) =
+        (pb.model.particles.X.col(a).array() - g.origin(a)) / g.cell_size(a);
+  MatrixFree mf{g.nodes(0), g.nodes(1), {}, {}, {}, {}, {}};
+  mf.step(pb.model, pb.dt); // warm-up
   for (auto _ : state)
-    mf.step(model, 1e-4);
-  state.counters["particles"] = double(model.particles.size());
+    mf.step(pb.model, pb.dt);
 }
 
-void BM_AssembleOperators(benchmark::State& state) {
-  smpm::Model model = block_model(side());
+void BM_Assemble(benchmark::State& state, const std::string& problem) { // S, G_d, M, m
+  Problem pb = make_problem(problem);
   smpm::Operators ops;
-  smpm::assemble(model.grid, model.particles, smpm::Shape::Linear, ops);
+  smpm::assemble(pb.model.grid, pb.model.particles, pb.shape, ops);
   for (auto _ : state)
-    smpm::assemble(model.grid, model.particles, smpm::Shape::Linear, ops);
+    smpm::assemble(pb.model.grid, pb.model.particles, pb.shape, ops);
 }
 
-void BM_FlipStep(benchmark::State& state) {
-  smpm::Model model = block_model(side());
-  smpm::Stepper stepper({.shape = smpm::Shape::Linear, .velocity = smpm::VelocityUpdate::FLIP});
-  stepper.step(model, 1e-4); // warm-up: sizes every workspace once
-  for (auto _ : state)
-    stepper.step(model, 1e-4);
-}
-
-void BM_ConsistentMassProduct(benchmark::State& state) { // one n × n product with n × 2
-  smpm::Model model = block_model(side());
-  const smpm::Operators ops = smpm::assemble(model.grid, model.particles, smpm::Shape::Linear);
-  const smpm::SparseMatrix mt = smpm::consistent_mass(ops);
-  const Eigen::MatrixXd v = Eigen::MatrixXd::Random(mt.rows(), 2);
-  Eigen::MatrixXd w(mt.rows(), 2);
+void BM_AssembleFresh(benchmark::State& state, const std::string& problem) { // new pattern
+  Problem pb = make_problem(problem);
   for (auto _ : state) {
-    w.noalias() = mt * v;
-    benchmark::DoNotOptimize(w.data());
+    smpm::Operators ops;
+    smpm::assemble(pb.model.grid, pb.model.particles, pb.shape, ops);
+    benchmark::DoNotOptimize(ops.S.valuePtr());
   }
 }
 
-BENCHMARK(BM_MatrixFreeStep)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_AssembleOperators)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FlipStep)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ConsistentMassProduct)->Unit(benchmark::kMillisecond);
+void BM_SetFromTriplets(benchmark::State& state, const std::string& problem) { // S only
+  Problem pb = make_problem(problem);
+  const smpm::Operators ops = smpm::assemble(pb.model.grid, pb.model.particles, pb.shape);
+  std::vector<Eigen::Triplet<double>> t;
+  for (auto _ : state) {
+    t.clear();
+    for (Eigen::Index p = 0; p < ops.S.outerSize(); ++p)
+      for (smpm::SparseRowMatrix::InnerIterator it(ops.S, p); it; ++it)
+        t.emplace_back(int(p), int(it.col()), it.value());
+    smpm::SparseRowMatrix S(ops.S.rows(), ops.S.cols());
+    S.setFromTriplets(t.begin(), t.end());
+    benchmark::DoNotOptimize(S.valuePtr());
+  }
+}
+
+void BM_ConsistentMass(benchmark::State& state, const std::string& problem) { // stencil scatter
+  Problem pb = make_problem(problem);
+  const smpm::Operators ops = smpm::assemble(pb.model.grid, pb.model.particles, pb.shape);
+  smpm::ConsistentMass mt;
+  smpm::assemble_consistent_mass(ops, mt);
+  for (auto _ : state)
+    smpm::assemble_consistent_mass(ops, mt);
+}
+
+void BM_ConsistentMassEigen(benchmark::State& state, const std::string& problem) { // Sᵀ M S
+  Problem pb = make_problem(problem);
+  const smpm::Operators ops = smpm::assemble(pb.model.grid, pb.model.particles, pb.shape);
+  for (auto _ : state) {
+    const smpm::SparseRowMatrix MS = ops.M.asDiagonal() * ops.S;
+    smpm::SparseMatrix mt = smpm::SparseMatrix(ops.S.transpose()) * MS;
+    benchmark::DoNotOptimize(mt.valuePtr());
+  }
+}
+
+void BM_FmpmPass(benchmark::State& state, const std::string& problem) { // one Δv(ℓ) = A Δv(ℓ−1)
+  Problem pb = make_problem(problem);
+  const smpm::Operators ops = smpm::assemble(pb.model.grid, pb.model.particles, pb.shape);
+  smpm::ConsistentMass mt;
+  smpm::assemble_consistent_mass(ops, mt);
+  smpm::Field p, v;
+  smpm::StageWorkspace w;
+  smpm::map_momentum(ops, pb.model.particles, p, w);
+  smpm::FmpmWorkspace fw;
+  smpm::lumped_solve(ops, p, v);
+  fw.prev = v;
+  for (auto _ : state) { // the body of Table 1's loop
+    smpm::multiply(mt.matrix, fw.prev, fw.next);
+    fw.next.array().colwise() *= ops.m_inv.array();
+    fw.prev -= fw.next;
+    v += fw.prev;
+    fw.prev = v; // keep the operand bounded (the increments would vanish)
+  }
+}
+
+void BM_Step(benchmark::State& state, const std::string& problem, smpm::VelocityUpdate vel,
+             int k) {
+  Problem pb = make_problem(problem);
+  smpm::StepOptions opt{.shape = pb.shape, .velocity = vel, .fmpm = {.order = k}};
+  if (vel == smpm::VelocityUpdate::Exact)
+    opt.solver = smpm::make_cholmod_solver();
+  smpm::Stepper stepper(opt);
+  stepper.step(pb.model, pb.dt); // warm-up: sizes every workspace, CHOLMOD analysis
+  for (auto _ : state)
+    stepper.step(pb.model, pb.dt);
+  state.counters["particles"] = double(pb.model.particles.size());
+}
 
 // Collects real times so that ratios to the baseline of the same run can be printed.
 class RatioReporter : public benchmark::ConsoleReporter {
 public:
-  std::map<std::string, double> ns;
+  std::map<std::string, double> ms;
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const auto& r : runs)
       if (r.run_type == Run::RT_Iteration)
-        ns[r.benchmark_name()] = r.GetAdjustedRealTime() * 1e6; // ms → ns
+        ms[r.benchmark_name()] = r.GetAdjustedRealTime();
     ConsoleReporter::ReportRuns(runs);
   }
 };
+
+void register_problem(const std::string& pb) {
+  using smpm::VelocityUpdate;
+  auto reg = [&](const std::string& name, auto fn) {
+    benchmark::RegisterBenchmark((pb + "/" + name).c_str(), fn)->Unit(benchmark::kMillisecond);
+  };
+  reg("matrix_free_flip_step", [pb](benchmark::State& s) { BM_MatrixFree(s, pb); });
+  reg("assemble_S_G_m", [pb](benchmark::State& s) { BM_Assemble(s, pb); });
+  reg("assemble_S_G_m_new_pattern", [pb](benchmark::State& s) { BM_AssembleFresh(s, pb); });
+  reg("S_by_setFromTriplets", [pb](benchmark::State& s) { BM_SetFromTriplets(s, pb); });
+  reg("consistent_mass_stencil", [pb](benchmark::State& s) { BM_ConsistentMass(s, pb); });
+  reg("consistent_mass_eigen_product", [pb](benchmark::State& s) { BM_ConsistentMassEigen(s, pb); });
+  reg("fmpm_pass", [pb](benchmark::State& s) { BM_FmpmPass(s, pb); });
+  reg("flip_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FLIP, 1); });
+  reg("fmpm4_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 4); });
+  reg("fmpm20_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 20); });
+  reg("exact_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::Exact, 1); });
+}
 
 } // namespace
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  register_problem("block");
+  register_problem("impact");
   RatioReporter rep;
   benchmark::RunSpecifiedBenchmarks(&rep);
-  const auto base = rep.ns.find("BM_MatrixFreeStep");
-  if (base == rep.ns.end())
-    return 0;
-  const double N = 4.0 * (side() - 1) * (side() - 1); // the block leaves half a cell free
-  std::printf("\nbaseline matrix-free USL FLIP step: %.1f ns per particle (%d x %d cells, %.0f "
-              "particles)\n",
-              base->second / N, side(), side(), N);
-  for (const auto& [name, t] : rep.ns)
-    std::printf("%-28s %10.3f ms   ratio to matrix-free step %.3f\n", name.c_str(), t * 1e-6,
-                t / base->second);
+  for (const std::string pb : {"block", "impact"}) {
+    auto t = [&](const std::string& n) {
+      const auto it = rep.ms.find(pb + "/" + n);
+      return it == rep.ms.end() ? std::nan("") : it->second;
+    };
+    const double base = t("matrix_free_flip_step");
+    if (std::isnan(base))
+      continue;
+    std::printf("\n%s: ratios to the matrix-free USL FLIP step (%.3f ms)\n", pb.c_str(), base);
+    for (const auto& [name, ms] : rep.ms)
+      if (name.rfind(pb + "/", 0) == 0)
+        std::printf("  %-36s %10.3f ms  %8.3f\n", name.c_str() + pb.size() + 1, ms, ms / base);
+    std::printf("  F = fmpm_pass / matrix-free step                 %8.3f (target <= 0.05)\n",
+                t("fmpm_pass") / base);
+    std::printf("  assembly (S, G, m, m~) / matrix-free step        %8.3f (target <= 1.0)\n",
+                (t("assemble_S_G_m") + t("consistent_mass_stencil")) / base);
+    std::printf("  FLIP step / matrix-free step                     %8.3f (target <= 2.0)\n",
+                t("flip_step") / base);
+    std::printf("  FMPM(20) step / FLIP step                        %8.3f (target <= 2.0)\n",
+                t("fmpm20_step") / t("flip_step"));
+    std::printf("  exact step / FMPM(4) step, / FMPM(20) step       %8.3f, %.3f\n",
+                t("exact_step") / t("fmpm4_step"), t("exact_step") / t("fmpm20_step"));
+  }
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  const double N = 4.0 * (side() - 1) * (side() - 1);
+  std::printf("\npeak resident memory %.0f MiB: %.0f bytes per particle of the %d x %d block "
+              "(target <= 1024)\n",
+              ru.ru_maxrss / 1024.0, ru.ru_maxrss * 1024.0 / N, side(), side());
   return 0;
 }
