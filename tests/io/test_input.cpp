@@ -126,6 +126,9 @@ TEST_CASE("each class of bad input has a one-line message with file, line and ke
             .output.file == "stab_ü.h5");
   CHECK_THAT(error_of(replace(bar, "density = 0.5", "density = 0.5 ρ")),
              Catch::StartsWith(at(bar, "density")) && Catch::Contains("non-ASCII"));
+  CHECK_THAT(
+      error_of(replace(bar, "file = \"vibrating_bar.h5\"", "file = \"\"\"a \\\n  ü.h5\"\"\"")),
+      Catch::Contains("non-ASCII character after a backslash"));
   // Every message is one line.
   CHECK(error_of(replace(bar, "end = 400.0", "")).find('\n') == std::string::npos);
 }

@@ -54,13 +54,24 @@ const std::map<std::string, std::vector<std::string>>& schema() {
 
 // TOML allows non-ASCII characters only inside strings and comments. toml++ 3.3 reaches
 // undefined behaviour (an unreachable branch in is_non_ascii_horizontal_whitespace) when one
-// stands where whitespace may be, so such input is rejected here before it is parsed.
+// stands where whitespace may be: outside strings and comments, or right after a backslash in
+// a basic string (found by tests/fuzz). Such input is rejected here before it is parsed.
 void check_non_ascii(const std::string& text, const std::string& source) {
   enum class State { Code, Comment, Basic, Literal, MultiBasic, MultiLiteral } state = State::Code;
   long line = 1;
   for (size_t k = 0; k < text.size(); ++k) {
     const char c = text[k];
     auto starts = [&](const char* s) { return text.compare(k, std::strlen(s), s) == 0; };
+    // The character that ends an escape (or a line-ending backslash's whitespace run) goes
+    // through the same whitespace test: it must be ASCII too.
+    auto after_backslash = [&](size_t at, bool multi_line) {
+      size_t j = at + 1;
+      while (multi_line && j < text.size() && std::strchr(" \t\r\n", text[j]) && text[j] != 0)
+        ++j;
+      if (j < text.size() && static_cast<unsigned char>(text[j]) >= 0x80)
+        throw InputError(source + ":" + std::to_string(line) +
+                         ": non-ASCII character after a backslash in a string");
+    };
     if (c == '\n') {
       ++line;
       if (state == State::Comment || state == State::Basic || state == State::Literal)
@@ -88,9 +99,10 @@ void check_non_ascii(const std::string& text, const std::string& source) {
     case State::Comment:
       break;
     case State::Basic:
-      if (c == '\\')
+      if (c == '\\') {
+        after_backslash(k, false);
         ++k;
-      else if (c == '"')
+      } else if (c == '"')
         state = State::Code;
       break;
     case State::Literal:
@@ -98,9 +110,10 @@ void check_non_ascii(const std::string& text, const std::string& source) {
         state = State::Code;
       break;
     case State::MultiBasic:
-      if (c == '\\')
+      if (c == '\\') {
+        after_backslash(k, true);
         ++k;
-      else if (starts("\"\"\"")) {
+      } else if (starts("\"\"\"")) {
         state = State::Code;
         k += 2;
       }
