@@ -23,59 +23,56 @@ Eigen::Vector3d node_x(const Grid& g, Index i) {
 }
 } // namespace
 
-void BoundaryConditions::constrain_momentum(const Grid& grid, const Eigen::VectorXd& m, double t,
-                                            Field& p) const {
-  const int d = int(p.cols());
-  for (const auto& c : conditions)
-    for (Index i : c.nodes) {
-      const auto n = c.direction.head(d);
-      auto pi = p.row(i);
-      pi -= pi.dot(n) * n.transpose();
-      if (c.value)
-        pi += m[i] * c.value_at(t, node_x(grid, i)) * n.transpose();
-    }
-}
+namespace {
+using Mask = Eigen::Array<bool, Eigen::Dynamic, 1>;
 
-void BoundaryConditions::constrain_update(const Grid& grid, const Eigen::VectorXd& m, double t,
-                                          double dt, Field& p_plus, Field& f) const {
-  const int d = int(p_plus.cols());
-  for (const auto& c : conditions)
-    for (Index i : c.nodes) {
-      const auto n = c.direction.head(d);
-      auto pi = p_plus.row(i);
-      double target = 0;
-      if (c.value)
-        target = m[i] * c.value_at(t, node_x(grid, i));
-      const double change = target - pi.dot(n); // Δp = (m v_b − p⁺·n̂) n̂
-      pi += change * n.transpose();
-      f.row(i) += (change / dt) * n.transpose();
-    }
-}
-
-void BoundaryConditions::constrain_velocity(
-    const Grid& grid, double t, Field& v,
-    const Eigen::Array<bool, Eigen::Dynamic, 1>* active) const {
-  const int d = int(v.cols());
+// x_i ← x_i + (w_i v_b(t, x_i) − x_i · n̂) n̂ on every constrained node (FMPM 2026 Table 2),
+// with w_i = weight(i) (0: the component is zeroed); changed(i, Δ, n̂) sees each change Δ.
+template <class Weight, class Changed>
+void set_components(const std::vector<VelocityCondition>& conditions, const Grid* grid, double t,
+                    Field& x, const Mask* active, Weight&& weight, Changed&& changed) {
+  const int d = int(x.cols());
   for (const auto& c : conditions)
     for (Index i : c.nodes) {
       if (active && !(*active)[i])
         continue;
       const auto n = c.direction.head(d);
-      auto vi = v.row(i);
-      vi -= vi.dot(n) * n.transpose();
-      if (c.value)
-        vi += c.value_at(t, node_x(grid, i)) * n.transpose();
+      auto xi = x.row(i);
+      const double w = weight(i);
+      const double target = (w != 0 && c.value) ? w * c.value_at(t, node_x(*grid, i)) : 0.0;
+      const double change = target - xi.dot(n);
+      xi += change * n.transpose();
+      changed(i, change, n);
     }
+}
+} // namespace
+
+void BoundaryConditions::constrain_momentum(const Grid& grid, const Eigen::VectorXd& m, double t,
+                                            Field& p) const {
+  set_components(
+      conditions, &grid, t, p, nullptr, [&](Index i) { return m[i]; },
+      [](Index, double, const auto&) {});
+}
+
+void BoundaryConditions::constrain_update(const Grid& grid, const Eigen::VectorXd& m, double t,
+                                          double dt, Field& p_plus, Field& f) const {
+  // Δp = (m v_b − p⁺·n̂) n̂ and f^(BC) = Δp / Δt.
+  set_components(
+      conditions, &grid, t, p_plus, nullptr, [&](Index i) { return m[i]; },
+      [&](Index i, double change, const auto& n) { f.row(i) += (change / dt) * n.transpose(); });
+}
+
+void BoundaryConditions::constrain_velocity(const Grid& grid, double t, Field& v,
+                                            const Mask* active) const {
+  set_components(
+      conditions, &grid, t, v, active, [](Index) { return 1.0; },
+      [](Index, double, const auto&) {});
 }
 
 void BoundaryConditions::zero_directions(Field& v) const {
-  const int d = int(v.cols());
-  for (const auto& c : conditions)
-    for (Index i : c.nodes) {
-      const auto n = c.direction.head(d);
-      auto vi = v.row(i);
-      vi -= vi.dot(n) * n.transpose();
-    }
+  set_components(
+      conditions, nullptr, 0.0, v, nullptr, [](Index) { return 0.0; },
+      [](Index, double, const auto&) {});
 }
 
 std::vector<Index> nodes_on_plane(const Grid& grid, int axis, double at) {

@@ -2,6 +2,8 @@
 
 #include "sparsempm/errors.hpp"
 
+#include "kernels.hpp"
+
 #include <cmath>
 #include <string>
 
@@ -29,16 +31,8 @@ Eigen::VectorXd Particles::jacobian() const {
 }
 
 double Particles::det_F(Index p) const {
-  switch (dim) {
-  case 1:
-    return F(p, 0);
-  case 2:
-    return F(p, 0) * F(p, 3) - F(p, 1) * F(p, 2);
-  default:
-    return F(p, 0) * (F(p, 4) * F(p, 8) - F(p, 5) * F(p, 7)) -
-           F(p, 1) * (F(p, 3) * F(p, 8) - F(p, 5) * F(p, 6)) +
-           F(p, 2) * (F(p, 3) * F(p, 7) - F(p, 4) * F(p, 6));
-  }
+  const double* f = F.data() + p * dim * dim;
+  return dim == 1 ? detail::det<1>(f) : dim == 2 ? detail::det<2>(f) : detail::det<3>(f);
 }
 
 void Particles::jacobian(Eigen::VectorXd& J) const {

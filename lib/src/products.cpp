@@ -2,6 +2,8 @@
 
 #include "sparsempm/errors.hpp"
 
+#include "kernels.hpp"
+
 #include <string>
 
 namespace smpm {

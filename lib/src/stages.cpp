@@ -1,5 +1,7 @@
 #include "sparsempm/stages.hpp"
 
+#include "kernels.hpp"
+
 #include "sparsempm/errors.hpp"
 #include "sparsempm/products.hpp"
 
@@ -10,40 +12,9 @@ namespace smpm {
 
 namespace {
 
-// The CSR arrays of an N × n operator.
-struct Csr {
-  const int* outer;
-  const int* inner;
-  const double* val;
-  explicit Csr(const SparseRowMatrix& A)
-      : outer(A.outerIndexPtr()), inner(A.innerIndexPtr()), val(A.valuePtr()) {}
-};
-
-template <class Kernel>
-void by_dim(int d, Kernel&& k) {
-  switch (d) {
-  case 1:
-    k.template operator()<1>();
-    break;
-  case 2:
-    k.template operator()<2>();
-    break;
-  default:
-    k.template operator()<3>();
-    break;
-  }
-}
-
-template <int D>
-double det(const double* F) {
-  if constexpr (D == 1)
-    return F[0];
-  else if constexpr (D == 2)
-    return F[0] * F[3] - F[1] * F[2];
-  else
-    return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
-           F[2] * (F[3] * F[7] - F[4] * F[6]);
-}
+using detail::by_dim;
+using detail::Csr;
+using detail::det;
 
 [[noreturn]] void bad_particle(Index p, const char* what, double value) {
   std::ostringstream os;
