@@ -59,6 +59,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
 void check_non_ascii(const std::string& text, const std::string& source) {
   enum class State { Code, Comment, Basic, Literal, MultiBasic, MultiLiteral } state = State::Code;
   long line = 1;
+  char prev = '\n'; // last significant character in code: decides where a string may open
   for (size_t k = 0; k < text.size(); ++k) {
     const char c = text[k];
     auto starts = [&](const char* s) { return text.compare(k, std::strlen(s), s) == 0; };
@@ -76,38 +77,50 @@ void check_non_ascii(const std::string& text, const std::string& source) {
       ++line;
       if (state == State::Comment || state == State::Basic || state == State::Literal)
         state = State::Code; // comments end; single-line strings cannot span lines
+      if (state == State::Code)
+        prev = '\n';
       continue;
     }
     switch (state) {
-    case State::Code:
+    case State::Code: {
       if (static_cast<unsigned char>(c) >= 0x80)
         throw InputError(source + ":" + std::to_string(line) +
                          ": non-ASCII character outside a string or comment");
+      // A quote opens a string only where a key or a value starts; elsewhere toml++ reads it
+      // as part of a bare token, and so must this scan.
+      const bool opens = prev != 0 && std::strchr("=[,{.\n", prev) != nullptr;
       if (c == '#')
         state = State::Comment;
-      else if (starts("\"\"\"")) {
+      else if (opens && starts("\"\"\"")) {
         state = State::MultiBasic;
         k += 2;
-      } else if (starts("'''")) {
+      } else if (opens && starts("'''")) {
         state = State::MultiLiteral;
         k += 2;
-      } else if (c == '"')
+      } else if (opens && c == '"')
         state = State::Basic;
-      else if (c == '\'')
+      else if (opens && c == '\'')
         state = State::Literal;
+      if (c != ' ' && c != '\t')
+        prev = c;
       break;
+    }
     case State::Comment:
       break;
     case State::Basic:
       if (c == '\\') {
         after_backslash(k, false);
         ++k;
-      } else if (c == '"')
+      } else if (c == '"') {
         state = State::Code;
+        prev = c;
+      }
       break;
     case State::Literal:
-      if (c == '\'')
+      if (c == '\'') {
         state = State::Code;
+        prev = c;
+      }
       break;
     case State::MultiBasic:
       if (c == '\\') {
@@ -115,12 +128,14 @@ void check_non_ascii(const std::string& text, const std::string& source) {
         ++k;
       } else if (starts("\"\"\"")) {
         state = State::Code;
+        prev = '"';
         k += 2;
       }
       break;
     case State::MultiLiteral:
       if (starts("'''")) {
         state = State::Code;
+        prev = '\'';
         k += 2;
       }
       break;
