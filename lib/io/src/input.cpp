@@ -88,7 +88,7 @@ void check_non_ascii(const std::string& text, const std::string& source) {
                          ": non-ASCII character outside a string or comment");
       // A quote opens a string only where a key or a value starts; elsewhere toml++ reads it
       // as part of a bare token, and so must this scan.
-      const bool opens = prev != 0 && std::strchr("=[,{.\n", prev) != nullptr;
+      const bool opens = prev != 0 && std::strchr("=[,{\n", prev) != nullptr;
       if (c == '#')
         state = State::Comment;
       else if (opens && starts("\"\"\"")) {
