@@ -3,11 +3,13 @@
 //   smpm run input.toml [--set section.key=value ...] [-o out.h5] [--quiet]
 //   smpm run --restart out.h5
 //   smpm info out.h5
+//   smpm stability input.toml [--k 1,2,4] [--blend 1:0.8] [--periodic 2] [--method spectral]
 //
 // Exit status: 0 success, 2 bad input (nothing that looks like a run is written),
 // 3 numerical failure (frames written so far are kept), 1 any other error.
 
 #include "progress.hpp"
+#include "stability_command.hpp"
 
 #include <sparsempm/errors.hpp>
 #include <sparsempm/output.hpp>
@@ -118,6 +120,20 @@ int main(int argc, char** argv) {
   run->add_option("-o,--output", output, "output HDF5 file (default: output.file of the input)");
   run->add_option("--restart", restart, "continue the run stored in this HDF5 file");
   run->add_flag("-q,--quiet", quiet, "no progress and no summary");
+  smpm::app::StabilityArgs st;
+  CLI::App* stab = app.add_subcommand(
+      "stability", "critical Courant numbers of FLIP and FMPM(k) (FMPM 2026 Fig. 12)");
+  stab->add_option("input", st.input, "input file (TOML)")->required();
+  stab->add_option("--set", st.sets, "override an input entry")->allow_extra_args(false);
+  stab->add_option("--k", st.orders, "FMPM orders")->delimiter(',');
+  stab->add_option("--blend", st.blends, "blends m:alpha, e.g. 1:0.8,2:0.8")->delimiter(',');
+  stab->add_option("--periodic", st.periodic, "periodic FMPM budgets C_X")->delimiter(',');
+  stab->add_option("--method", st.method, "spectral | simulation | both");
+  stab->add_option("--shifts", st.shifts, "lattice shifts in the spectral sweep (default 4)");
+  stab->add_option("--frames", st.frames, "also sweep the frames of this run file");
+  stab->add_option("--frame-stride", st.frame_stride, "use every n-th frame");
+  stab->add_option("-o,--output", st.output, "CSV table (default stability.csv)");
+  stab->add_flag("-q,--quiet", st.quiet, "no progress lines");
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
   info->add_option("file", info_path, "HDF5 file written by smpm run")->required();
 
@@ -130,6 +146,8 @@ int main(int argc, char** argv) {
   try {
     if (*run)
       return run_command(input, sets, output, restart, quiet);
+    if (*stab)
+      return smpm::app::stability_command(st);
     return info_command(info_path);
   } catch (const smpm::InputError& e) {
     std::fprintf(stderr, "smpm: error: %s\n", e.what());

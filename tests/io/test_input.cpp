@@ -128,7 +128,9 @@ TEST_CASE("each class of bad input has a one-line message with file, line and ke
              Catch::StartsWith(at(bar, "density")) && Catch::Contains("non-ASCII"));
   CHECK_THAT(
       error_of(replace(bar, "file = \"vibrating_bar.h5\"", "file = \"\"\"a \\\n  ü.h5\"\"\"")),
-      Catch::Contains("non-ASCII character after a backslash"));
+      Catch::Contains("multi-line strings"));
+  CHECK_THAT(error_of(replace(bar, "origin = [-2.0]", "origin = [-2.0\"\"=\"\u00fc\"]")),
+             Catch::StartsWith(at(bar, "origin")) && Catch::Contains("non-ASCII"));
   // Every message is one line.
   CHECK(error_of(replace(bar, "end = 400.0", "")).find('\n') == std::string::npos);
 }

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <sstream>
 
 namespace smpm {
 
@@ -103,6 +105,9 @@ void LinearizedStep::set_dt(double dt) {
 
 double LinearizedStep::dt() const {
   return impl_->dt;
+}
+int LinearizedStep::steps_per_application() const {
+  return impl_->flip_steps + 1;
 }
 Index LinearizedStep::rows() const {
   return impl_->N * (impl_->d + impl_->d * impl_->d);
@@ -226,7 +231,7 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
   CriticalCourant out;
   auto stable = [&](double C, double& rho) {
     T.set_dt(C * dt_per_c);
-    rho = spectral_radius(T);
+    rho = std::pow(spectral_radius(T), 1.0 / T.steps_per_application()); // growth per step
     ++out.evaluations;
     return rho <= 1 + tol;
   };
@@ -252,6 +257,35 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
   }
   out.courant = lo;
   out.rho = rho_lo;
+  return out;
+}
+
+Model shifted(const Model& model, const std::array<double, 3>& shift) {
+  Model m = model;
+  for (int a = 0; a < m.grid.dim(); ++a)
+    m.particles.X.col(a).array() += shift[size_t(a)] * m.grid.cell_size(a);
+  (void)assemble(m.grid, m.particles, Shape::Linear); // throws if a particle left the grid
+  return m;
+}
+
+ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
+                                double tol, double resolution) {
+  if (shifts < 1)
+    throw InputError("the number of lattice shifts must be at least 1");
+  ConfigurationSweep out;
+  out.minimum.courant = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < shifts; ++j) {
+    const double s = double(j) / shifts;
+    std::ostringstream name;
+    name << "shift " << s;
+    const CriticalCourant c =
+        critical_courant(shifted(model, {s, s, s}), options, tol, 2.0, resolution);
+    out.all.emplace_back(name.str(), c.courant);
+    if (c.courant < out.minimum.courant) {
+      out.minimum = c;
+      out.configuration = name.str();
+    }
+  }
   return out;
 }
 

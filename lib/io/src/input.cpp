@@ -14,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <regex>
 #include <sstream>
 
 #ifndef SMPM_INPUT_MAX_PARTICLES
@@ -52,94 +53,52 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   return keys;
 }
 
-// TOML allows non-ASCII characters only inside strings and comments. toml++ 3.3 reaches
-// undefined behaviour (an unreachable branch in is_non_ascii_horizontal_whitespace) when one
-// stands where whitespace may be: outside strings and comments, or right after a backslash in
-// a basic string (found by tests/fuzz). Such input is rejected here before it is parsed.
+// toml++ 3.3 reaches undefined behaviour (an unreachable branch in
+// is_non_ascii_horizontal_whitespace) when a non-ASCII character stands where it tests for
+// whitespace: after a bare value, between tokens, after a backslash in a string (found by
+// tests/fuzz). Non-ASCII text is therefore accepted only where its role is unambiguous, and
+// rejected with its line everywhere else:
+//   - in a comment line (first non-blank character '#'),
+//   - in a trailing comment ' # ...' after an ASCII part without quotes,
+//   - in the string of a line  key = "text"  or  key = 'text'  (no backslash, no inner quote),
+// and nowhere in a file with multi-line strings.
 void check_non_ascii(const std::string& text, const std::string& source) {
-  enum class State { Code, Comment, Basic, Literal, MultiBasic, MultiLiteral } state = State::Code;
-  long line = 1;
-  char prev = '\n'; // last significant character in code: decides where a string may open
-  for (size_t k = 0; k < text.size(); ++k) {
-    const char c = text[k];
-    auto starts = [&](const char* s) { return text.compare(k, std::strlen(s), s) == 0; };
-    // The character that ends an escape (or a line-ending backslash's whitespace run) goes
-    // through the same whitespace test: it must be ASCII too.
-    auto after_backslash = [&](size_t at, bool multi_line) {
-      size_t j = at + 1;
-      while (multi_line && j < text.size() && std::strchr(" \t\r\n", text[j]) && text[j] != 0)
-        ++j;
-      if (j < text.size() && static_cast<unsigned char>(text[j]) >= 0x80)
-        throw InputError(source + ":" + std::to_string(line) +
-                         ": non-ASCII character after a backslash in a string");
-    };
-    if (c == '\n') {
-      ++line;
-      if (state == State::Comment || state == State::Basic || state == State::Literal)
-        state = State::Code; // comments end; single-line strings cannot span lines
-      if (state == State::Code)
-        prev = '\n';
+  static const std::regex string_line(
+      R"re(^[ \t]*[A-Za-z0-9_.-]+[ \t]*=[ \t]*("[^"\\]*"|'[^']*')[ \t]*(#.*)?$)re");
+  const bool multi_line_strings =
+      text.find("\"\"\"") != std::string::npos || text.find("'''") != std::string::npos;
+  auto ascii = [](const std::string& s) {
+    return std::all_of(s.begin(), s.end(),
+                       [](char c) { return static_cast<unsigned char>(c) < 0x80; });
+  };
+  std::istringstream in(text);
+  long number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++number;
+    if (ascii(line))
       continue;
+    const size_t first = line.find_first_not_of(" \t");
+    bool allowed = false;
+    if (!multi_line_strings) {
+      if (first != std::string::npos && line[first] == '#') {
+        allowed = true; // a comment line
+      } else if (std::regex_match(line, string_line)) {
+        allowed = true; // key = "text" [# comment]
+      } else {
+        const size_t hash = line.find('#');
+        const std::string code = line.substr(0, hash);
+        allowed = hash != std::string::npos && hash > 0 &&
+                  (line[hash - 1] == ' ' || line[hash - 1] == '\t') &&
+                  code.find_first_of("\"'") == std::string::npos && ascii(code);
+      }
     }
-    switch (state) {
-    case State::Code: {
-      if (static_cast<unsigned char>(c) >= 0x80)
-        throw InputError(source + ":" + std::to_string(line) +
-                         ": non-ASCII character outside a string or comment");
-      // A quote opens a string only where a key or a value starts; elsewhere toml++ reads it
-      // as part of a bare token, and so must this scan.
-      const bool opens = prev != 0 && std::strchr("=[,{\n", prev) != nullptr;
-      if (c == '#')
-        state = State::Comment;
-      else if (opens && starts("\"\"\"")) {
-        state = State::MultiBasic;
-        k += 2;
-      } else if (opens && starts("'''")) {
-        state = State::MultiLiteral;
-        k += 2;
-      } else if (opens && c == '"')
-        state = State::Basic;
-      else if (opens && c == '\'')
-        state = State::Literal;
-      if (c != ' ' && c != '\t')
-        prev = c;
-      break;
-    }
-    case State::Comment:
-      break;
-    case State::Basic:
-      if (c == '\\') {
-        after_backslash(k, false);
-        ++k;
-      } else if (c == '"') {
-        state = State::Code;
-        prev = c;
-      }
-      break;
-    case State::Literal:
-      if (c == '\'') {
-        state = State::Code;
-        prev = c;
-      }
-      break;
-    case State::MultiBasic:
-      if (c == '\\') {
-        after_backslash(k, true);
-        ++k;
-      } else if (starts("\"\"\"")) {
-        state = State::Code;
-        prev = '"';
-        k += 2;
-      }
-      break;
-    case State::MultiLiteral:
-      if (starts("'''")) {
-        state = State::Code;
-        prev = '\'';
-        k += 2;
-      }
-      break;
-    }
+    if (!allowed)
+      throw InputError(source + ":" + std::to_string(number) +
+                       (multi_line_strings
+                            ? ": non-ASCII characters cannot be used in a file with multi-line "
+                              "strings"
+                            : ": non-ASCII characters are accepted only in comments and in "
+                              "simple key = \"text\" strings"));
   }
 }
 

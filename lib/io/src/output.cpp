@@ -286,6 +286,48 @@ StoredRun read_stored_run(const std::string& path) {
   return run;
 }
 
+namespace {
+void load_frame_from(hid_t file, int frame, Model& model) {
+  h5::Id parts = h5::open_group(file, "particles");
+  h5::Id g = h5::open_group(parts.get(), frame_name(frame));
+  Particles& P = model.particles;
+  P.X = h5::read_doubles(g.get(), "X");
+  P.V = h5::read_doubles(g.get(), "V");
+  P.F = h5::read_doubles(g.get(), "F");
+  P.stress = h5::read_doubles(g.get(), "stress");
+  P.mass = h5::read_doubles(g.get(), "mass").col(0);
+  P.volume0 = h5::read_doubles(g.get(), "volume0").col(0);
+  P.half_length = h5::read_doubles(g.get(), "half_length");
+  const std::vector<int> mat = h5::read_ints(g.get(), "material");
+  P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
+  P.dim = int(P.X.cols());
+  model.time = h5::get_double_attribute(g.get(), "time");
+  model.step = h5::get_long_attribute(g.get(), "step");
+}
+} // namespace
+
+std::vector<int> run_frames(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    throw InputError(path + ": cannot open as an HDF5 run file");
+  h5::Id file(f, H5Fclose);
+  return complete_frames(f);
+}
+
+void load_frame(const std::string& path, int frame, Model& model) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    throw InputError(path + ": cannot open as an HDF5 run file");
+  h5::Id file(f, H5Fclose);
+  try {
+    load_frame_from(f, frame, model);
+  } catch (const std::runtime_error& e) {
+    throw InputError(path + ": frame " + std::to_string(frame) + ": " + e.what());
+  }
+}
+
 OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next_frame) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const h5::Id fapl = access_plist();
@@ -308,20 +350,8 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
       H5Ldelete(g.get(), frame_name(k).c_str(), H5P_DEFAULT);
   }
   // Load the state of the last frame.
+  load_frame_from(out.file_, last, cfg.model);
   h5::Id parts = h5::open_group(out.file_, "particles");
-  h5::Id g = h5::open_group(parts.get(), frame_name(last));
-  Particles& P = cfg.model.particles;
-  P.X = h5::read_doubles(g.get(), "X");
-  P.V = h5::read_doubles(g.get(), "V");
-  P.F = h5::read_doubles(g.get(), "F");
-  P.stress = h5::read_doubles(g.get(), "stress");
-  P.mass = h5::read_doubles(g.get(), "mass").col(0);
-  P.volume0 = h5::read_doubles(g.get(), "volume0").col(0);
-  P.half_length = h5::read_doubles(g.get(), "half_length");
-  const std::vector<int> mat = h5::read_ints(g.get(), "material");
-  P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
-  cfg.model.time = h5::get_double_attribute(g.get(), "time");
-  cfg.model.step = h5::get_long_attribute(g.get(), "step");
   // Keep the series rows up to that step.
   h5::Id series = h5::open_group(out.file_, "series");
   const Field step = h5::read_doubles(series.get(), "step");
@@ -335,7 +365,7 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
   for (int k : frames) {
     h5::Id fg = h5::open_group(parts.get(), frame_name(k));
     out.frames_.emplace_back(k, h5::get_double_attribute(fg.get(), "time"));
-    out.frame_particles_.push_back(P.size());
+    out.frame_particles_.push_back(cfg.model.particles.size());
   }
   h5::check(H5Fflush(out.file_, H5F_SCOPE_GLOBAL), "flush");
   next_frame = last + 1;

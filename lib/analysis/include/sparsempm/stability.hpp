@@ -7,7 +7,11 @@
 #include "sparsempm/step.hpp"
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace smpm {
 
@@ -21,8 +25,8 @@ namespace smpm {
 /// where Φ zeroes the constrained directions (the homogeneous part of the velocity BCs) and
 /// 𝕂_p = ∂σ/∂L at F_p (from F' = (I + Δt L) F, by central differences; exact for the linear
 /// model). Periodic FMPM with C_X (options.periodic_cx > 0) is the product of one FMPM step
-/// and the round(C_X / C) − 1 FLIP steps between. The operator concept is Spectra's: rows(),
-/// cols(), perform_op(x, y).
+/// and the round(C_X / C) − 1 FLIP steps between; steps_per_application() says how many steps
+/// one application spans. The operator concept is Spectra's: rows(), cols(), perform_op(x, y).
 class LinearizedStep {
 public:
   using Scalar = double;
@@ -34,6 +38,8 @@ public:
   /// Changes Δt (and so C) keeping every assembled operator.
   void set_dt(double dt);
   double dt() const;
+  /// Time steps spanned by one application of T (1, or round(C_X / C) for periodic FMPM).
+  int steps_per_application() const;
   Index rows() const;
   Index cols() const { return rows(); }
   /// y = T x.
@@ -61,9 +67,25 @@ struct CriticalCourant {
   int evaluations = 0; ///< spectral radii computed
 };
 
-/// The critical Courant number C* = max{C : ρ(T(C)) ≤ 1 + tol}, bracketed by doubling from
-/// C = 0.05 up to c_max and refined by bisection to ±resolution/2.
+/// The critical Courant number C* = max{C : ρ(T(C))^{1/s} ≤ 1 + tol}, s the steps spanned by
+/// T (the growth per step), bracketed by doubling from C = 0.05 up to c_max and refined by
+/// bisection to ±resolution/2.
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol = 1e-6,
                                  double c_max = 2.0, double resolution = 1e-3);
+
+/// The model with every particle translated by `shift` (in cells along each axis); boundary
+/// conditions stay on their nodes. Throws NumericalError if a particle leaves the grid.
+Model shifted(const Model& model, const std::array<double, 3>& shift);
+
+struct ConfigurationSweep {
+  CriticalCourant minimum;   ///< the smallest C* found
+  std::string configuration; ///< which configuration set it, e.g. "shift (0.25)"
+  std::vector<std::pair<std::string, double>> all; ///< every configuration and its C*
+};
+
+/// C* over uniform shifts s = j / shifts (j = 0 … shifts − 1, in cells, along every axis at
+/// once) of the particle lattice relative to the grid; reports the minimum and its shift.
+ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
+                                double tol = 1e-6, double resolution = 1e-3);
 
 } // namespace smpm

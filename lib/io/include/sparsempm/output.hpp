@@ -74,6 +74,12 @@ struct StoredRun {
 /// Reads the description of a run file (for `smpm info` and `--restart`).
 StoredRun read_stored_run(const std::string& path);
 
+/// The complete frames of a run file, ascending.
+std::vector<int> run_frames(const std::string& path);
+/// Loads the particle state and clock of one complete frame into `model` (whose grid and
+/// materials must be those of the run, e.g. from stored_config).
+void load_frame(const std::string& path, int frame, Model& model);
+
 /// Name of the XDMF sidecar of an HDF5 path: "run.h5" → "run.xmf".
 std::string xdmf_path(const std::string& h5_path);
 
