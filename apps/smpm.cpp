@@ -134,6 +134,16 @@ int main(int argc, char** argv) {
   stab->add_option("--frame-stride", st.frame_stride, "use every n-th frame");
   stab->add_option("-o,--output", st.output, "CSV table (default stability.csv)");
   stab->add_flag("-q,--quiet", st.quiet, "no progress lines");
+  smpm::app::SpectrumArgs sp;
+  CLI::App* spec = app.add_subcommand(
+      "spectrum", "rho(A), cond(m~) and the truncation error of FMPM(k) against m~^-1");
+  spec->add_option("input", sp.input, "input file (TOML)")->required();
+  spec->add_option("--set", sp.sets, "override an input entry")->allow_extra_args(false);
+  spec->add_option("--k", sp.orders, "FMPM orders")->delimiter(',');
+  spec->add_option("--alpha", sp.alphas, "blending fractions")->delimiter(',');
+  spec->add_option("--every", sp.every, "blend every m-th pass")->delimiter(',');
+  spec->add_option("--courant", sp.courant, "also rho(T(C)) at this Courant number");
+  spec->add_option("-o,--output", sp.output, "CSV table (default spectrum.csv)");
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
   info->add_option("file", info_path, "HDF5 file written by smpm run")->required();
 
@@ -148,6 +158,8 @@ int main(int argc, char** argv) {
       return run_command(input, sets, output, restart, quiet);
     if (*stab)
       return smpm::app::stability_command(st);
+    if (*spec)
+      return smpm::app::spectrum_command(sp);
     return info_command(info_path);
   } catch (const smpm::InputError& e) {
     std::fprintf(stderr, "smpm: error: %s\n", e.what());

@@ -1,9 +1,11 @@
 #include "stability_command.hpp"
 
 #include <sparsempm/errors.hpp>
+#include <sparsempm/exact.hpp>
 #include <sparsempm/input.hpp>
 #include <sparsempm/output.hpp>
 #include <sparsempm/run.hpp>
+#include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
 
 #include <algorithm>
@@ -234,6 +236,55 @@ int stability_command(const StabilityArgs& a) {
                 r.cx > 0 ? cell(r.cx).c_str() : "", cell(r.c_spectral).c_str(), r.config.c_str(),
                 cell(r.c_simulation).c_str(), cell(r.energy_change).c_str());
   std::printf("%zu schemes in %.1f s; table in %s\n", rows.size(), wall, a.output.c_str());
+  return 0;
+}
+
+int spectrum_command(const SpectrumArgs& a) {
+  RunConfig cfg = read_input_file(a.input, a.sets);
+  const Model& model = cfg.model;
+  const Operators ops = assemble(model.grid, model.particles, cfg.step.shape);
+  ConsistentMass mt;
+  assemble_consistent_mass(ops, mt);
+  const MassSpectrum ms = mass_spectrum(ops, mt.matrix);
+  Field p, exact;
+  StageWorkspace w;
+  map_momentum(ops, model.particles, p, w);
+  CholmodSolver solver;
+  solver.solve(ops, mt.matrix, {}, p, exact);
+  std::printf("active nodes %ld: rho(A) = %.8f, min eig(m^-1 m~) = %.3e, cond(m~) = %.4g\n",
+              long(ms.active), ms.rho_A, ms.min_eig_minv_mt, ms.cond_mt);
+  const std::string tmp = a.output + ".tmp";
+  std::ofstream out(tmp);
+  if (!out)
+    throw InputError("-o " + a.output + ": cannot write the table");
+  out.precision(10);
+  out << "# rho_A = " << ms.rho_A << "\n# min_eig_minv_mt = " << ms.min_eig_minv_mt
+      << "\n# cond_mt = " << ms.cond_mt << "\n# active_nodes = " << ms.active << "\n";
+  out << "k,alpha,blend_every,truncation_error,courant,rho_T\n";
+  std::printf("%4s %6s %6s %16s %10s\n", "k", "alpha", "every", "truncation", "rho(T)");
+  for (int m : a.every)
+    for (double alpha : a.alphas)
+      for (int k : a.orders) {
+        if (m > 1 && alpha == 1.0)
+          continue; // no blending: the m = 1 rows already hold it
+        const FmpmOptions f{.order = k, .blend_alpha = alpha, .blend_every = m};
+        const double err = truncation_error(ops, mt.matrix, f, p, exact);
+        double rho = std::nan("");
+        if (a.courant > 0) {
+          StepOptions opt = cfg.step;
+          opt.velocity = VelocityUpdate::FMPM;
+          opt.fmpm = f;
+          opt.periodic_cx = 0;
+          const LinearizedStep T(model, opt, a.courant / courant_of(model, 1.0));
+          rho = spectral_radius(T);
+        }
+        out << k << "," << alpha << "," << m << "," << err << ","
+            << (a.courant > 0 ? std::to_string(a.courant) : "") << "," << cell(rho, 10) << "\n";
+        std::printf("%4d %6.3g %6d %16.6e %10s\n", k, alpha, m, err, cell(rho, 8).c_str());
+      }
+  out.close();
+  std::rename(tmp.c_str(), a.output.c_str());
+  std::printf("table in %s\n", a.output.c_str());
   return 0;
 }
 

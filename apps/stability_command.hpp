@@ -20,6 +20,20 @@ struct StabilityArgs {
   bool quiet = false;
 };
 
+struct SpectrumArgs {
+  std::string input;
+  std::vector<std::string> sets;
+  std::vector<int> orders{1, 2, 4, 8, 16, 40, 80};
+  std::vector<double> alphas{1.0, 0.9, 0.8};
+  std::vector<int> every{1, 2}; ///< blend_every values m
+  double courant = 0;           ///< > 0: also ρ(T(C)) of FMPM for each (k, α, m)
+  std::string output = "spectrum.csv";
+};
+
+/// ρ(A), λ_min(m⁻¹m̃), cond(m̃) at t = 0, and the truncation error of FMPM(k) (and ρ(T(C)))
+/// for every k, α, m: a table on stdout and a CSV (scalars as '# name = value' lines).
+int spectrum_command(const SpectrumArgs& args);
+
 /// Writes the table (CSV header scheme,k,alpha,blend_every,periodic_cx,c_spectral,
 /// config_spectral,c_simulation,energy_change) and prints it. Returns the exit status.
 int stability_command(const StabilityArgs& args);
