@@ -3,6 +3,8 @@
 
 #include "support.hpp"
 
+#include <sparsempm/exact.hpp>
+#include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
 
 using namespace smpm;
@@ -48,4 +50,47 @@ TEST_CASE("critical Courant numbers of the vibrating bar (FMPM 2026 Fig. 12A)", 
   // Blending with α < 1 raises the limit (§3.3).
   CHECK(critical_courant(bar, fmpm(40, 0.8, 1)).courant > cs[5] + 0.01);
   CHECK(critical_courant(bar, fmpm(40, 0.8, 2)).courant > cs[5] + 0.01);
+}
+
+TEST_CASE("the lattice-shift sweep reports the minimum and its shift", "[stability]") {
+  // Measured for FLIP on the §3.3 bar: C* = 0.755, 0.970, 0.656, 0.909 for shifts 0, ¼, ½, ¾
+  // of a cell; the half-cell shift leaves the bar's end in mid-cell, where the last node gets a
+  // fraction of an interior node's mass.
+  const Model bar = vibrating_bar({});
+  const ConfigurationSweep s = sweep_shifts(bar, {.shape = Shape::CPDI}, 4);
+  REQUIRE(s.all.size() == 4);
+  double lo = 10, hi = 0;
+  for (const auto& [name, c] : s.all) {
+    lo = std::min(lo, c);
+    hi = std::max(hi, c);
+  }
+  CHECK(hi - lo > 0.1);                  // shifting the lattice changes C*
+  CHECK(s.minimum.courant == lo);        // the sweep reports the minimum ...
+  CHECK(s.configuration == "shift 0.5"); // ... and the shift that set it
+}
+
+TEST_CASE("rho(A) < 1 and the truncation error decreases with k", "[stability]") {
+  const Model bar = vibrating_bar({});
+  const Operators ops = assemble(bar.grid, bar.particles, Shape::CPDI);
+  ConsistentMass mt;
+  assemble_consistent_mass(ops, mt);
+  const MassSpectrum ms = mass_spectrum(ops, mt.matrix);
+  const MassSpectrum arnoldi = mass_spectrum(ops, mt.matrix, 0); // Spectra SymEigsSolver
+  INFO("rho(A) = " << ms.rho_A << ", cond = " << ms.cond_mt);
+  CHECK(ms.rho_A < 1);
+  CHECK(ms.rho_A > 0);
+  CHECK(arnoldi.rho_A == smpm::test::approx(ms.rho_A, 1e-8));
+  CHECK(arnoldi.cond_mt == smpm::test::approx(ms.cond_mt, 0, 1e-6));
+  CHECK(ms.min_eig_minv_mt == smpm::test::approx(1 - ms.rho_A, 1e-15));
+  Field p, exact;
+  StageWorkspace w;
+  map_momentum(ops, bar.particles, p, w);
+  CholmodSolver().solve(ops, mt.matrix, {}, p, exact);
+  double previous = 2;
+  for (int k : {1, 2, 4, 8, 16, 40, 80}) {
+    const double e = truncation_error(ops, mt.matrix, {.order = k}, p, exact);
+    CAPTURE(k, e);
+    CHECK(e < previous); // monotone decrease in k
+    previous = e;
+  }
 }

@@ -246,6 +246,43 @@ class FmpmVariants(Base):
         self.assertIn("scheme.order: missing required key", r.stderr)
 
 
+class Stability(Base):
+    def test_stability_table_and_figure(self):
+        out = self.dir / "stab.csv"
+        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--k", "1,4", "--blend", "2:0.8", "--periodic", "2",
+                 "--method", "both", "--shifts", "2", "-q", "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        lines = out.read_text().splitlines()
+        self.assertEqual(lines[0], "scheme,k,alpha,blend_every,periodic_cx,c_spectral,config_spectral,c_simulation,energy_change")
+        rows = [l.split(",") for l in lines[1:]]
+        self.assertEqual([r[0] for r in rows], ["FLIP", "FMPM", "FMPM", "FMPM", "FMPM"])
+        flip = rows[0]
+        # FLIP by bisection over five-period runs: the paper's 0.84, within 0.05 here (measured 0.861).
+        self.assertAlmostEqual(float(flip[7]), 0.84, delta=0.05)
+        fmpm4 = rows[2]
+        self.assertEqual(fmpm4[1], "4")
+        self.assertAlmostEqual(float(fmpm4[7]), 0.539, delta=0.03)  # the paper's FMPM(4) limit
+        png = self.dir / "fig.png"
+        r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "fig12a.py", out, "-o", png], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertGreater(png.stat().st_size, 10000)
+
+    def test_spectrum_table(self):
+        out = self.dir / "spec.csv"
+        r = smpm("spectrum", EXAMPLES / "vibrating_bar.toml", "--k", "1,2,4", "--alpha", "1,0.8", "--courant", "0.4", "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        text = out.read_text()
+        self.assertIn("# rho_A = ", text)
+        rows = [l for l in text.splitlines() if not l.startswith("#")]
+        self.assertEqual(rows[0], "k,alpha,blend_every,truncation_error,courant,rho_T")
+        self.assertEqual(len(rows) - 1, 3 * 2 + 3)  # m = 1: two alphas; m = 2: alpha 0.8 only
+
+    def test_bad_method(self):
+        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--method", "guess")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--method guess", r.stderr)
+
+
 class Examples(Base):
     """Every example runs (short versions where the full one is long)."""
 
