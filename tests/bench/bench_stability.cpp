@@ -1,0 +1,66 @@
+// Spectral analysis at scale (issue target: ρ(T) of FMPM(4) in under 30 s and ρ(A) in under
+// 5 s for a 2D plane-strain block of 10⁵ particles, on 2 cores): the matrix-free linearised
+// update with Spectra's Arnoldi solver, and ρ(A) with its Lanczos solver.
+//
+//   build/tests/bench/bench_stability      (SMPM_BENCH_STAB_SIDE: block side in cells, 158)
+
+#include <sparsempm/sparsempm.hpp>
+#include <sparsempm/spectrum.hpp>
+#include <sparsempm/stability.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+
+namespace {
+
+int side() {
+  const char* s = std::getenv("SMPM_BENCH_STAB_SIDE");
+  return s ? std::atoi(s) : 158; // 157² cells × 4 = 98,596 particles
+}
+
+smpm::Model block() {
+  using namespace smpm;
+  const int n = side();
+  Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {n + 2, n + 2, 1}));
+  Material mat;
+  mat.name = "block";
+  mat.model = MaterialModel::Linear;
+  mat.youngs = 100;
+  mat.poisson = 0.3;
+  model.materials = {mat};
+  model.particles = make_block(model.grid, {1.5, 1.5, 0}, {n + 0.5, n + 0.5, 0}, {2, 2, 1}, 1.0, 0);
+  return model;
+}
+
+void BM_RhoT_FMPM4(benchmark::State& state) {
+  const smpm::Model model = block();
+  const smpm::StepOptions opt{.shape = smpm::Shape::CPDI, .velocity = smpm::VelocityUpdate::FMPM,
+                              .fmpm = {.order = 4}};
+  for (auto _ : state) {
+    const smpm::LinearizedStep T(model, opt, 0.3 / smpm::courant_of(model, 1.0));
+    const double rho = smpm::spectral_radius(T, 0); // Spectra, matrix-free
+    state.counters["rho_T"] = rho;
+  }
+  state.counters["particles"] = double(model.particles.size());
+}
+
+void BM_RhoA(benchmark::State& state) {
+  const smpm::Model model = block();
+  const smpm::Operators ops = smpm::assemble(model.grid, model.particles, smpm::Shape::CPDI);
+  smpm::ConsistentMass mt;
+  smpm::assemble_consistent_mass(ops, mt);
+  for (auto _ : state) {
+    const smpm::MassSpectrum s = smpm::mass_spectrum(ops, mt.matrix, 0);
+    state.counters["rho_A"] = s.rho_A;
+    state.counters["cond_mt"] = s.cond_mt;
+  }
+  state.counters["active_nodes"] = double(ops.active.count());
+}
+
+BENCHMARK(BM_RhoT_FMPM4)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_RhoA)->Unit(benchmark::kSecond)->Iterations(1);
+
+} // namespace
+
+BENCHMARK_MAIN();
