@@ -64,6 +64,8 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
   for (int k : a.orders)
     rows.push_back(fmpm(k, 1.0, 1, 0.0));
   for (const std::string& b : a.blends) {
+    if (b.empty() || b == "none")
+      continue;
     const size_t colon = b.find(':');
     if (colon == std::string::npos)
       throw InputError("--blend " + b + ": expected m:alpha, e.g. 2:0.8");
@@ -81,9 +83,17 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
       if (k > 1)
         rows.push_back(fmpm(k, alpha, every, 0.0));
   }
-  for (double cx : a.periodic) {
+  for (const std::string& text : a.periodic) {
+    if (text.empty() || text == "none")
+      continue;
+    double cx = 0;
+    try {
+      cx = std::stod(text);
+    } catch (const std::exception&) {
+      throw InputError("--periodic " + text + ": expected a Courant budget C_X");
+    }
     if (!(cx > 0))
-      throw InputError("--periodic: C_X must be positive");
+      throw InputError("--periodic " + text + ": C_X must be positive");
     for (int k : a.orders)
       if (k > 1)
         rows.push_back(fmpm(k, 1.0, 1, cx));

@@ -10,8 +10,8 @@ struct StabilityArgs {
   std::string input;
   std::vector<std::string> sets;
   std::vector<int> orders{1, 2, 4, 8, 16, 40, 80};
-  std::vector<std::string> blends{"1:0.8", "2:0.8"}; ///< m:α
-  std::vector<double> periodic{2.0};                 ///< C_X values
+  std::vector<std::string> blends{"1:0.8", "2:0.8"}; ///< m:α ("none": no rows)
+  std::vector<std::string> periodic{"2"};            ///< C_X values ("none": no rows)
   std::string method = "spectral";                   ///< spectral | simulation | both
   int shifts = 4;                                    ///< lattice shifts per sweep
   std::string frames;                                ///< run file whose frames are swept too

@@ -277,6 +277,20 @@ class Stability(Base):
         self.assertEqual(rows[0], "k,alpha,blend_every,truncation_error,courant,rho_T")
         self.assertEqual(len(rows) - 1, 3 * 2 + 3)  # m = 1: two alphas; m = 2: alpha 0.8 only
 
+    def test_frames_sweep(self):
+        # The configurations stored in a run's frames join the lattice shifts in the sweep.
+        run = self.dir / "bar.h5"
+        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "-o", run, "-q", "--set", "time.end=40", "--set", "output.every=20")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        out = self.dir / "frames.csv"
+        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--k", "4", "--blend", "none", "--periodic", "none",
+                 "--shifts", "1", "--frames", run, "-q", "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = [l.split(",") for l in out.read_text().splitlines()[1:]]
+        self.assertEqual(len(rows), 2)
+        for row in rows:  # the minimum is named: the unshifted lattice or one of the frames
+            self.assertRegex(row[6], r"^(shift 0|frame [0-9]+)$")
+
     def test_bad_method(self):
         r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--method", "guess")
         self.assertEqual(r.returncode, 2)
