@@ -35,8 +35,8 @@ smpm::Model block() {
 
 void BM_RhoT_FMPM4(benchmark::State& state) {
   const smpm::Model model = block();
-  const smpm::StepOptions opt{.shape = smpm::Shape::CPDI, .velocity = smpm::VelocityUpdate::FMPM,
-                              .fmpm = {.order = 4}};
+  const smpm::StepOptions opt{
+      .shape = smpm::Shape::CPDI, .velocity = smpm::VelocityUpdate::FMPM, .fmpm = {.order = 4}};
   for (auto _ : state) {
     const smpm::LinearizedStep T(model, opt, 0.3 / smpm::courant_of(model, 1.0));
     const double rho = smpm::spectral_radius(T, 0); // Spectra, matrix-free

@@ -150,7 +150,6 @@ struct MatrixFree {
   }
 };
 
-
 // The matrix-free baseline works on linear shape functions and linear elasticity: give it the
 // problem's particles with a linear material of the same moduli.
 void BM_MatrixFree(benchmark::State& state, const std::string& problem) {
@@ -239,8 +238,7 @@ void BM_FmpmPass(benchmark::State& state, const std::string& problem) { // one �
   }
 }
 
-void BM_Step(benchmark::State& state, const std::string& problem, smpm::VelocityUpdate vel,
-             int k) {
+void BM_Step(benchmark::State& state, const std::string& problem, smpm::VelocityUpdate vel, int k) {
   Problem pb = make_problem(problem);
   smpm::StepOptions opt{.shape = pb.shape, .velocity = vel, .fmpm = {.order = k}};
   if (vel == smpm::VelocityUpdate::Exact)
@@ -251,6 +249,21 @@ void BM_Step(benchmark::State& state, const std::string& problem, smpm::Velocity
     stepper.step(pb.model, pb.dt);
   state.counters["particles"] = double(pb.model.particles.size());
 }
+
+// STREAM triad a = b + s c on 3 × 10⁷ doubles: the machine's sustainable memory bandwidth, the
+// bound for passes that stream S, G or m̃ from memory.
+void BM_StreamTriad(benchmark::State& state) {
+  const size_t n = 10'000'000;
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+  for (auto _ : state) {
+    for (size_t i = 0; i < n; ++i)
+      a[i] = b[i] + 3.0 * c[i];
+    benchmark::DoNotOptimize(a.data());
+  }
+  state.counters["GB/s"] = benchmark::Counter(3.0 * 8 * n * double(state.iterations()) / 1e9,
+                                              benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_StreamTriad)->Unit(benchmark::kMillisecond);
 
 // Collects real times so that ratios to the baseline of the same run can be printed.
 class RatioReporter : public benchmark::ConsoleReporter {
@@ -274,7 +287,8 @@ void register_problem(const std::string& pb) {
   reg("assemble_S_G_m_new_pattern", [pb](benchmark::State& s) { BM_AssembleFresh(s, pb); });
   reg("S_by_setFromTriplets", [pb](benchmark::State& s) { BM_SetFromTriplets(s, pb); });
   reg("consistent_mass_stencil", [pb](benchmark::State& s) { BM_ConsistentMass(s, pb); });
-  reg("consistent_mass_eigen_product", [pb](benchmark::State& s) { BM_ConsistentMassEigen(s, pb); });
+  reg("consistent_mass_eigen_product",
+      [pb](benchmark::State& s) { BM_ConsistentMassEigen(s, pb); });
   reg("fmpm_pass", [pb](benchmark::State& s) { BM_FmpmPass(s, pb); });
   reg("flip_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FLIP, 1); });
   reg("fmpm4_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 4); });
@@ -316,6 +330,10 @@ int main(int argc, char** argv) {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   const double N = 4.0 * (side() - 1) * (side() - 1);
+  const auto triad = rep.ms.find("BM_StreamTriad");
+  if (triad != rep.ms.end())
+    std::printf("\nSTREAM triad: %.1f GB/s (2.4e8 bytes in %.3f ms)\n", 240.0 / triad->second,
+                triad->second);
   std::printf("\npeak resident memory %.0f MiB: %.0f bytes per particle of the %d x %d block "
               "(target <= 1024)\n",
               ru.ru_maxrss / 1024.0, ru.ru_maxrss * 1024.0 / N, side(), side());
