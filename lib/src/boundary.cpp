@@ -26,8 +26,10 @@ Eigen::Vector3d node_x(const Grid& g, Index i) {
 namespace {
 using Mask = Eigen::Array<bool, Eigen::Dynamic, 1>;
 
-// x_i ← x_i + (w_i v_b(t, x_i) − x_i · n̂) n̂ on every constrained node (FMPM 2026 Table 2),
-// with w_i = weight(i) (0: the component is zeroed); changed(i, Δ, n̂) sees each change Δ.
+// FMPM 2026 Table 2 (top block) on every constrained node: first zero each constrained
+// direction, x_i ← x_i − (x_i · n̂_b) n̂_b, then add the values, x_i ← x_i + w_i v_b(t, x_i) n̂_b
+// (w_i = weight(i); 0 only zeroes). Parallel conditions thus add their values, perpendicular ones
+// set their own components. changed(i, Δ) sees every change Δ (a d-vector) of row i.
 template <class Weight, class Changed>
 void set_components(const std::vector<VelocityCondition>& conditions, const Grid* grid, double t,
                     Field& x, const Mask* active, Weight&& weight, Changed&& changed) {
@@ -38,41 +40,51 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
         continue;
       const auto n = c.direction.head(d);
       auto xi = x.row(i);
-      const double w = weight(i);
-      const double target = (w != 0 && c.value) ? w * c.value_at(t, node_x(*grid, i)) : 0.0;
-      const double change = target - xi.dot(n);
-      xi += change * n.transpose();
-      changed(i, change, n);
+      const Eigen::RowVectorXd delta = -xi.dot(n) * n.transpose();
+      xi += delta;
+      changed(i, delta);
     }
+  for (const auto& c : conditions) {
+    if (!c.value)
+      continue;
+    for (Index i : c.nodes) {
+      if (active && !(*active)[i])
+        continue;
+      const double w = weight(i);
+      if (w == 0)
+        continue;
+      const Eigen::RowVectorXd delta =
+          (w * c.value_at(t, node_x(*grid, i))) * c.direction.head(d).transpose();
+      x.row(i) += delta;
+      changed(i, delta);
+    }
+  }
 }
 } // namespace
 
 void BoundaryConditions::constrain_momentum(const Grid& grid, const Eigen::VectorXd& m, double t,
                                             Field& p) const {
   set_components(
-      conditions, &grid, t, p, nullptr, [&](Index i) { return m[i]; },
-      [](Index, double, const auto&) {});
+      conditions, &grid, t, p, nullptr, [&](Index i) { return m[i]; }, [](Index, const auto&) {});
 }
 
 void BoundaryConditions::constrain_update(const Grid& grid, const Eigen::VectorXd& m, double t,
                                           double dt, Field& p_plus, Field& f) const {
-  // Δp = (m v_b − p⁺·n̂) n̂ and f^(BC) = Δp / Δt.
+  // Δp = (m v_b − p⁺·n̂) n̂ and the reaction f^(BC) = Δp / Δt.
   set_components(
       conditions, &grid, t, p_plus, nullptr, [&](Index i) { return m[i]; },
-      [&](Index i, double change, const auto& n) { f.row(i) += (change / dt) * n.transpose(); });
+      [&](Index i, const auto& delta) { f.row(i) += delta / dt; });
 }
 
 void BoundaryConditions::constrain_velocity(const Grid& grid, double t, Field& v,
                                             const Mask* active) const {
   set_components(
-      conditions, &grid, t, v, active, [](Index) { return 1.0; },
-      [](Index, double, const auto&) {});
+      conditions, &grid, t, v, active, [](Index) { return 1.0; }, [](Index, const auto&) {});
 }
 
 void BoundaryConditions::zero_directions(Field& v) const {
   set_components(
-      conditions, nullptr, 0.0, v, nullptr, [](Index) { return 0.0; },
-      [](Index, double, const auto&) {});
+      conditions, nullptr, 0.0, v, nullptr, [](Index) { return 0.0; }, [](Index, const auto&) {});
 }
 
 std::vector<Index> nodes_on_plane(const Grid& grid, int axis, double at) {

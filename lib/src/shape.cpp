@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace smpm {
@@ -134,8 +135,11 @@ ShapeSupport support_of(const Grid& g, const Particles& P, Index p, Shape shape)
   for (int a = 0; a < d; ++a) {
     if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]))
       throw_outside(p, P, "has a non-finite position or domain");
-    const int first = first_node(lo[a], bs);
-    const int last = first_node(hi[a], bs) + point_count(bs) - 1;
+    // Only nodes with non-zero weight: |ξ − i| < R over [lo, hi] (R = 1 hat, 1.5 B-spline),
+    // with a 10⁻¹² cell tolerance so that round-off does not reach a node of zero weight.
+    const double R = bs ? 1.5 : 1.0, eps = 1e-12;
+    const int first = int(std::floor(lo[a] - R + eps)) + 1;
+    const int last = int(std::ceil(hi[a] + R - eps)) - 1;
     if (first < 0 || last > g.cells(a))
       throw_outside(p, P, "has left the grid (its shape-function support needs nodes outside it)");
     if (last - first + 1 > kMaxBox)
@@ -376,6 +380,9 @@ void assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       nnz += Index(s.count[0]) * s.count[1] * s.count[2];
     }
   }
+  if (nnz > Index(std::numeric_limits<int>::max()))
+    throw NumericalError("S would hold " + std::to_string(nnz) +
+                         " nonzeros, more than its 32-bit indices allow");
   if (changed) {
     set_pattern(S, N, n, nnz);
     int* outer = S.outerIndexPtr();

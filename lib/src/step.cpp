@@ -85,11 +85,11 @@ void Stepper::step(Model& model, double dt) {
 }
 
 // Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).
-void Stepper::strain_update(Model& model, const Field& v, double dt) {
+void Stepper::strain_update(Model& model, const Field& v, double t, double dt) {
   const Field* vs = &v;
   if (opt_.bc_ordering == BCOrdering::Improper) { // BC3: BC velocity only for the strains
     v_strain_ = v;
-    model.bcs.constrain_velocity(model.grid, model.time, v_strain_, &ops_.active);
+    model.bcs.constrain_velocity(model.grid, t, v_strain_, &ops_.active);
     vs = &v_strain_;
   }
   update_deformation_from_velocity(ops_, *vs, dt, model.particles); // L, F, det F > 0
@@ -147,7 +147,11 @@ void Stepper::run_step(Model& model, double dt) {
     if (fmpm_step_)
       courant_budget_ = 0;
   }
-  full_mass_now_ = fmpm_step_ && (opt_.velocity == VelocityUpdate::Exact || opt_.fmpm.order > 1);
+  full_mass_now_ =
+      fmpm_step_ &&
+      (opt_.velocity == VelocityUpdate::Exact ||
+       ((opt_.velocity == VelocityUpdate::FMPM || opt_.velocity == VelocityUpdate::XPIC) &&
+        opt_.fmpm.order > 1));
   report_ = FmpmReport{};
   if (full_mass_now_)
     assemble_consistent_mass(ops_, mt_);
@@ -160,7 +164,7 @@ void Stepper::run_step(Model& model, double dt) {
   // Task 1.c: stresses first (USF, USAVG, USAVG+).
   if (s == UpdateScheme::USF || s == UpdateScheme::USAVG || s == UpdateScheme::USAVGPlus) {
     grid_velocity(model, g_.p, model.time, v_re_);
-    strain_update(model, v_re_, s == UpdateScheme::USF ? dt : 0.5 * dt);
+    strain_update(model, v_re_, model.time, s == UpdateScheme::USF ? dt : 0.5 * dt);
   }
   // Tasks 2–3: forces, BC2 (with reaction forces), p⁺ = p + f Δt.
   internal_force(ops_, P, g_.f, w_);
@@ -195,9 +199,9 @@ void Stepper::run_step(Model& model, double dt) {
     if (opt_.bc_ordering == BCOrdering::Correct)
       model.bcs.constrain_momentum(model.grid, ops_.m, model.time + dt, p_re_);
     grid_velocity(model, p_re_, model.time + dt, v_re_);
-    strain_update(model, v_re_, dt_last);
+    strain_update(model, v_re_, model.time + dt, dt_last);
   } else {
-    strain_update(model, g_.v_plus, dt_last);
+    strain_update(model, g_.v_plus, model.time + dt, dt_last);
   }
 }
 

@@ -94,3 +94,18 @@ TEST_CASE("rho(A) < 1 and the truncation error decreases with k", "[stability]")
     previous = e;
   }
 }
+
+TEST_CASE("the periodic linearisation spans the Stepper's period", "[stability]") {
+  // The Stepper runs FMPM once its Courant budget reaches C_X: every ceil(C_X / C) steps.
+  const Model bar = vibrating_bar({});
+  StepOptions opt = fmpm(4);
+  opt.periodic_cx = 2.0;
+  LinearizedStep T(bar, opt, 0.45 / courant_of(bar, 1.0));
+  CHECK(T.steps_per_application() == 5); // ceil(2 / 0.45)
+  T.set_dt(0.5 / courant_of(bar, 1.0));
+  CHECK(T.steps_per_application() == 4);
+  std::vector<double> x(size_t(T.rows()), 3.0), y(size_t(T.rows()));
+  T.perform_op(x.data(), y.data()); // a large perturbation does not change the period
+  T.set_dt(0.45 / courant_of(bar, 1.0));
+  CHECK(T.steps_per_application() == 5);
+}

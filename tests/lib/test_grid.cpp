@@ -46,3 +46,27 @@ TEST_CASE("fixed planes select the nodes on them", "[boundary]") {
   CHECK_THROWS_WITH(fix_plane(g, 0, 0.5, {true, false, false}, bc),
                     Catch::Contains("contains no grid node"));
 }
+
+TEST_CASE("parallel velocity conditions add their values (FMPM 2026 Table 2)", "[boundary]") {
+  // Top block of Table 2: zero every BC direction, then add Σ_b v_b n̂_b; perpendicular
+  // conditions set their own components.
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {2, 2, 1});
+  BoundaryConditions bc;
+  for (double value : {0.1, 0.2}) {
+    VelocityCondition c;
+    c.nodes = {4};
+    c.direction = Eigen::Vector3d::UnitX();
+    c.value = [value](double, const Eigen::Vector3d&) { return value; };
+    bc.conditions.push_back(c);
+  }
+  VelocityCondition y;
+  y.nodes = {4};
+  y.direction = Eigen::Vector3d::UnitY();
+  y.value = [](double, const Eigen::Vector3d&) { return -0.5; };
+  bc.conditions.push_back(y);
+  Field v = Field::Constant(g.num_nodes(), 2, 7.0);
+  bc.constrain_velocity(g, 0.0, v);
+  CHECK(v(4, 0) == approx(0.3, 1e-15));
+  CHECK(v(4, 1) == approx(-0.5, 1e-15));
+  CHECK(v(3, 0) == 7.0); // other nodes untouched
+}

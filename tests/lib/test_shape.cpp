@@ -148,3 +148,17 @@ TEST_CASE("a particle whose support leaves the grid is reported by index", "[sha
   CHECK_THROWS_WITH(assemble(g, P, Shape::BSpline2),
                     Catch::Contains("particle 1") && Catch::Contains("left the grid"));
 }
+
+TEST_CASE("domains reaching the grid's edge need no node of zero weight", "[shape]") {
+  // A uGIMP / CPDI block filling the whole grid [0, 10]: the last domains end exactly on the
+  // last node, so their support is inside the grid; S 1 = 1 to round-off.
+  const Grid g(1, {0, 0, 0}, {1, 1, 1}, {10, 1, 1});
+  const Particles P = make_block(g, {0, 0, 0}, {10, 0, 0}, {2, 1, 1}, 1.0, 0);
+  for (Shape shape : {Shape::GIMP, Shape::CPDI}) {
+    CAPTURE(to_string(shape));
+    const Operators ops = assemble(g, P, shape);
+    CHECK((ops.S * Eigen::VectorXd::Ones(g.num_nodes()) - Eigen::VectorXd::Ones(P.size()))
+              .cwiseAbs()
+              .maxCoeff() < 1e-14);
+  }
+}

@@ -21,6 +21,7 @@ struct LinearizedStep::Impl {
   ConsistentMass mt;
   Field K; // N × d⁴ material tangents ∂σ_ab/∂L_cd (row-major ab, cd)
   double dt = 0;
+  double speed = 0;   // max(c_wave, max|V_p|) of the frozen configuration (Δt → C)
   int flip_steps = 0; // periodic FMPM: FLIP steps before each FMPM step
   int d = 1;
   Index N = 0;
@@ -47,11 +48,16 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
   Impl& I = *impl_;
   if (options.scheme != UpdateScheme::USL)
     throw InputError("the linearised step covers the USL scheme only");
+  if (options.bc_ordering != BCOrdering::Correct)
+    throw InputError("the linearised step covers the correct BC ordering only");
+  if (options.velocity == VelocityUpdate::FMPM && options.fmpm.bc_method == BCMethod::Velocity)
+    throw InputError("the linearised step does not cover the velocity BC method");
   validate(options.fmpm);
   if (options.velocity == VelocityUpdate::Exact && !options.solver)
     throw InputError("the exact velocity update needs a MassSolver");
   I.model = model;
   I.opt = options;
+  I.speed = courant_of(model, 1.0) * model.grid.min_cell_size();
   I.d = model.grid.dim();
   I.N = model.particles.size();
   for (VelocityCondition c : model.bcs.conditions) {
@@ -97,9 +103,9 @@ void LinearizedStep::set_dt(double dt) {
     throw InputError("time step must be positive");
   impl_->dt = dt;
   impl_->flip_steps = 0;
-  if (impl_->opt.periodic_cx > 0) {
-    const double C = courant_of(impl_->model, dt);
-    impl_->flip_steps = std::max(0, int(std::lround(impl_->opt.periodic_cx / C)) - 1);
+  if (impl_->opt.periodic_cx > 0) { // the Stepper's period: ceil(C_X / C) steps
+    const double C = dt * impl_->speed / impl_->model.grid.min_cell_size();
+    impl_->flip_steps = std::max(0, int(std::ceil(impl_->opt.periodic_cx / C * (1 - 1e-12))) - 1);
   }
 }
 

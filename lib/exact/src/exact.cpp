@@ -104,8 +104,10 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
       const int a = axis_of(cond, d);
       const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
       for (Index i : cond.nodes)
-        if (ops.active[i])
-          prescribed(i, a) = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
+        if (ops.active[i]) { // parallel conditions add their values (FMPM 2026 Table 2)
+          const double value = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
+          prescribed(i, a) = std::isnan(prescribed(i, a)) ? value : prescribed(i, a) + value;
+        }
     }
   v.setZero(n, d);
   // Group the components by their free set F.

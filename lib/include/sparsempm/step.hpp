@@ -87,7 +87,7 @@ public:
 
 private:
   void run_step(Model& model, double dt);
-  void strain_update(Model& model, const Field& v, double dt);
+  void strain_update(Model& model, const Field& v, double t, double dt);
   void grid_velocity(const Model& model, const Field& p, double t, Field& v);
   void particle_update(Model& model, double dt);
 

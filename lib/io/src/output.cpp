@@ -5,6 +5,7 @@
 #include "sparsempm/stages.hpp"
 #include "sparsempm/version.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -67,6 +68,16 @@ OutputFile::OutputFile(const std::string& path, const RunConfig& cfg)
     throw InputError("output.file = \"" + path +
                      "\": cannot create the file (is the directory "
                      "writable?)");
+  try {
+    initialize(cfg);
+  } catch (...) {
+    H5Fclose(file_); // the destructor does not run for a throwing constructor
+    file_ = -1;
+    throw;
+  }
+}
+
+void OutputFile::initialize(const RunConfig& cfg) {
   h5::set_attribute(file_, "input", cfg.text);
   h5::set_attribute(file_, "overrides", cfg.overrides);
   h5::set_attribute(file_, "source", cfg.source);
@@ -238,12 +249,17 @@ std::vector<int> complete_frames(hid_t file) {
   H5Gget_info(parts.get(), &info);
   for (hsize_t k = 0; k < info.nlinks; ++k) {
     char name[64] = {};
-    H5Lget_name_by_idx(parts.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
-                       H5P_DEFAULT);
-    h5::Id g = h5::open_group(parts.get(), name);
+    if (H5Lget_name_by_idx(parts.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
+                           H5P_DEFAULT) < 0)
+      continue;
+    const std::string s(name);
+    if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos)
+      continue; // not a frame of ours
+    h5::Id g = h5::open_group(parts.get(), s);
     if (h5::has_attribute(g.get(), "complete"))
-      frames.push_back(std::stoi(name));
+      frames.push_back(std::stoi(s));
   }
+  std::sort(frames.begin(), frames.end()); // numerically, past 999999 too
   return frames;
 }
 } // namespace

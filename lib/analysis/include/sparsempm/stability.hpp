@@ -25,12 +25,14 @@ namespace smpm {
 /// where Φ zeroes the constrained directions (the homogeneous part of the velocity BCs) and
 /// 𝕂_p = ∂σ/∂L at F_p (from F' = (I + Δt L) F, by central differences; exact for the linear
 /// model). Periodic FMPM with C_X (options.periodic_cx > 0) is the product of one FMPM step
-/// and the round(C_X / C) − 1 FLIP steps between; steps_per_application() says how many steps
-/// one application spans. The operator concept is Spectra's: rows(), cols(), perform_op(x, y).
+/// and the ceil(C_X / C) − 1 FLIP steps between (the Stepper's period); steps_per_application()
+/// says how many steps one application spans. The operator concept is Spectra's: rows(), cols(),
+/// perform_op(x, y).
 class LinearizedStep {
 public:
   using Scalar = double;
-  /// Throws InputError for options the linearisation does not cover (USF-type schemes).
+  /// Throws InputError for options the linearisation does not cover (schemes other than USL,
+  /// the improper BC ordering, the velocity BC method).
   LinearizedStep(const Model& model, const StepOptions& options, double dt);
   ~LinearizedStep();
   LinearizedStep(LinearizedStep&&) noexcept;

@@ -54,6 +54,7 @@ public:
 
 private:
   OutputFile() = default;
+  void initialize(const RunConfig& cfg);
   void write_xdmf() const;
   std::string path_;
   long file_ = -1;

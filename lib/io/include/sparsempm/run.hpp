@@ -29,7 +29,8 @@ using ProgressFn = std::function<void(const Model&, double end)>;
 /// Runs `cfg` to cfg.time.end writing frames every cfg.output.every. Δt follows FMPM 2026 §3.3
 /// and is shortened to land on frame times. Stops with NumericalError (naming step, time and
 /// particle) on NaN, det F ≤ 0, a particle leaving the grid, or total energy above 10× its
-/// start; frames written so far are kept and the file's status says why it stopped.
+/// start (without body forces); frames written so far are kept and the file's status says why
+/// it stopped. A restart rebuilds the Stepper: periodic FMPM restarts its Courant budget there.
 RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progress = {});
 
 /// The configuration stored in a run file (its input text and overrides), for --restart.
