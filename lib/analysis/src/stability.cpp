@@ -218,7 +218,7 @@ double spectral_radius(const LinearizedStep& T, Index dense_limit) {
   const Index ncv = std::min<Index>(T.rows(), 60);
   Spectra::GenEigsSolver<Op> eigs(op, 1, ncv);
   eigs.init();
-  eigs.compute(Spectra::SortRule::LargestMagn, 2000, 1e-10);
+  eigs.compute(Spectra::SortRule::LargestMagn, 500, 1e-10);
   if (eigs.info() != Spectra::CompInfo::Successful)
     throw NumericalError("Spectra did not converge to the spectral radius of the update");
   return std::abs(eigs.eigenvalues()[0]);
