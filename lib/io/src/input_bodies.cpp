@@ -1,0 +1,229 @@
+#include "expression.hpp"
+#include "reader.hpp"
+
+#include <algorithm>
+#include <memory>
+
+namespace smpm::detail {
+
+int axis_index(const Reader& r, const toml::node* n, const std::string& name, int dim) {
+  const auto s = n ? n->value<std::string>() : std::nullopt;
+  const std::string valid = std::string("xyz").substr(0, size_t(dim));
+  if (!s || s->size() != 1 || valid.find((*s)[0]) == std::string::npos)
+    r.fail(n, name,
+           "expected one of the axes of a " + std::to_string(dim) + "D grid (" + valid + ")");
+  return int(valid.find((*s)[0]));
+}
+
+namespace {
+
+// Particles on the grid-aligned lattice of spacing h/ppc inside a disk/sphere or ellipse.
+Particles lattice_in(const Grid& g, const std::array<double, 3>& center,
+                     const std::array<double, 3>& semi, const std::array<int, 3>& ppc,
+                     double density, int id) {
+  const int d = g.dim();
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  for (int a = 0; a < d; ++a) {
+    const double h = g.cell_size(a);
+    lo[a] = g.origin(a) + h * std::floor((center[a] - semi[a] - g.origin(a)) / h);
+    hi[a] = g.origin(a) + h * std::ceil((center[a] + semi[a] - g.origin(a)) / h);
+    lo[a] = std::max(lo[a], g.origin(a));
+    hi[a] = std::min(hi[a], g.origin(a) + h * g.cells(a));
+  }
+  Particles box = make_block(g, lo, hi, ppc, density, id);
+  std::vector<Index> keep;
+  for (Index p = 0; p < box.size(); ++p) {
+    double r2 = 0;
+    for (int a = 0; a < d; ++a) {
+      const double u = (box.X(p, a) - center[a]) / semi[a];
+      r2 += u * u;
+    }
+    if (r2 <= 1)
+      keep.push_back(p);
+  }
+  Particles P;
+  P.resize(d, Index(keep.size()));
+  for (Index k = 0; k < Index(keep.size()); ++k) {
+    const Index p = keep[size_t(k)];
+    P.X.row(k) = box.X.row(p);
+    P.half_length.row(k) = box.half_length.row(p);
+    P.mass[k] = box.mass[p];
+    P.volume0[k] = box.volume0[p];
+    P.material[k] = id;
+  }
+  return P;
+}
+
+} // namespace
+
+Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
+                      const std::vector<Material>& mats) {
+  const int d = g.dim();
+  Particles all;
+  all.resize(d, 0);
+  int index = 0;
+  for (const toml::table* t : r.tables(root, "body", true)) {
+    r.check_keys(*t, "body");
+    const std::string key = "body." + std::to_string(index++) + ".";
+    const std::string mname = r.string(*t, "material", key + "material", std::nullopt);
+    int id = -1;
+    std::vector<std::string> names;
+    for (size_t k = 0; k < mats.size(); ++k) {
+      names.push_back(mats[k].name);
+      if (mats[k].name == mname)
+        id = int(k);
+    }
+    if (id < 0)
+      r.fail(t->get("material"), key + "material", "no such material" + suggest(mname, names));
+    const std::string region = r.string(*t, "region", key + "region", "box");
+    const auto ppc = r.counts(*t, "ppc", key + "ppc", d);
+    double estimate = 1; // particles of the body's bounding lattice
+    for (int a = 0; a < d; ++a)
+      estimate *= (g.cells(a) + 1.0) * ppc[a];
+    if (estimate > kMaxParticles)
+      r.fail(t->get("ppc"), key + "ppc",
+             "up to " + std::to_string(long(estimate)) + " particles, more than the " +
+                 std::to_string(long(kMaxParticles)) + " this build accepts");
+    Particles P;
+    if (region == "box") {
+      const auto lo = r.vector(*t, "min", key + "min", d, true);
+      const auto hi = r.vector(*t, "max", key + "max", d, true);
+      for (int a = 0; a < d; ++a)
+        if (!(hi[a] > lo[a]))
+          r.fail(t->get("max"), key + "max", "must exceed min on every axis");
+      if (!g.contains(lo) || !g.contains(hi))
+        r.fail(t->get("max"), key + "min/max", "particles outside the grid");
+      P = make_block(g, lo, hi, ppc, mats[size_t(id)].density, id);
+    } else if (region == "disk" || region == "ellipse") {
+      const auto c = r.vector(*t, "center", key + "center", d, true);
+      std::array<double, 3> semi{1, 1, 1};
+      if (region == "disk") {
+        const double rad = r.positive(*t, "radius", key + "radius", std::nullopt);
+        semi = {rad, rad, rad};
+      } else {
+        semi = r.vector(*t, "semi_axes", key + "semi_axes", d, true);
+        for (int a = 0; a < d; ++a)
+          if (!(semi[a] > 0))
+            r.fail(t->get("semi_axes"), key + "semi_axes", "must be positive");
+      }
+      std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+      for (int a = 0; a < d; ++a) {
+        lo[a] = c[a] - semi[a];
+        hi[a] = c[a] + semi[a];
+      }
+      if (!g.contains(lo) || !g.contains(hi))
+        r.fail(t->get("center"), key + "center", "particles outside the grid");
+      P = lattice_in(g, c, semi, ppc, mats[size_t(id)].density, id);
+    } else {
+      r.fail(t->get("region"), key + "region", "unknown region (expected box | disk | ellipse)");
+    }
+    if (P.size() == 0)
+      r.fail(t->get("region"), key + "region", "holds no particle");
+    // Initial velocity: numbers or expressions of the initial position X, Y, Z.
+    if (const toml::node* vn = t->get("velocity")) {
+      const toml::array* va = vn->as_array();
+      if (!va || int(va->size()) != d)
+        r.fail(vn, key + "velocity", "expected " + std::to_string(d) + " numbers or expressions");
+      for (int a = 0; a < d; ++a) {
+        const toml::node& e = (*va)[size_t(a)];
+        if (auto num = e.value<double>(); num && !e.is_string()) {
+          P.V.col(a).setConstant(*num);
+          continue;
+        }
+        if (!e.is_string())
+          r.fail(vn, key + "velocity", "expected numbers or expression strings");
+        const Expression expr(*e.value<std::string>(), {"X", "Y", "Z"},
+                              r.where(vn, key + "velocity"));
+        for (Index p = 0; p < P.size(); ++p) {
+          double x[3] = {0, 0, 0};
+          for (int b = 0; b < d; ++b)
+            x[b] = P.X(p, b);
+          P.V(p, a) = expr(x);
+          if (!std::isfinite(P.V(p, a)))
+            r.fail(vn, key + "velocity", "is not finite at particle " + std::to_string(p));
+        }
+      }
+    }
+    all.append(P);
+  }
+  return all;
+}
+
+BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid& g) {
+  const int d = g.dim();
+  BoundaryConditions bcs;
+  int index = 0;
+  for (const toml::table* t : r.tables(root, "bc", false)) {
+    r.check_keys(*t, "bc");
+    const std::string key = "bc." + std::to_string(index++) + ".";
+    std::vector<Index> nodes;
+    const toml::table* plane = r.table(*t, "plane", key + "plane", false);
+    const toml::table* box = r.table(*t, "box", key + "box", false);
+    if (bool(plane) == bool(box))
+      r.fail(plane ? t->get("plane") : t->get("box"), key + "plane/box",
+             "give exactly one of plane = {...} or box = {...}");
+    try {
+      if (plane) {
+        r.check_keys(*plane, "bc.plane");
+        const int axis = axis_index(r, plane->get("axis"), key + "plane.axis", d);
+        nodes = nodes_on_plane(g, axis, r.number(*plane, "at", key + "plane.at", std::nullopt));
+      } else {
+        r.check_keys(*box, "bc.box");
+        nodes = nodes_in_box(g, r.vector(*box, "min", key + "box.min", d, true),
+                             r.vector(*box, "max", key + "box.max", d, true));
+      }
+    } catch (const InputError& e) {
+      if (std::string(e.what()).find(": ") != std::string::npos &&
+          std::string(e.what()).rfind(r.source_, 0) == 0)
+        throw;
+      r.fail(plane ? t->get("plane") : t->get("box"), key + (plane ? "plane" : "box"), e.what());
+    }
+    const toml::node* fixed = t->get("fixed");
+    const toml::table* vel = r.table(*t, "velocity", key + "velocity", false);
+    if (bool(fixed) == bool(vel))
+      r.fail(fixed ? fixed : t->get("velocity"), key + "fixed/velocity",
+             "give exactly one of fixed = [...] or velocity = {...}");
+    if (fixed) {
+      const toml::array* fa = fixed->as_array();
+      if (!fa || fa->empty())
+        r.fail(fixed, key + "fixed", "expected an array of axes, e.g. [\"x\"]");
+      for (auto&& e : *fa) {
+        VelocityCondition c;
+        const int a = axis_index(r, &e, key + "fixed", d);
+        c.nodes = nodes;
+        c.direction = Eigen::Vector3d::Unit(a);
+        c.label = key + "fixed";
+        bcs.conditions.push_back(std::move(c));
+      }
+    } else {
+      r.check_keys(*vel, "bc.velocity");
+      const auto dir = r.vector(*vel, "direction", key + "velocity.direction", d, true);
+      Eigen::Vector3d n(dir[0], dir[1], dir[2]);
+      if (!(n.norm() > 0))
+        r.fail(vel->get("direction"), key + "velocity.direction", "must be a non-zero vector");
+      VelocityCondition c;
+      c.nodes = nodes;
+      c.direction = n.normalized();
+      c.label = key + "velocity";
+      const toml::node* vn = r.node(*vel, "value", key + "velocity.value", true);
+      if (vn->is_string()) {
+        auto expr = std::make_shared<Expression>(*vn->value<std::string>(),
+                                                 std::vector<std::string>{"t", "x", "y", "z"},
+                                                 r.where(vn, key + "velocity.value"));
+        c.value = [expr](double time, const Eigen::Vector3d& x) {
+          const double v[4] = {time, x[0], x[1], x[2]};
+          return (*expr)(v);
+        };
+      } else if (auto num = vn->value<double>()) {
+        const double value = *num;
+        c.value = [value](double, const Eigen::Vector3d&) { return value; };
+      } else {
+        r.fail(vn, key + "velocity.value", "expected a number or an expression of t, x, y, z");
+      }
+      bcs.conditions.push_back(std::move(c));
+    }
+  }
+  return bcs;
+}
+
+} // namespace smpm::detail

@@ -1,0 +1,188 @@
+#pragma once
+// The TOML reader's helper class and the readers of bodies and boundary conditions
+// (internal to sparsempm_io).
+
+#include "sparsempm/errors.hpp"
+#include "sparsempm/model.hpp"
+#include "toml_text.hpp"
+
+#include <toml++/toml.h>
+
+#include <array>
+#include <cmath>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef SMPM_INPUT_MAX_PARTICLES
+#define SMPM_INPUT_MAX_PARTICLES 20000000 // ~20 GB of particle and operator storage
+#endif
+#ifndef SMPM_INPUT_MAX_NODES
+#define SMPM_INPUT_MAX_NODES 50000000
+#endif
+
+namespace smpm::detail {
+
+inline constexpr double kMaxParticles = SMPM_INPUT_MAX_PARTICLES;
+inline constexpr double kMaxNodes = SMPM_INPUT_MAX_NODES;
+
+// Reads one input; carries the file name for messages.
+class Reader {
+public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  // "file:line: key = value" for a node, "file: key" without one.
+  std::string where(const toml::node* n, const std::string& key) const {
+    std::ostringstream os;
+    std::string file = source_;
+    long line = 0;
+    if (n) {
+      const auto& src = n->source();
+      if (src.path && !src.path->empty())
+        file = *src.path;
+      line = long(src.begin.line);
+    }
+    os << file;
+    if (line > 0)
+      os << ":" << line;
+    os << ": " << key;
+    if (n && n->is_value())
+      n->visit([&](auto&& v) { os << " = " << v; });
+    return os.str();
+  }
+  [[noreturn]] void fail(const toml::node* n, const std::string& key,
+                         const std::string& msg) const {
+    throw InputError(where(n, key) + ": " + msg);
+  }
+
+  void check_keys(const toml::table& t, const std::string& section) const {
+    const auto& valid = schema().at(section);
+    for (auto&& [k, v] : t) {
+      const std::string key(k.str());
+      if (std::find(valid.begin(), valid.end(), key) == valid.end())
+        throw InputError(where(&v, section.empty() ? key : section + "." + key).substr(0) +
+                         ": unknown key" + suggest(key, valid));
+    }
+  }
+
+  const toml::table* table(const toml::table& parent, const std::string& key,
+                           const std::string& name, bool required) const {
+    const toml::node* n = parent.get(key);
+    if (!n) {
+      if (required)
+        fail(nullptr, name, "missing required table");
+      return nullptr;
+    }
+    if (!n->is_table())
+      fail(n, name, "expected a table");
+    return n->as_table();
+  }
+
+  const toml::node* node(const toml::table& t, const std::string& key, const std::string& name,
+                         bool required) const {
+    const toml::node* n = t.get(key);
+    if (!n && required)
+      fail(nullptr, name, "missing required key");
+    return n;
+  }
+
+  double number(const toml::table& t, const std::string& key, const std::string& name,
+                std::optional<double> fallback) const {
+    const toml::node* n = node(t, key, name, !fallback);
+    if (!n)
+      return *fallback;
+    const auto v = n->value<double>();
+    if (!v || !(n->is_integer() || n->is_floating_point()))
+      fail(n, name, "expected a number");
+    if (!std::isfinite(*v))
+      fail(n, name, "must be finite");
+    return *v;
+  }
+  double positive(const toml::table& t, const std::string& key, const std::string& name,
+                  std::optional<double> fallback) const {
+    const double v = number(t, key, name, fallback);
+    if (!(v > 0))
+      fail(t.get(key), name, "must be positive");
+    return v;
+  }
+  std::string string(const toml::table& t, const std::string& key, const std::string& name,
+                     std::optional<std::string> fallback) const {
+    const toml::node* n = node(t, key, name, !fallback);
+    if (!n)
+      return *fallback;
+    if (!n->is_string())
+      fail(n, name, "expected a string");
+    return *n->value<std::string>();
+  }
+  bool boolean(const toml::table& t, const std::string& key, const std::string& name,
+               bool fallback) const {
+    const toml::node* n = t.get(key);
+    if (!n)
+      return fallback;
+    if (!n->is_boolean())
+      fail(n, name, "expected true or false");
+    return *n->value<bool>();
+  }
+  // An array of exactly `count` numbers.
+  std::array<double, 3> vector(const toml::table& t, const std::string& key,
+                               const std::string& name, int count, bool required,
+                               std::array<double, 3> fallback = {0, 0, 0}) const {
+    const toml::node* n = node(t, key, name, required);
+    if (!n)
+      return fallback;
+    const toml::array* a = n->as_array();
+    if (!a || int(a->size()) != count)
+      fail(n, name, "expected an array of " + std::to_string(count) + " numbers");
+    std::array<double, 3> out{0, 0, 0};
+    for (int k = 0; k < count; ++k) {
+      const auto v = (*a)[size_t(k)].value<double>();
+      if (!v || !std::isfinite(*v))
+        fail(n, name, "expected an array of " + std::to_string(count) + " numbers");
+      out[k] = *v;
+    }
+    return out;
+  }
+  std::array<int, 3> counts(const toml::table& t, const std::string& key, const std::string& name,
+                            int count) const {
+    const toml::node* n = node(t, key, name, true);
+    const toml::array* a = n->as_array();
+    if (!a || int(a->size()) != count)
+      fail(n, name, "expected an array of " + std::to_string(count) + " integers");
+    std::array<int, 3> out{1, 1, 1};
+    for (int k = 0; k < count; ++k) {
+      const auto v = (*a)[size_t(k)].value<int64_t>();
+      if (!v || !(*a)[size_t(k)].is_integer() || *v < 1 || *v > 100000000)
+        fail(n, name, "expected positive integers");
+      out[k] = int(*v);
+    }
+    return out;
+  }
+
+  // The tables of an array of tables ([[section]]).
+  std::vector<const toml::table*> tables(const toml::table& root, const std::string& key,
+                                         bool required) const {
+    std::vector<const toml::table*> out;
+    const toml::node* n = root.get(key);
+    if (!n) {
+      if (required)
+        fail(nullptr, "[[" + key + "]]", "at least one is required");
+      return out;
+    }
+    const toml::array* a = n->as_array();
+    if (!a || !a->is_array_of_tables())
+      fail(n, key, "expected [[" + key + "]] tables");
+    for (auto&& e : *a)
+      out.push_back(e.as_table());
+    return out;
+  }
+
+  std::string source_;
+};
+
+int axis_index(const Reader& r, const toml::node* n, const std::string& name, int dim);
+Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
+                      const std::vector<Material>& mats);
+BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid& g);
+
+} // namespace smpm::detail

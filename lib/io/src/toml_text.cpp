@@ -1,0 +1,193 @@
+#include "toml_text.hpp"
+
+#include "sparsempm/errors.hpp"
+
+#include <algorithm>
+#include <regex>
+#include <sstream>
+
+namespace smpm::detail {
+
+// Valid keys of every table of the schema ("" is the top level).
+const std::map<std::string, std::vector<std::string>>& schema() {
+  static const std::map<std::string, std::vector<std::string>> keys = {
+      {"", {"grid", "material", "body", "bc", "time", "scheme", "output", "loads"}},
+      {"grid", {"dim", "origin", "cell_size", "cells"}},
+      {"material", {"name", "model", "density", "youngs", "poisson"}},
+      {"body",
+       {"material", "region", "min", "max", "center", "radius", "semi_axes", "ppc", "velocity"}},
+      {"bc", {"plane", "box", "fixed", "velocity"}},
+      {"bc.plane", {"axis", "at"}},
+      {"bc.box", {"min", "max"}},
+      {"bc.velocity", {"direction", "value"}},
+      {"time", {"courant", "end"}},
+      {"scheme",
+       {"update", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
+        "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization"}},
+      {"output", {"file", "every", "matrices"}},
+      {"loads", {"gravity"}},
+  };
+  return keys;
+}
+
+// toml++ 3.3 reaches undefined behaviour (an unreachable branch in
+// is_non_ascii_horizontal_whitespace) when a non-ASCII character stands where it tests for
+// whitespace: after a bare value, between tokens, after a backslash in a string (found by
+// tests/fuzz). Non-ASCII text is therefore accepted only where its role is unambiguous, and
+// rejected with its line everywhere else:
+//   - in a comment line (first non-blank character '#'),
+//   - in a trailing comment ' # ...' after an ASCII part without quotes,
+//   - in the string of a line  key = "text"  or  key = 'text'  (no backslash, no inner quote),
+// and nowhere in a file with multi-line strings.
+void check_non_ascii(const std::string& text, const std::string& source) {
+  static const std::regex string_line(
+      R"re(^[ \t]*[A-Za-z0-9_.-]+[ \t]*=[ \t]*("[^"\\]*"|'[^']*')[ \t]*(#.*)?$)re");
+  const bool multi_line_strings =
+      text.find("\"\"\"") != std::string::npos || text.find("'''") != std::string::npos;
+  auto ascii = [](const std::string& s) {
+    return std::all_of(s.begin(), s.end(),
+                       [](char c) { return static_cast<unsigned char>(c) < 0x80; });
+  };
+  std::istringstream in(text);
+  long number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++number;
+    if (ascii(line))
+      continue;
+    const size_t first = line.find_first_not_of(" \t");
+    bool allowed = false;
+    if (!multi_line_strings) {
+      if (first != std::string::npos && line[first] == '#') {
+        allowed = true; // a comment line
+      } else if (std::regex_match(line, string_line)) {
+        allowed = true; // key = "text" [# comment]
+      } else {
+        const size_t hash = line.find('#');
+        const std::string code = line.substr(0, hash);
+        allowed = hash != std::string::npos && hash > 0 &&
+                  (line[hash - 1] == ' ' || line[hash - 1] == '\t') &&
+                  code.find_first_of("\"'") == std::string::npos && ascii(code);
+      }
+    }
+    if (!allowed)
+      throw InputError(source + ":" + std::to_string(number) +
+                       (multi_line_strings
+                            ? ": non-ASCII characters cannot be used in a file with multi-line "
+                              "strings"
+                            : ": non-ASCII characters are accepted only in comments and in "
+                              "simple key = \"text\" strings"));
+  }
+}
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j)
+    row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string suggest(const std::string& key, const std::vector<std::string>& valid) {
+  std::string best;
+  size_t dist = 1000;
+  for (const auto& v : valid)
+    if (const size_t e = edit_distance(key, v); e < dist) {
+      dist = e;
+      best = v;
+    }
+  if (dist <= std::max<size_t>(2, key.size() / 3))
+    return " (did you mean '" + best + "'?)";
+  std::string list;
+  for (const auto& v : valid)
+    list += (list.empty() ? "" : ", ") + v;
+  return " (valid keys: " + list + ")";
+}
+
+namespace {
+// Parses a --set value as a TOML value, or keeps it as a string.
+void assign(toml::table& t, const std::string& key, const std::string& value) {
+  check_non_ascii("v = " + value, "--set " + key);
+  try {
+    toml::table v = toml::parse("v = " + value, std::string_view("--set"));
+    toml::node* n = v.get("v");
+    if (n->is_integer())
+      t.insert_or_assign(key, *n->value<int64_t>());
+    else if (n->is_floating_point())
+      t.insert_or_assign(key, *n->value<double>());
+    else if (n->is_boolean())
+      t.insert_or_assign(key, *n->value<bool>());
+    else if (n->is_string())
+      t.insert_or_assign(key, *n->value<std::string>());
+    else if (n->is_array())
+      t.insert_or_assign(key, *n->as_array());
+    else if (n->is_table())
+      t.insert_or_assign(key, *n->as_table());
+    else
+      t.insert_or_assign(key, value);
+  } catch (const toml::parse_error&) {
+    t.insert_or_assign(key, value);
+  }
+}
+
+} // namespace
+
+void apply_override(toml::table& root, const std::string& spec) {
+  const size_t eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set " + spec + ": expected section.key=value");
+  const std::string path = spec.substr(0, eq), value = spec.substr(eq + 1);
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');)
+    parts.push_back(part);
+  const auto& top = schema().at("");
+  if (parts.size() < 2 || parts.size() > 3 ||
+      std::find(top.begin(), top.end(), parts[0]) == top.end())
+    throw InputError("--set " + spec + ": expected section.key=value with a section of " +
+                     "grid, material, body, bc, time, scheme, output, loads" +
+                     (parts.empty() ? "" : suggest(parts[0], top)));
+  toml::node* sec = root.get(parts[0]);
+  const bool listed = parts[0] == "material" || parts[0] == "body" || parts[0] == "bc";
+  toml::table* target = nullptr;
+  if (listed) {
+    if (parts.size() != 3)
+      throw InputError("--set " + spec + ": [[" + parts[0] + "]] entries are addressed as " +
+                       parts[0] + ".<name or index>.key=value");
+    toml::array* arr = sec ? sec->as_array() : nullptr;
+    if (arr)
+      for (size_t k = 0; k < arr->size() && !target; ++k) {
+        toml::table* t = (*arr)[k].as_table();
+        const auto name = t ? t->get("name") : nullptr;
+        if (t &&
+            ((name && name->value<std::string>() == parts[1]) || std::to_string(k) == parts[1]))
+          target = t;
+      }
+    if (!target)
+      throw InputError("--set " + spec + ": no [[" + parts[0] + "]] named or numbered '" +
+                       parts[1] + "'");
+  } else {
+    if (parts.size() != 2)
+      throw InputError("--set " + spec + ": expected " + parts[0] + ".key=value");
+    if (!sec)
+      sec = &root.insert_or_assign(parts[0], toml::table{}).first->second;
+    target = sec->as_table();
+    if (!target)
+      throw InputError("--set " + spec + ": '" + parts[0] + "' is not a table");
+  }
+  const std::string& key = parts.back();
+  const auto& valid = schema().at(parts[0]);
+  if (std::find(valid.begin(), valid.end(), key) == valid.end())
+    throw InputError("--set " + spec + ": unknown key '" + parts[0] + "." + key + "'" +
+                     suggest(key, valid));
+  assign(*target, key, value);
+}
+
+} // namespace smpm::detail

@@ -1,0 +1,24 @@
+#pragma once
+// Text-level helpers of the input reader: the schema of valid keys, key suggestions, the
+// non-ASCII check that keeps toml++ 3.3 away from undefined behaviour, and --set overrides.
+
+#include <toml++/toml.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace smpm::detail {
+
+/// Valid keys of every table of the input schema ("" is the top level).
+const std::map<std::string, std::vector<std::string>>& schema();
+/// " (did you mean 'x'?)" for the nearest valid key, or the list of valid keys.
+std::string suggest(const std::string& key, const std::vector<std::string>& valid);
+/// Throws InputError naming the line of a non-ASCII character outside the places where its
+/// role is unambiguous (see toml_text.cpp).
+void check_non_ascii(const std::string& text, const std::string& source);
+/// Applies one "section.key=value" override (value as a TOML value, else a string; arrays of
+/// tables addressed by name or index). Throws InputError naming the override.
+void apply_override(toml::table& root, const std::string& spec);
+
+} // namespace smpm::detail
