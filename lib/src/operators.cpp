@@ -1,13 +1,16 @@
 #include "sparsempm/operators.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 namespace smpm {
 
 void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops) {
   ops.dim = grid.dim();
   ops.grid_nodes = {grid.nodes(0), grid.nodes(1), grid.nodes(2)};
-  assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support);
+  static std::atomic<long> versions{0}; // unique across all Operators objects
+  if (assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support))
+    ops.pattern_version = ++versions;
   ops.M = particles.mass;
   ops.m.noalias() = ops.S.transpose() * ops.M; // m = Sᵀ M
   const double tol = kMassTolerance * (ops.m.size() ? ops.m.maxCoeff() : 0.0);
@@ -48,20 +51,28 @@ inline void stencil(int i, int w, int nodes, int& lo, int& count) {
 void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
   const Index n = ops.num_nodes(), N = ops.num_particles();
   const auto& nodes = ops.grid_nodes;
-  // Stencil half-width and touched nodes decide the pattern.
-  std::array<int, 3> w{0, 0, 0};
-  for (const ShapeSupport& s : ops.support)
-    for (int a = 0; a < 3; ++a)
-      w[a] = std::max(w[a], s.count[a] - 1);
-  std::vector<char> touched(size_t(n), 0);
   const int* outer = ops.S.outerIndexPtr();
   const int* inner = ops.S.innerIndexPtr();
-  for (Index k = 0; k < ops.S.nonZeros(); ++k)
-    touched[size_t(inner[k])] = 1;
-  mt.pattern_reused = w == mt.half_width && touched == mt.touched && mt.matrix.rows() == n;
+  // Same operators, same pattern of S: the stencil pattern of m̃ is unchanged too.
+  mt.pattern_reused =
+      mt.source == &ops && mt.source_version == ops.pattern_version && mt.matrix.rows() == n;
+  std::array<int, 3> w = mt.half_width;
+  if (!mt.pattern_reused) {
+    // Stencil half-width and touched nodes decide the pattern.
+    w = {0, 0, 0};
+    for (const ShapeSupport& s : ops.support)
+      for (int a = 0; a < 3; ++a)
+        w[a] = std::max(w[a], s.count[a] - 1);
+    std::vector<char> touched(size_t(n), 0);
+    for (Index k = 0; k < ops.S.nonZeros(); ++k)
+      touched[size_t(inner[k])] = 1;
+    mt.pattern_reused = w == mt.half_width && touched == mt.touched && mt.matrix.rows() == n;
+    mt.touched.swap(touched);
+    mt.source = &ops;
+    mt.source_version = ops.pattern_version;
+  }
   if (!mt.pattern_reused) {
     mt.half_width = w;
-    mt.touched.swap(touched);
     Index nnz = 0;
     std::vector<int> row_nnz(size_t(n), 0);
     for (Index i = 0; i < n; ++i) {

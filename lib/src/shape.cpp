@@ -354,7 +354,7 @@ void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
 
 } // namespace
 
-void assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRowMatrix& S,
+bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRowMatrix& S,
                     std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support) {
   const Index N = P.size(), n = grid.num_nodes();
   const int d = grid.dim();
@@ -418,7 +418,7 @@ void assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       dispatch_point<true>(d, f);
     else
       dispatch_point<false>(d, f);
-    return;
+    return changed;
   }
   BoxValues box;
   for (Index p = 0; p < N; ++p) {
@@ -432,6 +432,7 @@ void assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     for (int a = 0; a < d; ++a)
       std::copy(box.G[a], box.G[a] + len, gv[a] + begin);
   }
+  return changed;
 }
 
 } // namespace smpm

@@ -27,6 +27,7 @@ struct Operators {
   Eigen::VectorXd m_inv;                        ///< n: 1/m_i on active nodes, 0 elsewhere
   std::vector<ShapeSupport> support;            ///< workspace: the pattern of S and G
   std::array<int, 3> grid_nodes{1, 1, 1};       ///< nodes per axis of the grid
+  long pattern_version = 0; ///< a new process-unique number whenever S's pattern changes
   Index num_particles() const { return S.rows(); }
   Index num_nodes() const { return S.cols(); }
 };
@@ -52,6 +53,8 @@ struct ConsistentMass {
   std::array<int, 3> half_width{-1, -1, -1}; ///< stencil half-width of the pattern
   std::vector<char> touched;                 ///< n: node in some particle's box
   bool pattern_reused = false;               ///< the last assembly kept the pattern
+  const Operators* source = nullptr;         ///< the operators of the last assembly ...
+  long source_version = -1;                  ///< ... and their pattern version
 };
 /// m̃_ij = Σ_p M_p S_pi S_pj scattered directly into the stencil pattern (no sparse × sparse
 /// product); the pattern is rebuilt only when the stencil width or the touched set changes.

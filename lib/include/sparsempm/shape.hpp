@@ -46,8 +46,9 @@ struct ShapeSupport {
 /// Each row holds the tensor box of nodes that can be non-zero (structural zeros allowed);
 /// when every particle's box is unchanged since the previous call the index arrays are kept
 /// and only values are written (no allocation). `support` is the workspace that records the
-/// boxes. Throws NumericalError naming the particle when a support leaves the grid.
-void assemble_shape(const Grid& grid, const Particles& particles, Shape shape, SparseRowMatrix& S,
+/// boxes. Returns true when the pattern was rebuilt. Throws NumericalError naming the particle
+/// when a support leaves the grid.
+bool assemble_shape(const Grid& grid, const Particles& particles, Shape shape, SparseRowMatrix& S,
                     std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support);
 
 } // namespace smpm
