@@ -169,9 +169,10 @@ double strain_energy(const std::vector<Material>& materials, const Particles& P)
 double max_wave_speed(const std::vector<Material>& materials, const Particles& P) {
   double c = 0;
   std::vector<char> used(materials.size(), 0);
-  for (Index p = 0; p < P.size(); ++p)
-    if (material_of(materials, P, p).density > 0)
-      used[size_t(P.material[p])] = 1;
+  for (Index p = 0; p < P.size(); ++p) {
+    (void)material_of(materials, P, p); // validates the id
+    used[size_t(P.material[p])] = 1;
+  }
   for (size_t i = 0; i < materials.size(); ++i)
     if (used[i])
       c = std::max(c, materials[i].wave_speed(P.dim));
