@@ -120,6 +120,24 @@ class NumericalFailure(Base):
                 self.assertTrue(np.all(np.isfinite(frame["X"][:])))
 
 
+class BodyForce(Base):
+    def test_gravity_is_not_mistaken_for_instability(self):
+        # Gravity does work, so kinetic + strain energy may grow far beyond 10x its start; the
+        # blow-up test applies only without body forces.
+        out = self.dir / "fall.h5"
+        r = smpm("run", EXAMPLES / "two_disks.toml", "-o", out, "-q", "--set", "loads.gravity=[0.0, -2.0]",
+                 "--set", "time.end=0.2", "--set", "output.every=0.1")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(out, "r") as f:
+            total = f["series"]["total"][:]
+            self.assertGreater(total[-1], 10 * total[0])
+            momentum = f["series"]["momentum"][:]
+            mass = sum(g["mass"][:].sum() for g in [f["particles"]["000000"]])
+            t = f["series"]["t"][:]
+            # Free fall: Σ M V_y changes by −2 Σ M per unit time (no boundary touched yet).
+            self.assertAlmostEqual((momentum[-1, 1] - momentum[0, 1]) / (mass * t[-1]), -2.0, delta=1e-9)
+
+
 class RunFiles(Base):
     @classmethod
     def setUpClass(cls):
