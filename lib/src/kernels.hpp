@@ -14,20 +14,17 @@ struct Csr {
       : outer(A.outerIndexPtr()), inner(A.innerIndexPtr()), val(A.valuePtr()) {}
 };
 
+/// Calls k.operator()<N>() for the first N of Ns equal to v; returns false when none is.
+template <int... Ns, class Kernel>
+bool dispatch_int(int v, Kernel&& k) {
+  return ((v == Ns ? (k.template operator()<Ns>(), true) : false) || ...);
+}
+
 /// Calls k.operator()<D>() with the dimension d ∈ {1, 2, 3} as a compile-time constant.
 template <class Kernel>
 void by_dim(int d, Kernel&& k) {
-  switch (d) {
-  case 1:
-    k.template operator()<1>();
-    break;
-  case 2:
-    k.template operator()<2>();
-    break;
-  default:
+  if (!dispatch_int<1, 2>(d, k))
     k.template operator()<3>();
-    break;
-  }
 }
 
 /// det of a row-major D × D matrix.

@@ -47,28 +47,11 @@ void multiply_rows_transpose(const SparseRowMatrix& A, const Field& X, Field& Y,
   }
 }
 
+// Compile-time column counts for the common widths, run-time (0) otherwise.
 template <class Kernel>
 void dispatch(int c, Kernel&& k) {
-  switch (c) {
-  case 1:
-    k.template operator()<1>();
-    break;
-  case 2:
-    k.template operator()<2>();
-    break;
-  case 3:
-    k.template operator()<3>();
-    break;
-  case 4:
-    k.template operator()<4>();
-    break;
-  case 6:
-    k.template operator()<6>();
-    break;
-  default:
+  if (!detail::dispatch_int<1, 2, 3, 4, 6>(c, k))
     k.template operator()<0>();
-    break;
-  }
 }
 
 void check_pattern(const std::array<SparseRowMatrix, 3>& G, int d) {

@@ -252,22 +252,31 @@ void corner_values(const Grid& g, const Particles& P, Index p, Shape shape, cons
       }
 }
 
+// ξ = (X_p − origin)/h along each axis, in cell units.
+template <int D>
+struct CellCoordinates {
+  double o[3], inv_h[3];
+  const double* X;
+  CellCoordinates(const Grid& g, const Particles& P) : X(P.X.data()) {
+    for (int a = 0; a < D; ++a) {
+      o[a] = g.origin(a);
+      inv_h[a] = 1.0 / g.cell_size(a);
+    }
+  }
+  double operator()(Index p, int a) const { return (X[p * D + a] - o[a]) * inv_h[a]; }
+};
+
 // Fast path for the point-based families (linear hat, quadratic B-spline): dimension and
 // family known at compile time, values written straight into the CSR arrays.
 template <int D, bool BS>
 void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
                     bool& changed, Index& nnz) {
   constexpr int width = BS ? 3 : 2;
-  double o[3], inv_h[3];
-  for (int a = 0; a < D; ++a) {
-    o[a] = g.origin(a);
-    inv_h[a] = 1.0 / g.cell_size(a);
-  }
-  const double* X = P.X.data();
+  const CellCoordinates<D> xi_of(g, P);
   for (Index p = 0; p < P.size(); ++p) {
     ShapeSupport s;
     for (int a = 0; a < D; ++a) {
-      const double xi = (X[p * D + a] - o[a]) * inv_h[a];
+      const double xi = xi_of(p, a);
       if (!std::isfinite(xi))
         throw_outside(p, P, "has a non-finite position or domain");
       const int first = first_node(xi, BS);
@@ -289,12 +298,7 @@ template <int D, bool BS>
 void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupport>& support,
                   const int* outer, double* sv, double* const* gv) {
   constexpr int width = BS ? 3 : 2;
-  double o[3], inv_h[3];
-  for (int a = 0; a < D; ++a) {
-    o[a] = g.origin(a);
-    inv_h[a] = 1.0 / g.cell_size(a);
-  }
-  const double* X = P.X.data();
+  const CellCoordinates<D> xi_of(g, P);
   for (Index p = 0; p < P.size(); ++p) {
     const ShapeSupport& s = support[size_t(p)];
     double w[3][width], dw[3][width];
@@ -304,15 +308,15 @@ void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupp
         dw[a][0] = 0;
         continue;
       }
-      const double r0 = (X[p * D + a] - o[a]) * inv_h[a] - s.first[a];
+      const double r0 = xi_of(p, a) - s.first[a];
       for (int k = 0; k < width; ++k) {
         const double r = r0 - k;
         if constexpr (BS) {
           w[a][k] = bspline2(r);
-          dw[a][k] = bspline2_slope(r) * inv_h[a];
+          dw[a][k] = bspline2_slope(r) * xi_of.inv_h[a];
         } else {
           w[a][k] = k == 0 ? 1 - r : 1 + r;
-          dw[a][k] = (k == 0 ? -1.0 : 1.0) * inv_h[a];
+          dw[a][k] = (k == 0 ? -1.0 : 1.0) * xi_of.inv_h[a];
         }
       }
     }
