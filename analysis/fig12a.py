@@ -43,9 +43,13 @@ def main():
         sys.exit(f"fig12a.py: {args.table}: {e}")
     series = {}
     flip = None
+    exact = None
     for r in rows:
         if r["scheme"] == "FLIP":
             flip = r
+            continue
+        if r["scheme"] == "exact":
+            exact = r
             continue
         alpha, every, cx = num(r["alpha"]), int(r["blend_every"] or 1), num(r["periodic_cx"])
         if not math.isnan(cx):
@@ -75,6 +79,11 @@ def main():
             if not math.isnan(v):
                 ax.axhline(v, ls=style, color="gray", label=f"FLIP, {col[2:]} ({v:.3f})")
         ax.axhline(0.84, ls=":", color="k", label="FLIP, paper (0.84)")
+    if exact:  # the consistent-mass inverse m~^-1, the limit k -> infinity
+        for col, style in (("c_spectral", "--"), ("c_simulation", "-")):
+            v = num(exact[col])
+            if not math.isnan(v):
+                ax.axhline(v, ls=style, color="brown", label=f"exact m~^-1, {col[2:]} ({v:.3f})")
     ax.set_xscale("log")
     ax.set_xlabel("FMPM order k")
     ax.set_ylabel("critical Courant number C*")

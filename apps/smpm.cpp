@@ -134,6 +134,12 @@ int main(int argc, char** argv) {
   stab->add_option("--frame-stride", st.frame_stride, "use every n-th frame");
   stab->add_option("-o,--output", st.output, "CSV table (default stability.csv)");
   stab->add_flag("-q,--quiet", st.quiet, "no progress lines");
+  stab->add_flag("!--no-exact", st.exact, "leave out the exact consistent-mass row");
+  stab->add_option("--position-alpha", st.position_alpha,
+                   "alpha of the position update (FMPM 2026 Eqs. 8-9) for every row");
+  stab->add_option("--max-energy-change", st.max_energy_change,
+                   "simulation: also fail a run whose total energy changes by more than this "
+                   "fraction");
   smpm::app::SpectrumArgs sp;
   CLI::App* spec = app.add_subcommand(
       "spectrum", "rho(A), cond(m~) and the truncation error of FMPM(k) against m~^-1");

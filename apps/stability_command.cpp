@@ -16,6 +16,7 @@
 #include <fstream>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -24,7 +25,7 @@ namespace smpm::app {
 namespace {
 
 struct Row {
-  std::string scheme; // FLIP | FMPM
+  std::string scheme; // FLIP | FMPM | exact
   int k = 0;          // 0: not applicable
   double alpha = 1;
   int every = 1;
@@ -32,71 +33,90 @@ struct Row {
   StepOptions opt;
   double c_spectral = std::nan("");
   std::string config;
+  std::string spectral_status;
   double c_simulation = std::nan("");
   double energy_change = std::nan("");
 };
 
+// α of Eqs. (8)-(9) for a row: --position-alpha, else the input's scheme.position_alpha, else
+// the default of the row's velocity update (1 for FLIP, 1/2 otherwise).
+std::optional<double> chosen_alpha(const StabilityArgs& a, const StepOptions& base) {
+  if (!std::isnan(a.position_alpha))
+    return a.position_alpha;
+  return base.position_alpha;
+}
+
+std::pair<int, double> parse_blend(const std::string& b) {
+  const size_t colon = b.find(':');
+  int every = 0;
+  double alpha = 0;
+  try {
+    if (colon == std::string::npos)
+      throw std::invalid_argument(b);
+    every = std::stoi(b.substr(0, colon));
+    alpha = std::stod(b.substr(colon + 1));
+  } catch (const std::exception&) {
+    throw InputError("--blend " + b + ": expected m:alpha, e.g. 2:0.8");
+  }
+  if (every < 1 || !(alpha >= 0 && alpha <= 1))
+    throw InputError("--blend " + b + ": m must be >= 1 and alpha in [0, 1]");
+  return {every, alpha};
+}
+
+double parse_cx(const std::string& text) {
+  double cx = 0;
+  try {
+    cx = std::stod(text);
+  } catch (const std::exception&) {
+    throw InputError("--periodic " + text + ": expected a Courant budget C_X");
+  }
+  if (!(cx > 0) || !std::isfinite(cx))
+    throw InputError("--periodic " + text + ": C_X must be positive");
+  return cx;
+}
+
 std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
   std::vector<Row> rows;
-  Row flip;
-  flip.scheme = "FLIP";
-  flip.opt = base;
-  flip.opt.velocity = VelocityUpdate::FLIP;
-  flip.opt.position_alpha = 1.0;
-  rows.push_back(flip);
-  auto fmpm = [&](int k, double alpha, int every, double cx) {
+  auto row = [&](const std::string& scheme, VelocityUpdate v) {
     Row r;
-    r.scheme = "FMPM";
+    r.scheme = scheme;
+    r.opt = base;
+    r.opt.velocity = v;
+    r.opt.position_alpha = chosen_alpha(a, base);
+    r.opt.periodic_cx = 0;
+    r.opt.fmpm.metric = ConvergenceMetric::None;
+    return r;
+  };
+  rows.push_back(row("FLIP", VelocityUpdate::FLIP));
+  auto fmpm = [&](int k, double alpha, int every, double cx) {
+    Row r = row("FMPM", VelocityUpdate::FMPM);
     r.k = k;
     r.alpha = alpha;
     r.every = every;
     r.cx = cx;
-    r.opt = base;
-    r.opt.velocity = VelocityUpdate::FMPM;
-    r.opt.position_alpha = 1.0; // as the paper's Fig. 12 bar (FLIP-like positions)
     r.opt.fmpm.order = k;
     r.opt.fmpm.blend_alpha = alpha;
     r.opt.fmpm.blend_every = every;
-    r.opt.fmpm.metric = ConvergenceMetric::None;
     r.opt.periodic_cx = cx;
     return r;
   };
   for (int k : a.orders)
     rows.push_back(fmpm(k, 1.0, 1, 0.0));
-  for (const std::string& b : a.blends) {
-    if (b.empty() || b == "none")
-      continue;
-    const size_t colon = b.find(':');
-    if (colon == std::string::npos)
-      throw InputError("--blend " + b + ": expected m:alpha, e.g. 2:0.8");
-    int every = 0;
-    double alpha = 0;
-    try {
-      every = std::stoi(b.substr(0, colon));
-      alpha = std::stod(b.substr(colon + 1));
-    } catch (const std::exception&) {
-      throw InputError("--blend " + b + ": expected m:alpha, e.g. 2:0.8");
-    }
-    if (every < 1 || !(alpha >= 0 && alpha <= 1))
-      throw InputError("--blend " + b + ": m must be >= 1 and alpha in [0, 1]");
-    for (int k : a.orders)
-      if (k > 1)
-        rows.push_back(fmpm(k, alpha, every, 0.0));
-  }
-  for (const std::string& text : a.periodic) {
-    if (text.empty() || text == "none")
-      continue;
-    double cx = 0;
-    try {
-      cx = std::stod(text);
-    } catch (const std::exception&) {
-      throw InputError("--periodic " + text + ": expected a Courant budget C_X");
-    }
-    if (!(cx > 0))
-      throw InputError("--periodic " + text + ": C_X must be positive");
-    for (int k : a.orders)
-      if (k > 1)
-        rows.push_back(fmpm(k, 1.0, 1, cx));
+  for (const std::string& b : a.blends)
+    if (!b.empty() && b != "none")
+      for (const auto [every, alpha] = parse_blend(b); int k : a.orders)
+        if (k > 1)
+          rows.push_back(fmpm(k, alpha, every, 0.0));
+  for (const std::string& text : a.periodic)
+    if (!text.empty() && text != "none")
+      for (const double cx = parse_cx(text); int k : a.orders)
+        if (k > 1)
+          rows.push_back(fmpm(k, 1.0, 1, cx));
+  if (a.exact) {
+    Row r = row("exact", VelocityUpdate::Exact);
+    if (!r.opt.exact_solver)
+      r.opt.exact_solver = cholmod_solver_factory(0.0);
+    rows.push_back(r);
   }
   return rows;
 }
@@ -107,56 +127,21 @@ void spectral(Row& r, const Model& model, const StabilityArgs& a, const std::vec
   const ConfigurationSweep s = sweep_shifts(model, r.opt, a.shifts, 1e-6, 1e-3);
   r.c_spectral = s.minimum.courant;
   r.config = s.configuration;
+  int evaluations = s.minimum.evaluations, unconverged = s.minimum.not_converged;
   for (size_t f = 0; f < frames.size(); ++f) {
-    const double c = critical_courant(frames[f], r.opt, 1e-6, 2.0, 1e-3).courant;
-    if (c < r.c_spectral) {
-      r.c_spectral = c;
+    const CriticalCourant c = critical_courant(frames[f], r.opt, 1e-6, 2.0, 1e-3);
+    if (c.courant < r.c_spectral) {
+      r.c_spectral = c.courant;
       r.config = frame_names[f];
+      evaluations = c.evaluations;
+      unconverged = c.not_converged;
     }
   }
-}
-
-// Relative change of total energy of a full run at Courant number C, NaN when it fails
-// (NaN, det F <= 0, a particle leaving the grid, or total energy above 10x its start).
-double run_energy(const Model& start, const StepOptions& opt, double C, double end) {
-  Model model = start;
-  Stepper stepper(opt);
-  const double e0 = energies(model).total;
-  try {
-    while (model.time < end - 1e-12 * end) {
-      stepper.step(model, std::min(stable_time_step(model, C), end - model.time));
-      const double e = energies(model).total;
-      if (!std::isfinite(e) || (e0 > 0 && e > 10 * e0))
-        return std::nan("");
-    }
-  } catch (const NumericalError&) {
-    return std::nan("");
-  }
-  return e0 != 0 ? (energies(model).total - e0) / e0 : 0.0;
-}
-
-// The paper's way: bisection on C over full runs, to ±0.005.
-void simulation(Row& r, const Model& model, double end) {
-  double lo = 0.02, hi = 1.5;
-  double e_lo = run_energy(model, r.opt, lo, end);
-  if (std::isnan(e_lo))
-    return; // unstable even at C = 0.02
-  if (!std::isnan(run_energy(model, r.opt, hi, end))) {
-    r.c_simulation = hi;
-    return;
-  }
-  while (hi - lo > 0.005) {
-    const double mid = 0.5 * (lo + hi);
-    const double e = run_energy(model, r.opt, mid, end);
-    if (std::isnan(e))
-      hi = mid;
-    else {
-      lo = mid;
-      e_lo = e;
-    }
-  }
-  r.c_simulation = lo;
-  r.energy_change = e_lo;
+  // Non-finite radii count as unstable inside critical_courant; unconverged Arnoldi runs are
+  // named so that a reader knows the minimum rests on measured growth rates.
+  r.spectral_status = unconverged ? std::to_string(unconverged) + "/" +
+                                        std::to_string(evaluations) + " not converged"
+                                  : "converged";
 }
 
 std::string cell(double v, int precision = 4) {
@@ -168,11 +153,52 @@ std::string cell(double v, int precision = 4) {
   return os.str();
 }
 
+void write_table(const std::vector<Row>& rows, const std::string& path) {
+  // Written to a temporary name first so that no partial table is left behind.
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out)
+      throw InputError("-o " + path + ": cannot write the table");
+    out << "scheme,k,alpha,blend_every,periodic_cx,position_alpha,c_spectral,config_spectral,"
+           "spectral_status,c_simulation,energy_change\n";
+    for (const Row& r : rows) {
+      const bool fmpm = r.scheme == "FMPM";
+      out << r.scheme << "," << (r.k ? std::to_string(r.k) : "") << ","
+          << (fmpm ? cell(r.alpha) : "") << "," << (fmpm ? std::to_string(r.every) : "") << ","
+          << (r.cx > 0 ? cell(r.cx) : "") << "," << cell(position_alpha(r.opt)) << ","
+          << cell(r.c_spectral) << "," << r.config << "," << r.spectral_status << ","
+          << cell(r.c_simulation) << "," << cell(r.energy_change) << "\n";
+    }
+    if (!out.flush())
+      throw InputError("-o " + path + ": cannot write the table");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw InputError("-o " + path + ": cannot move the table into place");
+}
+
+void print_table(const std::vector<Row>& rows) {
+  std::printf("%-6s %4s %6s %6s %6s %6s %10s %-16s %12s %14s\n", "scheme", "k", "alpha", "every",
+              "C_X", "pos_a", "C*(spec)", "configuration", "C*(sim)", "energy change");
+  for (const Row& r : rows) {
+    const bool fmpm = r.scheme == "FMPM";
+    std::printf("%-6s %4s %6s %6s %6s %6s %10s %-16s %12s %14s\n", r.scheme.c_str(),
+                r.k ? std::to_string(r.k).c_str() : "", fmpm ? cell(r.alpha).c_str() : "",
+                fmpm ? std::to_string(r.every).c_str() : "", r.cx > 0 ? cell(r.cx).c_str() : "",
+                cell(position_alpha(r.opt)).c_str(), cell(r.c_spectral).c_str(), r.config.c_str(),
+                cell(r.c_simulation).c_str(), cell(r.energy_change).c_str());
+  }
+}
+
 } // namespace
 
 int stability_command(const StabilityArgs& a) {
   if (a.method != "spectral" && a.method != "simulation" && a.method != "both")
     throw InputError("--method " + a.method + ": expected spectral | simulation | both");
+  if (!std::isnan(a.position_alpha) && !(a.position_alpha >= 0 && a.position_alpha <= 1))
+    throw InputError("--position-alpha " + cell(a.position_alpha) + ": must lie in [0, 1]");
+  if (!(a.max_energy_change > 0))
+    throw InputError("--max-energy-change " + cell(a.max_energy_change) + ": must be positive");
   RunConfig cfg = read_input_file(a.input, a.sets);
   std::vector<Row> rows = make_rows(a, cfg.step);
   std::vector<Model> frames;
@@ -186,6 +212,9 @@ int stability_command(const StabilityArgs& a) {
       frame_names.push_back("frame " + std::to_string(numbers[j]));
     }
   }
+  SimulationCourantOptions sim;
+  sim.end = cfg.time.end;
+  sim.max_energy_change = a.max_energy_change;
   const auto start = std::chrono::steady_clock::now();
   std::atomic<size_t> next{0};
   std::mutex print;
@@ -196,8 +225,11 @@ int stability_command(const StabilityArgs& a) {
         Row& r = rows[i];
         if (a.method != "simulation")
           spectral(r, cfg.model, a, frames, frame_names);
-        if (a.method != "spectral")
-          simulation(r, cfg.model, cfg.time.end);
+        if (a.method != "spectral") {
+          const SimulationCourant c = simulation_courant(cfg.model, r.opt, sim);
+          r.c_simulation = c.courant;
+          r.energy_change = c.energy_change;
+        }
         if (!a.quiet) {
           std::lock_guard<std::mutex> lock(print);
           std::fprintf(
@@ -218,33 +250,10 @@ int stability_command(const StabilityArgs& a) {
   t2.join();
   if (failure)
     std::rethrow_exception(failure);
-  // CSV: written to a temporary name first so that no partial table is left behind.
-  const std::string tmp = a.output + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out)
-      throw InputError("-o " + a.output + ": cannot write the table");
-    out << "scheme,k,alpha,blend_every,periodic_cx,c_spectral,config_spectral,c_simulation,"
-           "energy_change\n";
-    for (const Row& r : rows)
-      out << r.scheme << "," << (r.k ? std::to_string(r.k) : "") << ","
-          << (r.scheme == "FLIP" ? "" : cell(r.alpha)) << ","
-          << (r.scheme == "FLIP" ? "" : std::to_string(r.every)) << ","
-          << (r.cx > 0 ? cell(r.cx) : "") << "," << cell(r.c_spectral) << "," << r.config << ","
-          << cell(r.c_simulation) << "," << cell(r.energy_change) << "\n";
-  }
-  std::rename(tmp.c_str(), a.output.c_str());
+  write_table(rows, a.output);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("%-6s %4s %6s %6s %6s %10s %-16s %12s %14s\n", "scheme", "k", "alpha", "every", "C_X",
-              "C*(spec)", "configuration", "C*(sim)", "energy change");
-  for (const Row& r : rows)
-    std::printf("%-6s %4s %6s %6s %6s %10s %-16s %12s %14s\n", r.scheme.c_str(),
-                r.k ? std::to_string(r.k).c_str() : "",
-                r.scheme == "FLIP" ? "" : cell(r.alpha).c_str(),
-                r.scheme == "FLIP" ? "" : std::to_string(r.every).c_str(),
-                r.cx > 0 ? cell(r.cx).c_str() : "", cell(r.c_spectral).c_str(), r.config.c_str(),
-                cell(r.c_simulation).c_str(), cell(r.energy_change).c_str());
+  print_table(rows);
   std::printf("%zu schemes in %.1f s; table in %s\n", rows.size(), wall, a.output.c_str());
   return 0;
 }
@@ -257,8 +266,7 @@ int spectrum_command(const SpectrumArgs& a) {
   assemble_consistent_mass(ops, mt);
   const MassSpectrum ms = mass_spectrum(ops, mt.matrix);
   Field p, exact;
-  StageWorkspace w;
-  map_momentum(ops, model.particles, p, w);
+  map_momentum(particle_operators(ops), model.particles.V, p);
   CholmodSolver solver;
   solver.solve(ops, mt.matrix, {}, p, exact);
   std::printf("active nodes %ld: rho(A) = %.8f, min eig(m^-1 m~) = %.3e, cond(m~) = %.4g\n",
@@ -286,7 +294,9 @@ int spectrum_command(const SpectrumArgs& a) {
           opt.fmpm = f;
           opt.periodic_cx = 0;
           const LinearizedStep T(model, opt, a.courant / courant_of(model, 1.0));
-          rho = spectral_radius(T);
+          const SpectralRadius r = spectral_radius(T);
+          rho = r.status == SpectralStatus::NonFinite ? std::numeric_limits<double>::infinity()
+                                                      : r.rho;
         }
         out << k << "," << alpha << "," << m << "," << err << ","
             << (a.courant > 0 ? std::to_string(a.courant) : "") << "," << cell(rho, 10) << "\n";

@@ -1,6 +1,8 @@
 #pragma once
 // smpm stability and smpm spectrum: the stability study of FMPM 2026 §3.3 (Fig. 12).
 
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,9 @@ struct StabilityArgs {
   int frame_stride = 1;
   std::string output = "stability.csv";
   bool quiet = false;
+  bool exact = true;                    ///< also the exact consistent-mass row
+  double position_alpha = std::nan(""); ///< NaN: the input's (or each row's default)
+  double max_energy_change = std::numeric_limits<double>::infinity(); ///< simulation criterion
 };
 
 struct SpectrumArgs {
@@ -34,8 +39,9 @@ struct SpectrumArgs {
 /// for every k, α, m: a table on stdout and a CSV (scalars as '# name = value' lines).
 int spectrum_command(const SpectrumArgs& args);
 
-/// Writes the table (CSV header scheme,k,alpha,blend_every,periodic_cx,c_spectral,
-/// config_spectral,c_simulation,energy_change) and prints it. Returns the exit status.
+/// Writes the table (CSV header scheme,k,alpha,blend_every,periodic_cx,position_alpha,
+/// c_spectral,config_spectral,spectral_status,c_simulation,energy_change) and prints it.
+/// Returns the exit status.
 int stability_command(const StabilityArgs& args);
 
 } // namespace smpm::app

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <sparsempm/sparsempm.hpp>
 
+#include <cmath>
 #include <random>
 
 namespace smpm::test {
@@ -65,6 +66,23 @@ inline Particles jittered_lattice(const Grid& g, int lo, int count, int ppc, dou
       P.half_length(p, a) *= 1 - 2 * jitter;
     }
   return P;
+}
+
+/// Relative change of total energy of the free-vibrating bar of FMPM 2026 §3.3 (L = 40, cell 1,
+/// 2 ppc, E = 2, ρ = 0.5, v₀ = 0.16) after `periods` periods at Courant number C, run by
+/// advance() (the last step shortened to land on the end); NaN when the run fails (NumericalError:
+/// NaN, det F ≤ 0, leaving the grid, total energy above 10× its start).
+inline double bar_energy_change(const StepOptions& options, double courant, double periods = 5) {
+  const BarSetup bar;
+  Model model = vibrating_bar(bar);
+  Stepper stepper(options);
+  try {
+    const AdvanceReport r =
+        advance(model, stepper, {.end = periods * bar_period(bar), .courant = courant});
+    return (r.energy_end - r.energy_start) / r.energy_start;
+  } catch (const NumericalError&) {
+    return std::nan("");
+  }
 }
 
 } // namespace smpm::test

@@ -13,4 +13,12 @@ NumericalError at_step(const NumericalError& e, long step, double time) {
   return NumericalError(os.str(), step);
 }
 
+namespace detail {
+void usage_failure(const char* condition, const std::string& message, const char* file, int line) {
+  std::ostringstream os;
+  os << message << " (" << condition << " failed at " << file << ":" << line << ")";
+  throw UsageError(os.str());
+}
+} // namespace detail
+
 } // namespace smpm

@@ -1,7 +1,7 @@
 #include "sparsempm/fmpm.hpp"
 
+#include "kernels.hpp"
 #include "sparsempm/errors.hpp"
-#include "sparsempm/products.hpp"
 
 #include <cmath>
 #include <string>
@@ -84,36 +84,75 @@ double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field
   return count ? sum / double(count) : 0.0;
 }
 
-namespace {
-// next ← m⁻¹ m̃ x = S⁺ S x.
-void apply_SpS(const Operators& ops, const SparseRowMatrix& mt, const Field& x, Field& next) {
-  multiply(mt, x, next);
-  next.array().colwise() *= ops.m_inv.array();
+void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, const Field& x,
+                         Field& y) {
+  SMPM_VERIFY(mt.rows() == mt.cols() && x.rows() == mt.cols() && m_inv.size() == mt.rows(),
+              "reverse_map_product: m~ must be n x n, x n x d and m_inv of size n");
+  const int* outer = mt.outerIndexPtr();
+  const int* inner = mt.innerIndexPtr();
+  const double* val = mt.valuePtr();
+  const int c = int(x.cols());
+  y.resize(mt.rows(), c);
+  // Row i: y_i = m_i⁻¹ Σ_j m̃_ij x_j, with the column count a compile-time constant when small.
+  auto rows = [&]<int C>() {
+    const int cols = C ? C : c;
+    for (Index i = 0; i < mt.rows(); ++i) {
+      double acc[C ? C : 1];
+      double* out = C ? acc : y.data() + i * cols;
+      for (int a = 0; a < cols; ++a)
+        out[a] = 0;
+      for (int k = outer[i]; k < outer[i + 1]; ++k) {
+        const double* xj = x.data() + Index(inner[k]) * cols;
+        for (int a = 0; a < cols; ++a)
+          out[a] += val[k] * xj[a];
+      }
+      double* yi = y.data() + i * cols;
+      for (int a = 0; a < cols; ++a)
+        yi[a] = out[a] * m_inv[i];
+    }
+  };
+  if (!detail::dispatch_int<1, 2, 3>(c, rows))
+    rows.template operator()<0>();
 }
-} // namespace
 
-FmpmReport fmpm_loop(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
-                     const LoopConstraints& bc, Field& v, FmpmWorkspace& w) {
+FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
+                     const FmpmOptions& opt, const FmpmHooks& hooks, Field& v, FmpmWorkspace& w) {
   FmpmReport report;
   w.prev = v; // Δv(1) = v⁺(1)
-  const bool incremental = bc.bcs && opt.bc_method == BCMethod::Incremental;
   for (int ell = 2; ell <= opt.order; ++ell) {
-    apply_SpS(ops, mt, w.prev, w.next); // S⁺S Δv(ℓ−1)
-    w.prev -= w.next;                   // Δv(ℓ) = A Δv(ℓ−1)          (Eq. 6)
+    reverse_map_product(m_inv, mt, w.prev, w.next); // S⁺S Δv(ℓ−1)
+    w.prev -= w.next;                               // Δv(ℓ) = A Δv(ℓ−1)          (Eq. 6)
     const double c = blend_factor(opt, ell);
     if (c != 1)
       w.prev *= c; // blended recursion (§3.3)
-    if (incremental)
-      bc.bcs->zero_directions(w.prev); // (1) Table 2, bottom block
-    // (2) contact: no multimaterial contact in this library yet.
-    v += w.prev; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                        (Eq. 5)
+    if (hooks.velocity_bcs)
+      hooks.velocity_bcs(ell, w.prev); // (1)
+    if (hooks.contact)
+      hooks.contact(ell, w.prev, v); // (2)
+    v += w.prev; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                     (Eq. 5)
     report.order = ell;
-    if (opt.metric != ConvergenceMetric::None) { // (3) dynamic FMPM (§3.4)
-      report.metric = convergence_metric(opt.metric, w.prev, v, ops);
-      if (report.metric < opt.dynamic_limit)
-        break;
-    }
+    if (hooks.converged && hooks.converged(ell, w.prev, v, report.metric)) // (3)
+      break;
   }
+  return report;
+}
+
+FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopConstraints& bc) {
+  FmpmHooks hooks;
+  if (bc.bcs && opt.bc_method == BCMethod::Incremental) // Table 2, bottom block
+    hooks.velocity_bcs = [bcs = bc.bcs](int, Field& dv) { bcs->zero_directions(dv); };
+  if (opt.metric != ConvergenceMetric::None) // dynamic FMPM (§3.4)
+    hooks.converged = [&ops, metric = opt.metric, limit = opt.dynamic_limit](
+                          int, const Field& dv, const Field& v, double& value) {
+      value = convergence_metric(metric, dv, v, ops);
+      return value < limit;
+    };
+  return hooks;
+}
+
+FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
+                         const LoopConstraints& bc, Field& v, FmpmWorkspace& w) {
+  const FmpmReport report = fmpm_loop(ops.m_inv, mt, opt, fmpm_hooks(ops, opt, bc), v, w);
   if (bc.bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
     bc.bcs->constrain_velocity(*bc.grid, bc.time, v, &ops.active);
   return report;
@@ -127,7 +166,7 @@ void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, 
   w.prev = v;
   u.setZero(v.rows(), v.cols());
   for (int k = 2; k <= m; ++k) {
-    apply_SpS(ops, mt, w.prev, w.next);
+    reverse_map_product(ops.m_inv, mt, w.prev, w.next);
     w.prev = (double(m + 1 - k) / k) * w.next;
     if (k % 2 == 0)
       u += w.prev;

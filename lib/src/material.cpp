@@ -94,21 +94,23 @@ double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d
   return 0;
 }
 
-namespace {
-Eigen::Matrix3d particle_F(const Particles& P, Index p) {
-  const int d = P.dim;
-  Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+Eigen::Matrix3d embed_3d(const double* F, int d) {
+  Eigen::Matrix3d F3 = Eigen::Matrix3d::Identity();
   for (int a = 0; a < d; ++a)
     for (int b = 0; b < d; ++b)
-      F(a, b) = P.F(p, a * d + b);
-  return F;
+      F3(a, b) = F[a * d + b];
+  return F3;
 }
-const Material& material_of(const std::vector<Material>& mats, const Particles& P, Index p) {
-  const int id = P.material[p];
+
+namespace {
+Eigen::Matrix3d particle_F(const Particles& P, Index p) {
+  return embed_3d(P.F.row(p).data(), P.dim);
+}
+const Material& material_of(const std::vector<Material>& mats, int id, Index p) {
   if (id < 0 || id >= int(mats.size()))
     throw InputError("particle " + std::to_string(p) + " has material id " + std::to_string(id) +
                      " but only " + std::to_string(mats.size()) + " materials are defined");
-  return mats[id];
+  return mats[size_t(id)];
 }
 } // namespace
 
@@ -131,38 +133,43 @@ void linear_stress(const Material& m, const double* F, double* sigma) {
   }
 }
 
-void update_stress(const std::vector<Material>& materials, Particles& P) {
-  const int d = P.dim;
-  for (Index p = 0; p < P.size(); ++p) {
-    const Material& mat = material_of(materials, P, p);
+void update_stress(const std::vector<Material>& materials,
+                   const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                   FieldRef stress) {
+  const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
+  SMPM_VERIFY(d * d == d2 && stress.cols() == d2 && stress.rows() == F.rows() &&
+                  material.size() == F.rows(),
+              "update_stress: F and stress must be N x d^2 and material of size N");
+  for (Index p = 0; p < F.rows(); ++p) {
+    const Material& mat = material_of(materials, material[p], p);
+    const double* Fp = F.data() + p * F.outerStride();
+    double* sigma = stress.data() + p * stress.outerStride();
     if (mat.model == MaterialModel::Linear) {
-      const double* F = P.F.data() + p * d * d;
-      double* sigma = P.stress.data() + p * d * d;
       switch (d) {
       case 1:
-        linear_stress<1>(mat, F, sigma);
+        linear_stress<1>(mat, Fp, sigma);
         break;
       case 2:
-        linear_stress<2>(mat, F, sigma);
+        linear_stress<2>(mat, Fp, sigma);
         break;
       default:
-        linear_stress<3>(mat, F, sigma);
+        linear_stress<3>(mat, Fp, sigma);
         break;
       }
       continue;
     }
-    const Eigen::Matrix3d s = cauchy_stress(mat, d, particle_F(P, p));
+    const Eigen::Matrix3d s = cauchy_stress(mat, d, embed_3d(Fp, d));
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
-        P.stress(p, a * d + b) = s(a, b);
+        sigma[a * d + b] = s(a, b);
   }
 }
 
 double strain_energy(const std::vector<Material>& materials, const Particles& P) {
   double W = 0;
   for (Index p = 0; p < P.size(); ++p)
-    W +=
-        P.volume0[p] * strain_energy_density(material_of(materials, P, p), P.dim, particle_F(P, p));
+    W += P.volume0[p] *
+         strain_energy_density(material_of(materials, P.material[p], p), P.dim, particle_F(P, p));
   return W;
 }
 
@@ -170,7 +177,7 @@ double max_wave_speed(const std::vector<Material>& materials, const Particles& P
   double c = 0;
   std::vector<char> used(materials.size(), 0);
   for (Index p = 0; p < P.size(); ++p) {
-    (void)material_of(materials, P, p); // validates the id
+    (void)material_of(materials, P.material[p], p); // validates the id
     used[size_t(P.material[p])] = 1;
   }
   for (size_t i = 0; i < materials.size(); ++i)

@@ -3,17 +3,18 @@
 #include "kernels.hpp"
 
 #include "sparsempm/errors.hpp"
-#include "sparsempm/products.hpp"
+
+#include <unsupported/Eigen/MatrixFunctions>
 
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace smpm {
 
 namespace {
 
 using detail::by_dim;
-using detail::Csr;
 using detail::det;
 
 [[noreturn]] void bad_particle(Index p, const char* what, double value) {
@@ -22,44 +23,98 @@ using detail::det;
   throw NumericalError(os.str());
 }
 
+// Row q of a row-major field with any row stride.
+template <class Ref>
+auto* row(Ref& A, Index q) {
+  return A.data() + q * A.outerStride();
+}
+
+// L = Σ_i v_i ⊗ G_qi of particle q (row-major D × D): L[a D + b] = Σ_i G_b(q, i) v(i, a).
+template <int D>
+inline void particle_gradient(const ParticleOperators& op, Index q, const Field& v, double* L) {
+  for (int c = 0; c < D * D; ++c)
+    L[c] = 0;
+  for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
+    const double* vi = v.data() + Index(op.inner[k]) * D;
+    for (int b = 0; b < D; ++b) {
+      const double gb = op.G[size_t(b)][k];
+      for (int a = 0; a < D; ++a)
+        L[a * D + b] += vi[a] * gb;
+    }
+  }
+}
+
+void check_node_field(const ParticleOperators& op, const Field& v, const char* who) {
+  SMPM_VERIFY(v.rows() == op.nodes && v.cols() == op.dim,
+              std::string(who) + ": the node field must be n x d");
+}
+
 } // namespace
 
-void map_momentum(const Operators& ops, const Particles& P, Field& p, StageWorkspace&) {
-  // p = Sᵀ (M ∘ V): one pass over the rows of S.
-  const Csr S(ops.S);
-  p.setZero(ops.num_nodes(), P.dim);
-  by_dim(P.dim, [&]<int D>() {
-    for (Index q = 0; q < P.size(); ++q) {
+ParticleOperators ParticleOperators::block(Index first, Index count) const {
+  SMPM_VERIFY(first >= 0 && count >= 0 && first + count <= rows,
+              "ParticleOperators::block: rows out of range");
+  ParticleOperators b = *this;
+  b.rows = count;
+  b.outer = outer + first;
+  b.M = M + first;
+  return b;
+}
+
+ParticleOperators particle_operators(const Operators& ops) {
+  ParticleOperators op;
+  op.dim = ops.dim;
+  op.rows = ops.num_particles();
+  op.nodes = ops.num_nodes();
+  op.outer = ops.S.outerIndexPtr();
+  op.inner = ops.S.innerIndexPtr();
+  op.S = ops.S.valuePtr();
+  for (int b = 0; b < ops.dim; ++b) {
+    SMPM_VERIFY(ops.G[size_t(b)].nonZeros() == ops.S.nonZeros(),
+                "particle_operators: G_b must share the pattern of S");
+    op.G[size_t(b)] = ops.G[size_t(b)].valuePtr();
+  }
+  op.M = ops.M.data();
+  return op;
+}
+
+void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p) {
+  SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
+  p.setZero(op.nodes, op.dim);
+  by_dim(op.dim, [&]<int D>() {
+    for (Index q = 0; q < op.rows; ++q) {
       double mv[D];
       for (int a = 0; a < D; ++a)
-        mv[a] = ops.M[q] * P.V(q, a);
-      for (int k = S.outer[q]; k < S.outer[q + 1]; ++k) {
-        double* pi = p.data() + Index(S.inner[k]) * D;
+        mv[a] = op.M[q] * V(q, a);
+      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
+        double* pi = p.data() + Index(op.inner[k]) * D;
         for (int a = 0; a < D; ++a)
-          pi[a] += S.val[k] * mv[a];
+          pi[a] += op.S[k] * mv[a];
       }
     }
   });
 }
 
-void internal_force(const Operators& ops, const Particles& P, Field& f, StageWorkspace&) {
-  // f_ia = −Σ_p Σ_b G_b(p, i) V_p^(0) J_p σ_p,ab: one pass over the rows of the G_b.
-  const Csr G0(ops.G[0]);
-  const double* g[3] = {ops.G[0].valuePtr(), P.dim > 1 ? ops.G[1].valuePtr() : nullptr,
-                        P.dim > 2 ? ops.G[2].valuePtr() : nullptr};
-  f.setZero(ops.num_nodes(), P.dim);
-  by_dim(P.dim, [&]<int D>() {
-    for (Index q = 0; q < P.size(); ++q) {
-      const double vol = -P.volume0[q] * det<D>(P.F.data() + q * D * D); // −Ω J
+void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
+                    const ConstFieldRef& F, const ConstFieldRef& stress, Field& f) {
+  const int d2 = op.dim * op.dim;
+  SMPM_VERIFY(volume0.size() == op.rows && F.rows() == op.rows && F.cols() == d2 &&
+                  stress.rows() == op.rows && stress.cols() == d2,
+              "internal_force: volume0, F and stress must have one row per particle");
+  f.setZero(op.nodes, op.dim);
+  by_dim(op.dim, [&]<int D>() {
+    for (Index q = 0; q < op.rows; ++q) {
+      const double* sq = stress.data() + q * stress.outerStride();
+      const double vol = -volume0[q] * det<D>(F.data() + q * F.outerStride()); // −Ω J
       double tau[D * D];
       for (int c = 0; c < D * D; ++c)
-        tau[c] = vol * P.stress.data()[q * D * D + c];
-      for (int k = G0.outer[q]; k < G0.outer[q + 1]; ++k) {
-        double* fi = f.data() + Index(G0.inner[k]) * D;
+        tau[c] = vol * sq[c];
+      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
+        double* fi = f.data() + Index(op.inner[k]) * D;
         for (int a = 0; a < D; ++a) {
           double sum = 0;
           for (int b = 0; b < D; ++b)
-            sum += tau[a * D + b] * g[b][k];
+            sum += tau[a * D + b] * op.G[size_t(b)][k];
           fi[a] += sum;
         }
       }
@@ -67,131 +122,131 @@ void internal_force(const Operators& ops, const Particles& P, Field& f, StageWor
   });
 }
 
-void add_body_force(const Operators& ops, const std::array<double, 3>& B, Field& f) {
+void add_body_force(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field& f) {
   for (int a = 0; a < f.cols(); ++a)
-    if (B[a] != 0)
-      f.col(a) += B[a] * ops.m;
+    if (B[size_t(a)] != 0)
+      f.col(a) += B[size_t(a)] * m;
 }
 
-void lumped_solve(const Operators& ops, const Field& x, Field& v) {
-  v.noalias() = ops.m_inv.asDiagonal() * x;
+void lumped_solve(const Eigen::VectorXd& m_inv, const Field& x, Field& v) {
+  v.noalias() = m_inv.asDiagonal() * x;
 }
 
-void update_particles_flip(const Operators& ops, const GridState& g, double dt, double alpha,
-                           Particles& P, StageWorkspace&) {
+void update_particles_flip(const ParticleOperators& op, const Field& v_plus, const Field& a,
+                           double dt, double alpha, FieldRef X, FieldRef V) {
+  check_node_field(op, v_plus, "update_particles_flip");
+  check_node_field(op, a, "update_particles_flip");
   // One pass over S: (S v⁺)_p and (S a)_p, then V += Δt S a, X += Δt S v⁺ − (1 − α) Δt² S a.
-  const Csr S(ops.S);
-  by_dim(P.dim, [&]<int D>() {
+  by_dim(op.dim, [&]<int D>() {
     const double c = (1 - alpha) * dt * dt;
-    for (Index q = 0; q < P.size(); ++q) {
+    for (Index q = 0; q < op.rows; ++q) {
       double sv[D] = {}, sa[D] = {};
-      for (int k = S.outer[q]; k < S.outer[q + 1]; ++k) {
-        const Index i = S.inner[k];
-        for (int a = 0; a < D; ++a) {
-          sv[a] += S.val[k] * g.v_plus.data()[i * D + a];
-          sa[a] += S.val[k] * g.a.data()[i * D + a];
+      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
+        const Index i = op.inner[k];
+        for (int b = 0; b < D; ++b) {
+          sv[b] += op.S[k] * v_plus.data()[i * D + b];
+          sa[b] += op.S[k] * a.data()[i * D + b];
         }
       }
-      for (int a = 0; a < D; ++a) {
-        double& x = P.X.data()[q * D + a];
-        double& v = P.V.data()[q * D + a];
-        x += dt * sv[a] - c * sa[a];
-        v += dt * sa[a];
-        if (!std::isfinite(x) || !std::isfinite(v))
-          bad_particle(q, "a non-finite position or velocity", v);
+      double* x = row(X, q);
+      double* v = row(V, q);
+      for (int b = 0; b < D; ++b) {
+        x[b] += dt * sv[b] - c * sa[b];
+        v[b] += dt * sa[b];
+        if (!std::isfinite(x[b]) || !std::isfinite(v[b]))
+          bad_particle(q, "a non-finite position or velocity", v[b]);
       }
     }
   });
 }
 
-void update_particles_pic(const Operators& ops, const Field& v_plus, double dt, double alpha,
-                          Particles& P, StageWorkspace&) {
-  // One pass over S: V' = (S v⁺)_p, X += (α V' + (1 − α) V) Δt, V = V'.
-  const Csr S(ops.S);
-  by_dim(P.dim, [&]<int D>() {
-    for (Index q = 0; q < P.size(); ++q) {
+void update_particles_pic(const ParticleOperators& op, const Field& vg, double dt, double alpha,
+                          FieldRef X, FieldRef V) {
+  check_node_field(op, vg, "update_particles_pic");
+  // One pass over S: V' = (S v)_p, X += (α V' + (1 − α) V) Δt, V = V'.
+  by_dim(op.dim, [&]<int D>() {
+    for (Index q = 0; q < op.rows; ++q) {
       double sv[D] = {};
-      for (int k = S.outer[q]; k < S.outer[q + 1]; ++k)
-        for (int a = 0; a < D; ++a)
-          sv[a] += S.val[k] * v_plus.data()[Index(S.inner[k]) * D + a];
-      for (int a = 0; a < D; ++a) {
-        double& x = P.X.data()[q * D + a];
-        double& v = P.V.data()[q * D + a];
-        x += (alpha * sv[a] + (1 - alpha) * v) * dt;
-        v = sv[a];
-        if (!std::isfinite(x) || !std::isfinite(v))
-          bad_particle(q, "a non-finite position or velocity", v);
-      }
-    }
-  });
-}
-
-void velocity_gradient(const Operators& ops, const Field& v, Field& L) {
-  gradient_product(ops.G, ops.dim, v, L); // (G_b v)_{pa} = ∂v_a/∂x_b at particle p
-}
-
-void update_deformation_gradient(const Field& L, double dt, Particles& P) {
-  by_dim(P.dim, [&]<int D>() {
-    using Mat = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
-    for (Index q = 0; q < P.size(); ++q) {
-      Eigen::Map<Mat> Fq(P.F.row(q).data());
-      const Mat Fn = (Mat::Identity() + dt * Eigen::Map<const Mat>(L.row(q).data())) * Fq;
-      Fq = Fn;
-    }
-  });
-}
-
-void update_deformation_from_velocity(const Operators& ops, const Field& v, double dt,
-                                      Particles& P) {
-  // One pass over the G_b: L_p = Σ_i v_i ⊗ G_pi, F_p ← (I + L_p Δt) F_p, det F_p > 0.
-  const Csr G0(ops.G[0]);
-  const double* g[3] = {ops.G[0].valuePtr(), P.dim > 1 ? ops.G[1].valuePtr() : nullptr,
-                        P.dim > 2 ? ops.G[2].valuePtr() : nullptr};
-  by_dim(P.dim, [&]<int D>() {
-    for (Index q = 0; q < P.size(); ++q) {
-      double L[D * D] = {};
-      for (int k = G0.outer[q]; k < G0.outer[q + 1]; ++k) {
-        const double* vi = v.data() + Index(G0.inner[k]) * D;
+      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k)
         for (int b = 0; b < D; ++b)
-          for (int a = 0; a < D; ++a)
-            L[a * D + b] += vi[a] * g[b][k];
+          sv[b] += op.S[k] * vg.data()[Index(op.inner[k]) * D + b];
+      double* x = row(X, q);
+      double* v = row(V, q);
+      for (int b = 0; b < D; ++b) {
+        x[b] += (alpha * sv[b] + (1 - alpha) * v[b]) * dt;
+        v[b] = sv[b];
+        if (!std::isfinite(x[b]) || !std::isfinite(v[b]))
+          bad_particle(q, "a non-finite position or velocity", v[b]);
       }
-      double* F = P.F.data() + q * D * D;
-      double Fn[D * D];
+    }
+  });
+}
+
+void velocity_gradient(const ParticleOperators& op, const Field& v, FieldRef L) {
+  check_node_field(op, v, "velocity_gradient");
+  SMPM_VERIFY(L.rows() == op.rows && L.cols() == op.dim * op.dim,
+              "velocity_gradient: L must be N x d^2");
+  by_dim(op.dim, [&]<int D>() {
+    for (Index q = 0; q < op.rows; ++q)
+      particle_gradient<D>(op, q, v, row(L, q));
+  });
+}
+
+std::string_view to_string(DeformationUpdate u) {
+  return u == DeformationUpdate::Linear ? "linear" : "exponential";
+}
+
+DeformationUpdate deformation_update_from_string(std::string_view name) {
+  for (auto u : {DeformationUpdate::Linear, DeformationUpdate::Exponential})
+    if (to_string(u) == name)
+      return u;
+  throw InputError("unknown deformation update '" + std::string(name) +
+                   "' (expected linear | exponential)");
+}
+
+namespace {
+// F ← (I + L Δt) F (Linear) or exp(L Δt) F for every particle of the block.
+template <int D, bool Exponential>
+void deformation_rows(const ParticleOperators& op, const Field& v, double dt, FieldRef& F) {
+  using Mat = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
+  for (Index q = 0; q < op.rows; ++q) {
+    double L[D * D];
+    particle_gradient<D>(op, q, v, L);
+    double* f = row(F, q);
+    double Fn[D * D];
+    if constexpr (Exponential) {
+      const Mat expL = (dt * Eigen::Map<const Mat>(L)).exp();
+      Eigen::Map<Mat> out(Fn);
+      out.noalias() = expL * Eigen::Map<const Mat>(f);
+    } else {
       for (int a = 0; a < D; ++a)
         for (int b = 0; b < D; ++b) {
-          double sum = F[a * D + b];
+          double sum = f[a * D + b];
           for (int c = 0; c < D; ++c)
-            sum += dt * L[a * D + c] * F[c * D + b];
+            sum += dt * L[a * D + c] * f[c * D + b];
           Fn[a * D + b] = sum;
         }
-      for (int c = 0; c < D * D; ++c)
-        F[c] = Fn[c];
-      const double J = det<D>(F);
-      if (!(J > 0))
-        bad_particle(q, "det F <= 0", J);
     }
-  });
-}
-
-void check_particles(const Particles& P) {
-  for (Index p = 0; p < P.size(); ++p) {
-    const double J = P.det_F(p);
-    const char* what = nullptr;
-    if (!P.X.row(p).allFinite())
-      what = "a non-finite position";
-    else if (!P.V.row(p).allFinite())
-      what = "a non-finite velocity";
-    else if (!P.stress.row(p).allFinite())
-      what = "a non-finite stress";
-    else if (!(J > 0))
-      what = "det F <= 0";
-    if (what) {
-      std::ostringstream os;
-      os << "particle " << p << " has " << what << " (det F = " << J << ")";
-      throw NumericalError(os.str());
-    }
+    for (int c = 0; c < D * D; ++c)
+      f[c] = Fn[c];
+    const double J = det<D>(f);
+    if (!(J > 0))
+      bad_particle(q, "det F <= 0", J);
   }
+}
+} // namespace
+
+void update_deformation(const ParticleOperators& op, const Field& v, double dt,
+                        DeformationUpdate kind, FieldRef F) {
+  check_node_field(op, v, "update_deformation");
+  SMPM_VERIFY(F.rows() == op.rows && F.cols() == op.dim * op.dim,
+              "update_deformation: F must be N x d^2");
+  by_dim(op.dim, [&]<int D>() {
+    if (kind == DeformationUpdate::Linear)
+      deformation_rows<D, false>(op, v, dt, F);
+    else
+      deformation_rows<D, true>(op, v, dt, F);
+  });
 }
 
 } // namespace smpm

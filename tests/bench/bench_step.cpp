@@ -224,14 +224,12 @@ void BM_FmpmPass(benchmark::State& state, const std::string& problem) { // one Î
   smpm::ConsistentMass mt;
   smpm::assemble_consistent_mass(ops, mt);
   smpm::Field p, v;
-  smpm::StageWorkspace w;
-  smpm::map_momentum(ops, pb.model.particles, p, w);
+  smpm::map_momentum(smpm::particle_operators(ops), pb.model.particles.V, p);
   smpm::FmpmWorkspace fw;
-  smpm::lumped_solve(ops, p, v);
+  smpm::lumped_solve(ops.m_inv, p, v);
   fw.prev = v;
   for (auto _ : state) { // the body of Table 1's loop
-    smpm::multiply(mt.matrix, fw.prev, fw.next);
-    fw.next.array().colwise() *= ops.m_inv.array();
+    smpm::reverse_map_product(ops.m_inv, mt.matrix, fw.prev, fw.next);
     fw.prev -= fw.next;
     v += fw.prev;
     fw.prev = v; // keep the operand bounded (the increments would vanish)
@@ -242,7 +240,7 @@ void BM_Step(benchmark::State& state, const std::string& problem, smpm::Velocity
   Problem pb = make_problem(problem);
   smpm::StepOptions opt{.shape = pb.shape, .velocity = vel, .fmpm = {.order = k}};
   if (vel == smpm::VelocityUpdate::Exact)
-    opt.solver = smpm::make_cholmod_solver();
+    opt.exact_solver = smpm::cholmod_solver_factory();
   smpm::Stepper stepper(opt);
   stepper.step(pb.model, pb.dt); // warm-up: sizes every workspace, CHOLMOD analysis
   for (auto _ : state)

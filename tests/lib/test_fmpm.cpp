@@ -24,21 +24,20 @@ Setup setup(unsigned seed = 3) {
     s.P.V.row(q) << std::sin(1.3 * s.P.X(q, 0) + 0.2 * q), std::cos(0.7 * s.P.X(q, 1) - 0.1 * q);
   assemble(s.grid, s.P, Shape::CPDI, s.ops);
   assemble_consistent_mass(s.ops, s.mt);
-  StageWorkspace w;
-  map_momentum(s.ops, s.P, s.p, w);
+  map_momentum(particle_operators(s.ops), s.P.V, s.p);
   return s;
 }
 
 Field lumped(const Setup& s) {
   Field v;
-  lumped_solve(s.ops, s.p, v);
+  lumped_solve(s.ops.m_inv, s.p, v);
   return v;
 }
 
 Field loop(const Setup& s, FmpmOptions opt, const LoopConstraints& bc = {}) {
   Field v = lumped(s);
   FmpmWorkspace w;
-  fmpm_loop(s.ops, s.mt.matrix, opt, bc, v, w);
+  fmpm_velocity(s.ops, s.mt.matrix, opt, bc, v, w);
   return v;
 }
 
@@ -75,8 +74,7 @@ TEST_CASE("the prior binomial form (Eq. 4) equals the incremental form (Eq. 5)",
     // Eq. (4): v⁺(k) = Σ_{ℓ=1}^{k} (−1)^{ℓ+1} v*_ℓ, v*_1 = k m⁻¹p⁺, v*_ℓ = (k+1−ℓ)/ℓ S⁺S v*_{ℓ−1}.
     Field vstar = double(k) * lumped(s), v = vstar, next;
     for (int ell = 2; ell <= k; ++ell) {
-      multiply(s.mt.matrix, vstar, next);
-      next.array().colwise() *= s.ops.m_inv.array();
+      next = s.ops.m_inv.asDiagonal() * (s.mt.matrix * vstar); // S⁺S v*, Eigen's product
       vstar = (double(k + 1 - ell) / ell) * next;
       v += (ell % 2 == 0 ? -1.0 : 1.0) * vstar;
     }
@@ -107,8 +105,7 @@ TEST_CASE("a block in uniform motion gives dv(2) = 0 (FMPM 2026 §3.4)", "[fmpm]
   Setup s = setup();
   s.P.V.col(0).setConstant(0.7);
   s.P.V.col(1).setConstant(-0.3);
-  StageWorkspace w;
-  map_momentum(s.ops, s.P, s.p, w);
+  map_momentum(particle_operators(s.ops), s.P.V, s.p);
   const Field v1 = loop(s, {.order = 1}), v2 = loop(s, {.order = 2});
   // Δv(2) = (I − S⁺S) S⁺V = 0 for constant V: zero up to round-off (1e-15 relative).
   CHECK((v2 - v1).norm() < 1e-15 * v1.norm());
@@ -137,7 +134,7 @@ TEST_CASE("velocity BC methods: incremental keeps every BC, combined departs for
     if (method != BCMethod::Velocity)
       bcs.constrain_velocity(s.grid, 0, v, &s.ops.active); // Table 2, top block
     FmpmWorkspace w;
-    fmpm_loop(s.ops, s.mt.matrix, {.order = k, .bc_method = method}, bc, v, w);
+    fmpm_velocity(s.ops, s.mt.matrix, {.order = k, .bc_method = method}, bc, v, w);
     return v;
   };
   for (int k = 1; k <= 8; ++k) {
@@ -170,7 +167,7 @@ TEST_CASE("dynamic FMPM stops at the first order whose metric is below the limit
       }
     Field v = lumped(s);
     FmpmWorkspace w;
-    const FmpmReport r = fmpm_loop(
+    const FmpmReport r = fmpm_velocity(
         s.ops, s.mt.matrix, {.order = 20, .metric = metric, .dynamic_limit = limit}, {}, v, w);
     CHECK(r.order == expected);
     CHECK(r.metric == approx(m[size_t(expected)], 1e-14, 1e-12));
@@ -194,4 +191,37 @@ TEST_CASE("XPIC(m) is the projection (I - (I - S S+)^m) V (contact 2020 Eq. 36)"
     CAPTURE(m);
     CHECK((S * Eigen::MatrixXd(u) - PV).norm() < 1e-12 * PV.norm());
   }
+}
+
+TEST_CASE("the FMPM loop calls its hooks on every increment (Table 1, lines 1-3)", "[fmpm]") {
+  // A contact-like hook (line 2) that drops every increment after ℓ = 3 leaves v⁺(3); the BC
+  // hook (line 1) sees each Δv(ℓ) first; the convergence hook (line 3) stops at ℓ = 6 with the
+  // metric it reports. Each v⁺ is compared with the loop without hooks (round-off 1e-14).
+  const Setup s = setup();
+  std::vector<int> bc_calls, contact_calls;
+  FmpmHooks hooks;
+  hooks.velocity_bcs = [&](int ell, Field&) { bc_calls.push_back(ell); };
+  hooks.contact = [&](int ell, Field& dv, const Field& v) {
+    contact_calls.push_back(ell);
+    CHECK(v.rows() == dv.rows()); // the evolving v⁺(ℓ − 1) comes with the increment
+    if (ell > 3)
+      dv.setZero();
+  };
+  Field v = lumped(s);
+  FmpmWorkspace w;
+  const FmpmReport r = fmpm_loop(s.ops.m_inv, s.mt.matrix, {.order = 8}, hooks, v, w);
+  CHECK(r.order == 8);
+  CHECK(bc_calls == std::vector<int>{2, 3, 4, 5, 6, 7, 8});
+  CHECK(contact_calls == bc_calls);
+  CHECK(rel(v, loop(s, {.order = 3})) < 1e-14);
+  hooks = {};
+  hooks.converged = [](int ell, const Field&, const Field&, double& metric) {
+    metric = 1.0 / ell;
+    return ell == 6;
+  };
+  v = lumped(s);
+  const FmpmReport stop = fmpm_loop(s.ops.m_inv, s.mt.matrix, {.order = 20}, hooks, v, w);
+  CHECK(stop.order == 6);
+  CHECK(stop.metric == 1.0 / 6);
+  CHECK(rel(v, loop(s, {.order = 6})) < 1e-14);
 }

@@ -61,15 +61,7 @@ TEST_CASE("continuum bar, first mode: centre-of-mass velocity (Buzzi Eqs. 34-37)
 
 namespace {
 double free_bar_energy_change(Shape shape, VelocityUpdate vel, double courant) {
-  const BarSetup bar; // FMPM 2026 §3.3: L = 40, cell 1, 2 ppc, E = 2, ρ = 0.5, v₀ = 0.16
-  Model model = vibrating_bar(bar);
-  Stepper stepper({.shape = shape, .velocity = vel});
-  const double e0 = energies(model).total, end = 5 * bar_period(bar);
-  while (model.time < end - 1e-9) {
-    const double dt = std::min(stable_time_step(model, courant), end - model.time);
-    stepper.step(model, dt);
-  }
-  return (energies(model).total - e0) / e0;
+  return smpm::test::bar_energy_change({.shape = shape, .velocity = vel}, courant);
 }
 } // namespace
 

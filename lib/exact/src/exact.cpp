@@ -57,8 +57,10 @@ double CholmodSolver::last_rcond() const {
   return impl_->rcond;
 }
 
-std::shared_ptr<MassSolver> make_cholmod_solver(double regularization) {
-  return std::make_shared<CholmodSolver>(regularization);
+MassSolverFactory cholmod_solver_factory(double regularization) {
+  if (!(regularization >= 0))
+    throw InputError("exact_regularization must be non-negative");
+  return [regularization] { return std::make_unique<CholmodSolver>(regularization); };
 }
 
 namespace {

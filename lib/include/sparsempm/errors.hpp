@@ -29,4 +29,24 @@ private:
 /// Prefixes a NumericalError's message with the step and time at which it happened.
 NumericalError at_step(const NumericalError& e, long step, double time);
 
+/// Thrown when the library is called wrongly by a program (mismatched sizes, a missing
+/// solver): a defect of the calling code, not of the user's input. Always checked.
+class UsageError : public std::logic_error {
+public:
+  using std::logic_error::logic_error;
+};
+
+namespace detail {
+[[noreturn]] void usage_failure(const char* condition, const std::string& message, const char* file,
+                                int line);
+} // namespace detail
+
 } // namespace smpm
+
+/// Always-on check of a library precondition (MFEM_VERIFY style): throws smpm::UsageError
+/// naming the condition, the message and the source location when `cond` is false.
+#define SMPM_VERIFY(cond, message)                                                                 \
+  do {                                                                                             \
+    if (!(cond))                                                                                   \
+      ::smpm::detail::usage_failure(#cond, (message), __FILE__, __LINE__);                         \
+  } while (false)

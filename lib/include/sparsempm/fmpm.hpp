@@ -9,6 +9,7 @@
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/operators.hpp"
 
+#include <functional>
 #include <string_view>
 #include <vector>
 
@@ -49,7 +50,7 @@ void validate(const FmpmOptions& opt);
 /// Scale factor of pass ℓ ≥ 2: α if m = 1 or ℓ mod m = 1, else 1 (FMPM 2026 §3.3).
 double blend_factor(const FmpmOptions& opt, int ell);
 
-/// What the velocity BC hooks of the loop need.
+/// What the velocity BCs of the loop need.
 struct LoopConstraints {
   const Grid* grid = nullptr;
   const BoundaryConditions* bcs = nullptr; ///< null: no velocity BCs
@@ -67,13 +68,40 @@ struct FmpmWorkspace {
   Field prev, next;
 };
 
-/// The FMPM loop of FMPM 2026 Table 1. On entry `v` holds v⁺(1) = m⁻¹ p⁺ (with the lumped BCs
-/// of Table 2's top block already applied unless the method is Velocity); on return v⁺(k).
-/// Each pass is one product with m̃ (n × n) on the n × d block: Δv(ℓ) = Δv(ℓ−1) − m⁻¹ m̃ Δv(ℓ−1),
-/// scaled by blend_factor(ℓ), then hook (1) zeroes the BC directions (Incremental), hook (2)
-/// (contact) is empty, and hook (3) stops dynamic FMPM when the metric falls below the limit.
-FmpmReport fmpm_loop(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
-                     const LoopConstraints& bc, Field& v, FmpmWorkspace& w);
+/// The per-pass corrections of FMPM 2026 Table 1, called on every pass ℓ ≥ 2 after
+/// Δv(ℓ) = A Δv(ℓ−1) and the blending factor. An empty hook does nothing.
+struct FmpmHooks {
+  /// Line (1): velocity BCs on the increment Δv(ℓ) (Table 2, bottom block).
+  std::function<void(int ell, Field& dv)> velocity_bcs;
+  /// Line (2): contact, correcting Δv(ℓ) given the evolving v⁺(ℓ − 1).
+  std::function<void(int ell, Field& dv, const Field& v)> contact;
+  /// Line (3): after v⁺(ℓ) = v⁺(ℓ − 1) + Δv(ℓ), true stops the loop (dynamic FMPM); may set
+  /// the reported metric.
+  std::function<bool(int ell, const Field& dv, const Field& v, double& metric)> converged;
+};
+
+/// y = S⁺S x = m⁻¹ m̃ x (n × d): the product of every FMPM pass (FMPM 2026 Eq. 6), one pass over
+/// the CSR rows of m̃; m_inv is 1/m_i on active nodes and 0 elsewhere.
+void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, const Field& x,
+                         Field& y);
+
+/// The FMPM loop of FMPM 2026 Table 1. On entry `v` holds v⁺(1) = m⁻¹ p⁺ (with whatever
+/// lumped corrections the caller applied); on return v⁺(ℓ) at the last pass ℓ ≤ k. Each pass:
+///     Δv(ℓ) = c_ℓ (Δv(ℓ−1) − S⁺S Δv(ℓ−1))        (Eq. 6; c_ℓ = blend_factor(ℓ), §3.3)
+///     hooks (1) and (2) correct Δv(ℓ);  v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)   (Eq. 5);  hook (3).
+FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
+                     const FmpmOptions& opt, const FmpmHooks& hooks, Field& v, FmpmWorkspace& w);
+
+/// The hooks that `opt` and the velocity BCs ask for: (1) zeroes the BC directions when the BC
+/// method is Incremental (FMPM 2026 §3.1); (3) stops at the first ℓ whose convergence metric is
+/// below opt.dynamic_limit (§3.4). Contact (2) is left empty.
+FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopConstraints& bc);
+
+/// v⁺(k) = m̃_k⁻¹ p⁺ with the BC method of `opt`: on entry `v` holds v⁺(1) (with the lumped
+/// BCs of Table 2's top block already applied unless the method is Velocity); runs fmpm_loop
+/// with fmpm_hooks, then sets the BC velocities on v⁺(k) for the Velocity and Combined methods.
+FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
+                         const LoopConstraints& bc, Field& v, FmpmWorkspace& w);
 
 /// The convergence metric of FMPM 2026 §3.4 for an increment dv and the evolving v⁺(ℓ).
 double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,

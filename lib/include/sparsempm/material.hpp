@@ -51,8 +51,15 @@ Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3
 /// large-strain models and W = ½ σ : ε for the linear one.
 double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d& F);
 
-/// σ_p = σ(F_p) for every particle, each with its own material id.
-void update_stress(const std::vector<Material>& materials, Particles& particles);
+/// A d × d tensor stored row-major (d² entries) as a 3 × 3 matrix with the identity in the unused
+/// rows and columns: the form cauchy_stress takes.
+Eigen::Matrix3d embed_3d(const double* F, int d);
+
+/// σ_p = σ(F_p) for every particle (rows of F and stress, N × d²), each with its own material
+/// id (N). Throws InputError for a material id without a material.
+void update_stress(const std::vector<Material>& materials,
+                   const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                   FieldRef stress);
 /// Total strain energy Σ_p V_p^(0) W(F_p).
 double strain_energy(const std::vector<Material>& materials, const Particles& particles);
 /// Largest wave speed over the materials used by the particles.

@@ -26,7 +26,4 @@ struct Model {
   explicit Model(const Grid& g) : grid(g), bcs(BoundaryConditions::none(g)) {}
 };
 
-/// Δt = C Δx_min / max(c_wave, max_p |V_p|) (FMPM 2026 §3.3). Throws InputError for C ≤ 0.
-double stable_time_step(const Model& model, double courant);
-
 } // namespace smpm

@@ -2,6 +2,7 @@
 /// \file sparsempm.hpp
 /// Umbrella header: MPM operators as explicit sparse matrices.
 
+#include "sparsempm/advance.hpp"
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/errors.hpp"
@@ -12,7 +13,7 @@
 #include "sparsempm/operators.hpp"
 #include "sparsempm/particles.hpp"
 #include "sparsempm/problems.hpp"
-#include "sparsempm/products.hpp"
+#include "sparsempm/scheme.hpp"
 #include "sparsempm/shape.hpp"
 #include "sparsempm/stages.hpp"
 #include "sparsempm/step.hpp"

@@ -1,68 +1,78 @@
 #pragma once
 /// \file stages.hpp
-/// The stages of an explicit MPM step as matrix expressions over the assembled operators.
-/// A scheme (USL, USF) is the order in which step.cpp calls them. n × d nodal fields hold one
-/// row per node; N × d particle fields one row per particle.
+/// The kernels of an explicit MPM step: each product of the step (P2G, internal force, the FLIP
+/// and PIC particle updates, the velocity gradient and the F update) as one pass over the CSR
+/// arrays of S and the G_b, over particle fields passed as Eigen::Ref. A scheme (USL, USF, ...)
+/// is the order in which scheme.cpp calls them. Node fields are n × d (one row per node),
+/// particle fields N × d or N × d² (one row per particle, tensors row-major).
+///
+/// The kernels see the particles through ParticleOperators, the CSR rows of a contiguous block
+/// of particles: all of them, or the block of one material (ParticleOperators::block), with
+/// the matching rows of the fields (`P.V.middleRows(first, count)`).
 
-#include "sparsempm/material.hpp"
 #include "sparsempm/operators.hpp"
-#include "sparsempm/particles.hpp"
 
 #include <Eigen/Core>
 #include <array>
+#include <string_view>
 
 namespace smpm {
 
-/// Grid fields of one step (all n × d).
-struct GridState {
-  Field p;      ///< momentum p = Sᵀ M V (after BC1)
-  Field f;      ///< total force (after BC2)
-  Field p_plus; ///< updated momentum p⁺ = p + f Δt
-  Field v;      ///< v = m⁻¹ p
-  Field v_plus; ///< v⁺ = m⁻¹ p⁺
-  Field a;      ///< a = m⁻¹ f
+/// The particle rows of one step's operators: S and the G_b (which share S's pattern) and the
+/// masses M of particles [first, first + rows), as raw CSR arrays. A view: the Operators it
+/// was taken from must outlive it and keep its pattern.
+struct ParticleOperators {
+  int dim = 1;
+  Index rows = 0;                   ///< particles in the block
+  Index nodes = 0;                  ///< n, the columns
+  const int* outer = nullptr;       ///< rows + 1 offsets into inner, S and G (absolute)
+  const int* inner = nullptr;       ///< node of each entry
+  const double* S = nullptr;        ///< S_pi of each entry
+  std::array<const double*, 3> G{}; ///< ∂S_pi/∂x_b of each entry (b < d)
+  const double* M = nullptr;        ///< rows particle masses
+
+  /// The rows [first, first + count) of this block (one material's particles).
+  ParticleOperators block(Index first, Index count) const;
 };
 
-/// Scratch storage reused from step to step, so that the stages do not allocate once sizes
-/// are settled.
-struct StageWorkspace {
-  Field particle;         ///< N × d
-  Field particle2;        ///< N × 2d
-  Field tensor;           ///< N × d²
-  Field node2;            ///< n × 2d
-  Eigen::VectorXd volume; ///< N
+/// The view of all particle rows of `ops`.
+ParticleOperators particle_operators(const Operators& ops);
+
+/// p = Sᵀ (M ∘ V), n × d  (FMPM 2026 task 1; Buzzi Eq. 26).
+void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p);
+/// f = −Σ_b G_bᵀ (Ω J σ_{·b}), n × d: the internal force from the Kirchhoff stress τ = Jσ and
+/// the initial volumes Ω (FMPM 2026 task 2; Buzzi Eq. 15).
+void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
+                    const ConstFieldRef& F, const ConstFieldRef& stress, Field& f);
+/// f += m Bᵀ: a uniform body acceleration B, i.e. f += Sᵀ M B (Buzzi Eq. 14).
+void add_body_force(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field& f);
+/// v = m⁻¹ x, with m_inv = 1/m_i on active nodes and 0 elsewhere.
+void lumped_solve(const Eigen::VectorXd& m_inv, const Field& x, Field& v);
+
+/// FLIP (FMPM 2026 Eq. 8): V ← V + S a Δt,  X ← X + S v⁺ Δt − (1 − α) S a Δt², one pass over
+/// S. Throws NumericalError naming the first particle (of the block) with a non-finite X or V.
+void update_particles_flip(const ParticleOperators& op, const Field& v_plus, const Field& a,
+                           double dt, double alpha, FieldRef X, FieldRef V);
+/// PIC with grid velocity v (FMPM 2026 Eq. 9): V' = S v,  X ← X + (α V' + (1 − α) V) Δt,
+/// V ← V'; with v = v⁺(k) this is the FMPM(k) update. Throws NumericalError for a non-finite
+/// X or V.
+void update_particles_pic(const ParticleOperators& op, const Field& v, double dt, double alpha,
+                          FieldRef X, FieldRef V);
+
+/// Velocity gradients L_p = Σ_i v_i ⊗ G_pi, N × d²: L(p, a d + b) = Σ_i G_b(p, i) v(i, a).
+void velocity_gradient(const ParticleOperators& op, const Field& v, FieldRef L);
+
+/// How F follows the velocity gradient over a step.
+enum class DeformationUpdate {
+  Linear,     ///< F ← (I + L Δt) F (USL notes; Buzzi Eq. 30)
+  Exponential ///< F ← exp(L Δt) F (FMPM 2026 task 5): exact for a constant L
 };
+std::string_view to_string(DeformationUpdate u);
+DeformationUpdate deformation_update_from_string(std::string_view name);
 
-/// p = Sᵀ (M ∘ V)  (FMPM 2026 task 1; Buzzi Eq. 26).
-void map_momentum(const Operators& ops, const Particles& P, Field& p, StageWorkspace& w);
-/// f = −Σ_b G_bᵀ (Ω J σ_{·b}): internal force from Kirchhoff stress τ = Jσ and initial
-/// volumes Ω (FMPM 2026 task 2; Buzzi Eq. 15).
-void internal_force(const Operators& ops, const Particles& P, Field& f, StageWorkspace& w);
-/// f += Sᵀ M B for a uniform body acceleration B, i.e. f += m Bᵀ (Buzzi Eq. 14).
-void add_body_force(const Operators& ops, const std::array<double, 3>& B, Field& f);
-/// v = m⁻¹ x on active nodes, 0 on inactive ones.
-void lumped_solve(const Operators& ops, const Field& x, Field& v);
-
-/// FLIP (FMPM 2026 Eq. 8): V ← V + S a Δt,  X ← X + S v⁺ Δt − (1 − α) S a Δt², in one pass
-/// over S. Throws NumericalError naming the first particle with a non-finite X or V.
-void update_particles_flip(const Operators& ops, const GridState& g, double dt, double alpha,
-                           Particles& P, StageWorkspace& w);
-/// PIC, i.e. FMPM(1) (FMPM 2026 Eq. 9): V' = S v⁺,  X ← X + (α V' + (1 − α) V) Δt; with v⁺(k)
-/// this is the FMPM(k) update. Throws NumericalError for a non-finite X or V.
-void update_particles_pic(const Operators& ops, const Field& v_plus, double dt, double alpha,
-                          Particles& P, StageWorkspace& w);
-
-/// Velocity gradients L_p = Σ_i v_i ⊗ G_pi: column a d + b of L (N × d²) is (G_b v)_{·a}.
-void velocity_gradient(const Operators& ops, const Field& v, Field& L);
-/// F_p ← (I + L_p Δt) F_p for every particle.
-void update_deformation_gradient(const Field& L, double dt, Particles& P);
-/// The two above in one pass over the G_b: L_p = Σ_i v_i ⊗ G_pi, F_p ← (I + L_p Δt) F_p.
-/// Throws NumericalError naming the first particle with det F ≤ 0.
-void update_deformation_from_velocity(const Operators& ops, const Field& v, double dt,
-                                      Particles& P);
-
-/// Throws NumericalError naming the first particle with a non-finite position, velocity or
-/// stress, or with det F ≤ 0.
-void check_particles(const Particles& P);
+/// L_p = Σ_i v_i ⊗ G_pi and F_p ← (I + L_p Δt) F_p or exp(L_p Δt) F_p, one pass over the G_b.
+/// Throws NumericalError naming the first particle (of the block) with det F ≤ 0.
+void update_deformation(const ParticleOperators& op, const Field& v, double dt,
+                        DeformationUpdate kind, FieldRef F);
 
 } // namespace smpm

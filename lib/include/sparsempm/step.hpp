@@ -1,7 +1,8 @@
 #pragma once
 /// \file step.hpp
-/// One explicit MPM time step: the scheme is the order of the stages in stages.hpp, with the
-/// grid-velocity solve (lumped, FMPM(k), XPIC(m) or exact) where FMPM 2026 Fig. 1 places it.
+/// The options of an explicit MPM time step and the Stepper that advances a Model with them.
+/// The stages of the step are written once, in scheme.hpp (scheme_step); the Stepper assembles
+/// the operators of the current configuration and calls it.
 
 #include "sparsempm/fmpm.hpp"
 #include "sparsempm/model.hpp"
@@ -9,10 +10,14 @@
 #include "sparsempm/shape.hpp"
 #include "sparsempm/stages.hpp"
 
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string_view>
 
 namespace smpm {
+
+struct GridState; // scheme.hpp
 
 /// When the particle stress is updated (Buzzi Figs. 2–3 and 5–7; FMPM 2026 §2.1, Fig. 1).
 enum class UpdateScheme {
@@ -43,32 +48,57 @@ VelocityUpdate velocity_update_from_string(std::string_view name);
 
 /// Solves the consistent-mass system m̃ v = p on the active nodes, with the velocity BCs of
 /// `bc` imposed (the limit k → ∞ of the incremental method). Implemented with CHOLMOD in
-/// sparsempm::exact (exact.hpp).
+/// sparsempm::exact (exact.hpp). A solver keeps state (its factorisation): each Stepper and
+/// each linearised step makes its own from StepOptions::exact_solver.
 class MassSolver {
 public:
   virtual ~MassSolver() = default;
   virtual void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
                      const Field& p, Field& v) = 0;
 };
+/// Makes a new MassSolver (e.g. cholmod_solver_factory() of exact.hpp).
+using MassSolverFactory = std::function<std::unique_ptr<MassSolver>()>;
 
 struct StepOptions {
   Shape shape = Shape::Linear;
   UpdateScheme scheme = UpdateScheme::USL;
   VelocityUpdate velocity = VelocityUpdate::FLIP;
-  double position_alpha = 1.0; ///< α of FMPM 2026 Eqs. (8)–(9) (½ is Eq. 9's consistent choice)
+  /// α of FMPM 2026 Eqs. (8)–(9); unset: default_position_alpha(velocity).
+  std::optional<double> position_alpha{};
   BCOrdering bc_ordering = BCOrdering::Correct;
   FmpmOptions fmpm{};     ///< order k (FMPM) or m (XPIC), blending, BC method, dynamic
   double periodic_cx = 0; ///< C_X of periodic FMPM (§3.3); 0: FMPM on every step
-  std::shared_ptr<MassSolver> solver{}; ///< required by VelocityUpdate::Exact
+  DeformationUpdate deformation = DeformationUpdate::Linear; ///< F ← (I + LΔt)F or exp(LΔt)F
+  MassSolverFactory exact_solver{};                          ///< required by VelocityUpdate::Exact
 };
+
+/// α of Eqs. (8)–(9) when the options leave it unset: 1 for FLIP (the usual choice, FMPM 2026
+/// footnote to Eq. 8), ½ for grid-velocity updates (Eq. 9's consistent choice, §2.3).
+double default_position_alpha(VelocityUpdate velocity);
+/// The α a step with these options uses.
+double position_alpha(const StepOptions& options);
+
+/// Throws InputError for option values outside their ranges (FMPM options, α ∉ [0, 1],
+/// C_X < 0) and UsageError for Exact without a solver factory. The only check of StepOptions:
+/// the Stepper and the linearised step call it.
+void validate(const StepOptions& options);
+
+/// Whether a step assembles m̃ (FMPM 2026 §2.2): on steps that update particles from grid
+/// velocities (`grid_update`) with the exact inverse, or with FMPM(k) or XPIC(m) of order > 1.
+bool uses_consistent_mass(const StepOptions& options, bool grid_update);
 
 /// Advances a Model by one time step; owns the operators, m̃ and the grid fields and reuses
 /// their storage from step to step.
 class Stepper {
 public:
-  /// Throws InputError for inconsistent options (bad FMPM options, Exact without a solver).
+  /// Validates the options (validate) and makes the exact solver when one is needed.
   explicit Stepper(const StepOptions& options);
-  /// One step of length dt. Throws NumericalError naming the step, time and particle when the
+  ~Stepper();
+  Stepper(Stepper&&) noexcept;
+  Stepper& operator=(Stepper&&) noexcept;
+
+  /// One step of length dt: assembles S, G, m (and m̃ when used) at the current configuration
+  /// and runs scheme_step. Throws NumericalError naming the step, time and particle when the
   /// state becomes invalid (a particle leaves the grid, NaN, det F ≤ 0).
   void step(Model& model, double dt);
 
@@ -76,32 +106,28 @@ public:
   /// The operators assembled for the last step (configuration at its start).
   const Operators& operators() const { return ops_; }
   /// The grid fields of the last step; v_plus is the velocity used by the particle update.
-  const GridState& grid_state() const { return g_; }
+  const GridState& grid_state() const;
   /// m̃ of the last step (assembled only when the step used it).
   const ConsistentMass& consistent_mass_storage() const { return mt_; }
   /// Whether the last step updated particles from grid velocities (PIC, FMPM, XPIC, exact)
   /// rather than FLIP (false on the FLIP steps of periodic FMPM).
-  bool last_step_was_fmpm() const { return fmpm_step_; }
+  bool last_step_was_fmpm() const { return grid_update_; }
   /// How the last FMPM loop ended (order reached, metric).
-  const FmpmReport& last_fmpm() const { return report_; }
+  const FmpmReport& last_fmpm() const;
+  /// Periodic FMPM: the Courant number accumulated since the last FMPM step (§3.3). Part of
+  /// the stepper's state: a restart sets it back with set_courant_budget.
+  double courant_budget() const { return courant_budget_; }
+  void set_courant_budget(double budget) { courant_budget_ = budget; }
 
 private:
-  void run_step(Model& model, double dt);
-  void strain_update(Model& model, const Field& v, double t, double dt);
-  void grid_velocity(const Model& model, const Field& p, double t, Field& v);
-  void particle_update(Model& model, double dt);
-
+  struct Buffers;
   StepOptions opt_;
+  std::unique_ptr<MassSolver> solver_;
   Operators ops_;
   ConsistentMass mt_;
-  GridState g_;
-  StageWorkspace w_;
-  FmpmWorkspace fw_;
-  FmpmReport report_;
-  Field v_strain_, L_, p_re_, v_re_, xpic_;
+  std::unique_ptr<Buffers> buf_;
   double courant_budget_ = 0;
-  bool fmpm_step_ = false;     // grid-velocity (non-FLIP) particle update this step
-  bool full_mass_now_ = false; // this step uses m̃
+  bool grid_update_ = false;
 };
 
 } // namespace smpm

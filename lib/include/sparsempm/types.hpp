@@ -14,6 +14,14 @@ using Index = Eigen::Index;
 /// particle's tensor is contiguous.
 using Field = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+/// A writable view of a field or of a block of its rows (row-major rows, any row stride): the
+/// kernels take particle fields this way, so that one material's rows can be passed.
+using FieldRef = Eigen::Ref<Field>;
+/// A read-only view of a field or of a block of its rows.
+using ConstFieldRef = Eigen::Ref<const Field>;
+/// A read-only view of a per-particle or per-node vector.
+using ConstVectorRef = Eigen::Ref<const Eigen::VectorXd>;
+
 /// N × n sparse matrix with one row per particle (row-major: a particle's nodes are contiguous).
 using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 /// n × n (or n × N) sparse matrix, column-major.

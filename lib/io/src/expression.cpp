@@ -9,7 +9,7 @@ namespace smpm {
 
 Expression::Expression(const std::string& text, const std::vector<std::string>& names,
                        const std::string& where)
-    : text_(text), parser_(std::make_unique<mu::Parser>()),
+    : text_(text), names_(names), parser_(std::make_unique<mu::Parser>()),
       slots_(std::make_unique<double[]>(names.size() + 1)), count_(names.size()) {
   try {
     parser_->DefineConst("pi", std::numbers::pi);
@@ -25,6 +25,13 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
 }
 
 Expression::~Expression() = default;
+Expression::Expression(const Expression& other)
+    : Expression(other.text_, other.names_, "copy of '" + other.text_ + "'") {}
+Expression& Expression::operator=(const Expression& other) {
+  if (this != &other)
+    *this = Expression(other);
+  return *this;
+}
 Expression::Expression(Expression&&) noexcept = default;
 Expression& Expression::operator=(Expression&&) noexcept = default;
 

@@ -11,6 +11,8 @@ class Parser;
 
 namespace smpm {
 
+/// Copies parse their own parser with their own variables: a copied Model (one per thread of
+/// `smpm stability`) never shares an evaluation with the original.
 class Expression {
 public:
   /// Parses `text` with the variables `names` (and the constant pi). Throws InputError
@@ -18,6 +20,8 @@ public:
   Expression(const std::string& text, const std::vector<std::string>& names,
              const std::string& where);
   ~Expression();
+  Expression(const Expression& other);
+  Expression& operator=(const Expression& other);
   Expression(Expression&&) noexcept;
   Expression& operator=(Expression&&) noexcept;
 
@@ -27,6 +31,7 @@ public:
 
 private:
   std::string text_;
+  std::vector<std::string> names_;
   std::unique_ptr<mu::Parser> parser_;
   std::unique_ptr<double[]> slots_;
   size_t count_ = 0;

@@ -131,7 +131,7 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
     r.fail(scheme.get("exact_regularization"), "scheme.exact_regularization",
            "must be non-negative");
   if (step.velocity == VelocityUpdate::Exact)
-    step.solver = make_cholmod_solver(reg);
+    step.exact_solver = cholmod_solver_factory(reg);
 }
 
 } // namespace
@@ -171,6 +171,7 @@ RunConfig read_input(const std::string& text, const std::string& source,
   r.check_keys(*time, "time");
   cfg.time.courant = r.positive(*time, "courant", "time.courant", 0.5);
   cfg.time.end = r.positive(*time, "end", "time.end", std::nullopt);
+  cfg.time.land_on_frames = r.boolean(*time, "land_on_frames", "time.land_on_frames", true);
 
   static const toml::table empty;
   const toml::table* scheme = r.table(root, "scheme", "[scheme]", false);
@@ -194,13 +195,19 @@ RunConfig read_input(const std::string& text, const std::string& source,
   } catch (const InputError& e) {
     r.fail(scheme->get("shape"), "scheme.shape", e.what());
   }
-  // α of Eqs. (8)–(9): 1 for FLIP (the common choice), ½ for grid-velocity updates (Eq. 9's
-  // consistent choice, FMPM 2026 §2.3).
-  const double alpha_default = cfg.step.velocity == VelocityUpdate::FLIP ? 1.0 : 0.5;
-  cfg.step.position_alpha =
-      r.number(*scheme, "position_alpha", "scheme.position_alpha", alpha_default);
-  if (!(cfg.step.position_alpha >= 0 && cfg.step.position_alpha <= 1))
-    r.fail(scheme->get("position_alpha"), "scheme.position_alpha", "must lie in [0, 1]");
+  // α of Eqs. (8)–(9); unset: default_position_alpha (1 for FLIP, ½ otherwise).
+  if (const toml::node* an = scheme->get("position_alpha")) {
+    const double alpha = r.number(*scheme, "position_alpha", "scheme.position_alpha", 0.0);
+    if (!(alpha >= 0 && alpha <= 1))
+      r.fail(an, "scheme.position_alpha", "must lie in [0, 1]");
+    cfg.step.position_alpha = alpha;
+  }
+  try {
+    cfg.step.deformation = deformation_update_from_string(
+        r.string(*scheme, "deformation", "scheme.deformation", "linear"));
+  } catch (const InputError& e) {
+    r.fail(scheme->get("deformation"), "scheme.deformation", e.what());
+  }
   read_fmpm(r, *scheme, cfg.step);
 
   const toml::table* loads = r.table(root, "loads", "[loads]", false);

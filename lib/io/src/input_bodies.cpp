@@ -207,12 +207,12 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
       c.label = key + "velocity";
       const toml::node* vn = r.node(*vel, "value", key + "velocity.value", true);
       if (vn->is_string()) {
-        auto expr = std::make_shared<Expression>(*vn->value<std::string>(),
-                                                 std::vector<std::string>{"t", "x", "y", "z"},
-                                                 r.where(vn, key + "velocity.value"));
-        c.value = [expr](double time, const Eigen::Vector3d& x) {
+        // Held by value: a copy of the condition (of the Model) evaluates its own parser.
+        c.value = [expr = Expression(*vn->value<std::string>(), {"t", "x", "y", "z"},
+                                     r.where(vn, key + "velocity.value"))](
+                      double time, const Eigen::Vector3d& x) {
           const double v[4] = {time, x[0], x[1], x[2]};
-          return (*expr)(v);
+          return expr(v);
         };
       } else if (auto num = vn->value<double>()) {
         const double value = *num;

@@ -134,9 +134,8 @@ void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool ma
   const Operators ops = assemble(model.grid, P, shape);
   {
     Field p, v;
-    StageWorkspace w;
-    map_momentum(ops, P, p, w);
-    lumped_solve(ops, p, v);
+    map_momentum(particle_operators(ops), P.V, p);
+    lumped_solve(ops.m_inv, p, v);
     h5::Id grid = h5::open_group(file_, "grid");
     h5::Id g = h5::create_group(grid.get(), name);
     const hsize_t n = hsize_t(ops.num_nodes()), d = hsize_t(P.dim);

@@ -20,10 +20,11 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"bc.plane", {"axis", "at"}},
       {"bc.box", {"min", "max"}},
       {"bc.velocity", {"direction", "value"}},
-      {"time", {"courant", "end"}},
+      {"time", {"courant", "end", "land_on_frames"}},
       {"scheme",
        {"update", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
-        "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization"}},
+        "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization",
+        "deformation"}},
       {"output", {"file", "every", "matrices"}},
       {"loads", {"gravity"}},
   };

@@ -1,13 +1,17 @@
 #pragma once
 /// \file stability.hpp
-/// Temporal stability of the MPM update (FMPM 2026 §3.3, Fig. 12): the one-step update
-/// linearised at a frozen particle configuration is a linear operator T(C) on the particle
-/// state x = (V, σ); the scheme is stable at Courant number C when ρ(T(C)) ≤ 1 + tol.
+/// Temporal stability of the MPM update (FMPM 2026 §3.3, Fig. 12), by two methods:
+///   - spectral: the one-step update linearised at a frozen particle configuration is a linear
+///     operator T(C) on the particle state x = (V, σ); the scheme is stable at Courant number
+///     C when ρ(T(C)) ≤ 1 + tol (critical_courant);
+///   - simulation: bisection on C over full runs (simulation_courant), as in the paper.
 
+#include "sparsempm/advance.hpp"
 #include "sparsempm/step.hpp"
 
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -15,24 +19,21 @@
 
 namespace smpm {
 
-/// One USL step linearised at a frozen configuration (positions, S, G, M, m, m̃, volumes and
-/// the material tangent fixed), acting on x = (V, σ) with N d + N d² entries:
-///   p = Φ Sᵀ M V,   f = Φ(−Σ_b G_bᵀ Ω J σ_b),   p⁺ = p + Δt f,
-///   FLIP:  V' = V + Δt S m⁻¹ f,                     v = m⁻¹ p⁺
-///   PIC, FMPM(k) (blending, BC method), exact:  V' = S v,  v = m̃_k⁻¹ p⁺  (Table 1, Eq. 9)
-///   XPIC(m):  V' = S (m(u − u*) + Δt m⁻¹ f),  u = m⁻¹ p,  v = m⁻¹ p⁺   (contact 2020 Eq. 35)
-///   σ' = σ + Δt 𝕂 : L,  L = Σ_i v_i ⊗ G_pi,
-/// where Φ zeroes the constrained directions (the homogeneous part of the velocity BCs) and
-/// 𝕂_p = ∂σ/∂L at F_p (from F' = (I + Δt L) F, by central differences; exact for the linear
-/// model). Periodic FMPM with C_X (options.periodic_cx > 0) is the product of one FMPM step
-/// and the ceil(C_X / C) − 1 FLIP steps between (the Stepper's period); steps_per_application()
-/// says how many steps one application spans. The operator concept is Spectra's: rows(), cols(),
-/// perform_op(x, y).
+/// One step linearised at a frozen configuration (positions, S, G, M, m, m̃, volumes, F and the
+/// material tangent fixed), acting on x = (V, σ) with N d + N d² entries. It runs the Stepper's
+/// own stages (scheme_step of scheme.hpp) on the frozen operators with homogeneous velocity
+/// BCs (their directions with zero values: the linear part of the step) and no body force; the
+/// strain update is σ' = σ + Δt 𝕂 : L with L = Σ_i v_i ⊗ G_pi and 𝕂_p = ∂σ/∂L at F_p (from
+/// F' = (I + Δt L) F by central differences; exact for the linear model). Every scheme (USL,
+/// USF, USL+, USAVG, USAVG+), velocity update, BC method and ordering is covered; positions are
+/// frozen, so α of Eqs. (8)–(9) does not enter T. Periodic FMPM with C_X is the product of one
+/// FMPM step and the ceil(C_X / C) − 1 FLIP steps between (the Stepper's period). The operator
+/// concept is Spectra's: rows(), cols(), perform_op(x, y).
 class LinearizedStep {
 public:
   using Scalar = double;
-  /// Throws InputError for options the linearisation does not cover (schemes other than USL,
-  /// the improper BC ordering, the velocity BC method).
+  /// Validates the options (validate of step.hpp); throws InputError for dynamic FMPM, whose
+  /// state-dependent order is not a linear map.
   LinearizedStep(const Model& model, const StepOptions& options, double dt);
   ~LinearizedStep();
   LinearizedStep(LinearizedStep&&) noexcept;
@@ -40,11 +41,11 @@ public:
   /// Changes Δt (and so C) keeping every assembled operator.
   void set_dt(double dt);
   double dt() const;
-  /// Time steps spanned by one application of T (1, or round(C_X / C) for periodic FMPM).
+  /// Time steps spanned by one application of T (1, or ceil(C_X / C) for periodic FMPM).
   int steps_per_application() const;
   Index rows() const;
   Index cols() const { return rows(); }
-  /// y = T x.
+  /// y = T x. Throws NumericalError when the stages meet a non-finite value.
   void perform_op(const double* x, double* y) const;
   /// T as a dense matrix (one perform_op per column; for small problems).
   Eigen::MatrixXd dense() const;
@@ -56,25 +57,37 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
+/// How a spectral radius was obtained.
+enum class SpectralStatus {
+  Converged,    ///< dense eigenvalues, the power-iteration plateau, or converged Arnoldi
+  NotConverged, ///< Arnoldi did not converge: rho is the measured growth per application
+  NonFinite     ///< the iteration overflowed or met NaN: rho = +inf (never "stable")
+};
+std::string_view to_string(SpectralStatus s);
+
+struct SpectralRadius {
+  double rho = std::numeric_limits<double>::quiet_NaN();
+  SpectralStatus status = SpectralStatus::Converged;
+};
+
 /// ρ(T): dense Eigen eigenvalues when T has at most `dense_limit` rows. Above, matrix-free:
 /// 300 power iterations measure the growth per application; growth within 10⁻³ of 1 is
 /// reported as ρ = 1 (T has the eigenvalue 1 of force-free stresses, and crowds the unit circle
 /// with its elastic modes), otherwise Spectra's GenEigsSolver started from the power iterate
-/// returns the dominant |λ| (or the measured growth if it does not converge).
-double spectral_radius(const LinearizedStep& T, Index dense_limit = 1500);
-
-/// Courant number C = Δt max(c_wave, max|V_p|) / Δx_min of a time step (FMPM 2026 §3.3).
-double courant_of(const Model& model, double dt);
+/// returns the dominant |λ| (status NotConverged with the measured growth if it fails).
+SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit = 1500);
 
 struct CriticalCourant {
-  double courant = 0;  ///< largest C found with ρ(T(C)) ≤ 1 + tol (within `resolution`)
-  double rho = 0;      ///< ρ(T) at that C
-  int evaluations = 0; ///< spectral radii computed
+  double courant = 0;    ///< largest C found with ρ(T(C)) ≤ 1 + tol (within `resolution`)
+  double rho = 0;        ///< ρ(T) at that C
+  int evaluations = 0;   ///< spectral radii computed
+  int not_converged = 0; ///< of them, Arnoldi runs that did not converge
+  int non_finite = 0;    ///< of them, non-finite results (counted as unstable)
 };
 
 /// The critical Courant number C* = max{C : ρ(T(C))^{1/s} ≤ 1 + tol}, s the steps spanned by
 /// T (the growth per step), bracketed by doubling from C = 0.05 up to c_max and refined by
-/// bisection to ±resolution/2.
+/// bisection to ±resolution/2. A non-finite ρ counts as unstable.
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol = 1e-6,
                                  double c_max = 2.0, double resolution = 1e-3);
 
@@ -84,7 +97,7 @@ Model shifted(const Model& model, const std::array<double, 3>& shift);
 
 struct ConfigurationSweep {
   CriticalCourant minimum;   ///< the smallest C* found
-  std::string configuration; ///< which configuration set it, e.g. "shift (0.25)"
+  std::string configuration; ///< which configuration set it, e.g. "shift 0.25"
   std::vector<std::pair<std::string, double>> all; ///< every configuration and its C*
 };
 
@@ -93,5 +106,34 @@ struct ConfigurationSweep {
 /// reports the minimum and its shift (named in cells along x, e.g. "shift 0.125").
 ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
                                 double tol = 1e-6, double resolution = 1e-3);
+
+/// The simulation method of FMPM 2026 §3.3: full runs from t = 0 to `end`, each with the
+/// Courant time step held constant (advance with land_on_stops = false).
+struct SimulationCourantOptions {
+  double end = 0;            ///< length of each run (the paper: five periods)
+  double lo = 0.02;          ///< bracket: assumed stable ...
+  double hi = 1.5;           ///< ... and tried first as unstable
+  double resolution = 0.005; ///< bisection to this width
+  FailureTest failure{};     ///< energy growth factor of a failed run
+  /// Also fail a run whose total energy changes by more than this fraction of its start
+  /// (|E_end − E_0| / E_0): the paper's "largest C with low dissipation". Infinite: off.
+  double max_energy_change = std::numeric_limits<double>::infinity();
+};
+
+struct SimulationCourant {
+  double courant = std::numeric_limits<double>::quiet_NaN();       ///< NaN: unstable even at lo
+  double energy_change = std::numeric_limits<double>::quiet_NaN(); ///< (E_end − E_0)/E_0 there
+  int runs = 0;
+};
+
+/// Relative change of total energy of one run at Courant number C, or NaN when it fails (a
+/// NumericalError of the stages, the failure test, or the energy-change limit).
+double simulation_energy_change(const Model& model, const StepOptions& options, double courant,
+                                const SimulationCourantOptions& sim);
+
+/// The largest C in [lo, hi] whose run does not fail, by bisection to ±resolution (hi itself
+/// when it does not fail).
+SimulationCourant simulation_courant(const Model& model, const StepOptions& options,
+                                     const SimulationCourantOptions& sim);
 
 } // namespace smpm

@@ -41,7 +41,8 @@ private:
   double regularization_;
 };
 
-/// A shared CholmodSolver for StepOptions::solver.
-std::shared_ptr<MassSolver> make_cholmod_solver(double regularization = 0);
+/// A factory of CholmodSolvers with this regularization, for StepOptions::exact_solver: every
+/// Stepper (and every copy of the options it runs with) gets a solver of its own.
+MassSolverFactory cholmod_solver_factory(double regularization = 0);
 
 } // namespace smpm

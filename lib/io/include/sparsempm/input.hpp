@@ -18,6 +18,9 @@ namespace smpm {
 struct TimeSettings {
   double courant = 0.5; ///< C in Δt = C Δx_min / max(c_wave, max|V_p|) (FMPM 2026 §3.3)
   double end = 0;       ///< simulated end time
+  /// Shorten the step before each output frame to land on it (frames at multiples of
+  /// output.every); false: constant Courant steps, frames at the first step past each multiple.
+  bool land_on_frames = true;
 };
 
 struct OutputSettings {

@@ -1,0 +1,279 @@
+#include "sparsempm/stability.hpp"
+
+#include "sparsempm/errors.hpp"
+#include "sparsempm/scheme.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Spectra/GenEigsSolver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace smpm {
+
+namespace {
+// The linearised strain update σ' = σ + Δt 𝕂 : L, L = G v, with 𝕂 fixed at the frozen F.
+class TangentStressUpdate final : public StrainUpdate {
+public:
+  TangentStressUpdate(const Field& K, Field& L) : K_(K), L_(L) {}
+  void update(const ParticleOperators& op, const Field& v, double dt,
+              ParticleFields& fields) override {
+    const int d2 = op.dim * op.dim;
+    L_.resize(op.rows, d2);
+    velocity_gradient(op, v, L_);
+    for (Index q = 0; q < op.rows; ++q)
+      for (int r = 0; r < d2; ++r) {
+        double s = 0;
+        for (int c = 0; c < d2; ++c)
+          s += K_(q, r * d2 + c) * L_(q, c);
+        fields.stress(q, r) += dt * s;
+      }
+  }
+
+private:
+  const Field& K_;
+  Field& L_;
+};
+
+// Material tangents 𝕂_p = ∂σ/∂L (N × d⁴, row-major ab, cd) from σ((I ± ε E_cd) F) by central
+// differences.
+Field material_tangents(const Model& model) {
+  const Particles& P = model.particles;
+  const int d = P.dim, d2 = d * d;
+  Field K = Field::Zero(P.size(), d2 * d2);
+  const double eps = 1e-6;
+  for (Index q = 0; q < P.size(); ++q) {
+    const Material& mat = model.materials.at(size_t(P.material[q]));
+    const Eigen::Matrix3d F = embed_3d(P.F.row(q).data(), d);
+    for (int c = 0; c < d; ++c)
+      for (int e = 0; e < d; ++e) {
+        Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+        E(c, e) = eps;
+        const Eigen::Matrix3d dsig =
+            (cauchy_stress(mat, d, (Eigen::Matrix3d::Identity() + E) * F) -
+             cauchy_stress(mat, d, (Eigen::Matrix3d::Identity() - E) * F)) /
+            (2 * eps);
+        for (int a = 0; a < d; ++a)
+          for (int b = 0; b < d; ++b)
+            K(q, (a * d + b) * d2 + c * d + e) = dsig(a, b);
+      }
+  }
+  return K;
+}
+} // namespace
+
+struct LinearizedStep::Impl {
+  Model model; // the frozen configuration
+  StepOptions opt;
+  std::unique_ptr<MassSolver> solver;
+  BoundaryConditions homogeneous; // the BC directions with zero values
+  Operators ops;
+  ConsistentMass mt;
+  Field K; // material tangents
+  double dt = 0;
+  double speed = 0;   // signal speed of the frozen configuration (Δt → C)
+  int flip_steps = 0; // periodic FMPM: FLIP steps before each FMPM step
+  int d = 1;
+  Index N = 0;
+  // The state and scratch of perform_op.
+  mutable Field X, V, F, sig, L;
+  mutable StepBuffers buffers;
+
+  void step(bool grid_update) const;
+};
+
+LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, double dt)
+    : impl_(std::make_unique<Impl>()) {
+  validate(options);
+  if (options.fmpm.metric != ConvergenceMetric::None &&
+      (options.velocity == VelocityUpdate::FMPM || options.velocity == VelocityUpdate::XPIC))
+    throw InputError("the linearised step needs a fixed FMPM order: dynamic FMPM stops at an "
+                     "order that depends on the state, which is not a linear map");
+  Impl& I = *impl_;
+  I.model = model;
+  I.opt = options;
+  if (options.velocity == VelocityUpdate::Exact)
+    I.solver = options.exact_solver();
+  I.speed = signal_speed(model);
+  I.d = model.grid.dim();
+  I.N = model.particles.size();
+  for (VelocityCondition c : model.bcs.conditions) {
+    c.value = nullptr;
+    I.homogeneous.conditions.push_back(std::move(c));
+  }
+  assemble(model.grid, model.particles, options.shape, I.ops);
+  if (uses_consistent_mass(options, true))
+    assemble_consistent_mass(I.ops, I.mt);
+  I.K = material_tangents(model);
+  I.F = model.particles.F;
+  set_dt(dt);
+}
+
+LinearizedStep::~LinearizedStep() = default;
+LinearizedStep::LinearizedStep(LinearizedStep&&) noexcept = default;
+
+void LinearizedStep::set_dt(double dt) {
+  if (!(dt > 0))
+    throw InputError("time step must be positive");
+  impl_->dt = dt;
+  impl_->flip_steps = 0;
+  if (impl_->opt.periodic_cx > 0 && impl_->opt.velocity != VelocityUpdate::FLIP) {
+    // The Stepper's period: ceil(C_X / C) steps.
+    const double C = dt * impl_->speed / impl_->model.grid.min_cell_size();
+    impl_->flip_steps = std::max(0, int(std::ceil(impl_->opt.periodic_cx / C * (1 - 1e-12))) - 1);
+  }
+}
+
+double LinearizedStep::dt() const {
+  return impl_->dt;
+}
+int LinearizedStep::steps_per_application() const {
+  return impl_->flip_steps + 1;
+}
+Index LinearizedStep::rows() const {
+  return impl_->N * (impl_->d + impl_->d * impl_->d);
+}
+const Operators& LinearizedStep::operators() const {
+  return impl_->ops;
+}
+
+// One linearised step on (V, sig) in place: the Stepper's scheme_step on the frozen operators,
+// with scratch positions (the operators do not follow them).
+void LinearizedStep::Impl::step(bool grid_update) const {
+  X = model.particles.X;
+  const StepContext context{.options = &opt,
+                            .ops = &ops,
+                            .mt = &mt.matrix,
+                            .solver = solver.get(),
+                            .grid = &model.grid,
+                            .bcs = &homogeneous,
+                            .body_force = {0, 0, 0},
+                            .time = 0,
+                            .dt = dt,
+                            .grid_update = grid_update};
+  ParticleFields fields{X, V, F, sig, model.particles.volume0};
+  TangentStressUpdate strain(K, L);
+  scheme_step(context, fields, strain, buffers);
+}
+
+void LinearizedStep::perform_op(const double* x, double* y) const {
+  Impl& I = *impl_;
+  const Index nv = I.N * I.d;
+  I.V = Eigen::Map<const Field>(x, I.N, I.d);
+  I.sig = Eigen::Map<const Field>(x + nv, I.N, I.d * I.d);
+  for (int s = 0; s < I.flip_steps; ++s)
+    I.step(false);
+  I.step(I.opt.velocity != VelocityUpdate::FLIP);
+  Eigen::Map<Field>(y, I.N, I.d) = I.V;
+  Eigen::Map<Field>(y + nv, I.N, I.d * I.d) = I.sig;
+}
+
+Eigen::MatrixXd LinearizedStep::dense() const {
+  const Index n = rows();
+  Eigen::MatrixXd T(n, n);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(n), col(n);
+  for (Index j = 0; j < n; ++j) {
+    e[j] = 1;
+    perform_op(e.data(), col.data());
+    T.col(j) = col;
+    e[j] = 0;
+  }
+  return T;
+}
+
+std::string_view to_string(SpectralStatus s) {
+  switch (s) {
+  case SpectralStatus::Converged:
+    return "converged";
+  case SpectralStatus::NotConverged:
+    return "not converged";
+  case SpectralStatus::NonFinite:
+    return "non-finite";
+  }
+  return "?";
+}
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+SpectralRadius dense_radius(const LinearizedStep& T) {
+  Eigen::MatrixXd A;
+  try {
+    A = T.dense();
+  } catch (const NumericalError&) { // a kernel met NaN or an infinite state
+    return {kInf, SpectralStatus::NonFinite};
+  }
+  if (!A.allFinite())
+    return {kInf, SpectralStatus::NonFinite};
+  Eigen::EigenSolver<Eigen::MatrixXd> es(A, false);
+  if (es.info() != Eigen::Success)
+    return {kInf, SpectralStatus::NotConverged};
+  const double rho = es.eigenvalues().cwiseAbs().maxCoeff();
+  if (!std::isfinite(rho))
+    return {kInf, SpectralStatus::NonFinite};
+  return {rho, SpectralStatus::Converged};
+}
+} // namespace
+
+SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit) {
+  if (T.rows() <= dense_limit)
+    return dense_radius(T);
+  // Large T: the spectrum crowds the unit circle (eigenvalue 1 for every force-free stress,
+  // |λ| ≈ 1 for every elastic mode), where Arnoldi converges very slowly. Power iteration first
+  // measures the growth per application over the second half of 300 applications; growth within
+  // 10⁻³ of 1 is reported as ρ = 1. Otherwise an eigenvalue stands out and Spectra's Arnoldi
+  // solver, started from the power iterate, resolves it.
+  const Index n = T.rows();
+  Eigen::VectorXd x(n), y(n);
+  std::mt19937 rng(1);
+  std::normal_distribution<double> normal;
+  for (Index i = 0; i < n; ++i)
+    x[i] = normal(rng);
+  x.normalize();
+  const int applications = 300;
+  double log_growth = 0;
+  for (int k = 0; k < applications; ++k) {
+    try {
+      T.perform_op(x.data(), y.data());
+    } catch (const NumericalError&) { // a kernel met NaN or an infinite state
+      return {kInf, SpectralStatus::NonFinite};
+    }
+    const double g = y.norm();
+    if (!std::isfinite(g))
+      return {kInf, SpectralStatus::NonFinite};
+    if (!(g > 0))
+      return {0.0, SpectralStatus::Converged}; // T x = 0: x was in the null space
+    if (k >= applications / 2)
+      log_growth += std::log(g);
+    x = y / g;
+  }
+  const double rate = std::exp(log_growth / (applications - applications / 2));
+  if (std::abs(rate - 1) <= 1e-3)
+    return {1.0, SpectralStatus::Converged};
+  if (rate < 1)
+    return {rate, SpectralStatus::Converged};
+  struct Op { // Spectra's operator concept over a const T
+    using Scalar = double;
+    const LinearizedStep& T;
+    Index rows() const { return T.rows(); }
+    Index cols() const { return T.cols(); }
+    void perform_op(const double* in, double* out) const { T.perform_op(in, out); }
+  } op{T};
+  Spectra::GenEigsSolver<Op> eigs(op, 1, std::min<Index>(n, 30));
+  eigs.init(x.data());
+  try {
+    eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-10);
+  } catch (const NumericalError&) {
+    return {kInf, SpectralStatus::NonFinite};
+  }
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    return {rate, SpectralStatus::NotConverged}; // the measured growth: beyond 1 + 10⁻³
+  const double rho = std::abs(eigs.eigenvalues()[0]);
+  if (!std::isfinite(rho))
+    return {kInf, SpectralStatus::NonFinite};
+  return {rho, SpectralStatus::Converged};
+}
+
+} // namespace smpm

@@ -1,0 +1,68 @@
+#pragma once
+/// \file advance.hpp
+/// The run loop and its criteria: the time step of the Courant relation, the failure test and
+/// advance(), which steps a Model to an end time. `smpm run`, the simulation C* of the
+/// stability study, the examples and the tests all run through advance().
+
+#include "sparsempm/diagnostics.hpp"
+#include "sparsempm/step.hpp"
+
+#include <functional>
+#include <optional>
+
+namespace smpm {
+
+/// max(c_wave, max_p |V_p|): the speed of the Courant relation (FMPM 2026 §3.3).
+double signal_speed(const Model& model);
+/// Δt = C Δx_min / max(c_wave, max_p |V_p|) (FMPM 2026 §3.3). Throws InputError for C ≤ 0 or
+/// when there is no wave speed and no particle velocity.
+double stable_time_step(const Model& model, double courant);
+/// C = Δt max(c_wave, max_p |V_p|) / Δx_min: the Courant number of a time step.
+double courant_of(const Model& model, double dt);
+
+/// When a run has failed, besides the NumericalError the stages throw (NaN, det F ≤ 0, a
+/// particle leaving the grid).
+struct FailureTest {
+  /// Fail when the total energy exceeds energy_growth × its start (≤ 0: never). Not applied
+  /// under body forces, which do work on the particles.
+  double energy_growth = 10;
+};
+
+/// Throws NumericalError naming the step, time and fastest particle when the total energy `e`
+/// is not finite or exceeds test.energy_growth × e0.
+void check_energy(const Model& model, double e, double e0, const FailureTest& test);
+
+struct AdvanceOptions {
+  double end = 0;       ///< simulated end time
+  double courant = 0.5; ///< C of stable_time_step, evaluated before every step
+  /// > 0: report a stop at every multiple of this time (output frames); the observer is told
+  /// which steps reach one.
+  double stop_every = 0;
+  /// Shorten the step before each stop and the last step so that they end exactly on it.
+  /// false: every step has the Courant time step (a stability run: stops do not change the
+  /// dynamics), a stop is reported at the first step that reaches it, and the run ends at the
+  /// first step at or past `end`.
+  bool land_on_stops = true;
+  FailureTest failure{};
+  /// The total energy the failure test compares with; unset: that of the model on entry (a
+  /// restart passes the energy at t = 0).
+  std::optional<double> energy_start{};
+};
+
+/// Called after every step with the model, its total energy and whether the step reached a stop.
+using StepObserver = std::function<void(const Model&, const Energies&, bool at_stop)>;
+
+struct AdvanceReport {
+  long steps = 0;          ///< steps taken
+  double energy_start = 0; ///< total energy the failure test compared with
+  double energy_end = 0;   ///< total energy at the end
+  double wall_seconds = 0; ///< wall time of the loop
+};
+
+/// Steps `model` with `stepper` until options.end (see AdvanceOptions), testing the energy
+/// after every step. Throws InputError for bad options and NumericalError on failure (the model
+/// is left at the failing step).
+AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& options,
+                      const StepObserver& observer = {});
+
+} // namespace smpm

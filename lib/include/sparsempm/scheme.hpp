@@ -1,0 +1,91 @@
+#pragma once
+/// \file scheme.hpp
+/// The stages of one explicit MPM step in the order of its scheme (FMPM 2026 Fig. 1: USL, USF,
+/// USL+, USAVG, USAVG+), with the grid-velocity solve (lumped, FMPM(k), XPIC(m) or exact) where
+/// the figure places it. scheme_step is the only implementation of the step: the Stepper calls
+/// it on the live state with freshly assembled operators, the linearised update operator T
+/// (stability.hpp) on frozen operators with homogeneous velocity BCs.
+
+#include "sparsempm/step.hpp"
+
+#include <array>
+
+namespace smpm {
+
+/// Grid fields of one step (all n × d).
+struct GridState {
+  Field p;      ///< momentum p = Sᵀ M V (after BC1)
+  Field f;      ///< total force (after BC2)
+  Field p_plus; ///< updated momentum p⁺ = p + f Δt
+  Field v;      ///< v = m⁻¹ p
+  Field v_plus; ///< v⁺ = m̃_k⁻¹ p⁺ (m⁻¹ p⁺ for FLIP and PIC)
+  Field a;      ///< a = m⁻¹ f
+};
+
+/// The particle fields a step reads and writes, one row per particle of the operators.
+struct ParticleFields {
+  FieldRef X;             ///< N × d positions
+  FieldRef V;             ///< N × d velocities
+  FieldRef F;             ///< N × d² deformation gradients (read for J = det F)
+  FieldRef stress;        ///< N × d² Cauchy stresses
+  ConstVectorRef volume0; ///< N initial volumes
+};
+
+/// Task 5 (and task 1.c of USF/USAVG): the particles' deformation and stress over a time dt
+/// from grid velocities v (n × d). One call per stage, never per particle.
+class StrainUpdate {
+public:
+  virtual ~StrainUpdate() = default;
+  virtual void update(const ParticleOperators& op, const Field& v, double dt,
+                      ParticleFields& fields) = 0;
+};
+
+/// The simulation's strain update: F from the velocity gradient (update_deformation), then
+/// σ = σ(F) by each particle's material (update_stress).
+class MaterialStrainUpdate final : public StrainUpdate {
+public:
+  MaterialStrainUpdate(const std::vector<Material>& materials,
+                       const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind)
+      : materials_(materials), material_(material), kind_(kind) {}
+  void update(const ParticleOperators& op, const Field& v, double dt,
+              ParticleFields& fields) override;
+
+private:
+  const std::vector<Material>& materials_;
+  Eigen::Ref<const Eigen::VectorXi> material_;
+  DeformationUpdate kind_;
+};
+
+/// What the stages read besides the particle fields; fixed during the step.
+struct StepContext {
+  const StepOptions* options = nullptr;
+  const Operators* ops = nullptr;      ///< S, G, M, m at the start of the step
+  const SparseRowMatrix* mt = nullptr; ///< m̃ (required when uses_consistent_mass)
+  MassSolver* solver = nullptr;        ///< required by VelocityUpdate::Exact
+  const Grid* grid = nullptr;
+  const BoundaryConditions* bcs = nullptr; ///< velocity BCs (values at t and t + Δt)
+  std::array<double, 3> body_force{0, 0, 0};
+  double time = 0; ///< t at the start of the step
+  double dt = 0;
+  bool grid_update = false; ///< update particles from grid velocities (false: FLIP)
+};
+
+/// Scratch of the step, reused from step to step.
+struct StepBuffers {
+  GridState g;
+  FmpmWorkspace fmpm;
+  FmpmReport report;                   ///< how the last FMPM loop ended
+  Field v_strain, p_re, v_re, xpic, L; ///< n × d and N × d² scratch
+};
+
+/// One step of the scheme context.options->scheme (FMPM 2026 Fig. 1):
+///   task 1  p = Sᵀ M V, BC1, v = m⁻¹ p; USF/USAVG: strain update from m̃_k⁻¹ p (task 1.c);
+///   task 2  f = internal + body force, BC2 with reaction forces (task 2.a), p⁺ = p + f Δt;
+///   task 3  v⁺ = m̃_k⁻¹ p⁺ (task 3.b): lumped, FMPM(k) (fmpm_velocity) or exact;
+///   task 4  particle update: FLIP (Eq. 8), PIC/FMPM/exact (Eq. 9) or XPIC (contact 2020 Eq. 35);
+///   task 5  USL: strain update from v⁺; USL+/USAVG+: from re-extrapolated velocities (4.c).
+/// Throws NumericalError naming the particle when a kernel finds NaN or det F ≤ 0.
+void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdate& strain,
+                 StepBuffers& buffers);
+
+} // namespace smpm

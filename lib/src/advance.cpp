@@ -1,0 +1,91 @@
+#include "sparsempm/advance.hpp"
+
+#include "sparsempm/errors.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace smpm {
+
+double signal_speed(const Model& model) {
+  const double c = max_wave_speed(model.materials, model.particles);
+  const double vmax = model.particles.size() ? model.particles.V.rowwise().norm().maxCoeff() : 0;
+  return std::max(c, vmax);
+}
+
+double stable_time_step(const Model& model, double courant) {
+  if (!(courant > 0) || !std::isfinite(courant))
+    throw InputError("courant number must be positive, got " + std::to_string(courant));
+  const double speed = signal_speed(model);
+  if (!(speed > 0))
+    throw InputError("cannot choose a time step: no wave speed and no particle velocity");
+  return courant * model.grid.min_cell_size() / speed;
+}
+
+double courant_of(const Model& model, double dt) {
+  return dt * signal_speed(model) / model.grid.min_cell_size();
+}
+
+void check_energy(const Model& model, double e, double e0, const FailureTest& test) {
+  if (!std::isfinite(e))
+    throw at_step(NumericalError("total energy is not finite"), model.step, model.time);
+  const bool loaded =
+      model.body_force[0] != 0 || model.body_force[1] != 0 || model.body_force[2] != 0;
+  if (loaded || !(test.energy_growth > 0) || !(e0 > 0) || e <= test.energy_growth * e0)
+    return;
+  const Particles& P = model.particles;
+  Index fastest = 0;
+  P.V.rowwise().squaredNorm().maxCoeff(&fastest);
+  std::ostringstream os;
+  os << "total energy " << e << " exceeds " << test.energy_growth << " times its start " << e0
+     << " (unstable; fastest particle " << fastest << " at (";
+  for (int a = 0; a < P.dim; ++a)
+    os << (a ? ", " : "") << P.X(fastest, a);
+  os << ") with speed " << P.V.row(fastest).norm() << ")";
+  throw at_step(NumericalError(os.str()), model.step, model.time);
+}
+
+AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
+                      const StepObserver& observer) {
+  if (!(o.end >= model.time) || !std::isfinite(o.end))
+    throw InputError("end time " + std::to_string(o.end) + " is before the model's time " +
+                     std::to_string(model.time));
+  if (!(o.stop_every >= 0) || !std::isfinite(o.stop_every))
+    throw InputError("the interval between stops must be non-negative");
+  AdvanceReport report;
+  report.energy_start = o.energy_start ? *o.energy_start : energies(model).total;
+  const double eps = 1e-12 * std::max(o.end, o.stop_every);
+  // The next stop after t: the smallest multiple of stop_every beyond t (and never past end).
+  auto next_stop = [&](double t) {
+    if (!(o.stop_every > 0))
+      return o.end;
+    return std::min(o.end, (std::floor((t + eps) / o.stop_every) + 1) * o.stop_every);
+  };
+  double stop = next_stop(model.time);
+  const auto start = std::chrono::steady_clock::now();
+  while (model.time < o.end - eps) {
+    double dt = stable_time_step(model, o.courant);
+    if (o.land_on_stops)
+      dt = std::min(dt, stop - model.time);
+    stepper.step(model, dt);
+    ++report.steps;
+    const Energies e = energies(model);
+    check_energy(model, e.total, report.energy_start, o.failure);
+    report.energy_end = e.total;
+    const bool at_stop = model.time >= stop - eps;
+    if (at_stop)
+      stop = next_stop(model.time);
+    if (observer)
+      observer(model, e, at_stop);
+  }
+  if (report.steps == 0)
+    report.energy_end = energies(model).total;
+  report.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+} // namespace smpm

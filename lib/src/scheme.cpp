@@ -1,0 +1,150 @@
+#include "sparsempm/scheme.hpp"
+
+#include "sparsempm/errors.hpp"
+
+namespace smpm {
+
+void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, double dt,
+                                  ParticleFields& fields) {
+  update_deformation(op, v, dt, kind_, fields.F); // L, F, det F > 0
+  update_stress(materials_, material_, fields.F, fields.stress);
+}
+
+namespace {
+
+// The stages of scheme_step over one context, with its scratch.
+struct Stages {
+  const StepContext& c;
+  const StepOptions& opt;
+  const ParticleOperators op;
+  ParticleFields& fields;
+  StrainUpdate& strain;
+  StepBuffers& b;
+  const bool full_mass; // this step uses m̃
+
+  Stages(const StepContext& context, ParticleFields& f, StrainUpdate& s, StepBuffers& buffers)
+      : c(context), opt(*context.options), op(particle_operators(*context.ops)), fields(f),
+        strain(s), b(buffers), full_mass(uses_consistent_mass(opt, context.grid_update)) {}
+
+  bool correct_bcs() const { return opt.bc_ordering == BCOrdering::Correct; }
+
+  // v = m̃_k⁻¹ p with this step's mass inverse at BC time t (tasks 1.c, 3.b, 4.c of Fig. 1).
+  void grid_velocity(const Field& p, double t, Field& v) {
+    const LoopConstraints bc{c.grid, c.bcs, t};
+    if (full_mass && opt.velocity == VelocityUpdate::Exact) {
+      c.solver->solve(*c.ops, *c.mt, bc, p, v);
+      return;
+    }
+    lumped_solve(c.ops->m_inv, p, v); // v⁺(1) = m⁻¹ p
+    if (full_mass && opt.velocity == VelocityUpdate::FMPM && opt.fmpm.order > 1)
+      b.report = fmpm_velocity(*c.ops, *c.mt, opt.fmpm, bc, v, b.fmpm);
+  }
+
+  // Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).
+  void strain_update(const Field& v, double t, double dt) {
+    const Field* vs = &v;
+    if (!correct_bcs()) { // BC3: the BC velocity only for the strains
+      b.v_strain = v;
+      c.bcs->constrain_velocity(*c.grid, t, b.v_strain, &c.ops->active);
+      vs = &b.v_strain;
+    }
+    strain.update(op, *vs, dt, fields);
+  }
+
+  // Task 1: p = Sᵀ M V, BC1, v = m⁻¹ p; task 1.c for USF, USAVG and USAVG+.
+  void momentum() {
+    map_momentum(op, fields.V, b.g.p);
+    if (correct_bcs())
+      c.bcs->constrain_momentum(*c.grid, c.ops->m, c.time, b.g.p);
+    lumped_solve(c.ops->m_inv, b.g.p, b.g.v);
+    const UpdateScheme s = opt.scheme;
+    if (s == UpdateScheme::USF || s == UpdateScheme::USAVG || s == UpdateScheme::USAVGPlus) {
+      grid_velocity(b.g.p, c.time, b.v_re);
+      strain_update(b.v_re, c.time, s == UpdateScheme::USF ? c.dt : 0.5 * c.dt);
+    }
+  }
+
+  // Tasks 2–3: forces, BC2 with reaction forces, p⁺ = p + f Δt, v⁺ = m̃_k⁻¹ p⁺ (task 3.b).
+  void forces_and_velocity() {
+    GridState& g = b.g;
+    internal_force(op, fields.volume0, fields.F, fields.stress, g.f);
+    add_body_force(c.ops->m, c.body_force, g.f);
+    if (!correct_bcs()) {
+      c.bcs->zero_directions(g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
+      g.p_plus.noalias() = g.p + c.dt * g.f;
+    } else {
+      g.p_plus.noalias() = g.p + c.dt * g.f;
+      // Task 2.a: p⁺ takes the BC velocity at t + Δt and f the reaction f^(BC) = Δp/Δt; the
+      // velocity method of §3.1 skips it on full-mass steps and corrects v⁺(k) afterwards.
+      const bool skip = full_mass && opt.velocity == VelocityUpdate::FMPM &&
+                        opt.fmpm.bc_method == BCMethod::Velocity;
+      if (!skip)
+        c.bcs->constrain_update(*c.grid, c.ops->m, c.time + c.dt, c.dt, g.p_plus, g.f);
+    }
+    lumped_solve(c.ops->m_inv, g.f, g.a);
+    if (opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::Exact)
+      grid_velocity(g.p_plus, c.time + c.dt, g.v_plus);
+    else
+      lumped_solve(c.ops->m_inv, g.p_plus, g.v_plus);
+  }
+
+  // Task 4: Eq. (8) on FLIP steps, Eq. (9) for PIC, FMPM(k) and exact, contact 2020 Eq. (35)
+  // for XPIC(m).
+  void particle_update() {
+    const double alpha = position_alpha(opt);
+    if (!c.grid_update) { // FLIP, or a FLIP step of periodic FMPM
+      update_particles_flip(op, b.g.v_plus, b.g.a, c.dt, alpha, fields.X, fields.V);
+      return;
+    }
+    if (opt.velocity != VelocityUpdate::XPIC) {
+      update_particles_pic(op, b.g.v_plus, c.dt, alpha, fields.X, fields.V);
+      return;
+    }
+    if (full_mass) {
+      xpic_grid_velocity(*c.ops, *c.mt, opt.fmpm.order, b.g.v, b.xpic, b.fmpm);
+      b.xpic.noalias() += c.dt * b.g.a; // V' = S (m (v − v*) + a Δt)
+    } else {
+      b.xpic = b.g.v_plus; // XPIC(1) = PIC
+    }
+    update_particles_pic(op, b.xpic, c.dt, alpha, fields.X, fields.V);
+  }
+
+  // Task 5: stresses last (USL, USL+, USAVG, USAVG+); tasks 4.a–4.c re-extrapolate with the
+  // same S for USL+ and USAVG+.
+  void stresses_last() {
+    const UpdateScheme s = opt.scheme;
+    if (s == UpdateScheme::USF)
+      return;
+    const double t1 = c.time + c.dt;
+    const double dt_last =
+        (s == UpdateScheme::USL || s == UpdateScheme::USLPlus) ? c.dt : 0.5 * c.dt;
+    if (s == UpdateScheme::USLPlus || s == UpdateScheme::USAVGPlus) {
+      map_momentum(op, fields.V, b.p_re);
+      if (correct_bcs())
+        c.bcs->constrain_momentum(*c.grid, c.ops->m, t1, b.p_re);
+      grid_velocity(b.p_re, t1, b.v_re);
+      strain_update(b.v_re, t1, dt_last);
+    } else {
+      strain_update(b.g.v_plus, t1, dt_last);
+    }
+  }
+};
+
+} // namespace
+
+void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdate& strain,
+                 StepBuffers& buffers) {
+  SMPM_VERIFY(context.options && context.ops && context.grid && context.bcs,
+              "scheme_step: the context needs options, operators, grid and BCs");
+  Stages s(context, fields, strain, buffers);
+  SMPM_VERIFY(!s.full_mass || context.mt, "scheme_step: this step needs m~ (context.mt)");
+  SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
+              "scheme_step: the exact update needs a MassSolver (context.solver)");
+  buffers.report = FmpmReport{};
+  s.momentum();
+  s.forces_and_velocity();
+  s.particle_update();
+  s.stresses_last();
+}
+
+} // namespace smpm
