@@ -48,77 +48,80 @@ inline void stencil(int i, int w, int nodes, int& lo, int& count) {
 }
 } // namespace
 
-void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
-  const Index n = ops.num_nodes(), N = ops.num_particles();
+namespace {
+// Whether m̃'s stencil pattern can be kept: the same operators with the same pattern of S, or
+// the same stencil half-width and touched nodes. Records the new width and touched set.
+bool keep_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
+  const Index n = ops.num_nodes();
+  if (mt.source == &ops && mt.source_version == ops.pattern_version && mt.matrix.rows() == n)
+    return true;
+  std::array<int, 3> w{0, 0, 0};
+  for (const ShapeSupport& s : ops.support)
+    for (int a = 0; a < 3; ++a)
+      w[size_t(a)] = std::max(w[size_t(a)], s.count[size_t(a)] - 1);
+  std::vector<char> touched(size_t(n), 0);
+  const int* inner = ops.S.innerIndexPtr();
+  for (Index k = 0; k < ops.S.nonZeros(); ++k)
+    touched[size_t(inner[k])] = 1;
+  const bool keep = w == mt.half_width && touched == mt.touched && mt.matrix.rows() == n;
+  mt.half_width = w;
+  mt.touched.swap(touched);
+  mt.source = &ops;
+  mt.source_version = ops.pattern_version;
+  return keep;
+}
+
+// The stencil pattern: row i of a touched node holds every node within the half-width.
+void build_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
+  const Index n = ops.num_nodes();
   const auto& nodes = ops.grid_nodes;
+  const auto& w = mt.half_width;
+  auto box = [&](Index i, int lo[3], int c[3]) {
+    const int ijk[3] = {int(i % nodes[0]), int((i / nodes[0]) % nodes[1]),
+                        int(i / (Index(nodes[0]) * nodes[1]))};
+    for (int a = 0; a < 3; ++a)
+      stencil(ijk[a], w[size_t(a)], nodes[size_t(a)], lo[a], c[a]);
+  };
+  Index nnz = 0;
+  for (Index i = 0; i < n; ++i)
+    if (mt.touched[size_t(i)]) {
+      int lo[3], c[3];
+      box(i, lo, c);
+      nnz += Index(c[0]) * c[1] * c[2];
+    }
+  SparseRowMatrix& A = mt.matrix;
+  A.resize(n, n);
+  A.resizeNonZeros(nnz);
+  int* ro = A.outerIndexPtr();
+  int* ri = A.innerIndexPtr();
+  Index pos = 0;
+  for (Index i = 0; i < n; ++i) {
+    ro[i] = int(pos);
+    if (!mt.touched[size_t(i)])
+      continue;
+    int lo[3], c[3];
+    box(i, lo, c);
+    for (int k2 = 0; k2 < c[2]; ++k2)
+      for (int k1 = 0; k1 < c[1]; ++k1)
+        for (int k0 = 0; k0 < c[0]; ++k0)
+          ri[pos++] =
+              int((lo[0] + k0) + Index(nodes[0]) * ((lo[1] + k1) + Index(nodes[1]) * (lo[2] + k2)));
+  }
+  ro[n] = int(pos);
+}
+
+// Values: m̃_ij += M_p S_pi S_pj for every pair (i, j) of particle p's box (FMPM 2026 §2.1).
+void scatter_consistent_mass(const Operators& ops, ConsistentMass& mt) {
+  const auto& nodes = ops.grid_nodes;
+  const auto& w = mt.half_width;
   const int* outer = ops.S.outerIndexPtr();
   const int* inner = ops.S.innerIndexPtr();
-  // Same operators, same pattern of S: the stencil pattern of m̃ is unchanged too.
-  mt.pattern_reused =
-      mt.source == &ops && mt.source_version == ops.pattern_version && mt.matrix.rows() == n;
-  std::array<int, 3> w = mt.half_width;
-  if (!mt.pattern_reused) {
-    // Stencil half-width and touched nodes decide the pattern.
-    w = {0, 0, 0};
-    for (const ShapeSupport& s : ops.support)
-      for (int a = 0; a < 3; ++a)
-        w[a] = std::max(w[a], s.count[a] - 1);
-    std::vector<char> touched(size_t(n), 0);
-    for (Index k = 0; k < ops.S.nonZeros(); ++k)
-      touched[size_t(inner[k])] = 1;
-    mt.pattern_reused = w == mt.half_width && touched == mt.touched && mt.matrix.rows() == n;
-    mt.touched.swap(touched);
-    mt.source = &ops;
-    mt.source_version = ops.pattern_version;
-  }
-  if (!mt.pattern_reused) {
-    mt.half_width = w;
-    Index nnz = 0;
-    std::vector<int> row_nnz(size_t(n), 0);
-    for (Index i = 0; i < n; ++i) {
-      if (!mt.touched[size_t(i)])
-        continue;
-      const Index ijk[3] = {i % nodes[0], (i / nodes[0]) % nodes[1],
-                            i / (Index(nodes[0]) * nodes[1])};
-      int count = 1;
-      for (int a = 0; a < 3; ++a) {
-        int lo, c;
-        stencil(int(ijk[a]), w[a], nodes[a], lo, c);
-        count *= c;
-      }
-      row_nnz[size_t(i)] = count;
-      nnz += count;
-    }
-    SparseRowMatrix& A = mt.matrix;
-    A.resize(n, n);
-    A.resizeNonZeros(nnz);
-    int* ro = A.outerIndexPtr();
-    int* ri = A.innerIndexPtr();
-    Index pos = 0;
-    for (Index i = 0; i < n; ++i) {
-      ro[i] = int(pos);
-      if (!row_nnz[size_t(i)])
-        continue;
-      const int ijk[3] = {int(i % nodes[0]), int((i / nodes[0]) % nodes[1]),
-                          int(i / (Index(nodes[0]) * nodes[1]))};
-      int lo[3], c[3];
-      for (int a = 0; a < 3; ++a)
-        stencil(ijk[a], w[a], nodes[a], lo[a], c[a]);
-      for (int k2 = 0; k2 < c[2]; ++k2)
-        for (int k1 = 0; k1 < c[1]; ++k1)
-          for (int k0 = 0; k0 < c[0]; ++k0)
-            ri[pos++] = int((lo[0] + k0) +
-                            Index(nodes[0]) * ((lo[1] + k1) + Index(nodes[1]) * (lo[2] + k2)));
-    }
-    ro[n] = int(pos);
-  }
-  // Values: m̃_ij += M_p S_pi S_pj for every pair (i, j) of particle p's box (FMPM 2026 §2.1).
   SparseRowMatrix& A = mt.matrix;
   std::fill(A.valuePtr(), A.valuePtr() + A.nonZeros(), 0.0);
   const int* ro = A.outerIndexPtr();
   double* val = A.valuePtr();
   const double* sv = ops.S.valuePtr();
-  for (Index p = 0; p < N; ++p) {
+  for (Index p = 0; p < ops.num_particles(); ++p) {
     const ShapeSupport& s = ops.support[size_t(p)];
     const int begin = outer[p];
     const double Mp = ops.M[p];
@@ -145,6 +148,14 @@ void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
             }
         }
   }
+}
+} // namespace
+
+void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
+  mt.pattern_reused = keep_stencil_pattern(ops, mt);
+  if (!mt.pattern_reused)
+    build_stencil_pattern(ops, mt);
+  scatter_consistent_mass(ops, mt);
 }
 
 SparseMatrix S_plus(const Operators& ops) {

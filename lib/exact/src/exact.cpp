@@ -94,82 +94,134 @@ Eigen::Vector3d node_x(const Grid& g, Index i) {
 }
 } // namespace
 
+namespace {
+// The prescribed velocity of every (active node, axis) with a condition, NaN where free.
+// Parallel conditions add their values (FMPM 2026 Table 2).
+Field prescribed_components(const Operators& ops, const LoopConstraints& bc, int d) {
+  Field prescribed = Field::Constant(ops.num_nodes(), d, std::numeric_limits<double>::quiet_NaN());
+  if (!bc.bcs)
+    return prescribed;
+  for (const VelocityCondition& cond : bc.bcs->conditions) {
+    const int a = axis_of(cond, d);
+    const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
+    for (Index i : cond.nodes)
+      if (ops.active[i]) {
+        const double value = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
+        prescribed(i, a) = std::isnan(prescribed(i, a)) ? value : prescribed(i, a) + value;
+      }
+  }
+  return prescribed;
+}
+
+// Components grouped by their free set F (active nodes whose component is not prescribed):
+// components with the same F share one factorisation.
+std::vector<std::pair<std::vector<int>, std::vector<int>>> free_groups(const Operators& ops,
+                                                                       const Field& prescribed) {
+  std::vector<std::pair<std::vector<int>, std::vector<int>>> groups; // (F, components)
+  for (int a = 0; a < int(prescribed.cols()); ++a) {
+    std::vector<int> F;
+    for (Index i = 0; i < ops.num_nodes(); ++i)
+      if (ops.active[i] && std::isnan(prescribed(i, a)))
+        F.push_back(int(i));
+    auto same =
+        std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == F; });
+    if (same != groups.end())
+      same->second.push_back(a);
+    else
+      groups.push_back({std::move(F), {a}});
+  }
+  return groups;
+}
+
+// m̃_FF (+ ε m_F) of `f.free` in CSC (full symmetric; m̃ is symmetric, so row j of the CSR array
+// is column j); `local` maps node → position in F (−1 outside). Returns whether the pattern
+// equals the one already factorised.
+bool restrict_matrix(const Operators& ops, const SparseRowMatrix& mt, double regularization,
+                     const std::vector<int>& local, Factor& f, const std::vector<int>& F) {
+  std::vector<int> colptr(F.size() + 1, 0), rowind;
+  std::vector<double> values;
+  const int* ro = mt.outerIndexPtr();
+  const int* ri = mt.innerIndexPtr();
+  const double* rv = mt.valuePtr();
+  for (size_t k = 0; k < F.size(); ++k) {
+    const int j = F[k];
+    for (int q = ro[j]; q < ro[j + 1]; ++q)
+      if (local[size_t(ri[q])] >= 0) {
+        rowind.push_back(local[size_t(ri[q])]);
+        values.push_back(rv[q] + (ri[q] == j ? regularization * ops.m[j] : 0.0));
+      }
+    colptr[k + 1] = int(rowind.size());
+  }
+  const bool same_pattern = f.L && f.free == F && f.colptr == colptr && f.rowind == rowind;
+  f.free = F;
+  f.colptr.swap(colptr);
+  f.rowind.swap(rowind);
+  f.values.swap(values);
+  return same_pattern;
+}
+
+cholmod_sparse as_cholmod(Factor& f) {
+  cholmod_sparse A{};
+  A.nrow = A.ncol = f.free.size();
+  A.nzmax = f.rowind.size();
+  A.p = f.colptr.data();
+  A.i = f.rowind.data();
+  A.x = f.values.data();
+  A.stype = -1; // symmetric, lower triangle used
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_REAL;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
+
+// Right-hand sides b = p_F − m̃_FC v_C, one column per component; sets v_C in v.
+Eigen::MatrixXd right_hand_sides(const Operators& ops, const SparseRowMatrix& mt, const Field& p,
+                                 const Field& prescribed, const std::vector<int>& F,
+                                 const std::vector<int>& local, const std::vector<int>& comps,
+                                 Field& v) {
+  const int* ro = mt.outerIndexPtr();
+  const int* ri = mt.innerIndexPtr();
+  const double* rv = mt.valuePtr();
+  Eigen::MatrixXd B(F.size(), comps.size());
+  for (size_t k = 0; k < comps.size(); ++k) {
+    const int comp = comps[k];
+    for (size_t q = 0; q < F.size(); ++q)
+      B(Index(q), Index(k)) = p(F[q], comp);
+    for (Index i = 0; i < ops.num_nodes(); ++i) {
+      const double vc = prescribed(i, comp);
+      if (!ops.active[i] || std::isnan(vc))
+        continue;
+      v(i, comp) = vc;
+      for (int q = ro[i]; q < ro[i + 1]; ++q)
+        if (const int l = local[size_t(ri[q])]; l >= 0)
+          B(l, Index(k)) -= rv[q] * vc;
+    }
+  }
+  return B;
+}
+} // namespace
+
 void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
                           const LoopConstraints& bc, const Field& p, Field& v) {
   const Index n = ops.num_nodes();
   const int d = int(p.cols());
   cholmod_common& c = impl_->c;
-  // Prescribed components: value per (node, axis), NaN when free.
-  Field prescribed = Field::Constant(n, d, std::numeric_limits<double>::quiet_NaN());
-  if (bc.bcs)
-    for (const VelocityCondition& cond : bc.bcs->conditions) {
-      const int a = axis_of(cond, d);
-      const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
-      for (Index i : cond.nodes)
-        if (ops.active[i]) { // parallel conditions add their values (FMPM 2026 Table 2)
-          const double value = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
-          prescribed(i, a) = std::isnan(prescribed(i, a)) ? value : prescribed(i, a) + value;
-        }
-    }
+  const Field prescribed = prescribed_components(ops, bc, d);
   v.setZero(n, d);
-  // Group the components by their free set F.
-  std::vector<std::vector<int>> free_sets(static_cast<size_t>(d));
-  for (int a = 0; a < d; ++a)
-    for (Index i = 0; i < n; ++i)
-      if (ops.active[i] && std::isnan(prescribed(i, a)))
-        free_sets[size_t(a)].push_back(int(i));
-  std::vector<char> done(static_cast<size_t>(d), 0);
   size_t slot = 0;
-  for (int a = 0; a < d; ++a) {
-    if (done[size_t(a)])
-      continue;
-    std::vector<int> comps;
-    for (int b = a; b < d; ++b)
-      if (!done[size_t(b)] && free_sets[size_t(b)] == free_sets[size_t(a)]) {
-        comps.push_back(b);
-        done[size_t(b)] = 1;
-      }
-    const std::vector<int>& F = free_sets[size_t(a)];
+  for (const auto& [F, comps] : free_groups(ops, prescribed)) {
     if (slot >= impl_->factors.size())
       impl_->factors.emplace_back();
     Factor& f = impl_->factors[slot++];
-    // m̃_FF (+ ε m_F) in CSC; m̃ is symmetric, so row j of the CSR array is column j.
     std::vector<int> local(static_cast<size_t>(n), -1);
     for (size_t k = 0; k < F.size(); ++k)
       local[size_t(F[k])] = int(k);
-    std::vector<int> colptr(F.size() + 1, 0), rowind;
-    std::vector<double> values;
-    const int* ro = mt.outerIndexPtr();
-    const int* ri = mt.innerIndexPtr();
-    const double* rv = mt.valuePtr();
-    for (size_t k = 0; k < F.size(); ++k) {
-      const int j = F[k];
-      for (int q = ro[j]; q < ro[j + 1]; ++q)
-        if (local[size_t(ri[q])] >= 0) {
-          rowind.push_back(local[size_t(ri[q])]);
-          values.push_back(rv[q] + (ri[q] == j ? regularization_ * ops.m[j] : 0.0));
-        }
-      colptr[k + 1] = int(rowind.size());
-    }
-    const bool same_pattern = f.L && f.free == F && f.colptr == colptr && f.rowind == rowind;
-    f.free = F;
-    f.colptr.swap(colptr);
-    f.rowind.swap(rowind);
-    f.values.swap(values);
-    cholmod_sparse A{};
-    A.nrow = A.ncol = F.size();
-    A.nzmax = f.rowind.size();
-    A.p = f.colptr.data();
-    A.i = f.rowind.data();
-    A.x = f.values.data();
-    A.stype = -1; // symmetric, lower triangle used
-    A.itype = CHOLMOD_INT;
-    A.xtype = CHOLMOD_REAL;
-    A.dtype = CHOLMOD_DOUBLE;
-    A.sorted = 1;
-    A.packed = 1;
+    const bool same_pattern = restrict_matrix(ops, mt, regularization_, local, f, F);
     if (F.empty())
       continue;
+    cholmod_sparse A = as_cholmod(f);
     if (!same_pattern) {
       if (f.L)
         cholmod_free_factor(&f.L, &c);
@@ -183,22 +235,7 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
     if (c.status == CHOLMOD_NOT_POSDEF || f.L->minor < f.L->n)
       not_positive_definite(ops, f, long(f.L->minor));
     impl_->rcond = cholmod_rcond(f.L, &c);
-    // Right-hand sides b = p_F − m̃_FC v_C, one column per component of the group.
-    Eigen::MatrixXd B(F.size(), comps.size());
-    for (size_t k = 0; k < comps.size(); ++k) {
-      const int comp = comps[k];
-      for (size_t q = 0; q < F.size(); ++q)
-        B(Index(q), Index(k)) = p(F[q], comp);
-      for (Index i = 0; i < n; ++i) {
-        const double vc = prescribed(i, comp);
-        if (!ops.active[i] || std::isnan(vc))
-          continue;
-        v(i, comp) = vc;
-        for (int q = ro[i]; q < ro[i + 1]; ++q)
-          if (const int l = local[size_t(ri[q])]; l >= 0)
-            B(l, Index(k)) -= rv[q] * vc;
-      }
-    }
+    Eigen::MatrixXd B = right_hand_sides(ops, mt, p, prescribed, F, local, comps, v);
     cholmod_dense rhs{};
     rhs.nrow = F.size();
     rhs.ncol = comps.size();
@@ -216,7 +253,7 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
         v(F[q], comps[k]) = x[k * X->d + q];
     cholmod_free_dense(&X, &c);
   }
-  // Components whose free set is empty keep only their prescribed values (set above).
+  // Components whose free set is empty keep only their prescribed values.
   for (int a = 0; a < d; ++a)
     for (Index i = 0; i < n; ++i)
       if (ops.active[i] && !std::isnan(prescribed(i, a)))

@@ -134,6 +134,62 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
     step.exact_solver = cholmod_solver_factory(reg);
 }
 
+// [scheme]: update scheme, velocity update, shape functions, α, F update and the FMPM family.
+void read_scheme(const Reader& r, const toml::table& root, StepOptions& step) {
+  static const toml::table empty;
+  const toml::table* scheme = r.table(root, "scheme", "[scheme]", false);
+  if (!scheme)
+    scheme = &empty;
+  r.check_keys(*scheme, "scheme");
+  try {
+    step.scheme = update_scheme_from_string(r.string(*scheme, "update", "scheme.update", "USL"));
+  } catch (const InputError& e) {
+    r.fail(scheme->get("update"), "scheme.update", e.what());
+  }
+  try {
+    step.velocity =
+        velocity_update_from_string(r.string(*scheme, "velocity", "scheme.velocity", "FLIP"));
+  } catch (const InputError& e) {
+    r.fail(scheme->get("velocity"), "scheme.velocity", e.what());
+  }
+  try {
+    step.shape = shape_from_string(r.string(*scheme, "shape", "scheme.shape", "cpdi"));
+  } catch (const InputError& e) {
+    r.fail(scheme->get("shape"), "scheme.shape", e.what());
+  }
+  // α of Eqs. (8)–(9); unset: default_position_alpha (1 for FLIP, ½ otherwise).
+  if (const toml::node* an = scheme->get("position_alpha")) {
+    const double alpha = r.number(*scheme, "position_alpha", "scheme.position_alpha", 0.0);
+    if (!(alpha >= 0 && alpha <= 1))
+      r.fail(an, "scheme.position_alpha", "must lie in [0, 1]");
+    step.position_alpha = alpha;
+  }
+  try {
+    step.deformation = deformation_update_from_string(
+        r.string(*scheme, "deformation", "scheme.deformation", "linear"));
+  } catch (const InputError& e) {
+    r.fail(scheme->get("deformation"), "scheme.deformation", e.what());
+  }
+  read_fmpm(r, *scheme, step);
+}
+
+// [output]: file (default: the input's name with .h5), frame interval (default end/10), CSR
+// matrices.
+OutputSettings read_output(const Reader& r, const toml::table& root, const std::string& source,
+                           double end) {
+  static const toml::table empty;
+  OutputSettings out;
+  const toml::table* output = r.table(root, "output", "[output]", false);
+  if (!output)
+    output = &empty;
+  r.check_keys(*output, "output");
+  const std::string stem = std::filesystem::path(source).stem().string();
+  out.file = r.string(*output, "file", "output.file", (stem.empty() ? "run" : stem) + ".h5");
+  out.every = r.positive(*output, "every", "output.every", end / 10);
+  out.matrices = r.boolean(*output, "matrices", "output.matrices", false);
+  return out;
+}
+
 } // namespace
 
 RunConfig read_input(const std::string& text, const std::string& source,
@@ -173,42 +229,7 @@ RunConfig read_input(const std::string& text, const std::string& source,
   cfg.time.end = r.positive(*time, "end", "time.end", std::nullopt);
   cfg.time.land_on_frames = r.boolean(*time, "land_on_frames", "time.land_on_frames", true);
 
-  static const toml::table empty;
-  const toml::table* scheme = r.table(root, "scheme", "[scheme]", false);
-  if (!scheme)
-    scheme = &empty;
-  r.check_keys(*scheme, "scheme");
-  try {
-    cfg.step.scheme =
-        update_scheme_from_string(r.string(*scheme, "update", "scheme.update", "USL"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("update"), "scheme.update", e.what());
-  }
-  try {
-    cfg.step.velocity =
-        velocity_update_from_string(r.string(*scheme, "velocity", "scheme.velocity", "FLIP"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("velocity"), "scheme.velocity", e.what());
-  }
-  try {
-    cfg.step.shape = shape_from_string(r.string(*scheme, "shape", "scheme.shape", "cpdi"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("shape"), "scheme.shape", e.what());
-  }
-  // α of Eqs. (8)–(9); unset: default_position_alpha (1 for FLIP, ½ otherwise).
-  if (const toml::node* an = scheme->get("position_alpha")) {
-    const double alpha = r.number(*scheme, "position_alpha", "scheme.position_alpha", 0.0);
-    if (!(alpha >= 0 && alpha <= 1))
-      r.fail(an, "scheme.position_alpha", "must lie in [0, 1]");
-    cfg.step.position_alpha = alpha;
-  }
-  try {
-    cfg.step.deformation = deformation_update_from_string(
-        r.string(*scheme, "deformation", "scheme.deformation", "linear"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("deformation"), "scheme.deformation", e.what());
-  }
-  read_fmpm(r, *scheme, cfg.step);
+  read_scheme(r, root, cfg.step);
 
   const toml::table* loads = r.table(root, "loads", "[loads]", false);
   if (loads) {
@@ -216,14 +237,7 @@ RunConfig read_input(const std::string& text, const std::string& source,
     cfg.model.body_force = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);
   }
 
-  const toml::table* output = r.table(root, "output", "[output]", false);
-  if (!output)
-    output = &empty;
-  r.check_keys(*output, "output");
-  const std::string stem = std::filesystem::path(source).stem().string();
-  cfg.output.file = r.string(*output, "file", "output.file", (stem.empty() ? "run" : stem) + ".h5");
-  cfg.output.every = r.positive(*output, "every", "output.every", cfg.time.end / 10);
-  cfg.output.matrices = r.boolean(*output, "matrices", "output.matrices", false);
+  cfg.output = read_output(r, root, source, cfg.time.end);
 
   // The shape functions of every particle must fit in the grid.
   try {

@@ -54,6 +54,86 @@ Particles lattice_in(const Grid& g, const std::array<double, 3>& center,
   return P;
 }
 
+// The index of the body's material, by name.
+int body_material(const Reader& r, const toml::table& t, const std::string& key,
+                  const std::vector<Material>& mats) {
+  const std::string mname = r.string(t, "material", key + "material", std::nullopt);
+  std::vector<std::string> names;
+  for (size_t k = 0; k < mats.size(); ++k) {
+    if (mats[k].name == mname)
+      return int(k);
+    names.push_back(mats[k].name);
+  }
+  r.fail(t.get("material"), key + "material", "no such material" + suggest(mname, names));
+}
+
+// The particles of a body's region: box | disk | ellipse, on the lattice of ppc per cell.
+Particles body_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
+                      const std::array<int, 3>& ppc, double density, int id) {
+  const int d = g.dim();
+  const std::string region = r.string(t, "region", key + "region", "box");
+  if (region == "box") {
+    const auto lo = r.vector(t, "min", key + "min", d, true);
+    const auto hi = r.vector(t, "max", key + "max", d, true);
+    for (int a = 0; a < d; ++a)
+      if (!(hi[a] > lo[a]))
+        r.fail(t.get("max"), key + "max", "must exceed min on every axis");
+    if (!g.contains(lo) || !g.contains(hi))
+      r.fail(t.get("max"), key + "min/max", "particles outside the grid");
+    return make_block(g, lo, hi, ppc, density, id);
+  }
+  if (region != "disk" && region != "ellipse")
+    r.fail(t.get("region"), key + "region", "unknown region (expected box | disk | ellipse)");
+  const auto c = r.vector(t, "center", key + "center", d, true);
+  std::array<double, 3> semi{1, 1, 1};
+  if (region == "disk") {
+    const double rad = r.positive(t, "radius", key + "radius", std::nullopt);
+    semi = {rad, rad, rad};
+  } else {
+    semi = r.vector(t, "semi_axes", key + "semi_axes", d, true);
+    for (int a = 0; a < d; ++a)
+      if (!(semi[a] > 0))
+        r.fail(t.get("semi_axes"), key + "semi_axes", "must be positive");
+  }
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  for (int a = 0; a < d; ++a) {
+    lo[a] = c[a] - semi[a];
+    hi[a] = c[a] + semi[a];
+  }
+  if (!g.contains(lo) || !g.contains(hi))
+    r.fail(t.get("center"), key + "center", "particles outside the grid");
+  return lattice_in(g, c, semi, ppc, density, id);
+}
+
+// Initial velocity: numbers or expressions of the initial position X, Y, Z.
+void body_velocity(const Reader& r, const toml::table& t, const std::string& key, Particles& P) {
+  const toml::node* vn = t.get("velocity");
+  if (!vn)
+    return;
+  const int d = P.dim;
+  const toml::array* va = vn->as_array();
+  if (!va || int(va->size()) != d)
+    r.fail(vn, key + "velocity", "expected " + std::to_string(d) + " numbers or expressions");
+  for (int a = 0; a < d; ++a) {
+    const toml::node& e = (*va)[size_t(a)];
+    if (auto num = e.value<double>(); num && !e.is_string()) {
+      P.V.col(a).setConstant(*num);
+      continue;
+    }
+    if (!e.is_string())
+      r.fail(vn, key + "velocity", "expected numbers or expression strings");
+    const Expression expr(*e.value<std::string>(), {"X", "Y", "Z"}, r.where(vn, key + "velocity"));
+    for (Index p = 0; p < P.size(); ++p) {
+      double x[3] = {0, 0, 0};
+      for (int b = 0; b < d; ++b)
+        x[b] = P.X(p, b);
+      P.V(p, a) = expr(x);
+      if (!std::isfinite(P.V(p, a)))
+        r.fail(vn, key + "velocity", "is not finite at particle " + std::to_string(p));
+    }
+  }
+}
+
 } // namespace
 
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
@@ -65,17 +145,7 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
   for (const toml::table* t : r.tables(root, "body", true)) {
     r.check_keys(*t, "body");
     const std::string key = "body." + std::to_string(index++) + ".";
-    const std::string mname = r.string(*t, "material", key + "material", std::nullopt);
-    int id = -1;
-    std::vector<std::string> names;
-    for (size_t k = 0; k < mats.size(); ++k) {
-      names.push_back(mats[k].name);
-      if (mats[k].name == mname)
-        id = int(k);
-    }
-    if (id < 0)
-      r.fail(t->get("material"), key + "material", "no such material" + suggest(mname, names));
-    const std::string region = r.string(*t, "region", key + "region", "box");
+    const int id = body_material(r, *t, key, mats);
     const auto ppc = r.counts(*t, "ppc", key + "ppc", d);
     double estimate = 1; // particles of the body's bounding lattice
     for (int a = 0; a < d; ++a)
@@ -84,70 +154,71 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
       r.fail(t->get("ppc"), key + "ppc",
              "up to " + std::to_string(long(estimate)) + " particles, more than the " +
                  std::to_string(long(kMaxParticles)) + " this build accepts");
-    Particles P;
-    if (region == "box") {
-      const auto lo = r.vector(*t, "min", key + "min", d, true);
-      const auto hi = r.vector(*t, "max", key + "max", d, true);
-      for (int a = 0; a < d; ++a)
-        if (!(hi[a] > lo[a]))
-          r.fail(t->get("max"), key + "max", "must exceed min on every axis");
-      if (!g.contains(lo) || !g.contains(hi))
-        r.fail(t->get("max"), key + "min/max", "particles outside the grid");
-      P = make_block(g, lo, hi, ppc, mats[size_t(id)].density, id);
-    } else if (region == "disk" || region == "ellipse") {
-      const auto c = r.vector(*t, "center", key + "center", d, true);
-      std::array<double, 3> semi{1, 1, 1};
-      if (region == "disk") {
-        const double rad = r.positive(*t, "radius", key + "radius", std::nullopt);
-        semi = {rad, rad, rad};
-      } else {
-        semi = r.vector(*t, "semi_axes", key + "semi_axes", d, true);
-        for (int a = 0; a < d; ++a)
-          if (!(semi[a] > 0))
-            r.fail(t->get("semi_axes"), key + "semi_axes", "must be positive");
-      }
-      std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
-      for (int a = 0; a < d; ++a) {
-        lo[a] = c[a] - semi[a];
-        hi[a] = c[a] + semi[a];
-      }
-      if (!g.contains(lo) || !g.contains(hi))
-        r.fail(t->get("center"), key + "center", "particles outside the grid");
-      P = lattice_in(g, c, semi, ppc, mats[size_t(id)].density, id);
-    } else {
-      r.fail(t->get("region"), key + "region", "unknown region (expected box | disk | ellipse)");
-    }
+    Particles P = body_region(r, *t, key, g, ppc, mats[size_t(id)].density, id);
     if (P.size() == 0)
       r.fail(t->get("region"), key + "region", "holds no particle");
-    // Initial velocity: numbers or expressions of the initial position X, Y, Z.
-    if (const toml::node* vn = t->get("velocity")) {
-      const toml::array* va = vn->as_array();
-      if (!va || int(va->size()) != d)
-        r.fail(vn, key + "velocity", "expected " + std::to_string(d) + " numbers or expressions");
-      for (int a = 0; a < d; ++a) {
-        const toml::node& e = (*va)[size_t(a)];
-        if (auto num = e.value<double>(); num && !e.is_string()) {
-          P.V.col(a).setConstant(*num);
-          continue;
-        }
-        if (!e.is_string())
-          r.fail(vn, key + "velocity", "expected numbers or expression strings");
-        const Expression expr(*e.value<std::string>(), {"X", "Y", "Z"},
-                              r.where(vn, key + "velocity"));
-        for (Index p = 0; p < P.size(); ++p) {
-          double x[3] = {0, 0, 0};
-          for (int b = 0; b < d; ++b)
-            x[b] = P.X(p, b);
-          P.V(p, a) = expr(x);
-          if (!std::isfinite(P.V(p, a)))
-            r.fail(vn, key + "velocity", "is not finite at particle " + std::to_string(p));
-        }
-      }
-    }
+    body_velocity(r, *t, key, P);
     all.append(P);
   }
   return all;
 }
+
+namespace {
+// The nodes of a [[bc]]: plane = {axis, at} or box = {min, max}.
+std::vector<Index> bc_nodes(const Reader& r, const toml::table& t, const std::string& key,
+                            const Grid& g) {
+  const int d = g.dim();
+  const toml::table* plane = r.table(t, "plane", key + "plane", false);
+  const toml::table* box = r.table(t, "box", key + "box", false);
+  if (bool(plane) == bool(box))
+    r.fail(plane ? t.get("plane") : t.get("box"), key + "plane/box",
+           "give exactly one of plane = {...} or box = {...}");
+  try {
+    if (plane) {
+      r.check_keys(*plane, "bc.plane");
+      const int axis = axis_index(r, plane->get("axis"), key + "plane.axis", d);
+      return nodes_on_plane(g, axis, r.number(*plane, "at", key + "plane.at", std::nullopt));
+    }
+    r.check_keys(*box, "bc.box");
+    return nodes_in_box(g, r.vector(*box, "min", key + "box.min", d, true),
+                        r.vector(*box, "max", key + "box.max", d, true));
+  } catch (const InputError& e) {
+    if (std::string(e.what()).find(": ") != std::string::npos &&
+        std::string(e.what()).rfind(r.source_, 0) == 0)
+      throw;
+    r.fail(plane ? t.get("plane") : t.get("box"), key + (plane ? "plane" : "box"), e.what());
+  }
+}
+
+// velocity = {direction, value}: a number or an expression of t, x, y, z.
+VelocityCondition velocity_condition(const Reader& r, const toml::table& vel,
+                                     const std::string& key, int d) {
+  r.check_keys(vel, "bc.velocity");
+  const auto dir = r.vector(vel, "direction", key + "velocity.direction", d, true);
+  Eigen::Vector3d n(dir[0], dir[1], dir[2]);
+  if (!(n.norm() > 0))
+    r.fail(vel.get("direction"), key + "velocity.direction", "must be a non-zero vector");
+  VelocityCondition c;
+  c.direction = n.normalized();
+  c.label = key + "velocity";
+  const toml::node* vn = r.node(vel, "value", key + "velocity.value", true);
+  if (vn->is_string()) {
+    // Held by value: a copy of the condition (of the Model) evaluates its own parser.
+    c.value = [expr = Expression(*vn->value<std::string>(), {"t", "x", "y", "z"},
+                                 r.where(vn, key + "velocity.value"))](double time,
+                                                                       const Eigen::Vector3d& x) {
+      const double v[4] = {time, x[0], x[1], x[2]};
+      return expr(v);
+    };
+  } else if (auto num = vn->value<double>()) {
+    const double value = *num;
+    c.value = [value](double, const Eigen::Vector3d&) { return value; };
+  } else {
+    r.fail(vn, key + "velocity.value", "expected a number or an expression of t, x, y, z");
+  }
+  return c;
+}
+} // namespace
 
 BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid& g) {
   const int d = g.dim();
@@ -156,70 +227,27 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
   for (const toml::table* t : r.tables(root, "bc", false)) {
     r.check_keys(*t, "bc");
     const std::string key = "bc." + std::to_string(index++) + ".";
-    std::vector<Index> nodes;
-    const toml::table* plane = r.table(*t, "plane", key + "plane", false);
-    const toml::table* box = r.table(*t, "box", key + "box", false);
-    if (bool(plane) == bool(box))
-      r.fail(plane ? t->get("plane") : t->get("box"), key + "plane/box",
-             "give exactly one of plane = {...} or box = {...}");
-    try {
-      if (plane) {
-        r.check_keys(*plane, "bc.plane");
-        const int axis = axis_index(r, plane->get("axis"), key + "plane.axis", d);
-        nodes = nodes_on_plane(g, axis, r.number(*plane, "at", key + "plane.at", std::nullopt));
-      } else {
-        r.check_keys(*box, "bc.box");
-        nodes = nodes_in_box(g, r.vector(*box, "min", key + "box.min", d, true),
-                             r.vector(*box, "max", key + "box.max", d, true));
-      }
-    } catch (const InputError& e) {
-      if (std::string(e.what()).find(": ") != std::string::npos &&
-          std::string(e.what()).rfind(r.source_, 0) == 0)
-        throw;
-      r.fail(plane ? t->get("plane") : t->get("box"), key + (plane ? "plane" : "box"), e.what());
-    }
+    const std::vector<Index> nodes = bc_nodes(r, *t, key, g);
     const toml::node* fixed = t->get("fixed");
     const toml::table* vel = r.table(*t, "velocity", key + "velocity", false);
     if (bool(fixed) == bool(vel))
       r.fail(fixed ? fixed : t->get("velocity"), key + "fixed/velocity",
              "give exactly one of fixed = [...] or velocity = {...}");
-    if (fixed) {
-      const toml::array* fa = fixed->as_array();
-      if (!fa || fa->empty())
-        r.fail(fixed, key + "fixed", "expected an array of axes, e.g. [\"x\"]");
-      for (auto&& e : *fa) {
-        VelocityCondition c;
-        const int a = axis_index(r, &e, key + "fixed", d);
-        c.nodes = nodes;
-        c.direction = Eigen::Vector3d::Unit(a);
-        c.label = key + "fixed";
-        bcs.conditions.push_back(std::move(c));
-      }
-    } else {
-      r.check_keys(*vel, "bc.velocity");
-      const auto dir = r.vector(*vel, "direction", key + "velocity.direction", d, true);
-      Eigen::Vector3d n(dir[0], dir[1], dir[2]);
-      if (!(n.norm() > 0))
-        r.fail(vel->get("direction"), key + "velocity.direction", "must be a non-zero vector");
-      VelocityCondition c;
+    if (vel) {
+      VelocityCondition c = velocity_condition(r, *vel, key, d);
       c.nodes = nodes;
-      c.direction = n.normalized();
-      c.label = key + "velocity";
-      const toml::node* vn = r.node(*vel, "value", key + "velocity.value", true);
-      if (vn->is_string()) {
-        // Held by value: a copy of the condition (of the Model) evaluates its own parser.
-        c.value = [expr = Expression(*vn->value<std::string>(), {"t", "x", "y", "z"},
-                                     r.where(vn, key + "velocity.value"))](
-                      double time, const Eigen::Vector3d& x) {
-          const double v[4] = {time, x[0], x[1], x[2]};
-          return expr(v);
-        };
-      } else if (auto num = vn->value<double>()) {
-        const double value = *num;
-        c.value = [value](double, const Eigen::Vector3d&) { return value; };
-      } else {
-        r.fail(vn, key + "velocity.value", "expected a number or an expression of t, x, y, z");
-      }
+      bcs.conditions.push_back(std::move(c));
+      continue;
+    }
+    const toml::array* fa = fixed->as_array();
+    if (!fa || fa->empty())
+      r.fail(fixed, key + "fixed", "expected an array of axes, e.g. [\"x\"]");
+    for (auto&& e : *fa) {
+      VelocityCondition c;
+      const int a = axis_index(r, &e, key + "fixed", d);
+      c.nodes = nodes;
+      c.direction = Eigen::Vector3d::Unit(a);
+      c.label = key + "fixed";
       bcs.conditions.push_back(std::move(c));
     }
   }

@@ -105,73 +105,86 @@ OutputFile::OutputFile(OutputFile&& o) noexcept
   o.file_ = -1;
 }
 
-void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool matrices) {
+namespace {
+// /particles/<name>: the particle fields of a frame.
+void write_particles(hid_t file, const std::string& name, const Model& model) {
   const Particles& P = model.particles;
-  const std::string name = frame_name(frame);
-  {
-    h5::Id parts = h5::open_group(file_, "particles");
-    h5::Id g = h5::create_group(parts.get(), name);
-    const hsize_t N = hsize_t(P.size()), d = hsize_t(P.dim);
-    h5::write_doubles(g.get(), "X", P.X.data(), N, d);
-    h5::write_doubles(g.get(), "V", P.V.data(), N, d);
-    h5::write_doubles(g.get(), "stress", P.stress.data(), N, d * d);
-    h5::write_doubles(g.get(), "F", P.F.data(), N, d * d);
-    h5::write_doubles(g.get(), "mass", P.mass.data(), N, 0);
-    const Eigen::VectorXd vol = P.volume();
-    h5::write_doubles(g.get(), "volume", vol.data(), N, 0);
-    h5::write_doubles(g.get(), "volume0", P.volume0.data(), N, 0);
-    h5::write_doubles(g.get(), "half_length", P.half_length.data(), N, d);
-    h5::write_ints(g.get(), "material", P.material.data(), N);
-    if (P.dim == 1) { // ParaView needs three coordinates
-      Field xyz = Field::Zero(P.size(), 3);
-      xyz.col(0) = P.X.col(0);
-      h5::write_doubles(g.get(), "xyz", xyz.data(), N, 3);
-    }
-    h5::set_attribute(g.get(), "time", model.time);
-    h5::set_attribute(g.get(), "step", model.step);
+  h5::Id parts = h5::open_group(file, "particles");
+  h5::Id g = h5::create_group(parts.get(), name);
+  const hsize_t N = hsize_t(P.size()), d = hsize_t(P.dim);
+  h5::write_doubles(g.get(), "X", P.X.data(), N, d);
+  h5::write_doubles(g.get(), "V", P.V.data(), N, d);
+  h5::write_doubles(g.get(), "stress", P.stress.data(), N, d * d);
+  h5::write_doubles(g.get(), "F", P.F.data(), N, d * d);
+  h5::write_doubles(g.get(), "mass", P.mass.data(), N, 0);
+  const Eigen::VectorXd vol = P.volume();
+  h5::write_doubles(g.get(), "volume", vol.data(), N, 0);
+  h5::write_doubles(g.get(), "volume0", P.volume0.data(), N, 0);
+  h5::write_doubles(g.get(), "half_length", P.half_length.data(), N, d);
+  h5::write_ints(g.get(), "material", P.material.data(), N);
+  if (P.dim == 1) { // ParaView needs three coordinates
+    Field xyz = Field::Zero(P.size(), 3);
+    xyz.col(0) = P.X.col(0);
+    h5::write_doubles(g.get(), "xyz", xyz.data(), N, 3);
   }
-  // Grid fields and matrices of the frame's configuration.
+  h5::set_attribute(g.get(), "time", model.time);
+  h5::set_attribute(g.get(), "step", model.step);
+}
+
+// /grid/<name> (m, p = SᵀMV, v = m⁻¹p) and, when asked, /matrices/<name> (S, G_a, m̃ in CSR).
+void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape,
+                bool matrices) {
+  const Particles& P = model.particles;
   const Operators ops = assemble(model.grid, P, shape);
   {
     Field p, v;
     map_momentum(particle_operators(ops), P.V, p);
     lumped_solve(ops.m_inv, p, v);
-    h5::Id grid = h5::open_group(file_, "grid");
+    h5::Id grid = h5::open_group(file, "grid");
     h5::Id g = h5::create_group(grid.get(), name);
     const hsize_t n = hsize_t(ops.num_nodes()), d = hsize_t(P.dim);
     h5::write_doubles(g.get(), "m", ops.m.data(), n, 0);
     h5::write_doubles(g.get(), "p", p.data(), n, d);
     h5::write_doubles(g.get(), "v", v.data(), n, d);
   }
-  if (matrices) {
-    if (!h5::exists(file_, "matrices"))
-      h5::create_group(file_, "matrices");
-    h5::Id mats = h5::open_group(file_, "matrices");
-    h5::Id g = h5::create_group(mats.get(), name);
-    write_csr(g.get(), "S", ops.S);
-    for (int a = 0; a < P.dim; ++a)
-      write_csr(g.get(), "G" + std::to_string(a), ops.G[size_t(a)]);
-    write_csr(g.get(), "consistent_mass", SparseRowMatrix(consistent_mass(ops)));
-  }
-  // Series rows accumulated since the last frame.
-  {
-    h5::Id series = h5::open_group(file_, "series");
-    const size_t k = pending_.size();
-    std::vector<double> col(k), mom(k * size_t(dim_));
-    for (int s = 0; s < 5; ++s) {
-      for (size_t r = 0; r < k; ++r) {
-        const SeriesRow& row = pending_[r];
-        const double vals[5] = {double(row.step), row.t, row.e.kinetic, row.e.strain, row.e.total};
-        col[r] = vals[s];
-      }
-      h5::append_series(series.get(), kSeries[s], col.data(), k, 0);
+  if (!matrices)
+    return;
+  if (!h5::exists(file, "matrices"))
+    h5::create_group(file, "matrices");
+  h5::Id mats = h5::open_group(file, "matrices");
+  h5::Id g = h5::create_group(mats.get(), name);
+  write_csr(g.get(), "S", ops.S);
+  for (int a = 0; a < P.dim; ++a)
+    write_csr(g.get(), "G" + std::to_string(a), ops.G[size_t(a)]);
+  write_csr(g.get(), "consistent_mass", SparseRowMatrix(consistent_mass(ops)));
+}
+
+// Appends the buffered rows to /series.
+void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim) {
+  h5::Id series = h5::open_group(file, "series");
+  const size_t k = rows.size();
+  std::vector<double> col(k), mom(k * size_t(dim));
+  for (int s = 0; s < 5; ++s) {
+    for (size_t r = 0; r < k; ++r) {
+      const SeriesRow& row = rows[r];
+      const double vals[5] = {double(row.step), row.t, row.e.kinetic, row.e.strain, row.e.total};
+      col[r] = vals[s];
     }
-    for (size_t r = 0; r < k; ++r)
-      for (int a = 0; a < dim_; ++a)
-        mom[r * size_t(dim_) + size_t(a)] = pending_[r].e.momentum[a];
-    h5::append_series(series.get(), "momentum", mom.data(), k, hsize_t(dim_));
-    pending_.clear();
+    h5::append_series(series.get(), kSeries[s], col.data(), k, 0);
   }
+  for (size_t r = 0; r < k; ++r)
+    for (int a = 0; a < dim; ++a)
+      mom[r * size_t(dim) + size_t(a)] = rows[r].e.momentum[a];
+  h5::append_series(series.get(), "momentum", mom.data(), k, hsize_t(dim));
+}
+} // namespace
+
+void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool matrices) {
+  const std::string name = frame_name(frame);
+  write_particles(file_, name, model);
+  write_grid(file_, name, model, shape, matrices);
+  append_series_rows(file_, pending_, dim_); // the rows accumulated since the last frame
+  pending_.clear();
   {
     h5::Id parts = h5::open_group(file_, "particles");
     h5::Id g = h5::open_group(parts.get(), name);
@@ -179,7 +192,7 @@ void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool ma
   }
   h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
   frames_.emplace_back(frame, model.time);
-  frame_particles_.push_back(P.size());
+  frame_particles_.push_back(model.particles.size());
   write_xdmf();
 }
 
