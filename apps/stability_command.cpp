@@ -113,9 +113,9 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
         if (k > 1)
           rows.push_back(fmpm(k, 1.0, 1, cx));
   if (a.exact) {
-    Row r = row("exact", VelocityUpdate::Exact);
+    Row r = row("exact", VelocityUpdate::Exact); // the input's exact_* options
     if (!r.opt.exact_solver)
-      r.opt.exact_solver = cholmod_solver_factory(0.0);
+      r.opt.exact_solver = cholmod_solver_factory();
     rows.push_back(r);
   }
   return rows;

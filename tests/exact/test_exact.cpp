@@ -111,9 +111,68 @@ TEST_CASE("a singular consistent mass is reported with its nodes", "[exact]") {
   CHECK_THROWS_WITH(solver.solve(ops, mt.matrix, {}, p, v),
                     Catch::Contains("not positive definite") && Catch::Contains("at node") &&
                         Catch::Contains("smallest lumped masses: node"));
-  // The documented regularisation m̃ + ε m makes it solvable.
+  // The documented regularisation (1 − ε) m̃ + ε m makes it solvable.
   CholmodSolver regularized(1e-6);
   CHECK_NOTHROW(regularized.solve(ops, mt.matrix, {}, p, v));
+}
+
+TEST_CASE("the regularised exact solve is the blended inverse and keeps a uniform translation",
+          "[exact]") {
+  // (1 − ε) m̃ + ε m = m (I − (1 − ε) A): its inverse is the k → ∞ limit of FMPM(k) blended
+  // with α = 1 − ε, m = 1 (FMPM 2026 §3.3; 1e-9 at k = 3000). Its rows sum to m, so a uniform
+  // velocity V is returned exactly (1e-14) — m̃ + ε m would return V / (1 + ε).
+  const Setup s = setup();
+  const double eps = 0.2;
+  Field regularized;
+  CholmodSolver(eps).solve(s.ops, s.mt.matrix, {}, s.p, regularized);
+  Field v;
+  lumped_solve(s.ops.m_inv, s.p, v);
+  FmpmWorkspace w;
+  fmpm_velocity(s.ops, s.mt.matrix, {.order = 3000, .blend_alpha = 1 - eps}, {}, v, w);
+  CHECK((v - regularized).norm() < 1e-9 * regularized.norm());
+  Field uniform(s.ops.num_nodes(), 2), u;
+  for (Index i = 0; i < s.ops.num_nodes(); ++i)
+    uniform.row(i) = s.ops.m[i] * Eigen::RowVector2d(0.3, -0.2);
+  CholmodSolver(eps).solve(s.ops, s.mt.matrix, {}, uniform, u);
+  for (Index i = 0; i < s.ops.num_nodes(); ++i)
+    if (s.ops.active[i]) {
+      CHECK(u(i, 0) == smpm::test::approx(0.3, 1e-14));
+      CHECK(u(i, 1) == smpm::test::approx(-0.2, 1e-14));
+    }
+}
+
+TEST_CASE("light nodes take their lumped velocity with a mass cutoff", "[exact]") {
+  // The §3.3 bar shifted by 1/16 cell: the last particle's domain reaches 1/16 cell past the
+  // node at x = 40, so the node at x = 41 (index 43 on this grid) is light. With cutoff
+  // τ = 0.05 that node (and only it) takes v_i = p_i / m_i, the others solve
+  // m̃_FF v_F = p_F − m̃_FC v_C (residual at round-off); τ = 0 is plain m̃⁻¹.
+  Model bar = vibrating_bar({});
+  bar.particles.X.array() += 1.0 / 16;
+  const Operators ops = assemble(bar.grid, bar.particles, Shape::CPDI);
+  ConsistentMass mt;
+  assemble_consistent_mass(ops, mt);
+  Field p, v, plain;
+  map_momentum(particle_operators(ops), bar.particles.V, p);
+  CholmodSolver(0, 0.05).solve(ops, mt.matrix, {}, p, v);
+  CholmodSolver().solve(ops, mt.matrix, {}, p, plain);
+  std::vector<int> light, free;
+  for (Index i = 0; i < ops.num_nodes(); ++i)
+    if (ops.active[i])
+      (ops.m[i] < 0.05 * ops.m.maxCoeff() ? light : free).push_back(int(i));
+  CHECK(light == std::vector<int>{43});
+  for (int i : light)
+    CHECK(v(i, 0) == smpm::test::approx(p(i, 0) / ops.m[i], 1e-15, 1e-14));
+  const Eigen::MatrixXd M(mt.matrix);
+  double residual = 0, scale = 0;
+  for (int i : free) {
+    double r = -p(i, 0);
+    for (Index j = 0; j < ops.num_nodes(); ++j)
+      r += M(i, j) * v(j, 0);
+    residual = std::max(residual, std::abs(r));
+    scale = std::max(scale, std::abs(p(i, 0)));
+  }
+  CHECK(residual < 1e-12 * scale);
+  CHECK((v - plain).norm() > 1e-6 * plain.norm()); // a departure from m̃⁻¹, as documented
 }
 
 TEST_CASE("the exact consistent-mass update runs the free-vibrating bar", "[exact][validation]") {

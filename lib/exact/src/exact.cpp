@@ -41,10 +41,12 @@ struct CholmodSolver::Impl {
   }
 };
 
-CholmodSolver::CholmodSolver(double regularization)
-    : impl_(std::make_unique<Impl>()), regularization_(regularization) {
-  if (!(regularization >= 0))
-    throw InputError("exact_regularization must be non-negative");
+CholmodSolver::CholmodSolver(double regularization, double mass_cutoff)
+    : impl_(std::make_unique<Impl>()), regularization_(regularization), mass_cutoff_(mass_cutoff) {
+  if (!(regularization >= 0 && regularization <= 1))
+    throw InputError("exact_regularization must lie in [0, 1]");
+  if (!(mass_cutoff >= 0 && mass_cutoff < 1))
+    throw InputError("exact_mass_cutoff must lie in [0, 1)");
 }
 CholmodSolver::~CholmodSolver() = default;
 long CholmodSolver::analyses() const {
@@ -57,10 +59,11 @@ double CholmodSolver::last_rcond() const {
   return impl_->rcond;
 }
 
-MassSolverFactory cholmod_solver_factory(double regularization) {
-  if (!(regularization >= 0))
-    throw InputError("exact_regularization must be non-negative");
-  return [regularization] { return std::make_unique<CholmodSolver>(regularization); };
+MassSolverFactory cholmod_solver_factory(double regularization, double mass_cutoff) {
+  (void)CholmodSolver(regularization, mass_cutoff); // validates both now
+  return [regularization, mass_cutoff] {
+    return std::make_unique<CholmodSolver>(regularization, mass_cutoff);
+  };
 }
 
 namespace {
@@ -89,26 +92,37 @@ Eigen::Vector3d node_x(const Grid& g, Index i) {
      << "; smallest lumped masses: ";
   for (size_t k = 0; k < std::min<size_t>(3, order.size()); ++k)
     os << (k ? ", " : "") << "node " << order[k] << " (m = " << ops.m[order[k]] << ")";
-  os << " (set scheme.exact_regularization > 0 to factor m~ + eps m)";
+  os << " (set scheme.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
+        "scheme.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
   throw NumericalError(os.str());
 }
 } // namespace
 
 namespace {
 // The prescribed velocity of every (active node, axis) with a condition, NaN where free.
-// Parallel conditions add their values (FMPM 2026 Table 2).
-Field prescribed_components(const Operators& ops, const LoopConstraints& bc, int d) {
+// Parallel conditions add their values (FMPM 2026 Table 2). Nodes lighter than
+// cutoff · max m take their lumped velocity p_i / m_i in the components left free.
+Field prescribed_components(const Operators& ops, const LoopConstraints& bc, const Field& p,
+                            double cutoff) {
+  const int d = int(p.cols());
   Field prescribed = Field::Constant(ops.num_nodes(), d, std::numeric_limits<double>::quiet_NaN());
-  if (!bc.bcs)
-    return prescribed;
-  for (const VelocityCondition& cond : bc.bcs->conditions) {
-    const int a = axis_of(cond, d);
-    const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
-    for (Index i : cond.nodes)
-      if (ops.active[i]) {
-        const double value = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
-        prescribed(i, a) = std::isnan(prescribed(i, a)) ? value : prescribed(i, a) + value;
-      }
+  if (bc.bcs)
+    for (const VelocityCondition& cond : bc.bcs->conditions) {
+      const int a = axis_of(cond, d);
+      const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
+      for (Index i : cond.nodes)
+        if (ops.active[i]) {
+          const double value = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
+          prescribed(i, a) = std::isnan(prescribed(i, a)) ? value : prescribed(i, a) + value;
+        }
+    }
+  if (cutoff > 0) {
+    const double light = cutoff * ops.m.maxCoeff();
+    for (Index i = 0; i < ops.num_nodes(); ++i)
+      if (ops.active[i] && ops.m[i] < light)
+        for (int a = 0; a < d; ++a)
+          if (std::isnan(prescribed(i, a)))
+            prescribed(i, a) = p(i, a) * ops.m_inv[i];
   }
   return prescribed;
 }
@@ -133,9 +147,9 @@ std::vector<std::pair<std::vector<int>, std::vector<int>>> free_groups(const Ope
   return groups;
 }
 
-// m̃_FF (+ ε m_F) of `f.free` in CSC (full symmetric; m̃ is symmetric, so row j of the CSR array
-// is column j); `local` maps node → position in F (−1 outside). Returns whether the pattern
-// equals the one already factorised.
+// The blended matrix (1 − ε) m̃_FF + ε m_F of `f.free` in CSC (full symmetric; m̃ is symmetric,
+// so row j of the CSR array is column j); `local` maps node → position in F (−1 outside).
+// Returns whether the pattern equals the one already factorised.
 bool restrict_matrix(const Operators& ops, const SparseRowMatrix& mt, double regularization,
                      const std::vector<int>& local, Factor& f, const std::vector<int>& F) {
   std::vector<int> colptr(F.size() + 1, 0), rowind;
@@ -148,7 +162,8 @@ bool restrict_matrix(const Operators& ops, const SparseRowMatrix& mt, double reg
     for (int q = ro[j]; q < ro[j + 1]; ++q)
       if (local[size_t(ri[q])] >= 0) {
         rowind.push_back(local[size_t(ri[q])]);
-        values.push_back(rv[q] + (ri[q] == j ? regularization * ops.m[j] : 0.0));
+        values.push_back((1 - regularization) * rv[q] +
+                         (ri[q] == j ? regularization * ops.m[j] : 0.0));
       }
     colptr[k + 1] = int(rowind.size());
   }
@@ -176,9 +191,9 @@ cholmod_sparse as_cholmod(Factor& f) {
   return A;
 }
 
-// Right-hand sides b = p_F − m̃_FC v_C, one column per component; sets v_C in v.
-Eigen::MatrixXd right_hand_sides(const Operators& ops, const SparseRowMatrix& mt, const Field& p,
-                                 const Field& prescribed, const std::vector<int>& F,
+// Right-hand sides b = p_F − (1 − ε) m̃_FC v_C, one column per component; sets v_C in v.
+Eigen::MatrixXd right_hand_sides(const Operators& ops, const SparseRowMatrix& mt, double blend,
+                                 const Field& p, const Field& prescribed, const std::vector<int>& F,
                                  const std::vector<int>& local, const std::vector<int>& comps,
                                  Field& v) {
   const int* ro = mt.outerIndexPtr();
@@ -196,7 +211,7 @@ Eigen::MatrixXd right_hand_sides(const Operators& ops, const SparseRowMatrix& mt
       v(i, comp) = vc;
       for (int q = ro[i]; q < ro[i + 1]; ++q)
         if (const int l = local[size_t(ri[q])]; l >= 0)
-          B(l, Index(k)) -= rv[q] * vc;
+          B(l, Index(k)) -= blend * rv[q] * vc;
     }
   }
   return B;
@@ -208,7 +223,7 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
   const Index n = ops.num_nodes();
   const int d = int(p.cols());
   cholmod_common& c = impl_->c;
-  const Field prescribed = prescribed_components(ops, bc, d);
+  const Field prescribed = prescribed_components(ops, bc, p, mass_cutoff_);
   v.setZero(n, d);
   size_t slot = 0;
   for (const auto& [F, comps] : free_groups(ops, prescribed)) {
@@ -235,7 +250,8 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
     if (c.status == CHOLMOD_NOT_POSDEF || f.L->minor < f.L->n)
       not_positive_definite(ops, f, long(f.L->minor));
     impl_->rcond = cholmod_rcond(f.L, &c);
-    Eigen::MatrixXd B = right_hand_sides(ops, mt, p, prescribed, F, local, comps, v);
+    Eigen::MatrixXd B =
+        right_hand_sides(ops, mt, 1 - regularization_, p, prescribed, F, local, comps, v);
     cholmod_dense rhs{};
     rhs.nrow = F.size();
     rhs.ncol = comps.size();

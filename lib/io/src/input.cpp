@@ -127,11 +127,13 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
     r.fail(scheme.get("bc_method"), "scheme.bc_method", e.what());
   }
   const double reg = r.number(scheme, "exact_regularization", "scheme.exact_regularization", 0.0);
-  if (!(reg >= 0))
-    r.fail(scheme.get("exact_regularization"), "scheme.exact_regularization",
-           "must be non-negative");
-  if (step.velocity == VelocityUpdate::Exact)
-    step.exact_solver = cholmod_solver_factory(reg);
+  if (!(reg >= 0 && reg <= 1))
+    r.fail(scheme.get("exact_regularization"), "scheme.exact_regularization", "must lie in [0, 1]");
+  const double cutoff = r.number(scheme, "exact_mass_cutoff", "scheme.exact_mass_cutoff", 0.0);
+  if (!(cutoff >= 0 && cutoff < 1))
+    r.fail(scheme.get("exact_mass_cutoff"), "scheme.exact_mass_cutoff", "must lie in [0, 1)");
+  // Always set, so that analyses adding an exact row (smpm stability) use these options.
+  step.exact_solver = cholmod_solver_factory(reg, cutoff);
 }
 
 // [scheme]: update scheme, velocity update, shape functions, α, F update and the FMPM family.

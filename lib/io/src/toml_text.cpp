@@ -24,7 +24,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"scheme",
        {"update", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
         "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization",
-        "deformation"}},
+        "exact_mass_cutoff", "deformation"}},
       {"output", {"file", "every", "matrices"}},
       {"loads", {"gravity"}},
   };

@@ -16,11 +16,15 @@ namespace smpm {
 /// m̃ and the sets F are unchanged; the numeric one is redone every call.
 ///
 /// When m̃_FF is not positive definite a NumericalError names the node where CHOLMOD found a
-/// non-positive pivot and the nodes of smallest lumped mass. With regularization ε > 0 the
-/// solver factors m̃ + ε m instead (a documented departure from m̃⁻¹).
+/// non-positive pivot and the nodes of smallest lumped mass. Two documented departures from
+/// m̃⁻¹ remedy it (README, "The exact inverse"): with regularization ε ∈ (0, 1] the solver
+/// factors the blended mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 (rows still sum to m, so a uniform
+/// translation keeps its velocity; the k → ∞ limit of FMPM(k) blended with α = 1 − ε, m = 1);
+/// with mass_cutoff τ > 0 nodes lighter than τ max m take their lumped velocity p_i/m_i and
+/// enter the equations of the others as known values (like velocity BCs).
 class CholmodSolver final : public MassSolver {
 public:
-  explicit CholmodSolver(double regularization = 0);
+  explicit CholmodSolver(double regularization = 0, double mass_cutoff = 0);
   ~CholmodSolver() override;
   CholmodSolver(const CholmodSolver&) = delete;
   CholmodSolver& operator=(const CholmodSolver&) = delete;
@@ -29,6 +33,7 @@ public:
              const Field& p, Field& v) override;
 
   double regularization() const { return regularization_; }
+  double mass_cutoff() const { return mass_cutoff_; }
   /// Number of symbolic analyses and numeric factorisations so far.
   long analyses() const;
   long factorizations() const;
@@ -39,10 +44,11 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   double regularization_;
+  double mass_cutoff_;
 };
 
 /// A factory of CholmodSolvers with this regularization, for StepOptions::exact_solver: every
 /// Stepper (and every copy of the options it runs with) gets a solver of its own.
-MassSolverFactory cholmod_solver_factory(double regularization = 0);
+MassSolverFactory cholmod_solver_factory(double regularization = 0, double mass_cutoff = 0);
 
 } // namespace smpm
