@@ -116,14 +116,36 @@ SimulationCourant simulation_courant(const Model& model, const StepOptions& opti
     ++out.runs;
     return simulation_energy_change(model, options, C, sim);
   };
-  double lo = sim.lo, hi = sim.hi;
-  double e_lo = run(lo);
-  if (std::isnan(e_lo))
-    return out; // unstable even at lo
-  if (const double e_hi = run(hi); !std::isnan(e_hi)) {
-    out.courant = hi;
-    out.energy_change = e_hi;
-    return out;
+  double lo = sim.lo, hi = sim.hi, e_lo = std::nan("");
+  if (std::isinf(sim.max_energy_change)) {
+    // Blow-up is monotone in C: bisection from the bracket.
+    e_lo = run(lo);
+    if (std::isnan(e_lo))
+      return out; // unstable even at lo
+    if (const double e_hi = run(hi); !std::isnan(e_hi)) {
+      out.courant = hi;
+      out.energy_change = e_hi;
+      return out;
+    }
+  } else {
+    // Dissipation accumulates over more steps at small C, so "low dissipation" is not monotone
+    // in C: scan the bracket from hi down on 16 intervals for the largest passing C, then bisect
+    // between it and the failing point above.
+    const int intervals = 16;
+    const double h = (hi - lo) / intervals;
+    int j = intervals;
+    for (; j >= 0; --j)
+      if (e_lo = run(lo + j * h); !std::isnan(e_lo))
+        break;
+    if (j < 0)
+      return out; // no C of the bracket passes
+    if (j == intervals) {
+      out.courant = hi;
+      out.energy_change = e_lo;
+      return out;
+    }
+    lo += j * h;
+    hi = lo + h;
   }
   while (hi - lo > sim.resolution) {
     const double mid = 0.5 * (lo + hi);

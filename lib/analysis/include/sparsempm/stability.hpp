@@ -132,7 +132,9 @@ double simulation_energy_change(const Model& model, const StepOptions& options, 
                                 const SimulationCourantOptions& sim);
 
 /// The largest C in [lo, hi] whose run does not fail, by bisection to ±resolution (hi itself
-/// when it does not fail).
+/// when it does not fail). With a finite max_energy_change the criterion is not monotone in C
+/// (dissipation accumulates over the many steps of a small C), so the bracket is first scanned
+/// from hi down on 16 intervals and the bisection refines the largest passing point.
 SimulationCourant simulation_courant(const Model& model, const StepOptions& options,
                                      const SimulationCourantOptions& sim);
 
