@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """FMPM 2026 Fig. 12A: critical Courant number against FMPM order k.
 
-    analysis/fig12a.py stability.csv [-o fig12a.png]
+    analysis/fig12a.py stability.csv [--low-dissipation low.csv] [-o fig12a.png]
 
 Reads the table written by `smpm stability` (the CSV behind the figure) and plots C* against k
-for FMPM(k), FMPM(k) blended with FMPM(1) and with FMPM(2), and periodic FMPM(k), with FLIP as a
-horizontal line: spectral predictions (minimum over the configurations examined) dashed,
-bisection over full runs solid, and the values reported in the paper as stars.
+for FMPM(k), FMPM(k) blended with FMPM(1) and with FMPM(2), and periodic FMPM(k), with FLIP and
+the exact inverse as horizontal lines: spectral predictions (minimum over the configurations
+examined) dashed, bisection over full runs solid, and the values reported in the paper as
+stars. With --low-dissipation, a second table (`smpm stability --method simulation
+--max-energy-change F`) adds the largest C with low dissipation as dotted lines.
 """
 import argparse
 import csv
@@ -32,15 +34,34 @@ def num(s):
     return float(s) if s not in ("", None) else math.nan
 
 
+def read(path):
+    try:
+        return list(csv.DictReader(open(path)))
+    except OSError as e:
+        sys.exit(f"fig12a.py: {path}: {e}")
+
+
+def name_of(r):
+    alpha, every, cx = num(r["alpha"]), int(r["blend_every"] or 1), num(r["periodic_cx"])
+    if not math.isnan(cx):
+        return f"periodic (C_X={cx:g})"
+    if alpha < 1:
+        return f"blend {every} (α={alpha:g})"
+    return "FMPM"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("table")
+    ap.add_argument("--low-dissipation", help="table of smpm stability --max-energy-change")
     ap.add_argument("-o", "--output", default="fig12a.png")
     args = ap.parse_args()
-    try:
-        rows = list(csv.DictReader(open(args.table)))
-    except OSError as e:
-        sys.exit(f"fig12a.py: {args.table}: {e}")
+    rows = read(args.table)
+    low = {}
+    if args.low_dissipation:
+        for r in read(args.low_dissipation):
+            if r["scheme"] == "FMPM":
+                low.setdefault(name_of(r), []).append((int(r["k"]), num(r["c_simulation"])))
     series = {}
     flip = None
     exact = None
@@ -51,13 +72,7 @@ def main():
         if r["scheme"] == "exact":
             exact = r
             continue
-        alpha, every, cx = num(r["alpha"]), int(r["blend_every"] or 1), num(r["periodic_cx"])
-        if not math.isnan(cx):
-            name = f"periodic (C_X={cx:g})"
-        elif alpha < 1:
-            name = f"blend {every} (α={alpha:g})"
-        else:
-            name = "FMPM"
+        name = name_of(r)
         series.setdefault(name, []).append((int(r["k"]), num(r["c_spectral"]), num(r["c_simulation"])))
     fig, ax = plt.subplots(figsize=(10, 5))
     colors = {}
@@ -70,6 +85,11 @@ def main():
             ax.plot(k, [p[1] for p in pts], "--o", color=c, mfc="none", label=f"{name}, spectral")
         if any(not math.isnan(p[2]) for p in pts):
             ax.plot(k, [p[2] for p in pts], "-s", color=c, label=f"{name}, simulation")
+    for name, pts in low.items():
+        pts = sorted(p for p in pts if not math.isnan(p[1]))
+        if pts:
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], ":x", color=colors.get(name, "k"),
+                    label=f"{name}, simulation, |ΔE| ≤ limit")
     for name, pts in PAPER.items():
         ax.plot([p[0] for p in pts], [p[1] for p in pts], "*", ms=12, color=colors.get(name, "k"),
                 mec="k", label=f"{name}, paper" if name in colors else None)
@@ -83,7 +103,7 @@ def main():
         for col, style in (("c_spectral", "--"), ("c_simulation", "-")):
             v = num(exact[col])
             if not math.isnan(v):
-                ax.axhline(v, ls=style, color="brown", label=f"exact m~^-1, {col[2:]} ({v:.3f})")
+                ax.axhline(v, ls=style, color="purple", label=f"exact m̃⁻¹, {col[2:]} ({v:.3f})")
     ax.set_xscale("log")
     ax.set_xlabel("FMPM order k")
     ax.set_ylabel("critical Courant number C*")

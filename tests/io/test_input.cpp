@@ -85,6 +85,28 @@ TEST_CASE("overrides given with --set change scalars, named materials and absent
       Catch::Contains("no [[material]] named or numbered 'steel'"));
 }
 
+TEST_CASE("scheme options: position alpha, deformation update, exact solver, frame landing",
+          "[input]") {
+  const std::string bar = example("vibrating_bar.toml");
+  // The example sets α = 1; without the key α follows the velocity update (1 FLIP, ½ FMPM).
+  CHECK(read_input(bar, "bar.toml").step.position_alpha == 1.0);
+  const RunConfig unset =
+      read_input(replace(bar, "position_alpha = 1.0", ""), "bar.toml",
+                 {"scheme.velocity=FMPM", "scheme.order=4", "scheme.deformation=exponential",
+                  "scheme.exact_mass_cutoff=0.05", "time.land_on_frames=false"});
+  CHECK(!unset.step.position_alpha);
+  CHECK(position_alpha(unset.step) == 0.5);
+  CHECK(unset.step.deformation == DeformationUpdate::Exponential);
+  CHECK(unset.step.exact_solver); // made for every input: analyses may add an exact row
+  CHECK(!unset.time.land_on_frames);
+  CHECK_THAT(error_of(bar, {"scheme.deformation=cubic"}),
+             Catch::Contains("scheme.deformation") && Catch::Contains("linear | exponential"));
+  CHECK_THAT(error_of(bar, {"scheme.exact_mass_cutoff=1.5"}),
+             Catch::Contains("scheme.exact_mass_cutoff = 1.5: must lie in [0, 1)"));
+  CHECK_THAT(error_of(bar, {"scheme.exact_regularization=2"}),
+             Catch::Contains("scheme.exact_regularization = 2: must lie in [0, 1]"));
+}
+
 TEST_CASE("each class of bad input has a one-line message with file, line and key", "[input]") {
   const std::string bar = example("vibrating_bar.toml");
   // Unknown key, with the nearest valid key suggested and the line of the entry.
