@@ -38,6 +38,12 @@ class Base(unittest.TestCase):
         self.tmp.cleanup()
 
 
+def line_of(needle):
+    """'bad.toml:<n>:' for the first line of the vibrating-bar example that contains needle."""
+    lines = (EXAMPLES / "vibrating_bar.toml").read_text().splitlines()
+    return "bad.toml:%d:" % next(i + 1 for i, l in enumerate(lines) if needle in l)
+
+
 class BadInput(Base):
     """One test per class of bad input: exit status 2, one line naming file, key (and line),
     and no output file."""
@@ -61,22 +67,22 @@ class BadInput(Base):
         return lines[0]
 
     def test_unknown_key_suggests(self):
-        self.run_bad([("cell_size", "cell_sizes")], expect=["bad.toml:14:", "grid.cell_sizes", "did you mean 'cell_size'"])
+        self.run_bad([("cell_size", "cell_sizes")], expect=[line_of("cell_size"), "grid.cell_sizes", "did you mean 'cell_size'"])
 
     def test_missing_key(self):
         self.run_bad([("end = 400.0", "")], expect=["bad.toml", "time.end", "missing required key"])
 
     def test_wrong_type(self):
-        self.run_bad([("youngs = 2.0", "youngs = [2.0]")], expect=["bad.toml:21:", "material.bar.youngs", "expected a number"])
+        self.run_bad([("youngs = 2.0", "youngs = [2.0]")], expect=[line_of("youngs = 2.0"), "material.bar.youngs", "expected a number"])
 
     def test_non_positive_density(self):
-        self.run_bad([("density = 0.5", "density = -0.5")], expect=["bad.toml:20:", "material.bar.density = -0.5", "must be positive"])
+        self.run_bad([("density = 0.5", "density = -0.5")], expect=[line_of("density = 0.5"), "material.bar.density = -0.5", "must be positive"])
 
     def test_non_positive_modulus(self):
         self.run_bad([("youngs = 2.0", "youngs = 0")], expect=["material.bar.youngs = 0", "must be positive"])
 
     def test_non_positive_cell_size(self):
-        self.run_bad([("cell_size = [1.0]", "cell_size = [-1.0]")], expect=["bad.toml:14:", "grid.cell_size"])
+        self.run_bad([("cell_size = [1.0]", "cell_size = [-1.0]")], expect=[line_of("cell_size = [1.0]"), "grid.cell_size"])
 
     def test_non_positive_courant(self):
         self.run_bad(extra=["--set", "time.courant=-0.1"], expect=["time.courant = -0.1", "must be positive"])
@@ -85,7 +91,7 @@ class BadInput(Base):
         self.run_bad([("max = [40.0]", "max = [50.0]")], expect=["bad.toml", "particles outside the grid"])
 
     def test_expression_does_not_parse(self):
-        self.run_bad([("sin(pi*X/80)", "sin(pi*X/80")], expect=["bad.toml:30:", "body.0.velocity", "cannot parse"])
+        self.run_bad([("sin(pi*X/80)", "sin(pi*X/80")], expect=[line_of("sin(pi*X/80)"), "body.0.velocity", "cannot parse"])
 
     def test_unknown_override(self):
         self.run_bad(extra=["--set", "scheme.shap=gimp"], expect=["scheme.shap", "did you mean 'shape'"])
