@@ -1,5 +1,7 @@
 #include "sparsempm/shape.hpp"
 
+#include "shape_functions.hpp"
+
 #include "sparsempm/errors.hpp"
 
 #include <Eigen/LU>
@@ -36,63 +38,15 @@ Shape shape_from_string(std::string_view name) {
 
 namespace {
 
-constexpr int kMaxBox = 12; // nodes per axis a particle may touch
+using namespace detail;
 
-// 1D grid functions of r = (x − x_i)/h, in cell units.
-inline double hat(double r) {
-  r = std::abs(r);
-  return r < 1 ? 1 - r : 0;
-}
-// ∫_{−∞}^{r} hat: the antiderivative used by uGIMP.
-inline double hat_integral(double r) {
-  if (r <= -1)
-    return 0;
-  if (r <= 0)
-    return 0.5 * (1 + r) * (1 + r);
-  if (r < 1)
-    return 1 - 0.5 * (1 - r) * (1 - r);
-  return 1;
-}
-// Quadratic B-spline on nodes (support ±1.5 cells) and its derivative.
-inline double bspline2(double r) {
-  const double q = std::abs(r);
-  if (q < 0.5)
-    return 0.75 - q * q;
-  if (q < 1.5)
-    return 0.5 * (1.5 - q) * (1.5 - q);
-  return 0;
-}
-inline double bspline2_slope(double r) {
-  const double q = std::abs(r);
-  if (q < 0.5)
-    return -2 * r;
-  if (q < 1.5)
-    return (r > 0 ? -1.0 : 1.0) * (1.5 - q);
-  return 0;
-}
+constexpr int kMaxBox = 12; // nodes per axis a particle may touch
 
 bool uses_bspline(Shape s) {
   return s == Shape::BSpline2 || s == Shape::B2CPDI;
 }
 bool uses_corners(Shape s) {
   return s == Shape::CPDI || s == Shape::B2CPDI;
-}
-
-// First node of the box of a point at ξ (cell units) and the box width for a point.
-inline int first_node(double xi, bool bspline) {
-  return bspline ? int(std::floor(xi + 0.5)) - 1 : int(std::floor(xi));
-}
-inline int point_count(bool bspline) {
-  return bspline ? 3 : 2;
-}
-
-[[noreturn]] void throw_outside(Index p, const Particles& P, std::string_view why) {
-  std::ostringstream os;
-  os << "particle " << p << " at (";
-  for (int a = 0; a < P.dim; ++a)
-    os << (a ? ", " : "") << P.X(p, a);
-  os << ") " << why;
-  throw NumericalError(os.str());
 }
 
 // Corner positions in cell units, xi_c[c][a], for the 2^d corners of the CPDI domain.
@@ -252,104 +206,6 @@ void corner_values(const Grid& g, const Particles& P, Index p, Shape shape, cons
       }
 }
 
-// ξ = (X_p − origin)/h along each axis, in cell units.
-template <int D>
-struct CellCoordinates {
-  double o[3], inv_h[3];
-  const double* X;
-  CellCoordinates(const Grid& g, const Particles& P) : X(P.X.data()) {
-    for (int a = 0; a < D; ++a) {
-      o[a] = g.origin(a);
-      inv_h[a] = 1.0 / g.cell_size(a);
-    }
-  }
-  double operator()(Index p, int a) const { return (X[p * D + a] - o[a]) * inv_h[a]; }
-};
-
-// Fast path for the point-based families (linear hat, quadratic B-spline): dimension and
-// family known at compile time, values written straight into the CSR arrays.
-template <int D, bool BS>
-void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
-                    bool& changed, Index& nnz) {
-  constexpr int width = BS ? 3 : 2;
-  const CellCoordinates<D> xi_of(g, P);
-  for (Index p = 0; p < P.size(); ++p) {
-    ShapeSupport s;
-    for (int a = 0; a < D; ++a) {
-      const double xi = xi_of(p, a);
-      if (!std::isfinite(xi))
-        throw_outside(p, P, "has a non-finite position or domain");
-      const int first = first_node(xi, BS);
-      if (first < 0 || first + width - 1 > g.cells(a))
-        throw_outside(p, P,
-                      "has left the grid (its shape-function support needs nodes outside it)");
-      s.first[a] = first;
-      s.count[a] = width;
-    }
-    if (!(s == support[size_t(p)])) { // write only what changed: the pattern is usually kept
-      changed = true;
-      support[size_t(p)] = s;
-    }
-    nnz += BS ? (D == 1 ? 3 : D == 2 ? 9 : 27) : (1 << D);
-  }
-}
-
-template <int D, bool BS>
-void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupport>& support,
-                  const int* outer, double* sv, double* const* gv) {
-  constexpr int width = BS ? 3 : 2;
-  const CellCoordinates<D> xi_of(g, P);
-  for (Index p = 0; p < P.size(); ++p) {
-    const ShapeSupport& s = support[size_t(p)];
-    double w[3][width], dw[3][width];
-    for (int a = 0; a < 3; ++a) {
-      if (a >= D) {
-        w[a][0] = 1;
-        dw[a][0] = 0;
-        continue;
-      }
-      const double r0 = xi_of(p, a) - s.first[a];
-      for (int k = 0; k < width; ++k) {
-        const double r = r0 - k;
-        if constexpr (BS) {
-          w[a][k] = bspline2(r);
-          dw[a][k] = bspline2_slope(r) * xi_of.inv_h[a];
-        } else {
-          w[a][k] = k == 0 ? 1 - r : 1 + r;
-          dw[a][k] = (k == 0 ? -1.0 : 1.0) * xi_of.inv_h[a];
-        }
-      }
-    }
-    int q = outer[p];
-    for (int k2 = 0; k2 < (D > 2 ? width : 1); ++k2)
-      for (int k1 = 0; k1 < (D > 1 ? width : 1); ++k1)
-        for (int k0 = 0; k0 < width; ++k0, ++q) {
-          const double w0 = w[0][k0], w1 = w[1][k1], w2 = w[2][k2];
-          sv[q] = w0 * w1 * w2;
-          gv[0][q] = dw[0][k0] * w1 * w2;
-          if constexpr (D > 1)
-            gv[1][q] = w0 * dw[1][k1] * w2;
-          if constexpr (D > 2)
-            gv[2][q] = w0 * w1 * dw[2][k2];
-        }
-  }
-}
-
-template <bool BS>
-void dispatch_point(int d, auto&& f) {
-  switch (d) {
-  case 1:
-    f.template operator()<1, BS>();
-    break;
-  case 2:
-    f.template operator()<2, BS>();
-    break;
-  default:
-    f.template operator()<3, BS>();
-    break;
-  }
-}
-
 void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
   if (A.rows() != N || A.cols() != n)
     A.resize(N, n);
@@ -371,11 +227,7 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   Index nnz = 0;
   const bool point = shape == Shape::Linear || shape == Shape::BSpline2;
   if (point) {
-    auto f = [&]<int D, bool BS>() { point_supports<D, BS>(grid, P, support, changed, nnz); };
-    if (shape == Shape::BSpline2)
-      dispatch_point<true>(d, f);
-    else
-      dispatch_point<false>(d, f);
+    changed = detail::point_supports(grid, P, shape == Shape::BSpline2, support, nnz) || changed;
   } else {
     for (Index p = 0; p < N; ++p) {
       const ShapeSupport s = support_of(grid, P, p, shape);
@@ -417,11 +269,7 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
                    d > 2 ? G[2].valuePtr() : nullptr};
   const int* outer = S.outerIndexPtr();
   if (point) {
-    auto f = [&]<int D, bool BS>() { point_values<D, BS>(grid, P, support, outer, sv, gv); };
-    if (shape == Shape::BSpline2)
-      dispatch_point<true>(d, f);
-    else
-      dispatch_point<false>(d, f);
+    detail::point_values(grid, P, shape == Shape::BSpline2, support, outer, sv, gv);
     return changed;
   }
   BoxValues box;
