@@ -103,24 +103,24 @@ int info_command(const std::string& path) {
   return 0;
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"sparsempm: the Material Point Method with explicit sparse operators"};
-  app.set_version_flag("--version", std::string(smpm::kVersion));
-  app.require_subcommand(1);
-
-  std::string input, output, restart, info_path;
+struct RunArgs {
+  std::string input, output, restart;
   std::vector<std::string> sets;
   bool quiet = false;
+};
+
+CLI::App* add_run(CLI::App& app, RunArgs& a) {
   CLI::App* run = app.add_subcommand("run", "run a simulation from a TOML input file");
-  run->add_option("input", input, "input file (TOML)");
-  run->add_option("--set", sets, "override an input entry, e.g. --set time.courant=0.3")
+  run->add_option("input", a.input, "input file (TOML)");
+  run->add_option("--set", a.sets, "override an input entry, e.g. --set time.courant=0.3")
       ->allow_extra_args(false);
-  run->add_option("-o,--output", output, "output HDF5 file (default: output.file of the input)");
-  run->add_option("--restart", restart, "continue the run stored in this HDF5 file");
-  run->add_flag("-q,--quiet", quiet, "no progress and no summary");
-  smpm::app::StabilityArgs st;
+  run->add_option("-o,--output", a.output, "output HDF5 file (default: output.file of the input)");
+  run->add_option("--restart", a.restart, "continue the run stored in this HDF5 file");
+  run->add_flag("-q,--quiet", a.quiet, "no progress and no summary");
+  return run;
+}
+
+CLI::App* add_stability(CLI::App& app, smpm::app::StabilityArgs& st) {
   CLI::App* stab = app.add_subcommand(
       "stability", "critical Courant numbers of FLIP and FMPM(k) (FMPM 2026 Fig. 12)");
   stab->add_option("input", st.input, "input file (TOML)")->required();
@@ -140,7 +140,10 @@ int main(int argc, char** argv) {
   stab->add_option("--max-energy-change", st.max_energy_change,
                    "simulation: also fail a run whose total energy changes by more than this "
                    "fraction");
-  smpm::app::SpectrumArgs sp;
+  return stab;
+}
+
+CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp) {
   CLI::App* spec = app.add_subcommand(
       "spectrum", "rho(A), cond(m~) and the truncation error of FMPM(k) against m~^-1");
   spec->add_option("input", sp.input, "input file (TOML)")->required();
@@ -150,9 +153,24 @@ int main(int argc, char** argv) {
   spec->add_option("--every", sp.every, "blend every m-th pass")->delimiter(',');
   spec->add_option("--courant", sp.courant, "also rho(T(C)) at this Courant number");
   spec->add_option("-o,--output", sp.output, "CSV table (default spectrum.csv)");
+  return spec;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"sparsempm: the Material Point Method with explicit sparse operators"};
+  app.set_version_flag("--version", std::string(smpm::kVersion));
+  app.require_subcommand(1);
+  RunArgs ra;
+  smpm::app::StabilityArgs st;
+  smpm::app::SpectrumArgs sp;
+  std::string info_path;
+  CLI::App* run = add_run(app, ra);
+  CLI::App* stab = add_stability(app, st);
+  CLI::App* spec = add_spectrum(app, sp);
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
   info->add_option("file", info_path, "HDF5 file written by smpm run")->required();
-
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -161,7 +179,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*run)
-      return run_command(input, sets, output, restart, quiet);
+      return run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet);
     if (*stab)
       return smpm::app::stability_command(st);
     if (*spec)

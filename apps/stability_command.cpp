@@ -190,32 +190,12 @@ void print_table(const std::vector<Row>& rows) {
   }
 }
 
-} // namespace
-
-int stability_command(const StabilityArgs& a) {
-  if (a.method != "spectral" && a.method != "simulation" && a.method != "both")
-    throw InputError("--method " + a.method + ": expected spectral | simulation | both");
-  if (!std::isnan(a.position_alpha) && !(a.position_alpha >= 0 && a.position_alpha <= 1))
-    throw InputError("--position-alpha " + cell(a.position_alpha) + ": must lie in [0, 1]");
-  if (!(a.max_energy_change > 0))
-    throw InputError("--max-energy-change " + cell(a.max_energy_change) + ": must be positive");
-  RunConfig cfg = read_input_file(a.input, a.sets);
-  std::vector<Row> rows = make_rows(a, cfg.step);
-  std::vector<Model> frames;
-  std::vector<std::string> frame_names;
-  if (!a.frames.empty()) {
-    const std::vector<int> numbers = run_frames(a.frames);
-    for (size_t j = 0; j < numbers.size(); j += size_t(std::max(1, a.frame_stride))) {
-      Model m = cfg.model;
-      load_frame(a.frames, numbers[j], m);
-      frames.push_back(std::move(m));
-      frame_names.push_back("frame " + std::to_string(numbers[j]));
-    }
-  }
+// Both methods for every row; independent rows on two threads.
+void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityArgs& a,
+                  const std::vector<Model>& frames, const std::vector<std::string>& frame_names) {
   SimulationCourantOptions sim;
   sim.end = cfg.time.end;
   sim.max_energy_change = a.max_energy_change;
-  const auto start = std::chrono::steady_clock::now();
   std::atomic<size_t> next{0};
   std::mutex print;
   std::exception_ptr failure;
@@ -250,6 +230,32 @@ int stability_command(const StabilityArgs& a) {
   t2.join();
   if (failure)
     std::rethrow_exception(failure);
+}
+
+} // namespace
+
+int stability_command(const StabilityArgs& a) {
+  if (a.method != "spectral" && a.method != "simulation" && a.method != "both")
+    throw InputError("--method " + a.method + ": expected spectral | simulation | both");
+  if (!std::isnan(a.position_alpha) && !(a.position_alpha >= 0 && a.position_alpha <= 1))
+    throw InputError("--position-alpha " + cell(a.position_alpha) + ": must lie in [0, 1]");
+  if (!(a.max_energy_change > 0))
+    throw InputError("--max-energy-change " + cell(a.max_energy_change) + ": must be positive");
+  RunConfig cfg = read_input_file(a.input, a.sets);
+  std::vector<Row> rows = make_rows(a, cfg.step);
+  std::vector<Model> frames;
+  std::vector<std::string> frame_names;
+  if (!a.frames.empty()) {
+    const std::vector<int> numbers = run_frames(a.frames);
+    for (size_t j = 0; j < numbers.size(); j += size_t(std::max(1, a.frame_stride))) {
+      Model m = cfg.model;
+      load_frame(a.frames, numbers[j], m);
+      frames.push_back(std::move(m));
+      frame_names.push_back("frame " + std::to_string(numbers[j]));
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  compute_rows(rows, cfg, a, frames, frame_names);
   write_table(rows, a.output);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
