@@ -53,8 +53,8 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   if (!(o.end >= model.time) || !std::isfinite(o.end))
     throw InputError("end time " + std::to_string(o.end) + " is before the model's time " +
                      std::to_string(model.time));
-  if (!(o.stop_every >= 0) || !std::isfinite(o.stop_every))
-    throw InputError("the interval between stops must be non-negative");
+  SMPM_VERIFY(o.stop_every >= 0 && std::isfinite(o.stop_every),
+              "advance: the interval between stops must be non-negative");
   AdvanceReport report;
   report.energy_start = o.energy_start ? *o.energy_start : energies(model).total;
   const double eps = 1e-12 * std::max(o.end, o.stop_every);

@@ -160,8 +160,7 @@ FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const 
 
 void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, const Field& v,
                         Field& u, FmpmWorkspace& w) {
-  if (m < 1)
-    throw InputError("XPIC order must be at least 1, got " + std::to_string(m));
+  SMPM_VERIFY(m >= 1, "XPIC order must be at least 1, got " + std::to_string(m));
   // v* = Σ_{k=2}^{m} (−1)^k v*_k with v*_k = ((m + 1 − k)/k) S⁺S v*_{k−1}   (Eqs. 42–43)
   w.prev = v;
   u.setZero(v.rows(), v.cols());

@@ -50,9 +50,8 @@ void Particles::append(const Particles& o) {
     *this = o;
     return;
   }
-  if (o.dim != dim)
-    throw InputError("cannot append " + std::to_string(o.dim) + "D particles to " +
-                     std::to_string(dim) + "D particles");
+  SMPM_VERIFY(o.dim == dim, "cannot append " + std::to_string(o.dim) + "D particles to " +
+                                std::to_string(dim) + "D particles");
   auto stack = [](auto& a, const auto& b) {
     auto c = a;
     a.resize(c.rows() + b.rows(), c.cols());

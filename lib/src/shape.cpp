@@ -218,9 +218,8 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
                     std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support) {
   const Index N = P.size(), n = grid.num_nodes();
   const int d = grid.dim();
-  if (P.dim != d)
-    throw InputError("particles are " + std::to_string(P.dim) + "D but the grid is " +
-                     std::to_string(d) + "D");
+  SMPM_VERIFY(P.dim == d, "assemble_shape: particles are " + std::to_string(P.dim) +
+                              "D but the grid is " + std::to_string(d) + "D");
   // Pass 1: the node box of every particle; the pattern is kept if no box changed.
   bool changed = Index(support.size()) != N || S.rows() != N || S.cols() != n;
   support.resize(N);

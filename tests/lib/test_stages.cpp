@@ -143,3 +143,17 @@ TEST_CASE("the F update: exp(L dt) F and (I + L dt) F for known velocity gradien
   CHECK(spin_lin(0, 0) * spin_lin(0, 3) - spin_lin(0, 1) * spin_lin(0, 2) ==
         smpm::test::approx(1 + w * w * dt * dt, 1e-12));
 }
+
+TEST_CASE("library misuse is a UsageError naming the check, not an input error", "[stages]") {
+  const Grid g2(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
+  const Particles P1 =
+      make_block(Grid(1, {0, 0, 0}, {1, 1, 1}, {4, 1, 1}), {1, 0, 0}, {3, 0, 0}, {2, 1, 1}, 1.0, 0);
+  CHECK_THROWS_AS(assemble(g2, P1, Shape::Linear), UsageError); // 1D particles, 2D grid
+  const Particles P2 = make_block(g2, {1, 1, 0}, {3, 3, 0}, {2, 2, 1}, 1.0, 0);
+  const Operators ops = assemble(g2, P2, Shape::Linear);
+  Field p;
+  const Field wrong = Field::Zero(P2.size() + 1, 2);
+  CHECK_THROWS_WITH(map_momentum(particle_operators(ops), wrong, p),
+                    Catch::Contains("map_momentum: V must be N x d") &&
+                        Catch::Contains("failed at"));
+}
