@@ -73,7 +73,6 @@ struct LinearizedStep::Impl {
   ConsistentMass mt;
   Field K; // material tangents
   double dt = 0;
-  double speed = 0;   // signal speed of the frozen configuration (Δt → C)
   int flip_steps = 0; // periodic FMPM: FLIP steps before each FMPM step
   int d = 1;
   Index N = 0;
@@ -96,7 +95,6 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
   I.opt = options;
   if (options.velocity == VelocityUpdate::Exact)
     I.solver = options.exact_solver();
-  I.speed = signal_speed(model);
   I.d = model.grid.dim();
   I.N = model.particles.size();
   for (VelocityCondition c : model.bcs.conditions) {
@@ -121,7 +119,7 @@ void LinearizedStep::set_dt(double dt) {
   impl_->flip_steps = 0;
   if (impl_->opt.periodic_cx > 0 && impl_->opt.velocity != VelocityUpdate::FLIP) {
     // The Stepper's period: ceil(C_X / C) steps.
-    const double C = dt * impl_->speed / impl_->model.grid.min_cell_size();
+    const double C = courant_of(impl_->model, dt);
     impl_->flip_steps = std::max(0, int(std::ceil(impl_->opt.periodic_cx / C * (1 - 1e-12))) - 1);
   }
 }
