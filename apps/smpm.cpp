@@ -18,12 +18,20 @@
 
 #include <CLI/CLI.hpp>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <string>
 #include <unistd.h>
 #include <vector>
 
 namespace {
+
+// The signal that asked the run to stop (SIGINT, SIGTERM), 0 while none has.
+std::atomic<int> g_signal{0};
+extern "C" void on_signal(int s) {
+  g_signal.store(s);
+}
 
 int run_command(const std::string& input, const std::vector<std::string>& sets,
                 const std::string& output, const std::string& restart, bool quiet) {
@@ -35,27 +43,28 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
       throw InputError("--restart takes the input and overrides stored in " + restart +
                        "; do not give an input file or --set");
     cfg = stored_config(restart);
-    options.output = restart;
-    options.restart = true;
+    options.restart_from = restart;
   } else {
     if (input.empty())
       throw InputError("smpm run: give an input file (or --restart out.h5)");
     cfg = read_input_file(input, sets);
-    options.output = output;
   }
-  const double t0 = cfg.model.time; // 0, or replaced by the restart frame inside run()
+  options.output = output;
+  options.interrupt = &g_signal;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
   app::Progress bar(stderr, isatty(fileno(stderr)) != 0);
-  double start_time = t0;
+  double start_time = 0;
   bool first = true;
   RunReport r;
   try {
     r = run(cfg, options, [&](const Model& m, double end) {
       if (first) {
-        start_time = m.time - 1e-300;
+        start_time = restart.empty() ? 0.0 : m.time - 1e-300;
         first = false;
       }
       if (!quiet)
-        bar.update(m.step, m.time, options.restart ? start_time : 0.0, end);
+        bar.update(m.step, m.time, start_time, end);
     });
   } catch (...) {
     if (!quiet && !first)
@@ -83,9 +92,10 @@ int info_command(const std::string& path) {
   std::printf("frames:   %zu", run.frame_times.size());
   if (!run.frame_times.empty())
     std::printf(" (t = %g ... %g)", run.frame_times.front(), run.frame_times.back());
-  std::printf("\nfields:   particles/<frame>/{X, V, stress, F, mass, volume, volume0, "
-              "half_length, material}, grid/<frame>/{m, p, v}, series/{step, t, kinetic, strain, "
-              "total, momentum}\n");
+  std::printf(
+      "\nfields:   particles/<frame>/{X, V, stress, F, mass, volume, volume0, "
+      "half_length, material}, grid/<frame>/{nodes, m, p, v}, series/{step, t, kinetic, strain, "
+      "total, momentum}\n");
   if (!run.series.empty()) {
     const auto& a = run.series.front();
     const auto& b = run.series.back();
@@ -177,22 +187,33 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  int code = 0;
   try {
     if (*run)
-      return run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet);
-    if (*stab)
-      return smpm::app::stability_command(st);
-    if (*spec)
-      return smpm::app::spectrum_command(sp);
-    return info_command(info_path);
+      code = run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet);
+    else if (*stab)
+      code = smpm::app::stability_command(st);
+    else if (*spec)
+      code = smpm::app::spectrum_command(sp);
+    else
+      code = info_command(info_path);
   } catch (const smpm::InputError& e) {
     std::fprintf(stderr, "smpm: error: %s\n", e.what());
-    return 2;
+    code = 2;
+  } catch (const smpm::Interrupted& e) {
+    std::fprintf(stderr, "smpm: %s\n", e.what());
+    code = 128 + e.signal(); // 130 for SIGINT, 143 for SIGTERM
   } catch (const smpm::NumericalError& e) {
     std::fprintf(stderr, "smpm: numerical failure: %s\n", e.what());
-    return 3;
+    code = 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "smpm: error: %s\n", e.what());
-    return 1;
+    code = 1;
   }
+  // What was printed must have reached standard output (a closed pipe or a full disk).
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::fprintf(stderr, "smpm: error: cannot write to standard output\n");
+    return code == 0 ? 1 : code;
+  }
+  return code;
 }

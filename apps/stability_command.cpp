@@ -5,6 +5,7 @@
 #include <sparsempm/input.hpp>
 #include <sparsempm/output.hpp>
 #include <sparsempm/run.hpp>
+#include <sparsempm/run_file.hpp>
 #include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
 
@@ -232,15 +233,69 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
     std::rethrow_exception(failure);
 }
 
+constexpr int kMaxOrder = 10000; // FMPM orders, blend periods
+constexpr int kMaxShifts = 1000;
+constexpr size_t kMaxList = 1000; // entries of a list option
+
+void check_int(const std::string& option, int value, int lo, int hi) {
+  if (value < lo || value > hi)
+    throw InputError(option + " " + std::to_string(value) + ": must lie in [" + std::to_string(lo) +
+                     ", " + std::to_string(hi) + "]");
+}
+void check_fraction(const std::string& option, double value) {
+  if (!(value >= 0 && value <= 1))
+    throw InputError(option + " " + cell(value) + ": must lie in [0, 1]");
+}
+template <class T>
+void check_list(const std::string& option, const std::vector<T>& values) {
+  if (values.empty() || values.size() > kMaxList)
+    throw InputError(option + ": give 1 to " + std::to_string(kMaxList) + " values");
+}
+
+// Every option of smpm stability, checked before any work (the input is read afterwards).
+void validate(const StabilityArgs& a) {
+  if (a.method != "spectral" && a.method != "simulation" && a.method != "both")
+    throw InputError("--method " + a.method + ": expected spectral | simulation | both");
+  check_list("--k", a.orders);
+  for (int k : a.orders)
+    check_int("--k", k, 1, kMaxOrder);
+  for (const std::string& b : a.blends)
+    if (!b.empty() && b != "none")
+      (void)parse_blend(b);
+  for (const std::string& p : a.periodic)
+    if (!p.empty() && p != "none")
+      (void)parse_cx(p);
+  check_int("--shifts", a.shifts, 1, kMaxShifts);
+  check_int("--frame-stride", a.frame_stride, 1, 1000000);
+  if (!std::isnan(a.position_alpha))
+    check_fraction("--position-alpha", a.position_alpha);
+  if (!(a.max_energy_change > 0))
+    throw InputError("--max-energy-change " + cell(a.max_energy_change) + ": must be positive");
+  check_table_output(a.output, a.input, "-o");
+  check_regular_file(a.input, kMaxInputBytes, "input file");
+  if (!a.frames.empty())
+    check_regular_file(a.frames, kMaxRunFileBytes, "run file");
+}
+
+void validate(const SpectrumArgs& a) {
+  check_list("--k", a.orders);
+  for (int k : a.orders)
+    check_int("--k", k, 1, kMaxOrder);
+  check_list("--alpha", a.alphas);
+  for (double alpha : a.alphas)
+    check_fraction("--alpha", alpha);
+  check_list("--every", a.every);
+  for (int m : a.every)
+    check_int("--every", m, 1, kMaxOrder);
+  if (!(a.courant >= 0) || !std::isfinite(a.courant))
+    throw InputError("--courant " + cell(a.courant) + ": must be positive (or 0: no rho(T))");
+  check_table_output(a.output, a.input, "-o");
+  check_regular_file(a.input, kMaxInputBytes, "input file");
+}
 } // namespace
 
 int stability_command(const StabilityArgs& a) {
-  if (a.method != "spectral" && a.method != "simulation" && a.method != "both")
-    throw InputError("--method " + a.method + ": expected spectral | simulation | both");
-  if (!std::isnan(a.position_alpha) && !(a.position_alpha >= 0 && a.position_alpha <= 1))
-    throw InputError("--position-alpha " + cell(a.position_alpha) + ": must lie in [0, 1]");
-  if (!(a.max_energy_change > 0))
-    throw InputError("--max-energy-change " + cell(a.max_energy_change) + ": must be positive");
+  validate(a);
   RunConfig cfg = read_input_file(a.input, a.sets);
   std::vector<Row> rows = make_rows(a, cfg.step);
   std::vector<Model> frames;
@@ -265,6 +320,7 @@ int stability_command(const StabilityArgs& a) {
 }
 
 int spectrum_command(const SpectrumArgs& a) {
+  validate(a);
   RunConfig cfg = read_input_file(a.input, a.sets);
   const Model& model = cfg.model;
   const Operators ops = assemble(model.grid, model.particles, cfg.step.shape);
@@ -273,8 +329,7 @@ int spectrum_command(const SpectrumArgs& a) {
   const MassSpectrum ms = mass_spectrum(ops, mt.matrix);
   Field p, exact;
   map_momentum(particle_operators(ops), model.particles.V, p);
-  CholmodSolver solver;
-  solver.solve(ops, mt.matrix, {}, p, exact);
+  cfg.step.exact_solver()->solve(ops, mt.matrix, {}, p, exact); // the input's exact_* options
   std::printf("active nodes %ld: rho(A) = %.8f, min eig(m^-1 m~) = %.3e, cond(m~) = %.4g\n",
               long(ms.active), ms.rho_A, ms.min_eig_minv_mt, ms.cond_mt);
   const std::string tmp = a.output + ".tmp";

@@ -57,7 +57,9 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
               "advance: the interval between stops must be non-negative");
   AdvanceReport report;
   report.energy_start = o.energy_start ? *o.energy_start : energies(model).total;
-  const double eps = 1e-12 * std::max(o.end, o.stop_every);
+  // Round-off allowance of the clock, relative to the times reached (never to the interval
+  // between stops, which may exceed the whole run).
+  const double eps = 1e-12 * std::max(std::abs(o.end), std::abs(model.time));
   // The next stop after t: the smallest multiple of stop_every beyond t (and never past end).
   auto next_stop = [&](double t) {
     if (!(o.stop_every > 0))

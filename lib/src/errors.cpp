@@ -1,11 +1,32 @@
 #include "sparsempm/errors.hpp"
 
+#include <cstdio>
 #include <sstream>
 
 namespace smpm {
 
 NumericalError::NumericalError(const std::string& what, long step)
     : std::runtime_error(what), step_(step) {}
+
+std::string clip(std::string_view text, size_t max) {
+  std::string out;
+  for (const char c : text.substr(0, max)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n')
+      out += "\\n";
+    else if (c == '\t')
+      out += "\\t";
+    else if (u < 0x20 || u == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", u);
+      out += hex;
+    } else
+      out += c;
+  }
+  if (text.size() > max)
+    out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
 
 NumericalError at_step(const NumericalError& e, long step, double time) {
   std::ostringstream os;

@@ -26,7 +26,7 @@ BCMethod bc_method_from_string(std::string_view name) {
   for (auto m : {BCMethod::Incremental, BCMethod::Lumped, BCMethod::Velocity, BCMethod::Combined})
     if (to_string(m) == name)
       return m;
-  throw InputError("unknown BC method '" + std::string(name) +
+  throw InputError("unknown BC method '" + clip(name) +
                    "' (expected incremental | lumped | velocity | combined)");
 }
 
@@ -46,8 +46,7 @@ ConvergenceMetric convergence_metric_from_string(std::string_view name) {
   for (auto m : {ConvergenceMetric::None, ConvergenceMetric::Means, ConvergenceMetric::Changes})
     if (to_string(m) == name)
       return m;
-  throw InputError("unknown convergence metric '" + std::string(name) +
-                   "' (expected means | changes)");
+  throw InputError("unknown convergence metric \'" + clip(name) + "' (expected means | changes)");
 }
 
 void validate(const FmpmOptions& opt) {

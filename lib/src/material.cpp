@@ -23,7 +23,7 @@ MaterialModel material_model_from_string(std::string_view name) {
   for (auto m : {MaterialModel::Linear, MaterialModel::NeoHookean, MaterialModel::Hyperelastic})
     if (to_string(m) == name)
       return m;
-  throw InputError("unknown material model '" + std::string(name) +
+  throw InputError("unknown material model \'" + clip(name) +
                    "' (expected linear | neo-hookean | hyperelastic)");
 }
 

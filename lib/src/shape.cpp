@@ -32,7 +32,7 @@ Shape shape_from_string(std::string_view name) {
   for (Shape s : {Shape::Linear, Shape::GIMP, Shape::BSpline2, Shape::CPDI, Shape::B2CPDI})
     if (to_string(s) == name)
       return s;
-  throw InputError("unknown shape function '" + std::string(name) +
+  throw InputError("unknown shape function \'" + clip(name) +
                    "' (expected linear | gimp | cpdi | bspline2 | b2cpdi)");
 }
 

@@ -200,7 +200,7 @@ DeformationUpdate deformation_update_from_string(std::string_view name) {
   for (auto u : {DeformationUpdate::Linear, DeformationUpdate::Exponential})
     if (to_string(u) == name)
       return u;
-  throw InputError("unknown deformation update '" + std::string(name) +
+  throw InputError("unknown deformation update \'" + clip(name) +
                    "' (expected linear | exponential)");
 }
 

@@ -43,7 +43,7 @@ UpdateScheme update_scheme_from_string(std::string_view name) {
   for (const auto& [v, n] : kSchemes)
     if (n == name)
       return v;
-  throw InputError("unknown update scheme '" + std::string(name) +
+  throw InputError("unknown update scheme \'" + clip(name) +
                    "' (expected USL | USF | USL+ | USAVG | USAVG+)");
 }
 
@@ -51,7 +51,7 @@ VelocityUpdate velocity_update_from_string(std::string_view name) {
   for (const auto& [v, n] : kVelocities)
     if (n == name)
       return v;
-  throw InputError("unknown velocity update '" + std::string(name) +
+  throw InputError("unknown velocity update \'" + clip(name) +
                    "' (expected FLIP | PIC | FMPM | XPIC | exact)");
 }
 

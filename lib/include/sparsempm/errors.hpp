@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace smpm {
 
@@ -25,6 +26,10 @@ public:
 private:
   long step_;
 };
+
+/// `text` as quoted in a one-line message: control characters written as \n, \t or \xNN and at
+/// most `max` characters, followed by the full length when cut.
+std::string clip(std::string_view text, size_t max = 80);
 
 /// Prefixes a NumericalError's message with the step and time at which it happened.
 NumericalError at_step(const NumericalError& e, long step, double time);

@@ -1,4 +1,5 @@
 #include "sparsempm/input.hpp"
+#include "sparsempm/run_file.hpp"
 
 #include "expression.hpp"
 #include "reader.hpp"
@@ -188,15 +189,22 @@ OutputSettings read_output(const Reader& r, const toml::table& root, const std::
   const std::string stem = std::filesystem::path(source).stem().string();
   out.file = r.string(*output, "file", "output.file", (stem.empty() ? "run" : stem) + ".h5");
   out.every = r.positive(*output, "every", "output.every", end / 10);
+  if (end / out.every > double(kMaxFrames))
+    r.fail(output->get("every"), "output.every",
+           "gives " + std::to_string(std::ceil(end / out.every)) + " frames up to time.end = " +
+               std::to_string(end) + ", more than the " + std::to_string(kMaxFrames) + " accepted");
   out.matrices = r.boolean(*output, "matrices", "output.matrices", false);
   return out;
 }
 
 } // namespace
 
-RunConfig read_input(const std::string& text, const std::string& source,
+RunConfig read_input(const std::string& input_text, const std::string& source,
                      const std::vector<std::string>& overrides) {
   const Reader r(source);
+  // A UTF-8 byte-order mark (written by some editors) is not part of the TOML text.
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string text = input_text.rfind(bom, 0) == 0 ? input_text.substr(3) : input_text;
   detail::check_non_ascii(text, source);
   toml::table root;
   try {
@@ -252,6 +260,7 @@ RunConfig read_input(const std::string& text, const std::string& source,
 }
 
 RunConfig read_input_file(const std::string& path, const std::vector<std::string>& overrides) {
+  check_regular_file(path, kMaxInputBytes, "input file");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError(path + ": cannot open the input file");

@@ -2,6 +2,7 @@
 
 #include "hdf5_util.hpp"
 #include "sparsempm/errors.hpp"
+#include "sparsempm/run_file.hpp"
 #include "sparsempm/stages.hpp"
 #include "sparsempm/version.hpp"
 
@@ -14,6 +15,12 @@
 namespace smpm {
 
 namespace {
+
+// HDF5 closes the files left open when the process exits. A file whose flush failed (a full
+// disk) cannot be closed, and that late close crashes inside the library (seen with HDF5
+// 1.10.8: a segfault after the run had reported the failure). The files of a run are closed
+// explicitly; the exit-time pass is turned off before HDF5 is first used.
+const int kNoExitClose = (H5dont_atexit(), 0);
 
 std::string frame_name(int frame) {
   char buf[16];
@@ -137,15 +144,28 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
   const Particles& P = model.particles;
   const Operators ops = assemble(model.grid, P, shape);
   {
+    // The nodes with mass only (active_nodes), with their indices: a frame of a few particles on
+    // a large grid stays small.
     Field p, v;
     map_momentum(particle_operators(ops), P.V, p);
     lumped_solve(ops.m_inv, p, v);
+    const Eigen::VectorXi nodes = active_nodes(ops);
+    const Index na = nodes.size();
+    Eigen::VectorXd m(na);
+    Field pa(na, P.dim), va(na, P.dim);
+    for (Index k = 0; k < na; ++k) {
+      m[k] = ops.m[nodes[k]];
+      pa.row(k) = p.row(nodes[k]);
+      va.row(k) = v.row(nodes[k]);
+    }
     h5::Id grid = h5::open_group(file, "grid");
     h5::Id g = h5::create_group(grid.get(), name);
-    const hsize_t n = hsize_t(ops.num_nodes()), d = hsize_t(P.dim);
-    h5::write_doubles(g.get(), "m", ops.m.data(), n, 0);
-    h5::write_doubles(g.get(), "p", p.data(), n, d);
-    h5::write_doubles(g.get(), "v", v.data(), n, d);
+    const hsize_t n = hsize_t(na), d = hsize_t(P.dim);
+    h5::write_ints(g.get(), "nodes", nodes.data(), n);
+    h5::write_doubles(g.get(), "m", m.data(), n, 0);
+    h5::write_doubles(g.get(), "p", pa.data(), n, d);
+    h5::write_doubles(g.get(), "v", va.data(), n, d);
+    h5::set_attribute(g.get(), "grid_nodes", long(ops.num_nodes()));
   }
   if (!matrices)
     return;
@@ -188,71 +208,136 @@ void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool ma
   {
     h5::Id parts = h5::open_group(file_, "particles");
     h5::Id g = h5::open_group(parts.get(), name);
+    h5::set_attribute(g.get(), "courant_budget", courant_budget_); // stepper state (restart)
     h5::set_attribute(g.get(), "complete", 1L); // written last: the frame is whole
   }
   h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
   frames_.emplace_back(frame, model.time);
   frame_particles_.push_back(model.particles.size());
-  write_xdmf();
+  write_xdmf_frame(frames_.size() - 1);
 }
 
-void OutputFile::set_status(const std::string& status) {
-  h5::set_attribute(file_, "status", status);
+void OutputFile::set_status(const std::string& status) noexcept {
+  try {
+    h5::set_attribute(file_, "status", status);
+    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+  } catch (const std::exception&) {
+    // A full disk: the status stays "running"; the frames flushed before remain readable.
+  }
+}
+
+void OutputFile::finish(const std::string& target) {
+  set_status("completed");
   h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
-}
-
-void OutputFile::write_xdmf() const {
-  const std::string file = std::filesystem::path(path_).filename().string();
-  const int d = dim_;
-  const char* axes = "xyz";
-  std::ostringstream x;
-  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
-    << "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (size_t k = 0; k < frames_.size(); ++k) {
-    const std::string name = frame_name(frames_[k].first), base = file + ":/particles/" + name;
-    const Index N = frame_particles_[k];
-    auto data = [&](const std::string& set, Index cols) {
-      std::ostringstream s;
-      s << "<DataItem Dimensions=\"" << N << (cols ? " " + std::to_string(cols) : "")
-        << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << base << "/" << set
-        << "</DataItem>";
-      return s.str();
-    };
-    auto column = [&](const std::string& label, const std::string& set, Index cols, Index c) {
-      x << "    <Attribute Name=\"" << label << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-        << "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"" << N << " 1\">\n"
-        << "      <DataItem Dimensions=\"3 2\" Format=\"XML\">0 " << c << " 1 1 " << N
-        << " 1</DataItem>\n      " << data(set, cols) << "\n     </DataItem>\n    </Attribute>\n";
-    };
-    x << "   <Grid Name=\"frame " << name << "\" GridType=\"Uniform\">\n"
-      << "    <Time Value=\"" << frames_[k].second << "\"/>\n"
-      << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
-      << "\" NodesPerElement=\"1\"/>\n"
-      << "    <Geometry GeometryType=\"" << (d == 2 ? "XY" : "XYZ") << "\">\n     "
-      << (d == 1 ? data("xyz", 3) : data("X", d)) << "\n    </Geometry>\n";
-    for (int a = 0; a < d; ++a)
-      column(std::string("v") + axes[a], "V", d, a);
-    for (int a = 0; a < d; ++a)
-      for (int b = a; b < d; ++b)
-        column(std::string("stress_") + axes[a] + axes[b], "stress", d * d, a * d + b);
-    for (const char* s : {"mass", "volume"})
-      x << "    <Attribute Name=\"" << s << "\" AttributeType=\"Scalar\" Center=\"Node\">\n     "
-        << data(s, 0) << "\n    </Attribute>\n";
-    x << "    <Attribute Name=\"material\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-      << "     <DataItem Dimensions=\"" << N << "\" NumberType=\"Int\" Precision=\"4\" "
-      << "Format=\"HDF\">" << base << "/material</DataItem>\n    </Attribute>\n";
-    x << "   </Grid>\n";
-  }
-  x << "  </Grid>\n </Domain>\n</Xdmf>\n";
-  const std::string target = xdmf_path(path_), tmp = target + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << x.str();
-  }
-  std::filesystem::rename(tmp, target);
+  h5::check(H5Fclose(file_), "close " + path_);
+  file_ = -1;
+  const std::string partial_xmf = xdmf_path(path_);
+  std::filesystem::rename(path_, target);
+  write_xdmf_whole(target, xdmf_path(target));
+  std::error_code ec;
+  std::filesystem::remove(partial_xmf, ec);
+  path_ = target;
 }
 
 namespace {
+const char* kXdmfTrailer = "  </Grid>\n </Domain>\n</Xdmf>\n";
+
+std::string xdmf_header() {
+  return "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
+         "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+}
+
+// The <Grid> of one frame: particle positions and fields as HDF DataItems of `h5_name`.
+std::string xdmf_frame(const std::string& h5_name, int frame, double time, Index N, int d) {
+  const char* axes = "xyz";
+  const std::string name = frame_name(frame), base = h5_name + ":/particles/" + name;
+  std::ostringstream x;
+  auto data = [&](const std::string& set, Index cols) {
+    std::ostringstream s;
+    s << "<DataItem Dimensions=\"" << N << (cols ? " " + std::to_string(cols) : "")
+      << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << base << "/" << set
+      << "</DataItem>";
+    return s.str();
+  };
+  auto column = [&](const std::string& label, const std::string& set, Index cols, Index c) {
+    x << "    <Attribute Name=\"" << label << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+      << "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"" << N << " 1\">\n"
+      << "      <DataItem Dimensions=\"3 2\" Format=\"XML\">0 " << c << " 1 1 " << N
+      << " 1</DataItem>\n      " << data(set, cols) << "\n     </DataItem>\n    </Attribute>\n";
+  };
+  x << "   <Grid Name=\"frame " << name << "\" GridType=\"Uniform\">\n"
+    << "    <Time Value=\"" << time << "\"/>\n"
+    << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
+    << "\" NodesPerElement=\"1\"/>\n"
+    << "    <Geometry GeometryType=\"" << (d == 2 ? "XY" : "XYZ") << "\">\n     "
+    << (d == 1 ? data("xyz", 3) : data("X", d)) << "\n    </Geometry>\n";
+  for (int a = 0; a < d; ++a)
+    column(std::string("v") + axes[a], "V", d, a);
+  for (int a = 0; a < d; ++a)
+    for (int b = a; b < d; ++b)
+      column(std::string("stress_") + axes[a] + axes[b], "stress", d * d, a * d + b);
+  for (const char* s : {"mass", "volume"})
+    x << "    <Attribute Name=\"" << s << "\" AttributeType=\"Scalar\" Center=\"Node\">\n     "
+      << data(s, 0) << "\n    </Attribute>\n";
+  x << "    <Attribute Name=\"material\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+    << "     <DataItem Dimensions=\"" << N << "\" NumberType=\"Int\" Precision=\"4\" "
+    << "Format=\"HDF\">" << base << "/material</DataItem>\n    </Attribute>\n";
+  x << "   </Grid>\n";
+  return x.str();
+}
+} // namespace
+
+// Appends frame k to the sidecar in place: the new <Grid> replaces the closing tags, which are
+// written again after it, so writing frame n costs the size of frame n.
+void OutputFile::write_xdmf_frame(size_t k) {
+  const std::string xmf = xdmf_path(path_);
+  if (xmf_trailer_ < 0) {
+    std::ofstream out(xmf, std::ios::binary | std::ios::trunc);
+    out << xdmf_header();
+    if (!out.flush())
+      throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
+    xmf_trailer_ = long(xdmf_header().size());
+  }
+  const std::string block =
+      xdmf_frame(std::filesystem::path(path_).filename().string(), frames_[k].first,
+                 frames_[k].second, frame_particles_[k], dim_);
+  std::fstream out(xmf, std::ios::binary | std::ios::in | std::ios::out);
+  out.seekp(xmf_trailer_);
+  out << block << kXdmfTrailer;
+  if (!out.flush())
+    throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
+  xmf_trailer_ += long(block.size());
+}
+
+// The whole sidecar of `h5_path` written to `xmf_path` (through a temporary file).
+void OutputFile::write_xdmf_whole(const std::string& h5_path, const std::string& xmf_path) const {
+  const std::string h5_name = std::filesystem::path(h5_path).filename().string();
+  const std::string tmp = xmf_path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << xdmf_header();
+    for (size_t k = 0; k < frames_.size(); ++k)
+      out << xdmf_frame(h5_name, frames_[k].first, frames_[k].second, frame_particles_[k], dim_);
+    out << kXdmfTrailer;
+    if (!out.flush())
+      throw std::runtime_error("cannot write the ParaView sidecar " + xmf_path);
+  }
+  std::filesystem::rename(tmp, xmf_path);
+}
+
+namespace {
+// Opens a run file read-only; InputError saying why not (not HDF5, or locked by a writer).
+hid_t open_for_reading(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f >= 0)
+    return f;
+  if (H5Fis_hdf5(path.c_str()) > 0)
+    throw InputError(path + ": an HDF5 file that cannot be opened now (another process is "
+                            "writing it and holds its lock); try again when that run ends");
+  throw InputError(path + ": not an HDF5 run file");
+}
+
 // Complete frames of a file, ascending.
 std::vector<int> complete_frames(hid_t file) {
   std::vector<int> frames;
@@ -267,8 +352,12 @@ std::vector<int> complete_frames(hid_t file) {
     const std::string s(name);
     if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos)
       continue; // not a frame of ours
-    h5::Id g = h5::open_group(parts.get(), s);
-    if (h5::has_attribute(g.get(), "complete"))
+    // A frame whose write failed (a full disk) may be a dangling link: not complete.
+    const hid_t g = H5Gopen2(parts.get(), s.c_str(), H5P_DEFAULT);
+    if (g < 0)
+      continue;
+    const h5::Id group(g, H5Gclose);
+    if (h5::has_attribute(g, "complete"))
       frames.push_back(std::stoi(s));
   }
   std::sort(frames.begin(), frames.end()); // numerically, past 999999 too
@@ -277,10 +366,9 @@ std::vector<int> complete_frames(hid_t file) {
 } // namespace
 
 StoredRun read_stored_run(const std::string& path) {
+  check_regular_file(path, kMaxRunFileBytes, "run file");
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0)
-    throw InputError(path + ": cannot open as an HDF5 run file");
+  const hid_t f = open_for_reading(path);
   h5::Id file(f, H5Fclose);
   StoredRun run;
   try {
@@ -315,10 +403,30 @@ StoredRun read_stored_run(const std::string& path) {
 }
 
 namespace {
+// Throws std::runtime_error unless the frame's arrays have N rows and the widths of dimension d.
+void check_frame_shapes(const Particles& P, int d) {
+  const Index N = P.X.rows();
+  auto expect = [&](const char* name, Index rows, Index cols, Index want_cols) {
+    if (rows != N || cols != want_cols)
+      throw std::runtime_error(std::string(name) + " is " + std::to_string(rows) + " x " +
+                               std::to_string(cols) + ", expected " + std::to_string(N) + " x " +
+                               std::to_string(want_cols) + " (X has " + std::to_string(N) +
+                               " rows)");
+  };
+  expect("X", P.X.rows(), P.X.cols(), d);
+  expect("V", P.V.rows(), P.V.cols(), d);
+  expect("F", P.F.rows(), P.F.cols(), d * d);
+  expect("stress", P.stress.rows(), P.stress.cols(), d * d);
+  expect("mass", P.mass.rows(), 1, 1);
+  expect("volume0", P.volume0.rows(), 1, 1);
+  expect("half_length", P.half_length.rows(), P.half_length.cols(), d);
+  expect("material", P.material.rows(), 1, 1);
+}
+
 void load_frame_from(hid_t file, int frame, Model& model) {
   h5::Id parts = h5::open_group(file, "particles");
   h5::Id g = h5::open_group(parts.get(), frame_name(frame));
-  Particles& P = model.particles;
+  Particles P;
   P.X = h5::read_doubles(g.get(), "X");
   P.V = h5::read_doubles(g.get(), "V");
   P.F = h5::read_doubles(g.get(), "F");
@@ -328,26 +436,36 @@ void load_frame_from(hid_t file, int frame, Model& model) {
   P.half_length = h5::read_doubles(g.get(), "half_length");
   const std::vector<int> mat = h5::read_ints(g.get(), "material");
   P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
-  P.dim = int(P.X.cols());
+  P.dim = model.grid.dim();
+  check_frame_shapes(P, P.dim);
+  model.particles = std::move(P);
   model.time = h5::get_double_attribute(g.get(), "time");
   model.step = h5::get_long_attribute(g.get(), "step");
 }
 } // namespace
 
 std::vector<int> run_frames(const std::string& path) {
+  check_regular_file(path, kMaxRunFileBytes, "run file");
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0)
-    throw InputError(path + ": cannot open as an HDF5 run file");
+  const hid_t f = open_for_reading(path);
   h5::Id file(f, H5Fclose);
   return complete_frames(f);
 }
 
+double stored_courant_budget(const std::string& path, int frame) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = open_for_reading(path);
+  h5::Id file(f, H5Fclose);
+  h5::Id parts = h5::open_group(f, "particles");
+  h5::Id g = h5::open_group(parts.get(), frame_name(frame));
+  return h5::has_attribute(g.get(), "courant_budget")
+             ? h5::get_double_attribute(g.get(), "courant_budget")
+             : 0.0;
+}
+
 void load_frame(const std::string& path, int frame, Model& model) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0)
-    throw InputError(path + ": cannot open as an HDF5 run file");
+  const hid_t f = open_for_reading(path);
   h5::Id file(f, H5Fclose);
   try {
     load_frame_from(f, frame, model);
@@ -378,7 +496,11 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
       H5Ldelete(g.get(), frame_name(k).c_str(), H5P_DEFAULT);
   }
   // Load the state of the last frame.
-  load_frame_from(out.file_, last, cfg.model);
+  try {
+    load_frame_from(out.file_, last, cfg.model);
+  } catch (const std::runtime_error& e) {
+    throw InputError(path + ": frame " + std::to_string(last) + ": " + e.what());
+  }
   h5::Id parts = h5::open_group(out.file_, "particles");
   // Keep the series rows up to that step.
   h5::Id series = h5::open_group(out.file_, "series");
@@ -396,6 +518,8 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
     out.frame_particles_.push_back(cfg.model.particles.size());
   }
   h5::check(H5Fflush(out.file_, H5F_SCOPE_GLOBAL), "flush");
+  for (size_t k = 0; k < out.frames_.size(); ++k) // the sidecar of this file, from scratch
+    out.write_xdmf_frame(k);
   next_frame = last + 1;
   return out;
 }

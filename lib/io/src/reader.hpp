@@ -26,6 +26,7 @@ namespace smpm::detail {
 
 inline constexpr double kMaxParticles = SMPM_INPUT_MAX_PARTICLES;
 inline constexpr double kMaxNodes = SMPM_INPUT_MAX_NODES;
+inline constexpr long kMaxCount = 100000000; // cells or particles per cell along one axis
 
 // Reads one input; carries the file name for messages.
 class Reader {
@@ -47,8 +48,11 @@ public:
     if (line > 0)
       os << ":" << line;
     os << ": " << key;
-    if (n && n->is_value())
-      n->visit([&](auto&& v) { os << " = " << v; });
+    if (n && n->is_value()) {
+      std::ostringstream value;
+      n->visit([&](auto&& v) { value << v; });
+      os << " = " << clip(value.str());
+    }
     return os.str();
   }
   [[noreturn]] void fail(const toml::node* n, const std::string& key,
@@ -137,8 +141,10 @@ public:
     std::array<double, 3> out{0, 0, 0};
     for (int k = 0; k < count; ++k) {
       const auto v = (*a)[size_t(k)].value<double>();
-      if (!v || !std::isfinite(*v))
+      if (!v)
         fail(n, name, "expected an array of " + std::to_string(count) + " numbers");
+      if (!std::isfinite(*v))
+        fail(n, name, "every entry must be finite");
       out[k] = *v;
     }
     return out;
@@ -152,8 +158,12 @@ public:
     std::array<int, 3> out{1, 1, 1};
     for (int k = 0; k < count; ++k) {
       const auto v = (*a)[size_t(k)].value<int64_t>();
-      if (!v || !(*a)[size_t(k)].is_integer() || *v < 1 || *v > 100000000)
+      if (!v || !(*a)[size_t(k)].is_integer() || *v < 1)
         fail(n, name, "expected positive integers");
+      if (*v > kMaxCount)
+        fail(n, name,
+             "every entry must be at most " + std::to_string(kMaxCount) + " (got " +
+                 std::to_string(*v) + ")");
       out[k] = int(*v);
     }
     return out;

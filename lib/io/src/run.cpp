@@ -3,61 +3,110 @@
 #include "sparsempm/advance.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/output.hpp"
+#include "sparsempm/run_file.hpp"
 
+#include <csignal>
+#include <filesystem>
 #include <optional>
 
 namespace smpm {
 
+namespace {
+const char* signal_name(int s) {
+  return s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : "a signal";
+}
+
+// The partial file of a fresh run, or a copy of the restart file continued from its last
+// complete frame (the restart file itself is never written). Sets next_frame and e0.
+OutputFile open_partial(RunConfig& cfg, const RunOptions& options, const std::string& partial,
+                        int& next_frame, std::optional<double>& e0) {
+  if (options.restart_from.empty())
+    return OutputFile(partial, cfg);
+  const StoredRun stored = read_stored_run(options.restart_from);
+  if (!stored.series.empty())
+    e0 = stored.series.front().e.total;
+  std::error_code ec;
+  if (!std::filesystem::equivalent(options.restart_from, partial, ec)) {
+    std::filesystem::copy_file(options.restart_from, partial,
+                               std::filesystem::copy_options::overwrite_existing, ec);
+    if (ec)
+      throw InputError(partial + ": cannot copy the restart file " + options.restart_from +
+                       " there (" + ec.message() + ")");
+  }
+  return OutputFile::reopen(partial, cfg, next_frame);
+}
+} // namespace
+
 RunConfig stored_config(const std::string& path) {
+  check_regular_file(path, kMaxRunFileBytes, "run file");
   const StoredRun stored = read_stored_run(path);
   return read_input(stored.input, path + " (stored input)", stored.overrides);
 }
 
 RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progress) {
-  const std::string path = options.output.empty() ? cfg.output.file : options.output;
+  const bool restart = !options.restart_from.empty();
+  const std::string target = !options.output.empty() ? options.output
+                             : restart               ? final_path(options.restart_from)
+                                                     : cfg.output.file;
+  if (restart)
+    check_regular_file(options.restart_from, kMaxRunFileBytes, "run file");
+  check_run_output(target, restart ? std::string() : cfg.source, "-o");
+  const OutputLock lock(target); // a second run on this path stops here, before any write
+  const std::string partial = partial_path(target);
   Model& model = cfg.model;
   int next_frame = 0;
   std::optional<double> e0;
-  OutputFile out = [&] {
-    if (options.restart) {
-      const StoredRun stored = read_stored_run(path);
-      if (!stored.series.empty())
-        e0 = stored.series.front().e.total;
-      return OutputFile::reopen(path, cfg, next_frame);
-    }
-    return OutputFile(path, cfg);
-  }();
-  if (!options.restart) {
+  OutputFile out = open_partial(cfg, options, partial, next_frame, e0);
+  Stepper stepper(cfg.step);
+  if (restart)
+    stepper.set_courant_budget(stored_courant_budget(partial, next_frame - 1));
+  else {
     out.add_series({model.step, model.time, energies(model)});
     out.write_frame(next_frame++, model, cfg.step.shape, cfg.output.matrices);
   }
-  Stepper stepper(cfg.step);
-  AdvanceOptions adv{.end = cfg.time.end,
-                     .courant = cfg.time.courant,
-                     .stop_every = cfg.output.every,
-                     .land_on_stops = cfg.time.land_on_frames,
-                     .failure = {},
-                     .energy_start = e0};
+  const AdvanceOptions adv{.end = cfg.time.end,
+                           .courant = cfg.time.courant,
+                           .stop_every = cfg.output.every,
+                           .land_on_stops = cfg.time.land_on_frames,
+                           .failure = {},
+                           .energy_start = e0};
   RunReport report;
-  report.output = path;
   try {
     const AdvanceReport r =
         advance(model, stepper, adv, [&](const Model& m, const Energies& e, bool at_stop) {
           out.add_series({m.step, m.time, e});
-          if (at_stop)
-            out.write_frame(next_frame++, m, cfg.step.shape, cfg.output.matrices);
+          if (at_stop) {
+            out.set_stepper_state(stepper.courant_budget());
+            try {
+              out.write_frame(next_frame++, m, cfg.step.shape, cfg.output.matrices);
+            } catch (const std::runtime_error& w) {
+              throw std::runtime_error(partial + ": writing the frame of step " +
+                                       std::to_string(m.step) + " (t = " + std::to_string(m.time) +
+                                       ") failed: " + w.what() + " (is the disk full?)");
+            }
+          }
           if (progress)
             progress(m, cfg.time.end);
+          if (options.interrupt && options.interrupt->load() != 0) {
+            const int s = options.interrupt->load();
+            throw Interrupted(s, std::string("interrupted by ") + signal_name(s) + " after step " +
+                                     std::to_string(m.step) + " (t = " + std::to_string(m.time) +
+                                     "); the frames so far are in " + partial);
+          }
         });
     report.steps = r.steps;
     report.wall_seconds = r.wall_seconds;
     report.energy_start = r.energy_start;
     report.energy_end = r.energy_end;
+  } catch (const Interrupted& e) {
+    out.set_status(std::string("interrupted: ") + e.what());
+    throw;
   } catch (const std::exception& e) {
     out.set_status(std::string("failed: ") + e.what());
     throw;
   }
-  out.set_status("completed");
+  out.finish(target);
+  report.output = target;
   report.frames = next_frame;
   return report;
 }

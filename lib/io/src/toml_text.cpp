@@ -141,9 +141,13 @@ void assign(toml::table& t, const std::string& key, const std::string& value) {
 } // namespace
 
 void apply_override(toml::table& root, const std::string& spec) {
+  for (const char c : spec)
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f)
+      throw InputError("--set " + clip(spec) +
+                       ": contains a control character (a newline?); values are one line");
   const size_t eq = spec.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("--set " + spec + ": expected section.key=value");
+    throw InputError("--set " + clip(spec) + ": expected section.key=value");
   const std::string path = spec.substr(0, eq), value = spec.substr(eq + 1);
   std::vector<std::string> parts;
   std::stringstream ss(path);
@@ -152,7 +156,7 @@ void apply_override(toml::table& root, const std::string& spec) {
   const auto& top = schema().at("");
   if (parts.size() < 2 || parts.size() > 3 ||
       std::find(top.begin(), top.end(), parts[0]) == top.end())
-    throw InputError("--set " + spec + ": expected section.key=value with a section of " +
+    throw InputError("--set " + clip(spec) + ": expected section.key=value with a section of " +
                      "grid, material, body, bc, time, scheme, output, loads" +
                      (parts.empty() ? "" : suggest(parts[0], top)));
   toml::node* sec = root.get(parts[0]);
@@ -160,7 +164,7 @@ void apply_override(toml::table& root, const std::string& spec) {
   toml::table* target = nullptr;
   if (listed) {
     if (parts.size() != 3)
-      throw InputError("--set " + spec + ": [[" + parts[0] + "]] entries are addressed as " +
+      throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] entries are addressed as " +
                        parts[0] + ".<name or index>.key=value");
     toml::array* arr = sec ? sec->as_array() : nullptr;
     if (arr)
@@ -172,21 +176,21 @@ void apply_override(toml::table& root, const std::string& spec) {
           target = t;
       }
     if (!target)
-      throw InputError("--set " + spec + ": no [[" + parts[0] + "]] named or numbered '" +
+      throw InputError("--set " + clip(spec) + ": no [[" + parts[0] + "]] named or numbered '" +
                        parts[1] + "'");
   } else {
     if (parts.size() != 2)
-      throw InputError("--set " + spec + ": expected " + parts[0] + ".key=value");
+      throw InputError("--set " + clip(spec) + ": expected " + parts[0] + ".key=value");
     if (!sec)
       sec = &root.insert_or_assign(parts[0], toml::table{}).first->second;
     target = sec->as_table();
     if (!target)
-      throw InputError("--set " + spec + ": '" + parts[0] + "' is not a table");
+      throw InputError("--set " + clip(spec) + ": '" + parts[0] + "' is not a table");
   }
   const std::string& key = parts.back();
   const auto& valid = schema().at(parts[0]);
   if (std::find(valid.begin(), valid.end(), key) == valid.end())
-    throw InputError("--set " + spec + ": unknown key '" + parts[0] + "." + key + "'" +
+    throw InputError("--set " + clip(spec) + ": unknown key '" + parts[0] + "." + key + "'" +
                      suggest(key, valid));
   assign(*target, key, value);
 }

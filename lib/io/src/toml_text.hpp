@@ -18,7 +18,8 @@ std::string suggest(const std::string& key, const std::vector<std::string>& vali
 /// role is unambiguous (see toml_text.cpp).
 void check_non_ascii(const std::string& text, const std::string& source);
 /// Applies one "section.key=value" override (value as a TOML value, else a string; arrays of
-/// tables addressed by name or index). Throws InputError naming the override.
+/// tables addressed by name or index). Throws InputError naming the override; control
+/// characters (a newline that would later change the stored input) are refused.
 void apply_override(toml::table& root, const std::string& spec);
 
 } // namespace smpm::detail

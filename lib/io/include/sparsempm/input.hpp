@@ -45,7 +45,12 @@ struct RunConfig {
 /// tables are addressed by name or index, e.g. "material.bar.youngs=3"). Throws InputError.
 RunConfig read_input(const std::string& text, const std::string& source,
                      const std::vector<std::string>& overrides = {});
-/// Reads and parses a file; throws InputError if it cannot be read.
+/// Most frames a run may write (output.every ≥ time.end / kMaxFrames).
+inline constexpr long kMaxFrames = 100000;
+/// Largest input file accepted (16 MiB).
+inline constexpr long long kMaxInputBytes = 16LL << 20;
+/// Reads and parses a file; throws InputError unless it is a regular file of at most
+/// kMaxInputBytes that can be read.
 RunConfig read_input_file(const std::string& path, const std::vector<std::string>& overrides = {});
 
 } // namespace smpm

@@ -5,7 +5,8 @@
 /// Layout (frames numbered 000000, 000001, …):
 ///   /particles/<frame>/{X, V, stress, F, mass, volume, volume0, half_length, material}
 ///                      attributes time, step, complete
-///   /grid/<frame>/{m, p, v}      P2G of the frame's particle state (n × 1, n × d, n × d)
+///   /grid/<frame>/{nodes, m, p, v}  P2G of the frame's particle state on the nodes with mass
+///                                (their indices, na × 1, na × d, na × d); attribute grid_nodes
 ///   /matrices/<frame>/{S, G0, G1, G2, consistent_mass}/{data, indices, indptr, shape}
 ///                                (CSR; only with output.matrices = true)
 ///   /series/{step, t, kinetic, strain, total, momentum}   one row per step
@@ -32,7 +33,7 @@ struct SeriesRow {
 class OutputFile {
 public:
   /// Creates `path` (truncating it) for the run `cfg`. Throws InputError naming the path when
-  /// it cannot be created.
+  /// it cannot be created. A run writes its partial file this way (run_file.hpp).
   OutputFile(const std::string& path, const RunConfig& cfg);
   /// Opens an existing run for restart: the state of its last complete frame is loaded into
   /// `cfg.model` (the rest of `cfg` must come from the run's stored input), later frames and
@@ -48,20 +49,30 @@ public:
   /// Writes frame `frame` of the model (and its matrices when cfg.output.matrices), the
   /// buffered series rows, and flushes the file.
   void write_frame(int frame, const Model& model, Shape shape, bool matrices);
-  /// Records the run's end ("completed" or the failure) and flushes.
-  void set_status(const std::string& status);
+  /// Records the run's end ("completed" or the failure) and flushes. Writes what it can and
+  /// does not throw: it is called while another failure is being reported.
+  void set_status(const std::string& status) noexcept;
+  /// Marks the run completed, closes the file and moves it (with a fresh sidecar) to `target`,
+  /// replacing what was there; the partial sidecar is removed.
+  void finish(const std::string& target);
+  /// The attribute of the stepper state a restart needs (periodic FMPM's Courant budget),
+  /// stored with each frame.
+  void set_stepper_state(double courant_budget) { courant_budget_ = courant_budget; }
   const std::string& path() const { return path_; }
 
 private:
   OutputFile() = default;
   void initialize(const RunConfig& cfg);
-  void write_xdmf() const;
+  void write_xdmf_frame(size_t k);
+  void write_xdmf_whole(const std::string& h5_path, const std::string& xmf_path) const;
   std::string path_;
   long file_ = -1;
   int dim_ = 1;
+  double courant_budget_ = 0;
   std::vector<std::pair<int, double>> frames_; // (frame, time) written so far
   std::vector<Index> frame_particles_;
   std::vector<SeriesRow> pending_;
+  long xmf_trailer_ = -1; // byte offset of the closing tags of the sidecar (−1: not written)
 };
 
 /// The input text, overrides and frame list stored in a run file.
@@ -78,8 +89,11 @@ StoredRun read_stored_run(const std::string& path);
 /// The complete frames of a run file, ascending.
 std::vector<int> run_frames(const std::string& path);
 /// Loads the particle state and clock of one complete frame into `model` (whose grid and
-/// materials must be those of the run, e.g. from stored_config).
+/// materials must be those of the run, e.g. from stored_config). Throws InputError when the
+/// frame's arrays disagree in length or width with each other or with the grid's dimension.
 void load_frame(const std::string& path, int frame, Model& model);
+/// The stepper state stored with a frame (periodic FMPM's Courant budget; 0 when absent).
+double stored_courant_budget(const std::string& path, int frame);
 
 /// Name of the XDMF sidecar of an HDF5 path: "run.h5" → "run.xmf".
 std::string xdmf_path(const std::string& h5_path);

@@ -1,17 +1,26 @@
 #pragma once
 /// \file run.hpp
-/// Driving a run from its configuration: the time loop, frames, failure checks, restart.
+/// Driving a run from its configuration: the time loop (advance), frames, restart, and the
+/// file-safety promises of run_file.hpp.
 
 #include "sparsempm/input.hpp"
 
+#include <atomic>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 namespace smpm {
 
 struct RunOptions {
-  std::string output;   ///< output path; empty: cfg.output.file
-  bool restart = false; ///< continue the run stored in `output` from its last frame
+  /// Output path; empty: cfg.output.file, or for a restart the final path of the restart file.
+  std::string output;
+  /// Continue the run stored in this file (complete, or the partial file of a killed run) from
+  /// its last complete frame; the file itself is never modified.
+  std::string restart_from;
+  /// Set asynchronously to a signal number (SIGINT, SIGTERM): the run stops after the step in
+  /// progress with Interrupted.
+  const std::atomic<int>* interrupt = nullptr;
 };
 
 struct RunReport {
@@ -23,14 +32,29 @@ struct RunReport {
   std::string output;      ///< the HDF5 file
 };
 
+/// A run stopped by a signal; the partial file is marked "interrupted".
+class Interrupted : public std::runtime_error {
+public:
+  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal_(signal) {}
+  int signal() const { return signal_; }
+
+private:
+  int signal_;
+};
+
 /// Called after every step with the model and the end time.
 using ProgressFn = std::function<void(const Model&, double end)>;
 
-/// Runs `cfg` to cfg.time.end writing frames every cfg.output.every. Δt follows FMPM 2026 §3.3
-/// and is shortened to land on frame times. Stops with NumericalError (naming step, time and
-/// particle) on NaN, det F ≤ 0, a particle leaving the grid, or total energy above 10× its
-/// start (without body forces); frames written so far are kept and the file's status says why
-/// it stopped. A restart rebuilds the Stepper: periodic FMPM restarts its Courant budget there.
+/// Runs `cfg` to cfg.time.end writing frames every cfg.output.every (advance.hpp; Δt from the
+/// Courant relation, shortened to land on frames unless time.land_on_frames = false). The
+/// output path is checked (check_run_output) and locked before anything is written; frames go
+/// to its partial twin, which replaces the output path only when the run completes. Stops with
+/// NumericalError (step, time, particle) on NaN, det F ≤ 0, a particle leaving the grid, or
+/// total energy above 10× its start (without body forces), with Interrupted on a signal, and
+/// with std::runtime_error naming the file and step when a write fails (a full disk): the
+/// partial file then keeps every frame completed before and its status says why it stopped.
+/// A restart restores the stepper state saved with the frame (periodic FMPM's budget), so it
+/// continues bit for bit.
 RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progress = {});
 
 /// The configuration stored in a run file (its input text and overrides), for --restart.

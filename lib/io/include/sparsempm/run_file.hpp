@@ -1,0 +1,54 @@
+#pragma once
+/// \file run_file.hpp
+/// Where a run writes, safely. A run claims its output path with a lock, writes a partial twin
+/// of it ("run.h5" → "run.partial.h5", with its own ParaView sidecar) and moves the partial file
+/// over the path only when it completes: a run that fails, is interrupted or killed leaves the
+/// partial file (readable by `smpm info` and `--restart`) and never touches a result already
+/// at the path.
+
+#include <string>
+
+namespace smpm {
+
+/// The partial twin of an output path: "dir/run.h5" → "dir/run.partial.h5" ("run" →
+/// "run.partial"); a partial path is its own twin.
+std::string partial_path(const std::string& path);
+/// The output path a partial twin stands for (identity for a path that is not partial).
+std::string final_path(const std::string& path);
+/// Whether `path` names a partial twin.
+bool is_partial_path(const std::string& path);
+
+/// Throws InputError (one line naming the option, the path and the reason) unless `path` may
+/// receive a run's output: not a directory, not the input file, not an .xmf name, not an
+/// existing file other than a sparsempm run, and with a sidecar that is neither the input
+/// nor an XDMF file of another run. `option` names the option in messages ("-o").
+void check_run_output(const std::string& path, const std::string& input, const std::string& option);
+/// Throws InputError unless `path` may receive a table (CSV) of `smpm stability` or `smpm
+/// spectrum`: not a directory, not the input file, in a directory that exists.
+void check_table_output(const std::string& path, const std::string& input,
+                        const std::string& option);
+
+/// Largest run file read (any size HDF5 holds; the check is that it is a regular file).
+inline constexpr long long kMaxRunFileBytes = 1LL << 50;
+
+/// Throws InputError unless `path` is a regular file of at most `max_bytes` (inputs and run
+/// files: no directories, FIFOs or devices).
+void check_regular_file(const std::string& path, long long max_bytes, const std::string& what);
+
+/// An exclusive claim on an output path for the life of a run: "<path>.lock" held with
+/// flock(LOCK_EX | LOCK_NB). A second claim on the same path, by this or another process,
+/// fails at once with InputError before anything is written. The lock file is removed when
+/// the claim ends; one left by a killed run holds no lock and is taken over.
+class OutputLock {
+public:
+  explicit OutputLock(const std::string& path);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+private:
+  std::string lock_path_;
+  int fd_ = -1;
+};
+
+} // namespace smpm

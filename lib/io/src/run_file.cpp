@@ -1,0 +1,172 @@
+#include "sparsempm/run_file.hpp"
+
+#include "sparsempm/errors.hpp"
+#include "sparsempm/output.hpp"
+
+#include <hdf5.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace smpm {
+
+namespace fs = std::filesystem;
+
+namespace {
+constexpr const char* kPartial = ".partial";
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec))
+    return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
+// Whether an existing file is an HDF5 file with the root attributes of a sparsempm run.
+bool is_run_file(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    return false;
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    return false;
+  const bool ours =
+      H5Aexists(f, "version") > 0 && H5Aexists(f, "status") > 0 && H5Aexists(f, "input") > 0;
+  H5Fclose(f);
+  return ours;
+}
+
+// Whether an existing .xmf names `h5_name` as its data file (a sidecar of that run).
+bool is_sidecar_of(const std::string& xmf, const std::string& h5_name) {
+  std::ifstream in(xmf, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(in.gcount()));
+  return head.find("<Xdmf") != std::string::npos &&
+         head.find(">" + h5_name + ":/particles/") != std::string::npos;
+}
+} // namespace
+
+bool is_partial_path(const std::string& path) {
+  return fs::path(path).stem().string().ends_with(kPartial) ||
+         fs::path(path).filename().string().ends_with(kPartial);
+}
+
+std::string partial_path(const std::string& path) {
+  if (is_partial_path(path))
+    return path;
+  fs::path p(path);
+  const std::string ext = p.extension().string();
+  p.replace_filename(p.stem().string() + kPartial + ext);
+  return p.string();
+}
+
+std::string final_path(const std::string& path) {
+  if (!is_partial_path(path))
+    return path;
+  fs::path p(path);
+  const std::string ext = p.extension().string(), stem = p.stem().string();
+  const std::string name = p.filename().string();
+  if (name.ends_with(kPartial)) // "run.partial": no extension
+    p.replace_filename(name.substr(0, name.size() - std::strlen(kPartial)));
+  else
+    p.replace_filename(stem.substr(0, stem.size() - std::strlen(kPartial)) + ext);
+  return p.string();
+}
+
+void check_regular_file(const std::string& path, long long max_bytes, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st))
+    throw InputError(path + ": cannot open the " + what + " (no such file)");
+  if (!fs::is_regular_file(st))
+    throw InputError(path + ": the " + what + " must be a regular file, not " +
+                     (fs::is_directory(st) ? "a directory" : "a device, FIFO or socket"));
+  const auto size = fs::file_size(path, ec);
+  if (!ec && (long long)(size) > max_bytes)
+    throw InputError(path + ": the " + what + " is " + std::to_string(size) +
+                     " bytes, more than the " + std::to_string(max_bytes) + " accepted");
+}
+
+void check_run_output(const std::string& path, const std::string& input,
+                      const std::string& option) {
+  const std::string who = option + " " + path + ": ";
+  if (path.empty())
+    throw InputError(option + ": the output path is empty");
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw InputError(who + "is a directory; give a file name such as run.h5");
+  if (fs::path(path).extension() == ".xmf")
+    throw InputError(who + "is the name of a ParaView sidecar; give the .h5 name");
+  if (!input.empty() && same_file(path, input))
+    throw InputError(who + "is the input file; not overwritten");
+  if (fs::exists(path, ec) && !is_run_file(path))
+    throw InputError(who + "exists and is not a sparsempm run file; not overwritten");
+  for (const std::string& p : {path, partial_path(path)}) {
+    const std::string xmf = xdmf_path(p);
+    if (!input.empty() && same_file(xmf, input))
+      throw InputError(who + "its ParaView sidecar " + xmf + " would overwrite the input file");
+    if (fs::exists(xmf, ec) && !is_sidecar_of(xmf, fs::path(p).filename().string()))
+      throw InputError(who + "its ParaView sidecar " + xmf +
+                       " exists and belongs to no run of this file; not overwritten");
+  }
+  const fs::path dir = fs::path(path).parent_path();
+  if (!dir.empty() && !fs::is_directory(dir, ec))
+    throw InputError(who + "the directory " + dir.string() + " does not exist");
+}
+
+void check_table_output(const std::string& path, const std::string& input,
+                        const std::string& option) {
+  const std::string who = option + " " + path + ": ";
+  std::error_code ec;
+  if (path.empty())
+    throw InputError(option + ": the output path is empty");
+  if (fs::is_directory(path, ec))
+    throw InputError(who + "is a directory; give a file name such as table.csv");
+  if (!input.empty() && same_file(path, input))
+    throw InputError(who + "is the input file; not overwritten");
+  const fs::path dir = fs::path(path).parent_path();
+  if (!dir.empty() && !fs::is_directory(dir, ec))
+    throw InputError(who + "the directory " + dir.string() + " does not exist");
+}
+
+OutputLock::OutputLock(const std::string& path) : lock_path_(path + ".lock") {
+  // Lock the file at the path, then check that the path still names it: a run that finished
+  // meanwhile unlinks its lock file before releasing it.
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0)
+      throw InputError(path + ": cannot create the lock file " + lock_path_ + " (" +
+                       std::strerror(errno) + "; is the directory writable?)");
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      fd_ = -1;
+      throw InputError(path + ": another run is writing this file (" + lock_path_ +
+                       " is locked); wait for it or choose another -o");
+    }
+    struct stat held {
+    }, named{};
+    if (::fstat(fd_, &held) == 0 && ::stat(lock_path_.c_str(), &named) == 0 &&
+        held.st_ino == named.st_ino && held.st_dev == named.st_dev)
+      return;
+    ::close(fd_);
+    fd_ = -1;
+  }
+  throw InputError(path + ": could not take the lock " + lock_path_);
+}
+
+OutputLock::~OutputLock() {
+  if (fd_ < 0)
+    return;
+  ::unlink(lock_path_.c_str()); // while still locked: no other run holds this inode
+  ::flock(fd_, LOCK_UN);
+  ::close(fd_);
+}
+
+} // namespace smpm
