@@ -1,12 +1,14 @@
 // smpm: runs MPM simulations described by TOML input files and inspects their output.
 //
 //   smpm run input.toml [--set section.key=value ...] [-o out.h5] [--quiet]
-//   smpm run --restart out.h5
+//   smpm run --restart out.h5 [-o other.h5]
 //   smpm info out.h5
 //   smpm stability input.toml [--k 1,2,4] [--blend 1:0.8] [--periodic 2] [--method spectral]
+//   smpm spectrum input.toml [--k ...] [--alpha ...] [--courant C]
 //
 // Exit status: 0 success, 2 bad input (nothing that looks like a run is written),
-// 3 numerical failure (frames written so far are kept), 1 any other error.
+// 3 numerical failure (frames written so far are kept in the partial file), 130 / 143 for
+// SIGINT / SIGTERM, 1 any other error (a full disk, a closed standard output).
 
 #include "progress.hpp"
 #include "stability_command.hpp"
