@@ -11,9 +11,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <mutex>
@@ -154,28 +156,38 @@ std::string cell(double v, int precision = 4) {
   return os.str();
 }
 
-void write_table(const std::vector<Row>& rows, const std::string& path) {
-  // Written to a temporary name first so that no partial table is left behind.
+// Writes `text` to `path` through a temporary file in the same directory, so that a table
+// appears whole or not at all; a failed write or move is an error (exit 1), the temporary
+// file removed.
+void write_text_file(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp";
+  bool ok = false;
   {
-    std::ofstream out(tmp);
-    if (!out)
-      throw InputError("-o " + path + ": cannot write the table");
-    out << "scheme,k,alpha,blend_every,periodic_cx,position_alpha,c_spectral,config_spectral,"
-           "spectral_status,c_simulation,energy_change\n";
-    for (const Row& r : rows) {
-      const bool fmpm = r.scheme == "FMPM";
-      out << r.scheme << "," << (r.k ? std::to_string(r.k) : "") << ","
-          << (fmpm ? cell(r.alpha) : "") << "," << (fmpm ? std::to_string(r.every) : "") << ","
-          << (r.cx > 0 ? cell(r.cx) : "") << "," << cell(position_alpha(r.opt)) << ","
-          << cell(r.c_spectral) << "," << r.config << "," << r.spectral_status << ","
-          << cell(r.c_simulation) << "," << cell(r.energy_change) << "\n";
-    }
-    if (!out.flush())
-      throw InputError("-o " + path + ": cannot write the table");
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    ok = bool(out.flush());
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw InputError("-o " + path + ": cannot move the table into place");
+  if (ok)
+    ok = std::rename(tmp.c_str(), path.c_str()) == 0;
+  if (!ok) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("-o " + path + ": cannot write the table (" + std::strerror(errno) +
+                             ")");
+  }
+}
+
+void write_table(const std::vector<Row>& rows, const std::string& path) {
+  std::ostringstream out;
+  out << "scheme,k,alpha,blend_every,periodic_cx,position_alpha,c_spectral,config_spectral,"
+         "spectral_status,c_simulation,energy_change\n";
+  for (const Row& r : rows) {
+    const bool fmpm = r.scheme == "FMPM";
+    out << r.scheme << "," << (r.k ? std::to_string(r.k) : "") << "," << (fmpm ? cell(r.alpha) : "")
+        << "," << (fmpm ? std::to_string(r.every) : "") << "," << (r.cx > 0 ? cell(r.cx) : "")
+        << "," << cell(position_alpha(r.opt)) << "," << cell(r.c_spectral) << "," << r.config << ","
+        << r.spectral_status << "," << cell(r.c_simulation) << "," << cell(r.energy_change) << "\n";
+  }
+  write_text_file(path, out.str());
 }
 
 void print_table(const std::vector<Row>& rows) {
@@ -198,10 +210,11 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
   sim.end = cfg.time.end;
   sim.max_energy_change = a.max_energy_change;
   std::atomic<size_t> next{0};
+  std::atomic<bool> stop{false}; // a failed row stops the other worker too
   std::mutex print;
   std::exception_ptr failure;
   auto worker = [&] {
-    for (size_t i; (i = next++) < rows.size();) {
+    for (size_t i; !stop && (i = next++) < rows.size();) {
       try {
         Row& r = rows[i];
         if (a.method != "simulation")
@@ -221,7 +234,9 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
         }
       } catch (...) {
         std::lock_guard<std::mutex> lock(print);
-        failure = std::current_exception();
+        if (!failure)
+          failure = std::current_exception();
+        stop = true;
         return;
       }
     }
@@ -332,10 +347,7 @@ int spectrum_command(const SpectrumArgs& a) {
   cfg.step.exact_solver()->solve(ops, mt.matrix, {}, p, exact); // the input's exact_* options
   std::printf("active nodes %ld: rho(A) = %.8f, min eig(m^-1 m~) = %.3e, cond(m~) = %.4g\n",
               long(ms.active), ms.rho_A, ms.min_eig_minv_mt, ms.cond_mt);
-  const std::string tmp = a.output + ".tmp";
-  std::ofstream out(tmp);
-  if (!out)
-    throw InputError("-o " + a.output + ": cannot write the table");
+  std::ostringstream out;
   out.precision(10);
   out << "# rho_A = " << ms.rho_A << "\n# min_eig_minv_mt = " << ms.min_eig_minv_mt
       << "\n# cond_mt = " << ms.cond_mt << "\n# active_nodes = " << ms.active << "\n";
@@ -363,8 +375,7 @@ int spectrum_command(const SpectrumArgs& a) {
             << (a.courant > 0 ? std::to_string(a.courant) : "") << "," << cell(rho, 10) << "\n";
         std::printf("%4d %6.3g %6d %16.6e %10s\n", k, alpha, m, err, cell(rho, 8).c_str());
       }
-  out.close();
-  std::rename(tmp.c_str(), a.output.c_str());
+  write_text_file(a.output, out.str());
   std::printf("table in %s\n", a.output.c_str());
   return 0;
 }

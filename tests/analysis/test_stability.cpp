@@ -116,6 +116,15 @@ TEST_CASE("the periodic linearisation spans the Stepper's period", "[stability]"
   T.perform_op(x.data(), y.data()); // a large perturbation does not change the period
   T.set_dt(0.45 / courant_of(bar, 1.0));
   CHECK(T.steps_per_application() == 5);
+  // The Stepper's own schedule at C = 0.45: the FMPM update on every 5th step.
+  Model model = bar;
+  Stepper stepper(opt);
+  std::string pattern;
+  for (int s = 0; s < 15; ++s) {
+    stepper.step(model, 0.45 / courant_of(bar, 1.0));
+    pattern += stepper.last_step_was_fmpm() ? 'F' : '.';
+  }
+  CHECK(pattern == "....F....F....F");
 }
 
 TEST_CASE("the linearised step is the derivative of the Stepper's step, for every scheme",
@@ -207,4 +216,56 @@ TEST_CASE("simulation C* with a dissipation limit: periodic FMPM (FMPM 2026 Fig.
   INFO("C* = " << limited.courant << ", energy change " << limited.energy_change);
   CHECK(limited.courant == smpm::test::approx(0.40, 0.02));
   CHECK(std::abs(limited.energy_change) <= 1e-3);
+}
+
+TEST_CASE("the linearised step is the derivative of the Stepper's step in 2D", "[stability]") {
+  // The same check on a 2D plane-strain block (linear elastic, E = 100, ν = 0.3, CPDI, fixed
+  // along x on its left edge, shifted 0.1 cell so that no domain ends on a node): it exercises
+  // the d² × d² tangent layout 𝕂(q, (a d + b) d² + c d + e) against L(q, c d + e). The state
+  // σ̂ is symmetric and F = I + ε Ê with Ê the strain of σ̂ (σ(F) = ε σ̂ to O(ε²)).
+  Model block(Grid(2, {0, 0, 0}, {1, 1, 1}, {10, 8, 1}));
+  Material mat;
+  mat.name = "block";
+  mat.youngs = 100;
+  mat.poisson = 0.3;
+  block.materials = {mat};
+  block.particles = make_block(block.grid, {2, 2, 0}, {7, 6, 0}, {2, 2, 1}, 1.0, 0);
+  fix_plane(block.grid, 0, 2.0, {true, false, false}, block.bcs);
+  block = shifted(block, {0.1, 0.1, 0});
+  const Index N = block.particles.size();
+  const double lam = mat.lame_lambda(), G = mat.shear_modulus(), eps = 1e-7;
+  const double dt = 0.3 / courant_of(block, 1.0);
+  // x̂ = (V̂, σ̂) with σ̂ symmetric.
+  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(6 * N, -1.0, 1.0).array().sin();
+  for (Index q = 0; q < N; ++q)
+    x[2 * N + 4 * q + 2] = x[2 * N + 4 * q + 1]; // σ_yx = σ_xy
+  auto check = [&](const StepOptions& opt) {
+    Model m = block;
+    for (Index q = 0; q < N; ++q) {
+      const double* s = x.data() + 2 * N + 4 * q;
+      const double trE = (s[0] + s[3]) / (2 * (lam + G)); // plane strain: tr σ = 2(λ + G) tr E
+      m.particles.V(q, 0) = eps * x[2 * q];
+      m.particles.V(q, 1) = eps * x[2 * q + 1];
+      for (int c = 0; c < 4; ++c) {
+        m.particles.stress(q, c) = eps * s[c];
+        const double E_c = (s[c] - (c == 0 || c == 3 ? lam * trE : 0.0)) / (2 * G);
+        m.particles.F(q, c) = (c == 0 || c == 3 ? 1.0 : 0.0) + eps * E_c;
+      }
+    }
+    Stepper stepper(opt);
+    stepper.step(m, dt);
+    Eigen::VectorXd fd(6 * N);
+    fd << Eigen::Map<const Eigen::VectorXd>(m.particles.V.data(), 2 * N),
+        Eigen::Map<const Eigen::VectorXd>(m.particles.stress.data(), 4 * N);
+    fd /= eps;
+    const LinearizedStep T(block, opt, dt);
+    Eigen::VectorXd Tx(6 * N);
+    T.perform_op(x.data(), Tx.data());
+    CHECK((fd - Tx).norm() <= 1e-4 * Tx.norm());
+  };
+  for (VelocityUpdate v : {VelocityUpdate::FLIP, VelocityUpdate::FMPM, VelocityUpdate::XPIC}) {
+    CAPTURE(to_string(v));
+    check({.shape = Shape::CPDI, .velocity = v, .fmpm = {.order = 4}});
+    check({.shape = Shape::CPDI, .scheme = UpdateScheme::USF, .velocity = v, .fmpm = {.order = 4}});
+  }
 }

@@ -227,7 +227,7 @@ void OutputFile::set_status(const std::string& status) noexcept {
 }
 
 void OutputFile::finish(const std::string& target) {
-  set_status("completed");
+  h5::set_attribute(file_, "status", std::string("completed"));
   h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
   h5::check(H5Fclose(file_), "close " + path_);
   file_ = -1;
@@ -235,7 +235,8 @@ void OutputFile::finish(const std::string& target) {
   std::filesystem::rename(path_, target);
   write_xdmf_whole(target, xdmf_path(target));
   std::error_code ec;
-  std::filesystem::remove(partial_xmf, ec);
+  if (!std::filesystem::equivalent(partial_xmf, xdmf_path(target), ec))
+    std::filesystem::remove(partial_xmf, ec);
   path_ = target;
 }
 
@@ -291,16 +292,19 @@ std::string xdmf_frame(const std::string& h5_name, int frame, double time, Index
 // written again after it, so writing frame n costs the size of frame n.
 void OutputFile::write_xdmf_frame(size_t k) {
   const std::string xmf = xdmf_path(path_);
-  if (xmf_trailer_ < 0) {
+  const std::string h5_name = std::filesystem::path(path_).filename().string();
+  if (xmf_trailer_ < 0 || !std::filesystem::exists(xmf)) { // new, or removed meanwhile
     std::ofstream out(xmf, std::ios::binary | std::ios::trunc);
-    out << xdmf_header();
+    std::string head = xdmf_header();
+    for (size_t j = 0; j < k; ++j)
+      head += xdmf_frame(h5_name, frames_[j].first, frames_[j].second, frame_particles_[j], dim_);
+    out << head;
     if (!out.flush())
       throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
-    xmf_trailer_ = long(xdmf_header().size());
+    xmf_trailer_ = long(head.size());
   }
   const std::string block =
-      xdmf_frame(std::filesystem::path(path_).filename().string(), frames_[k].first,
-                 frames_[k].second, frame_particles_[k], dim_);
+      xdmf_frame(h5_name, frames_[k].first, frames_[k].second, frame_particles_[k], dim_);
   std::fstream out(xmf, std::ios::binary | std::ios::in | std::ios::out);
   out.seekp(xmf_trailer_);
   out << block << kXdmfTrailer;

@@ -60,10 +60,17 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   Stepper stepper(cfg.step);
   if (restart)
     stepper.set_courant_budget(stored_courant_budget(partial, next_frame - 1));
-  else {
-    out.add_series({model.step, model.time, energies(model)});
-    out.write_frame(next_frame++, model, cfg.step.shape, cfg.output.matrices);
-  }
+  // A frame, with the step it belongs to named when the write fails (a full disk).
+  auto frame = [&](const Model& m) {
+    out.set_stepper_state(stepper.courant_budget());
+    try {
+      out.write_frame(next_frame++, m, cfg.step.shape, cfg.output.matrices);
+    } catch (const std::runtime_error& w) {
+      throw std::runtime_error(partial + ": writing the frame of step " + std::to_string(m.step) +
+                               " (t = " + std::to_string(m.time) + ") failed: " + w.what() +
+                               " (is the disk full?)");
+    }
+  };
   const AdvanceOptions adv{.end = cfg.time.end,
                            .courant = cfg.time.courant,
                            .stop_every = cfg.output.every,
@@ -72,19 +79,15 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
                            .energy_start = e0};
   RunReport report;
   try {
+    if (!restart) {
+      out.add_series({model.step, model.time, energies(model)});
+      frame(model);
+    }
     const AdvanceReport r =
         advance(model, stepper, adv, [&](const Model& m, const Energies& e, bool at_stop) {
           out.add_series({m.step, m.time, e});
-          if (at_stop) {
-            out.set_stepper_state(stepper.courant_budget());
-            try {
-              out.write_frame(next_frame++, m, cfg.step.shape, cfg.output.matrices);
-            } catch (const std::runtime_error& w) {
-              throw std::runtime_error(partial + ": writing the frame of step " +
-                                       std::to_string(m.step) + " (t = " + std::to_string(m.time) +
-                                       ") failed: " + w.what() + " (is the disk full?)");
-            }
-          }
+          if (at_stop)
+            frame(m);
           if (progress)
             progress(m, cfg.time.end);
           if (options.interrupt && options.interrupt->load() != 0) {
@@ -105,7 +108,14 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     out.set_status(std::string("failed: ") + e.what());
     throw;
   }
-  out.finish(target);
+  try {
+    out.finish(target);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(partial +
+                             ": the run completed but its file could not be closed and "
+                             "moved to " +
+                             target + ": " + e.what());
+  }
   report.output = target;
   report.frames = next_frame;
   return report;

@@ -28,18 +28,20 @@ bool same_file(const std::string& a, const std::string& b) {
   return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
-// Whether an existing file is an HDF5 file with the root attributes of a sparsempm run.
-bool is_run_file(const std::string& path) {
+// What an existing file is: a sparsempm run, an HDF5 file another process holds locked (a live
+// run writing it), or something else.
+enum class FileKind { Run, Locked, Other };
+FileKind file_kind(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   if (H5Fis_hdf5(path.c_str()) <= 0)
-    return false;
+    return FileKind::Other;
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0)
-    return false;
+    return FileKind::Locked;
   const bool ours =
       H5Aexists(f, "version") > 0 && H5Aexists(f, "status") > 0 && H5Aexists(f, "input") > 0;
   H5Fclose(f);
-  return ours;
+  return ours ? FileKind::Run : FileKind::Other;
 }
 
 // Whether an existing .xmf names `h5_name` as its data file (a sidecar of that run).
@@ -102,12 +104,30 @@ void check_run_output(const std::string& path, const std::string& input,
   std::error_code ec;
   if (fs::is_directory(path, ec))
     throw InputError(who + "is a directory; give a file name such as run.h5");
+  if (fs::path(path).extension().empty())
+    throw InputError(who + "has no extension; give a name such as run.h5 (its partial file and "
+                           "sidecars are named from it)");
   if (fs::path(path).extension() == ".xmf")
     throw InputError(who + "is the name of a ParaView sidecar; give the .h5 name");
-  if (!input.empty() && same_file(path, input))
-    throw InputError(who + "is the input file; not overwritten");
-  if (fs::exists(path, ec) && !is_run_file(path))
-    throw InputError(who + "exists and is not a sparsempm run file; not overwritten");
+  if (is_partial_path(path))
+    throw InputError(who + "names a partial file; give the result's name " + final_path(path) +
+                     " (a run writes " + path + " itself and moves it there when it completes)");
+  for (const std::string& p : {path, partial_path(path)}) {
+    if (!input.empty() && same_file(p, input))
+      throw InputError(who + (p == path ? "is" : "its partial file " + p + " is") +
+                       " the input file; not overwritten");
+    if (fs::is_directory(p, ec))
+      throw InputError(who + "its partial file " + p + " is a directory");
+    if (!fs::exists(p, ec))
+      continue;
+    const FileKind kind = file_kind(p);
+    if (kind == FileKind::Locked)
+      throw InputError(path + ": another run is writing this file (" + p +
+                       " is locked); wait for it or choose another -o");
+    if (kind == FileKind::Other)
+      throw InputError(who + (p == path ? "exists" : "its partial file " + p + " exists") +
+                       " and is not a sparsempm run file; not overwritten");
+  }
   for (const std::string& p : {path, partial_path(path)}) {
     const std::string xmf = xdmf_path(p);
     if (!input.empty() && same_file(xmf, input))

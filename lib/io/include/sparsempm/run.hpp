@@ -15,8 +15,9 @@ namespace smpm {
 struct RunOptions {
   /// Output path; empty: cfg.output.file, or for a restart the final path of the restart file.
   std::string output;
-  /// Continue the run stored in this file (complete, or the partial file of a killed run) from
-  /// its last complete frame; the file itself is never modified.
+  /// Continue the run stored in this file from its last complete frame. A completed run file
+  /// is copied to the output's partial file and never modified; the partial file of a killed
+  /// run is continued in place (its incomplete frames and series rows are dropped).
   std::string restart_from;
   /// Set asynchronously to a signal number (SIGINT, SIGTERM): the run stops after the step in
   /// progress with Interrupted.
