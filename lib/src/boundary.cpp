@@ -15,15 +15,6 @@ Index BoundaryConditions::num_constrained() const {
 }
 
 namespace {
-Eigen::Vector3d node_x(const Grid& g, Index i) {
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  for (int a = 0; a < g.dim(); ++a)
-    x[a] = g.node_coordinate(i, a);
-  return x;
-}
-} // namespace
-
-namespace {
 using Mask = Eigen::Array<bool, Eigen::Dynamic, 1>;
 
 // FMPM 2026 Table 2 (top block) on every constrained node: first zero each constrained
@@ -54,7 +45,7 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
       if (w == 0)
         continue;
       const Eigen::RowVectorXd delta =
-          (w * c.value_at(t, node_x(*grid, i))) * c.direction.head(d).transpose();
+          (w * c.value_at(t, grid->node_position(i))) * c.direction.head(d).transpose();
       x.row(i) += delta;
       changed(i, delta);
     }
@@ -85,6 +76,80 @@ void BoundaryConditions::constrain_velocity(const Grid& grid, double t, Field& v
 void BoundaryConditions::zero_directions(Field& v) const {
   set_components(
       conditions, nullptr, 0.0, v, nullptr, [](Index) { return 0.0; }, [](Index, const auto&) {});
+}
+
+double MovingWall::value_at(double t, const Eigen::Vector3d& x) const {
+  const double v = velocity ? velocity(t) : 0.0, g = gradient ? gradient(t) : 0.0;
+  return v + g * (x.dot(normal) - position(t));
+}
+
+bool MovingWall::selects(double t, const Eigen::Vector3d& x, double tolerance) const {
+  return x.dot(normal) >= position(t) - depth - tolerance; // beyond, or inside within d
+}
+
+void BoundaryConditions::add_wall(const MovingWall& wall) {
+  SMPM_VERIFY(wall.position, "add_wall: a wall needs its position s_w(t)");
+  walls.push_back(wall);
+  VelocityCondition c;
+  c.direction = wall.normal;
+  c.label = wall.label;
+  c.wall = int(walls.size()) - 1;
+  c.value = [w = wall](double t, const Eigen::Vector3d& x) { return w.value_at(t, x); };
+  conditions.push_back(std::move(c));
+}
+
+void BoundaryConditions::select_wall_nodes(const Grid& grid, const Mask& active, double t) {
+  if (walls.empty())
+    return;
+  const double tol = 1e-9 * grid.min_cell_size();
+  for (VelocityCondition& c : conditions) {
+    if (c.wall < 0)
+      continue;
+    const MovingWall& w = walls[size_t(c.wall)];
+    c.nodes.clear(); // keeps its capacity: no allocation once the wall's reach is settled
+    for (Index i = 0; i < grid.num_nodes(); ++i)
+      if (active[i] && w.selects(t, grid.node_position(i), tol))
+        c.nodes.push_back(i);
+  }
+  check_superposition(grid);
+}
+
+void BoundaryConditions::check_superposition(const Grid& grid) const {
+  // The first condition on each node, then every later one against it; the buffer is reset
+  // on the constrained nodes only.
+  first_.resize(size_t(grid.num_nodes()), -1);
+  const std::string* bad[2] = {nullptr, nullptr};
+  Index bad_node = -1;
+  for (size_t b = 0; b < conditions.size() && !bad[0]; ++b)
+    for (Index i : conditions[b].nodes) {
+      int& f = first_[size_t(i)];
+      if (f < 0) {
+        f = int(b);
+        continue;
+      }
+      const double cosine = std::abs(conditions[size_t(f)].direction.dot(conditions[b].direction));
+      if (cosine > 1e-9 && std::abs(cosine - 1) > 1e-9) {
+        bad[0] = &conditions[size_t(f)].label;
+        bad[1] = &conditions[b].label;
+        bad_node = i;
+        break;
+      }
+    }
+  for (const auto& c : conditions)
+    for (Index i : c.nodes)
+      first_[size_t(i)] = -1;
+  if (bad[0])
+    throw InputError("node " + std::to_string(bad_node) + " has velocity conditions '" + *bad[0] +
+                     "' and '" + *bad[1] +
+                     "' at an angle: superposed BCs must be parallel or perpendicular "
+                     "(FMPM 2026 Table 2)");
+}
+
+bool BoundaryConditions::driven() const {
+  for (const auto& c : conditions)
+    if (c.value || c.wall >= 0)
+      return true;
+  return false;
 }
 
 std::vector<Index> nodes_on_plane(const Grid& grid, int axis, double at) {

@@ -28,9 +28,9 @@ struct Stages {
 
   bool correct_bcs() const { return opt.bc_ordering == BCOrdering::Correct; }
 
-  // v = m̃_k⁻¹ p with this step's mass inverse at BC time t (tasks 1.c, 3.b, 4.c of Fig. 1).
-  void grid_velocity(const Field& p, double t, Field& v) {
-    const LoopConstraints bc{c.grid, c.bcs, t};
+  // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1).
+  void grid_velocity(const Field& p, Field& v) {
+    const LoopConstraints bc{c.grid, c.bcs, c.time};
     if (full_mass && opt.velocity == VelocityUpdate::Exact) {
       c.solver->solve(*c.ops, *c.mt, bc, p, v);
       return;
@@ -41,11 +41,11 @@ struct Stages {
   }
 
   // Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).
-  void strain_update(const Field& v, double t, double dt) {
+  void strain_update(const Field& v, double dt) {
     const Field* vs = &v;
     if (!correct_bcs()) { // BC3: the BC velocity only for the strains
       b.v_strain = v;
-      c.bcs->constrain_velocity(*c.grid, t, b.v_strain, &c.ops->active);
+      c.bcs->constrain_velocity(*c.grid, c.time, b.v_strain, &c.ops->active);
       vs = &b.v_strain;
     }
     strain.update(op, *vs, dt, fields);
@@ -59,8 +59,8 @@ struct Stages {
     lumped_solve(c.ops->m_inv, b.g.p, b.g.v);
     const UpdateScheme s = opt.scheme;
     if (s == UpdateScheme::USF || s == UpdateScheme::USAVG || s == UpdateScheme::USAVGPlus) {
-      grid_velocity(b.g.p, c.time, b.v_re);
-      strain_update(b.v_re, c.time, s == UpdateScheme::USF ? c.dt : 0.5 * c.dt);
+      grid_velocity(b.g.p, b.v_re);
+      strain_update(b.v_re, s == UpdateScheme::USF ? c.dt : 0.5 * c.dt);
     }
   }
 
@@ -74,16 +74,16 @@ struct Stages {
       g.p_plus.noalias() = g.p + c.dt * g.f;
     } else {
       g.p_plus.noalias() = g.p + c.dt * g.f;
-      // Task 2.a: p⁺ takes the BC velocity at t + Δt and f the reaction f^(BC) = Δp/Δt; the
-      // velocity method of §3.1 skips it on full-mass steps and corrects v⁺(k) afterwards.
+      // Task 2.a: p⁺ takes the BC velocity and f the reaction f^(BC) = Δp/Δt; the velocity
+      // method of §3.1 skips it on full-mass steps and corrects v⁺(k) afterwards.
       const bool skip = full_mass && opt.velocity == VelocityUpdate::FMPM &&
                         opt.fmpm.bc_method == BCMethod::Velocity;
       if (!skip)
-        c.bcs->constrain_update(*c.grid, c.ops->m, c.time + c.dt, c.dt, g.p_plus, g.f);
+        c.bcs->constrain_update(*c.grid, c.ops->m, c.time, c.dt, g.p_plus, g.f);
     }
     lumped_solve(c.ops->m_inv, g.f, g.a);
     if (opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::Exact)
-      grid_velocity(g.p_plus, c.time + c.dt, g.v_plus);
+      grid_velocity(g.p_plus, g.v_plus);
     else
       lumped_solve(c.ops->m_inv, g.p_plus, g.v_plus);
   }
@@ -115,17 +115,16 @@ struct Stages {
     const UpdateScheme s = opt.scheme;
     if (s == UpdateScheme::USF)
       return;
-    const double t1 = c.time + c.dt;
     const double dt_last =
         (s == UpdateScheme::USL || s == UpdateScheme::USLPlus) ? c.dt : 0.5 * c.dt;
     if (s == UpdateScheme::USLPlus || s == UpdateScheme::USAVGPlus) {
       map_momentum(op, fields.V, b.p_re);
       if (correct_bcs())
-        c.bcs->constrain_momentum(*c.grid, c.ops->m, t1, b.p_re);
-      grid_velocity(b.p_re, t1, b.v_re);
-      strain_update(b.v_re, t1, dt_last);
+        c.bcs->constrain_momentum(*c.grid, c.ops->m, c.time, b.p_re);
+      grid_velocity(b.p_re, b.v_re);
+      strain_update(b.v_re, dt_last);
     } else {
-      strain_update(b.g.v_plus, t1, dt_last);
+      strain_update(b.g.v_plus, dt_last);
     }
   }
 };

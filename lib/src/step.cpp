@@ -106,6 +106,7 @@ void Stepper::step(Model& model, double dt) {
   Particles& P = model.particles;
   try {
     assemble(model.grid, P, opt_.shape, ops_);
+    model.bcs.select_wall_nodes(model.grid, ops_.active, model.time); // walls move (§3.1)
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.
     grid_update_ = opt_.velocity != VelocityUpdate::FLIP;

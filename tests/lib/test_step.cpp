@@ -135,7 +135,8 @@ TEST_CASE("BC ordering: only the correct method keeps the fixed node's momentum 
 TEST_CASE("a prescribed velocity condition holds on its nodes after every step", "[step]") {
   // FMPM 2026 Table 2 (top block): the lumped-mass condition sets v⁺ · n̂ = v_b on its nodes
   // and leaves the perpendicular component free. 2D block pulled along n̂ = (1, 1)/√2 on the
-  // nodes of its right edge with v_b = 0.01 t; v⁺ · n̂ must equal v_b(t + Δt) to round-off.
+  // nodes of its right edge with v_b = 0.01 t; v⁺ · n̂ must equal v_b at the start of the step
+  // (one BC value per step, FMPM 2026 §3.1) to round-off.
   Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {12, 8, 1}));
   Material mat;
   mat.name = "block";
@@ -157,7 +158,7 @@ TEST_CASE("a prescribed velocity condition holds on its nodes after every step",
     for (Index i : pull.nodes)
       if (stepper.operators().active[i]) {
         const double vn = v.row(i).dot(pull.direction.head(2));
-        worst = std::max(worst, std::abs(vn - 0.01 * model.time));
+        worst = std::max(worst, std::abs(vn - 0.01 * (model.time - 0.05)));
         moved = std::max(moved, std::abs(v(i, 0) - v(i, 1))); // the free component
       }
   }

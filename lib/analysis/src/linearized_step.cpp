@@ -97,11 +97,15 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
     I.solver = options.exact_solver();
   I.d = model.grid.dim();
   I.N = model.particles.size();
-  for (VelocityCondition c : model.bcs.conditions) {
+  assemble(model.grid, model.particles, options.shape, I.ops);
+  // The BC directions with zero values: walls frozen on the nodes they select now.
+  BoundaryConditions frozen = model.bcs;
+  frozen.select_wall_nodes(model.grid, I.ops.active, model.time);
+  for (VelocityCondition c : frozen.conditions) {
     c.value = nullptr;
+    c.wall = -1;
     I.homogeneous.conditions.push_back(std::move(c));
   }
-  assemble(model.grid, model.particles, options.shape, I.ops);
   if (uses_consistent_mass(options, true))
     assemble_consistent_mass(I.ops, I.mt);
   I.K = material_tangents(model);

@@ -75,13 +75,6 @@ int axis_of(const VelocityCondition& c, int d) {
                    c.label + "' is not)");
 }
 
-Eigen::Vector3d node_x(const Grid& g, Index i) {
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  for (int a = 0; a < g.dim(); ++a)
-    x[a] = g.node_coordinate(i, a);
-  return x;
-}
-
 [[noreturn]] void not_positive_definite(const Operators& ops, const Factor& f, long minor) {
   std::vector<int> order(f.free);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return ops.m[a] < ops.m[b]; });
@@ -112,7 +105,7 @@ Field prescribed_components(const Operators& ops, const LoopConstraints& bc, con
       const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
       for (Index i : cond.nodes)
         if (ops.active[i]) {
-          const double value = sign * cond.value_at(bc.time, node_x(*bc.grid, i));
+          const double value = sign * cond.value_at(bc.time, bc.grid->node_position(i));
           prescribed(i, a) = std::isnan(prescribed(i, a)) ? value : prescribed(i, a) + value;
         }
     }

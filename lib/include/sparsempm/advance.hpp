@@ -24,7 +24,8 @@ double courant_of(const Model& model, double dt);
 /// particle leaving the grid).
 struct FailureTest {
   /// Fail when the total energy exceeds energy_growth × its start (≤ 0: never). Not applied
-  /// under body forces, which do work on the particles.
+  /// under body forces or driven velocity BCs (values or moving walls), which do work on the
+  /// particles.
   double energy_growth = 10;
 };
 

@@ -22,11 +22,46 @@ struct VelocityCondition {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();            ///< unit n̂ (d entries used)
   std::function<double(double t, const Eigen::Vector3d& x)> value; ///< v_b(t, x); empty ⇒ 0
   std::string label;                                               ///< for messages
+  int wall = -1; ///< ≥ 0: the nodes are those BoundaryConditions::walls[wall] selects each step
   double value_at(double t, const Eigen::Vector3d& x) const { return value ? value(t, x) : 0.0; }
+};
+
+/// A wall moving through the grid (FMPM 2026 §3.1, Fig. 2): the plane s = s_w(t) with unit
+/// normal n̂ pointing out of the object, s = x · n̂, moving along n̂ with velocity v(t) and
+/// spatial gradient ∇v(t). At time t it constrains, in the direction n̂, every node with mass
+/// beyond it (s_i > s_w) and every node with mass inside it within the depth d
+/// (s_w − d ≤ s_i ≤ s_w), to
+///     v_i = v(t) + ∇v(t) (s_i − s_w(t)).
+struct MovingWall {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX(); ///< unit n̂, out of the object
+  std::function<double(double t)> position;          ///< s_w(t) = x_wall(t) · n̂
+  std::function<double(double t)> velocity;          ///< v(t); empty ⇒ 0
+  std::function<double(double t)> gradient;          ///< ∇v(t); empty ⇒ 0
+  double depth = 0;                                  ///< d (length)
+  std::string label;                                 ///< for messages
+  /// v(t) + ∇v(t) (x · n̂ − s_w(t)).
+  double value_at(double t, const Eigen::Vector3d& x) const;
+  /// Whether a node at x is constrained at time t (it must also have mass).
+  bool selects(double t, const Eigen::Vector3d& x, double tolerance) const;
 };
 
 struct BoundaryConditions {
   std::vector<VelocityCondition> conditions;
+  std::vector<MovingWall> walls; ///< their conditions are in `conditions` (wall ≥ 0)
+
+  /// Adds a moving wall and its velocity condition (nodes selected by select_wall_nodes).
+  void add_wall(const MovingWall& wall);
+  /// Selects the nodes of every wall at time t: the active (massive) nodes the wall constrains
+  /// (MovingWall). Then checks that the conditions on every node are parallel or perpendicular
+  /// (FMPM 2026 §3.1, Table 2); throws InputError naming the node and the conditions otherwise.
+  /// The step calls this once per step, with the values of that step's time.
+  void select_wall_nodes(const Grid& grid, const Eigen::Array<bool, Eigen::Dynamic, 1>& active,
+                         double t);
+  /// Throws InputError unless the conditions sharing a node are parallel or perpendicular.
+  void check_superposition(const Grid& grid) const;
+  /// Whether any condition prescribes a non-zero velocity (a value function or a wall): the
+  /// BCs then do work on the particles.
+  bool driven() const;
 
   /// No constraint.
   static BoundaryConditions none(const Grid&) { return {}; }
@@ -46,6 +81,9 @@ struct BoundaryConditions {
                           const Eigen::Array<bool, Eigen::Dynamic, 1>* active = nullptr) const;
   /// v_i ← v_i − (v_i · n̂) n̂: zero the constrained directions (FMPM 2026 Table 2, bottom).
   void zero_directions(Field& v) const;
+
+private:
+  mutable std::vector<int> first_; // check_superposition's per-node buffer (all −1 between calls)
 };
 
 /// Nodes whose coordinate along `axis` equals `at` (within 10⁻⁹ of a cell). Throws

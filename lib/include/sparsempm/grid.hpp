@@ -41,6 +41,13 @@ public:
   double node_coordinate(Index node, int axis) const {
     return origin_[axis] + h_[axis] * node_ijk(node)[axis];
   }
+  /// Position of a node (unused axes 0).
+  Eigen::Vector3d node_position(Index node) const {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int a = 0; a < dim_; ++a)
+      x[a] = node_coordinate(node, a);
+    return x;
+  }
   /// n × d matrix of node positions, one row per node.
   Field node_positions() const;
   /// True when x (first d entries used) lies inside the box [origin, origin + cells h].

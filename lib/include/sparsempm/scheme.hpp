@@ -63,7 +63,10 @@ struct StepContext {
   const SparseRowMatrix* mt = nullptr; ///< m̃ (required when uses_consistent_mass)
   MassSolver* solver = nullptr;        ///< required by VelocityUpdate::Exact
   const Grid* grid = nullptr;
-  const BoundaryConditions* bcs = nullptr; ///< velocity BCs (values at t and t + Δt)
+  /// Velocity BCs, with one value and one node set per step: every use (the momentum reset
+  /// after P2G, the reaction force of task 2.a, the FMPM loop, the exact solve, BC3) takes
+  /// the values at the start of the step, t, as NairnMPM does (FMPM 2026 §3.1).
+  const BoundaryConditions* bcs = nullptr;
   std::array<double, 3> body_force{0, 0, 0};
   double time = 0; ///< t at the start of the step
   double dt = 0;

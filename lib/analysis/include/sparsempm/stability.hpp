@@ -26,7 +26,8 @@ namespace smpm {
 /// strain update is σ' = σ + Δt 𝕂 : L with L = Σ_i v_i ⊗ G_pi and 𝕂_p = ∂σ/∂L at F_p (from
 /// F' = (I + Δt L) F by central differences; exact for the linear model). Every scheme (USL,
 /// USF, USL+, USAVG, USAVG+), velocity update, BC method and ordering is covered; positions are
-/// frozen, so α of Eqs. (8)–(9) does not enter T. Periodic FMPM with C_X is the product of one
+/// frozen, so α of Eqs. (8)–(9) does not enter T; moving walls are frozen on the nodes they
+/// select at the configuration analysed. Periodic FMPM with C_X is the product of one
 /// FMPM step and the ceil(C_X / C) − 1 FLIP steps between (the Stepper's period). The operator
 /// concept is Spectra's: rows(), cols(), perform_op(x, y).
 class LinearizedStep {
