@@ -123,6 +123,8 @@ class NumericalFailure(Base):
         self.assertFalse(out.exists())  # a failed run leaves its partial file, not a result
         with h5py.File(self.dir / "unstable.partial.h5", "r") as f:  # frames before the failure
             self.assertIn("failed", f.attrs["status"])
+            step = int(re.search(r"step (\d+)", line).group(1))
+            self.assertEqual(f["series"]["step"][-1], step - 1)  # the series up to the failure
             self.assertGreaterEqual(len(f["particles"]), 1)
             for frame in f["particles"].values():
                 self.assertTrue(np.all(np.isfinite(frame["X"][:])))

@@ -218,6 +218,52 @@ VelocityCondition velocity_condition(const Reader& r, const toml::table& vel,
   }
   return c;
 }
+// A function of t from a number or an expression of t (held by value: copies re-parse).
+std::function<double(double)> time_function(const Reader& r, const toml::table& t,
+                                            const std::string& key, const std::string& name,
+                                            bool required) {
+  const toml::node* n = r.node(t, key, name, required);
+  if (!n)
+    return nullptr;
+  if (n->is_string())
+    return [e = Expression(*n->value<std::string>(), {"t"}, r.where(n, name))](double time) {
+      return e(&time);
+    };
+  if (!(n->is_integer() || n->is_floating_point()))
+    r.fail(n, name, "expected a number or an expression of t");
+  const double value = *n->value<double>();
+  if (!std::isfinite(value))
+    r.fail(n, name, "must be finite");
+  return [value](double) { return value; };
+}
+
+// wall = {normal, position, velocity, gradient, depth | depth_cells}: a moving wall (§3.1).
+MovingWall moving_wall(const Reader& r, const toml::table& w, const std::string& key,
+                       const Grid& g) {
+  r.check_keys(w, "bc.wall");
+  const int d = g.dim();
+  const auto dir = r.vector(w, "normal", key + "wall.normal", d, true);
+  MovingWall wall;
+  wall.normal = Eigen::Vector3d(dir[0], dir[1], dir[2]);
+  if (!(wall.normal.norm() > 0))
+    r.fail(w.get("normal"), key + "wall.normal", "must be a non-zero vector");
+  wall.normal.normalize();
+  wall.position = time_function(r, w, "position", key + "wall.position", true);
+  wall.velocity = time_function(r, w, "velocity", key + "wall.velocity", false);
+  wall.gradient = time_function(r, w, "gradient", key + "wall.gradient", false);
+  if (w.get("depth") && w.get("depth_cells"))
+    r.fail(w.get("depth_cells"), key + "wall.depth_cells", "give depth or depth_cells, not both");
+  if (w.get("depth_cells"))
+    wall.depth = r.number(w, "depth_cells", key + "wall.depth_cells", 0.0) * g.min_cell_size();
+  else
+    wall.depth = r.number(w, "depth", key + "wall.depth", 0.0);
+  if (!(wall.depth >= 0))
+    r.fail(w.get(w.get("depth_cells") ? "depth_cells" : "depth"), key + "wall.depth",
+           "must be non-negative");
+  wall.label = key + "wall";
+  return wall;
+}
+
 } // namespace
 
 BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid& g) {
@@ -227,6 +273,14 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
   for (const toml::table* t : r.tables(root, "bc", false)) {
     r.check_keys(*t, "bc");
     const std::string key = "bc." + std::to_string(index++) + ".";
+    if (const toml::table* w = r.table(*t, "wall", key + "wall", false)) {
+      for (const char* other : {"plane", "box", "fixed", "velocity"})
+        if (t->get(other))
+          r.fail(t->get(other), key + other,
+                 "a wall selects its own nodes and values; give wall = {...} alone");
+      bcs.add_wall(moving_wall(r, *w, key, g));
+      continue;
+    }
     const std::vector<Index> nodes = bc_nodes(r, *t, key, g);
     const toml::node* fixed = t->get("fixed");
     const toml::table* vel = r.table(*t, "velocity", key + "velocity", false);
@@ -250,6 +304,11 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
       c.label = key + "fixed";
       bcs.conditions.push_back(std::move(c));
     }
+  }
+  try {
+    bcs.check_superposition(g); // static conditions; walls are checked every step
+  } catch (const InputError& e) {
+    throw InputError(r.source_ + ": [[bc]]: " + e.what());
   }
   return bcs;
 }

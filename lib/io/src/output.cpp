@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace smpm {
@@ -56,7 +57,9 @@ void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) 
   h5::write_ints(g.get(), "shape", shape, 2);
 }
 
-const char* kSeries[] = {"step", "t", "kinetic", "strain", "total"};
+const char* kSeries[] = {
+    "step", "t", "kinetic", "strain", "total", "velocity_change", "velocity_change_sum"};
+constexpr int kNumSeries = 7;
 
 } // namespace
 
@@ -184,10 +187,12 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
   h5::Id series = h5::open_group(file, "series");
   const size_t k = rows.size();
   std::vector<double> col(k), mom(k * size_t(dim));
-  for (int s = 0; s < 5; ++s) {
+  for (int s = 0; s < kNumSeries; ++s) {
     for (size_t r = 0; r < k; ++r) {
       const SeriesRow& row = rows[r];
-      const double vals[5] = {double(row.step), row.t, row.e.kinetic, row.e.strain, row.e.total};
+      const double vals[kNumSeries] = {double(row.step),       row.t,       row.e.kinetic,
+                                       row.e.strain,           row.e.total, row.velocity_change,
+                                       row.velocity_change_sum};
       col[r] = vals[s];
     }
     h5::append_series(series.get(), kSeries[s], col.data(), k, 0);
@@ -218,6 +223,13 @@ void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool ma
 }
 
 void OutputFile::set_status(const std::string& status) noexcept {
+  try {
+    if (!pending_.empty()) { // the series up to the last step, past the last frame
+      append_series_rows(file_, pending_, dim_);
+      pending_.clear();
+    }
+  } catch (const std::exception&) {
+  }
   try {
     h5::set_attribute(file_, "status", status);
     H5Fflush(file_, H5F_SCOPE_GLOBAL);
@@ -391,6 +403,9 @@ StoredRun read_stored_run(const std::string& path) {
     const Field kin = h5::read_doubles(series.get(), "kinetic");
     const Field str = h5::read_doubles(series.get(), "strain");
     const Field tot = h5::read_doubles(series.get(), "total");
+    const bool mms = h5::exists(series.get(), "velocity_change_sum");
+    const Field vc = mms ? h5::read_doubles(series.get(), "velocity_change") : Field();
+    const Field vs = mms ? h5::read_doubles(series.get(), "velocity_change_sum") : Field();
     for (Index r = 0; r < step.rows(); ++r) {
       SeriesRow row;
       row.step = long(step(r, 0));
@@ -398,6 +413,10 @@ StoredRun read_stored_run(const std::string& path) {
       row.e.kinetic = kin(r, 0);
       row.e.strain = str(r, 0);
       row.e.total = tot(r, 0);
+      if (mms && r < vs.rows() && r < vc.rows()) {
+        row.velocity_change = vc(r, 0);
+        row.velocity_change_sum = vs(r, 0);
+      }
       run.series.push_back(row);
     }
   } catch (const std::runtime_error& e) {
@@ -512,8 +531,14 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
   hsize_t keep = 0;
   while (keep < hsize_t(step.rows()) && long(step(Index(keep), 0)) <= cfg.model.step)
     ++keep;
-  for (const char* s : kSeries)
+  for (const char* s : kSeries) {
+    if (!h5::exists(series.get(), s)) { // a file of an earlier version: NaN rows so far
+      h5::create_series(series.get(), s, 0);
+      const std::vector<double> missing(keep, std::numeric_limits<double>::quiet_NaN());
+      h5::append_series(series.get(), s, missing.data(), keep, 0);
+    }
     h5::truncate_series(series.get(), s, keep);
+  }
   h5::truncate_series(series.get(), "momentum", keep);
   h5::set_attribute(out.file_, "status", std::string("running"));
   for (int k : frames) {

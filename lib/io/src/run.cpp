@@ -5,6 +5,7 @@
 #include "sparsempm/output.hpp"
 #include "sparsempm/run_file.hpp"
 
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <optional>
@@ -58,8 +59,30 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   std::optional<double> e0;
   OutputFile out = open_partial(cfg, options, partial, next_frame, e0);
   Stepper stepper(cfg.step);
-  if (restart)
+  // The velocity error of FMPM 2026 §3.1 against the velocities at t = 0 (frame 0), with its
+  // running sum continued across a restart.
+  Field V0 = model.particles.V;
+  double change_sum = 0;
+  if (restart) {
     stepper.set_courant_budget(stored_courant_budget(partial, next_frame - 1));
+    Model first = model;
+    load_frame(partial, 0, first);
+    V0 = first.particles.V;
+    const StoredRun kept = read_stored_run(partial);
+    if (!kept.series.empty() && std::isfinite(kept.series.back().velocity_change_sum))
+      change_sum = kept.series.back().velocity_change_sum;
+  }
+  auto row = [&](const Model& m, const Energies& e) {
+    SeriesRow r{m.step, m.time, e};
+    const Index N = m.particles.size();
+    r.velocity_change = N && V0.rows() == N
+                            ? std::sqrt((m.particles.V - V0).rowwise().squaredNorm().sum() / N)
+                            : 0.0;
+    if (m.step > 0)
+      change_sum += r.velocity_change;
+    r.velocity_change_sum = change_sum;
+    return r;
+  };
   // A frame, with the step it belongs to named when the write fails (a full disk).
   auto frame = [&](const Model& m) {
     out.set_stepper_state(stepper.courant_budget());
@@ -80,12 +103,12 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   RunReport report;
   try {
     if (!restart) {
-      out.add_series({model.step, model.time, energies(model)});
+      out.add_series(row(model, energies(model)));
       frame(model);
     }
     const AdvanceReport r =
         advance(model, stepper, adv, [&](const Model& m, const Energies& e, bool at_stop) {
-          out.add_series({m.step, m.time, e});
+          out.add_series(row(m, e));
           if (at_stop)
             frame(m);
           if (progress)

@@ -16,7 +16,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"material", {"name", "model", "density", "youngs", "poisson"}},
       {"body",
        {"material", "region", "min", "max", "center", "radius", "semi_axes", "ppc", "velocity"}},
-      {"bc", {"plane", "box", "fixed", "velocity"}},
+      {"bc", {"plane", "box", "fixed", "velocity", "wall"}},
+      {"bc.wall", {"normal", "position", "velocity", "gradient", "depth", "depth_cells"}},
       {"bc.plane", {"axis", "at"}},
       {"bc.box", {"min", "max"}},
       {"bc.velocity", {"direction", "value"}},
@@ -154,7 +155,7 @@ void apply_override(toml::table& root, const std::string& spec) {
   for (std::string part; std::getline(ss, part, '.');)
     parts.push_back(part);
   const auto& top = schema().at("");
-  if (parts.size() < 2 || parts.size() > 3 ||
+  if (parts.size() < 2 || parts.size() > 4 ||
       std::find(top.begin(), top.end(), parts[0]) == top.end())
     throw InputError("--set " + clip(spec) + ": expected section.key=value with a section of " +
                      "grid, material, body, bc, time, scheme, output, loads" +
@@ -162,10 +163,11 @@ void apply_override(toml::table& root, const std::string& spec) {
   toml::node* sec = root.get(parts[0]);
   const bool listed = parts[0] == "material" || parts[0] == "body" || parts[0] == "bc";
   toml::table* target = nullptr;
+  std::string section = parts[0]; // the schema section of the key set
   if (listed) {
-    if (parts.size() != 3)
+    if (parts.size() != 3 && parts.size() != 4)
       throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] entries are addressed as " +
-                       parts[0] + ".<name or index>.key=value");
+                       parts[0] + ".<name or index>.key=value (or .table.key=value)");
     toml::array* arr = sec ? sec->as_array() : nullptr;
     if (arr)
       for (size_t k = 0; k < arr->size() && !target; ++k) {
@@ -178,6 +180,14 @@ void apply_override(toml::table& root, const std::string& spec) {
     if (!target)
       throw InputError("--set " + clip(spec) + ": no [[" + parts[0] + "]] named or numbered '" +
                        parts[1] + "'");
+    if (parts.size() == 4) { // a key of an inline table of the entry, e.g. bc.0.wall.depth
+      section = parts[0] + "." + parts[2];
+      toml::node* sub = target->get(parts[2]);
+      if (!schema().count(section) || !sub || !sub->as_table())
+        throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] " + parts[1] +
+                         " has no table '" + parts[2] + "'");
+      target = sub->as_table();
+    }
   } else {
     if (parts.size() != 2)
       throw InputError("--set " + clip(spec) + ": expected " + parts[0] + ".key=value");
@@ -188,9 +198,9 @@ void apply_override(toml::table& root, const std::string& spec) {
       throw InputError("--set " + clip(spec) + ": '" + parts[0] + "' is not a table");
   }
   const std::string& key = parts.back();
-  const auto& valid = schema().at(parts[0]);
+  const auto& valid = schema().at(section);
   if (std::find(valid.begin(), valid.end(), key) == valid.end())
-    throw InputError("--set " + clip(spec) + ": unknown key '" + parts[0] + "." + key + "'" +
+    throw InputError("--set " + clip(spec) + ": unknown key '" + section + "." + key + "'" +
                      suggest(key, valid));
   assign(*target, key, value);
 }

@@ -9,7 +9,8 @@
 ///                                (their indices, na × 1, na × d, na × d); attribute grid_nodes
 ///   /matrices/<frame>/{S, G0, G1, G2, consistent_mass}/{data, indices, indptr, shape}
 ///                                (CSR; only with output.matrices = true)
-///   /series/{step, t, kinetic, strain, total, momentum}   one row per step
+///   /series/{step, t, kinetic, strain, total, momentum, velocity_change,
+///            velocity_change_sum}                        one row per step
 ///   root attributes: input (the input text), overrides, version, status
 /// Every frame is flushed when written; the HDF5 metadata cache keeps evictions off, so a run
 /// killed between two flushes leaves a file that opens with every completed frame.
@@ -28,6 +29,10 @@ struct SeriesRow {
   long step = 0;
   double t = 0;
   Energies e;
+  /// √((1/N) Σ_p |V_p(t) − V_p(0)|²): the per-step RMS of FMPM 2026 §3.1's velocity error,
+  /// measured against the velocities at t = 0.
+  double velocity_change = 0;
+  double velocity_change_sum = 0; ///< its running sum over the steps (⟨error⟩ = sum / N_s)
 };
 
 class OutputFile {
@@ -49,8 +54,9 @@ public:
   /// Writes frame `frame` of the model (and its matrices when cfg.output.matrices), the
   /// buffered series rows, and flushes the file.
   void write_frame(int frame, const Model& model, Shape shape, bool matrices);
-  /// Records the run's end ("completed" or the failure) and flushes. Writes what it can and
-  /// does not throw: it is called while another failure is being reported.
+  /// Records the run's end (the failure or interruption) with the series rows buffered since
+  /// the last frame, and flushes. Writes what it can and does not throw: it is called while
+  /// another failure is being reported.
   void set_status(const std::string& status) noexcept;
   /// Marks the run completed, closes the file and moves it (with a fresh sidecar) to `target`,
   /// replacing what was there; the partial sidecar is removed.
