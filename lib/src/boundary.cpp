@@ -19,35 +19,45 @@ using Mask = Eigen::Array<bool, Eigen::Dynamic, 1>;
 
 // FMPM 2026 Table 2 (top block) on every constrained node: first zero each constrained
 // direction, x_i ← x_i − (x_i · n̂_b) n̂_b, then add the values, x_i ← x_i + w_i v_b(t, x_i) n̂_b
-// (w_i = weight(i); 0 only zeroes). Parallel conditions thus add their values, perpendicular ones
-// set their own components. changed(i, Δ) sees every change Δ (a d-vector) of row i.
+// (w_i = weight(r), r the row; 0 only zeroes). Parallel conditions thus add their values,
+// perpendicular ones set their own components. changed(r, Δ) sees every change Δ (a d-vector)
+// of row r. A node field of several velocity fields (block columns, operators.hpp) holds node i
+// in rows α n_g + i: a condition acts on node i of every field.
 template <class Weight, class Changed>
-void set_components(const std::vector<VelocityCondition>& conditions, const Grid* grid, double t,
+void set_components(const std::vector<VelocityCondition>& conditions, const Grid& grid, double t,
                     Field& x, const Mask* active, Weight&& weight, Changed&& changed) {
   const int d = int(x.cols());
-  for (const auto& c : conditions)
-    for (Index i : c.nodes) {
-      if (active && !(*active)[i])
+  const Index ng = grid.num_nodes();
+  SMPM_VERIFY(ng > 0 && x.rows() % ng == 0, "velocity BCs: a node field of " +
+                                                std::to_string(x.rows()) + " rows on a grid of " +
+                                                std::to_string(ng) + " nodes");
+  for (Index block = 0; block < x.rows(); block += ng) {
+    for (const auto& c : conditions)
+      for (Index i : c.nodes) {
+        const Index r = block + i;
+        if (active && !(*active)[r])
+          continue;
+        const auto n = c.direction.head(d);
+        auto xi = x.row(r);
+        const Eigen::RowVectorXd delta = -xi.dot(n) * n.transpose();
+        xi += delta;
+        changed(r, delta);
+      }
+    for (const auto& c : conditions) {
+      if (!c.value)
         continue;
-      const auto n = c.direction.head(d);
-      auto xi = x.row(i);
-      const Eigen::RowVectorXd delta = -xi.dot(n) * n.transpose();
-      xi += delta;
-      changed(i, delta);
-    }
-  for (const auto& c : conditions) {
-    if (!c.value)
-      continue;
-    for (Index i : c.nodes) {
-      if (active && !(*active)[i])
-        continue;
-      const double w = weight(i);
-      if (w == 0)
-        continue;
-      const Eigen::RowVectorXd delta =
-          (w * c.value_at(t, grid->node_position(i))) * c.direction.head(d).transpose();
-      x.row(i) += delta;
-      changed(i, delta);
+      for (Index i : c.nodes) {
+        const Index r = block + i;
+        if (active && !(*active)[r])
+          continue;
+        const double w = weight(r);
+        if (w == 0)
+          continue;
+        const Eigen::RowVectorXd delta =
+            (w * c.value_at(t, grid.node_position(i))) * c.direction.head(d).transpose();
+        x.row(r) += delta;
+        changed(r, delta);
+      }
     }
   }
 }
@@ -56,26 +66,26 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
 void BoundaryConditions::constrain_momentum(const Grid& grid, const Eigen::VectorXd& m, double t,
                                             Field& p) const {
   set_components(
-      conditions, &grid, t, p, nullptr, [&](Index i) { return m[i]; }, [](Index, const auto&) {});
+      conditions, grid, t, p, nullptr, [&](Index i) { return m[i]; }, [](Index, const auto&) {});
 }
 
 void BoundaryConditions::constrain_update(const Grid& grid, const Eigen::VectorXd& m, double t,
                                           double dt, Field& p_plus, Field& f) const {
   // Δp = (m v_b − p⁺·n̂) n̂ and the reaction f^(BC) = Δp / Δt.
   set_components(
-      conditions, &grid, t, p_plus, nullptr, [&](Index i) { return m[i]; },
+      conditions, grid, t, p_plus, nullptr, [&](Index i) { return m[i]; },
       [&](Index i, const auto& delta) { f.row(i) += delta / dt; });
 }
 
 void BoundaryConditions::constrain_velocity(const Grid& grid, double t, Field& v,
                                             const Mask* active) const {
   set_components(
-      conditions, &grid, t, v, active, [](Index) { return 1.0; }, [](Index, const auto&) {});
+      conditions, grid, t, v, active, [](Index) { return 1.0; }, [](Index, const auto&) {});
 }
 
-void BoundaryConditions::zero_directions(Field& v) const {
+void BoundaryConditions::zero_directions(const Grid& grid, Field& v) const {
   set_components(
-      conditions, nullptr, 0.0, v, nullptr, [](Index) { return 0.0; }, [](Index, const auto&) {});
+      conditions, grid, 0.0, v, nullptr, [](Index) { return 0.0; }, [](Index, const auto&) {});
 }
 
 double MovingWall::value_at(double t, const Eigen::Vector3d& x) const {
@@ -107,9 +117,14 @@ void BoundaryConditions::select_wall_nodes(const Grid& grid, const Mask& active,
       continue;
     const MovingWall& w = walls[size_t(c.wall)];
     c.nodes.clear(); // keeps its capacity: no allocation once the wall's reach is settled
-    for (Index i = 0; i < grid.num_nodes(); ++i)
-      if (active[i] && w.selects(t, grid.node_position(i), tol))
+    const Index ng = grid.num_nodes();
+    for (Index i = 0; i < ng; ++i) {
+      bool mass = false; // node i has mass in some velocity field
+      for (Index r = i; r < active.size() && !mass; r += ng)
+        mass = active[r];
+      if (mass && w.selects(t, grid.node_position(i), tol))
         c.nodes.push_back(i);
+    }
   }
   check_superposition(grid);
 }

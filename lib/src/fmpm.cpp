@@ -139,7 +139,9 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
 FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopConstraints& bc) {
   FmpmHooks hooks;
   if (bc.bcs && opt.bc_method == BCMethod::Incremental) // Table 2, bottom block
-    hooks.velocity_bcs = [bcs = bc.bcs](int, Field& dv) { bcs->zero_directions(dv); };
+    hooks.velocity_bcs = [bcs = bc.bcs, grid = bc.grid](int, Field& dv) {
+      bcs->zero_directions(*grid, dv);
+    };
   if (opt.metric != ConvergenceMetric::None) // dynamic FMPM (§3.4)
     hooks.converged = [&ops, metric = opt.metric, limit = opt.dynamic_limit](
                           int, const Field& dv, const Field& v, double& value) {

@@ -1,15 +1,28 @@
 #include "sparsempm/operators.hpp"
 
+#include "sparsempm/errors.hpp"
+
 #include <algorithm>
 #include <atomic>
+#include <limits>
+#include <string>
 
 namespace smpm {
 
-void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops) {
+void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops, int fields,
+              const Eigen::VectorXi* field) {
+  SMPM_VERIFY(fields >= 1 && (fields == 1 || (field && field->size() == particles.size())),
+              "assemble: " + std::to_string(fields) + " fields need one field per particle");
+  SMPM_VERIFY(double(fields) * double(grid.num_nodes()) < double(std::numeric_limits<int>::max()),
+              "assemble: " + std::to_string(fields) + " fields of " +
+                  std::to_string(grid.num_nodes()) + " nodes exceed 32-bit node indices");
   ops.dim = grid.dim();
+  ops.fields = fields;
+  ops.grid_node_count = grid.num_nodes();
   ops.grid_nodes = {grid.nodes(0), grid.nodes(1), grid.nodes(2)};
   static std::atomic<long> versions{0}; // unique across all Operators objects
-  if (assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support))
+  if (assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support, fields,
+                     fields > 1 ? field->data() : nullptr))
     ops.pattern_version = ++versions;
   ops.M = particles.mass;
   ops.m.noalias() = ops.S.transpose() * ops.M; // m = Sᵀ M
@@ -73,12 +86,15 @@ bool keep_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
 
 // The stencil pattern: row i of a touched node holds every node within the half-width.
 void build_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
-  const Index n = ops.num_nodes();
+  const Index n = ops.num_nodes(), ng = ops.grid_node_count;
   const auto& nodes = ops.grid_nodes;
   const auto& w = mt.half_width;
+  // Row i of field α (i = α n_g + j) couples j to its stencil within the same field: m̃ is
+  // block diagonal (FMPM 2026 Eq. 15).
   auto box = [&](Index i, int lo[3], int c[3]) {
-    const int ijk[3] = {int(i % nodes[0]), int((i / nodes[0]) % nodes[1]),
-                        int(i / (Index(nodes[0]) * nodes[1]))};
+    const Index j = i % ng;
+    const int ijk[3] = {int(j % nodes[0]), int((j / nodes[0]) % nodes[1]),
+                        int(j / (Index(nodes[0]) * nodes[1]))};
     for (int a = 0; a < 3; ++a)
       stencil(ijk[a], w[size_t(a)], nodes[size_t(a)], lo[a], c[a]);
   };
@@ -101,11 +117,12 @@ void build_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
       continue;
     int lo[3], c[3];
     box(i, lo, c);
+    const Index block = i - i % ng;
     for (int k2 = 0; k2 < c[2]; ++k2)
       for (int k1 = 0; k1 < c[1]; ++k1)
         for (int k0 = 0; k0 < c[0]; ++k0)
-          ri[pos++] =
-              int((lo[0] + k0) + Index(nodes[0]) * ((lo[1] + k1) + Index(nodes[1]) * (lo[2] + k2)));
+          ri[pos++] = int(block + (lo[0] + k0) +
+                          Index(nodes[0]) * ((lo[1] + k1) + Index(nodes[1]) * (lo[2] + k2)));
   }
   ro[n] = int(pos);
 }

@@ -28,6 +28,14 @@ struct Stages {
 
   bool correct_bcs() const { return opt.bc_ordering == BCOrdering::Correct; }
 
+  // Multimaterial contact on momenta p (contact 2020 §3.2): after each extrapolation to the
+  // grid (Eq. 26, no force), and after the momentum update with the contact force
+  // f^{αC,1} = Δp^{α+}/Δt added to f, so that a^α = (m^α)⁻¹(f^{α0} + f^{αC,1}) (Eqs. 32–34).
+  void contact(Field& p, Field* force = nullptr) {
+    if (c.contact_nodes)
+      apply_contact(*c.ops, *c.contact_nodes, *c.contact, *c.grid, c.dt, p, force);
+  }
+
   // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1).
   void grid_velocity(const Field& p, Field& v) {
     const LoopConstraints bc{c.grid, c.bcs, c.time};
@@ -54,6 +62,7 @@ struct Stages {
   // Task 1: p = Sᵀ M V, BC1, v = m⁻¹ p; task 1.c for USF, USAVG and USAVG+.
   void momentum() {
     map_momentum(op, fields.V, b.g.p);
+    contact(b.g.p);
     if (correct_bcs())
       c.bcs->constrain_momentum(*c.grid, c.ops->m, c.time, b.g.p);
     lumped_solve(c.ops->m_inv, b.g.p, b.g.v);
@@ -70,10 +79,12 @@ struct Stages {
     internal_force(op, fields.volume0, fields.F, fields.stress, g.f);
     add_body_force(c.ops->m, c.body_force, g.f);
     if (!correct_bcs()) {
-      c.bcs->zero_directions(g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
+      c.bcs->zero_directions(*c.grid, g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
       g.p_plus.noalias() = g.p + c.dt * g.f;
+      contact(g.p_plus, &g.f);
     } else {
       g.p_plus.noalias() = g.p + c.dt * g.f;
+      contact(g.p_plus, &g.f);
       // Task 2.a: p⁺ takes the BC velocity and f the reaction f^(BC) = Δp/Δt; the velocity
       // method of §3.1 skips it on full-mass steps and corrects v⁺(k) afterwards.
       const bool skip = full_mass && opt.velocity == VelocityUpdate::FMPM &&
@@ -119,6 +130,7 @@ struct Stages {
         (s == UpdateScheme::USL || s == UpdateScheme::USLPlus) ? c.dt : 0.5 * c.dt;
     if (s == UpdateScheme::USLPlus || s == UpdateScheme::USAVGPlus) {
       map_momentum(op, fields.V, b.p_re);
+      contact(b.p_re);
       if (correct_bcs())
         c.bcs->constrain_momentum(*c.grid, c.ops->m, c.time, b.p_re);
       grid_velocity(b.p_re, b.v_re);
@@ -139,6 +151,8 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
   SMPM_VERIFY(!s.full_mass || context.mt, "scheme_step: this step needs m~ (context.mt)");
   SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
               "scheme_step: the exact update needs a MassSolver (context.solver)");
+  SMPM_VERIFY(!context.contact_nodes || context.contact,
+              "scheme_step: contact nodes need their Contact (context.contact)");
   buffers.report = FmpmReport{};
   s.momentum();
   s.forces_and_velocity();

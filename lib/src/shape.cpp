@@ -215,8 +215,10 @@ void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
 } // namespace
 
 bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRowMatrix& S,
-                    std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support) {
-  const Index N = P.size(), n = grid.num_nodes();
+                    std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support,
+                    int fields, const int* field) {
+  const Index N = P.size(), ng = grid.num_nodes(), n = ng * fields;
+  SMPM_VERIFY(fields == 1 || field, "assemble_shape: several fields need the particle fields");
   const int d = grid.dim();
   SMPM_VERIFY(P.dim == d, "assemble_shape: particles are " + std::to_string(P.dim) +
                               "D but the grid is " + std::to_string(d) + "D");
@@ -246,10 +248,12 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     for (Index p = 0; p < N; ++p) {
       outer[p] = int(pos);
       const ShapeSupport& s = support[p];
+      const Index block = fields > 1 ? Index(field[p]) * ng : 0; // node i of field α: α n_g + i
       for (int k2 = 0; k2 < s.count[2]; ++k2)
         for (int k1 = 0; k1 < s.count[1]; ++k1)
           for (int k0 = 0; k0 < s.count[0]; ++k0)
-            inner[pos++] = int(grid.node_index(s.first[0] + k0, s.first[1] + k1, s.first[2] + k2));
+            inner[pos++] =
+                int(block + grid.node_index(s.first[0] + k0, s.first[1] + k1, s.first[2] + k2));
     }
     outer[N] = int(pos);
     for (int a = 0; a < 3; ++a) {

@@ -95,6 +95,19 @@ void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p)
   });
 }
 
+void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g) {
+  SMPM_VERIFY(volume.size() == op.rows, "volume_gradient: one volume per particle");
+  g.setZero(op.nodes, op.dim);
+  by_dim(op.dim, [&]<int D>() {
+    for (Index q = 0; q < op.rows; ++q)
+      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
+        double* gi = g.data() + Index(op.inner[k]) * D;
+        for (int b = 0; b < D; ++b)
+          gi[b] += op.G[size_t(b)][k] * volume[q];
+      }
+  });
+}
+
 void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
                     const ConstFieldRef& F, const ConstFieldRef& stress, Field& f) {
   const int d2 = op.dim * op.dim;

@@ -74,6 +74,18 @@ void validate(const StepOptions& opt) {
               "the exact velocity update needs StepOptions::exact_solver (see exact.hpp)");
 }
 
+void validate_multimaterial(const StepOptions& opt, const Contact& contact) {
+  if (contact.fields() < 2)
+    return;
+  const bool series = opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::XPIC;
+  if (opt.velocity == VelocityUpdate::Exact || (series && opt.fmpm.order > 1))
+    throw InputError("scheme.velocity = " + std::string(to_string(opt.velocity)) +
+                     (series ? " of order " + std::to_string(opt.fmpm.order) : std::string()) +
+                     " with " + std::to_string(contact.fields()) +
+                     " velocity fields: contact inside the mass solve (FMPM 2026 §3.2) is not "
+                     "available; use FLIP, PIC or order 1");
+}
+
 bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {
   if (!grid_update)
     return false;
@@ -83,6 +95,9 @@ bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {
 
 struct Stepper::Buffers {
   StepBuffers step;
+  Eigen::VectorXi field;  ///< velocity field of each particle (multimaterial mode)
+  Eigen::VectorXd volume; ///< current particle volumes (AG contact normals)
+  ContactNodes contact;
 };
 
 Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_unique<Buffers>()) {
@@ -105,8 +120,21 @@ const FmpmReport& Stepper::last_fmpm() const {
 void Stepper::step(Model& model, double dt) {
   Particles& P = model.particles;
   try {
-    assemble(model.grid, P, opt_.shape, ops_);
+    const int nf = model.contact.fields();
+    if (nf > 1) { // multimaterial: the fields as blocks of columns of S (contact.hpp)
+      validate_multimaterial(opt_, model.contact);
+      model.contact.particle_fields(P.material, buf_->field);
+      assemble(model.grid, P, opt_.shape, ops_, nf, &buf_->field);
+    } else {
+      assemble(model.grid, P, opt_.shape, ops_);
+    }
     model.bcs.select_wall_nodes(model.grid, ops_.active, model.time); // walls move (§3.1)
+    if (nf > 1) {
+      P.jacobian(buf_->volume);
+      buf_->volume.array() *= P.volume0.array();
+      find_contact_nodes(model.grid, ops_, particle_operators(ops_), model.contact, P.X,
+                         buf_->volume, buf_->contact);
+    }
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.
     grid_update_ = opt_.velocity != VelocityUpdate::FLIP;
@@ -125,6 +153,8 @@ void Stepper::step(Model& model, double dt) {
                               .grid = &model.grid,
                               .bcs = &model.bcs,
                               .body_force = model.body_force,
+                              .contact = nf > 1 ? &model.contact : nullptr,
+                              .contact_nodes = nf > 1 ? &buf_->contact : nullptr,
                               .time = model.time,
                               .dt = dt,
                               .grid_update = grid_update_};

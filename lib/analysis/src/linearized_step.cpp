@@ -90,6 +90,9 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
       (options.velocity == VelocityUpdate::FMPM || options.velocity == VelocityUpdate::XPIC))
     throw InputError("the linearised step needs a fixed FMPM order: dynamic FMPM stops at an "
                      "order that depends on the state, which is not a linear map");
+  if (model.contact.fields() > 1)
+    throw InputError("the linearised step needs one velocity field: contact detection switches "
+                     "with the state ([[contact]]), which is not a linear map");
   Impl& I = *impl_;
   I.model = model;
   I.opt = options;

@@ -103,11 +103,13 @@ Field prescribed_components(const Operators& ops, const LoopConstraints& bc, con
     for (const VelocityCondition& cond : bc.bcs->conditions) {
       const int a = axis_of(cond, d);
       const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
-      for (Index i : cond.nodes)
-        if (ops.active[i]) {
-          const double value = sign * cond.value_at(bc.time, bc.grid->node_position(i));
-          prescribed(i, a) = std::isnan(prescribed(i, a)) ? value : prescribed(i, a) + value;
-        }
+      // Node i of every velocity field (block columns, operators.hpp): rows α n_g + i.
+      for (Index block = 0; block < ops.num_nodes(); block += ops.grid_node_count)
+        for (Index i : cond.nodes)
+          if (const Index r = block + i; ops.active[r]) {
+            const double value = sign * cond.value_at(bc.time, bc.grid->node_position(i));
+            prescribed(r, a) = std::isnan(prescribed(r, a)) ? value : prescribed(r, a) + value;
+          }
     }
   if (cutoff > 0) {
     const double light = cutoff * ops.m.maxCoeff();

@@ -80,7 +80,9 @@ struct BoundaryConditions {
   void constrain_velocity(const Grid& grid, double t, Field& v,
                           const Eigen::Array<bool, Eigen::Dynamic, 1>* active = nullptr) const;
   /// v_i ← v_i − (v_i · n̂) n̂: zero the constrained directions (FMPM 2026 Table 2, bottom).
-  void zero_directions(Field& v) const;
+  void zero_directions(const Grid& grid, Field& v) const;
+  // Every function taking a node field accepts one of several velocity fields too (n_f · n_g
+  // rows, operators.hpp): a condition on node i acts on node i of every field.
 
 private:
   mutable std::vector<int> first_; // check_superposition's per-node buffer (all −1 between calls)

@@ -3,6 +3,7 @@
 /// A simulation's state: grid, particles, materials, boundary conditions, clock.
 
 #include "sparsempm/boundary.hpp"
+#include "sparsempm/contact.hpp"
 #include "sparsempm/grid.hpp"
 #include "sparsempm/material.hpp"
 #include "sparsempm/particles.hpp"
@@ -17,6 +18,7 @@ struct Model {
   Particles particles;
   std::vector<Material> materials;
   BoundaryConditions bcs;
+  Contact contact; ///< velocity fields of the materials and their contact laws (contact.hpp)
   std::array<double, 3> body_force{0, 0, 0}; ///< acceleration B (per unit mass), d entries used
   double time = 0;                           ///< simulated time t
   long step = 0;                             ///< number of steps taken

@@ -17,8 +17,16 @@ namespace smpm {
 inline constexpr double kMassTolerance = 1e-10;
 
 /// Everything a time step needs from the particle configuration, assembled once per step.
+///
+/// Multimaterial MPM (contact.hpp) keeps one S with the velocity fields as blocks of columns:
+/// n = fields · n_g, node i of field α is column α·n_g + i, and a particle's row has entries
+/// only in its field's block. Then p, m, m_inv, active and m̃ hold every field (m̃ block
+/// diagonal: m̃ = Σ_α m̃^α, FMPM 2026 Eq. 15) and each kernel of the step serves all fields in
+/// one pass; with one field n = n_g and nothing changes.
 struct Operators {
   int dim = 1;
+  int fields = 1;                   ///< velocity fields (blocks of columns)
+  Index grid_node_count{};          ///< n_g, nodes of the grid
   SparseRowMatrix S;                ///< N × n shape-function weights S_pi
   std::array<SparseRowMatrix, 3> G; ///< G[a]: N × n gradient weights ∂S_pi/∂x_a (a < d)
   Eigen::VectorXd M;                ///< N particle masses (the diagonal of 𝗠)
@@ -33,8 +41,10 @@ struct Operators {
 };
 
 /// Assembles S, G, M, m and the active set for the current configuration, reusing the
-/// sparsity pattern (and all storage) when no particle changed its node box.
-void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops);
+/// sparsity pattern (and all storage) when no particle changed its node box. With `field`
+/// (one entry per particle, values in [0, fields)) the fields are blocks of columns.
+void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops,
+              int fields = 1, const Eigen::VectorXi* field = nullptr);
 /// Convenience form returning fresh operators.
 Operators assemble(const Grid& grid, const Particles& particles, Shape shape);
 

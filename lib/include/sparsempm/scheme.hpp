@@ -6,6 +6,7 @@
 /// it on the live state with freshly assembled operators, the linearised update operator T
 /// (stability.hpp) on frozen operators with homogeneous velocity BCs.
 
+#include "sparsempm/contact.hpp"
 #include "sparsempm/step.hpp"
 
 #include <array>
@@ -68,6 +69,10 @@ struct StepContext {
   /// the values at the start of the step, t, as NairnMPM does (FMPM 2026 §3.1).
   const BoundaryConditions* bcs = nullptr;
   std::array<double, 3> body_force{0, 0, 0};
+  /// Multimaterial contact (contact.hpp): the laws and this step's contact nodes, found at the
+  /// start of the step; null in single material mode.
+  const Contact* contact = nullptr;
+  ContactNodes* contact_nodes = nullptr;
   double time = 0; ///< t at the start of the step
   double dt = 0;
   bool grid_update = false; ///< update particles from grid velocities (false: FLIP)
@@ -82,8 +87,10 @@ struct StepBuffers {
 };
 
 /// One step of the scheme context.options->scheme (FMPM 2026 Fig. 1):
-///   task 1  p = Sᵀ M V, BC1, v = m⁻¹ p; USF/USAVG: strain update from m̃_k⁻¹ p (task 1.c);
-///   task 2  f = internal + body force, BC2 with reaction forces (task 2.a), p⁺ = p + f Δt;
+///   task 1  p = Sᵀ M V, contact (task 1.a), BC1, v = m⁻¹ p; USF/USAVG: strain update from
+///           m̃_k⁻¹ p (task 1.c);
+///   task 2  f = internal + body force, p⁺ = p + f Δt, contact on p⁺ with its force added to
+///           f (task 3.a; contact 2020 Eqs. 30–34), BC2 with reaction forces (task 2.a);
 ///   task 3  v⁺ = m̃_k⁻¹ p⁺ (task 3.b): lumped, FMPM(k) (fmpm_velocity) or exact;
 ///   task 4  particle update: FLIP (Eq. 8), PIC/FMPM/exact (Eq. 9) or XPIC (contact 2020 Eq. 35);
 ///   task 5  USL: strain update from v⁺; USL+/USAVG+: from re-extrapolated velocities (4.c).

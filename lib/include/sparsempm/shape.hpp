@@ -48,7 +48,12 @@ struct ShapeSupport {
 /// and only values are written (no allocation). `support` is the workspace that records the
 /// boxes. Returns true when the pattern was rebuilt. Throws NumericalError naming the particle
 /// when a support leaves the grid.
+///
+/// With `fields` > 1 velocity fields (multimaterial MPM, contact.hpp) S is N × (fields · n):
+/// particle p's entries sit in the block of columns of its field, node i of field α being
+/// column α·n + i (`field[p]` gives p's field; its values never change between calls).
 bool assemble_shape(const Grid& grid, const Particles& particles, Shape shape, SparseRowMatrix& S,
-                    std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support);
+                    std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support,
+                    int fields = 1, const int* field = nullptr);
 
 } // namespace smpm

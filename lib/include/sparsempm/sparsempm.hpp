@@ -4,6 +4,7 @@
 
 #include "sparsempm/advance.hpp"
 #include "sparsempm/boundary.hpp"
+#include "sparsempm/contact.hpp"
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/fmpm.hpp"

@@ -40,6 +40,9 @@ ParticleOperators particle_operators(const Operators& ops);
 
 /// p = Sᵀ (M ∘ V), n × d  (FMPM 2026 task 1; Buzzi Eq. 26).
 void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p);
+/// g = Σ_b G_bᵀ V e_b, n × d: g_i = Σ_p G_pi V_p, the volume gradient of contact 2020 Eq. (11)
+/// (in 2D with V_p the area times unit thickness), from the volumes V (one per particle).
+void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g);
 /// f = −Σ_b G_bᵀ (Ω J σ_{·b}), n × d: the internal force from the Kirchhoff stress τ = Jσ and
 /// the initial volumes Ω (FMPM 2026 task 2; Buzzi Eq. 15).
 void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,

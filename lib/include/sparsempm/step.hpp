@@ -83,6 +83,12 @@ double position_alpha(const StepOptions& options);
 /// the Stepper and the linearised step call it.
 void validate(const StepOptions& options);
 
+/// Throws InputError when the options cannot run with several velocity fields: contact is
+/// applied to the lumped-mass momenta (contact 2020 §3.2), so FLIP, PIC and XPIC(1) run in
+/// multimaterial mode; FMPM(k > 1), XPIC(m > 1) and the exact update need contact inside the
+/// mass solve (FMPM 2026 §3.2, contact 2020 §3.3), which is not available.
+void validate_multimaterial(const StepOptions& options, const Contact& contact);
+
 /// Whether a step assembles m̃ (FMPM 2026 §2.2): on steps that update particles from grid
 /// velocities (`grid_update`) with the exact inverse, or with FMPM(k) or XPIC(m) of order > 1.
 bool uses_consistent_mass(const StepOptions& options, bool grid_update);

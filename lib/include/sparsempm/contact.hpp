@@ -1,0 +1,122 @@
+#pragma once
+/// \file contact.hpp
+/// Multimaterial MPM with contact (contact 2020 §2–3; FMPM 2026 §3.2).
+///
+/// Each velocity field α extrapolates its own momenta and masses (contact 2020 Eq. 5). The
+/// library stores the fields as blocks of columns of one S: node i of field α is column
+/// α·n_g + i (operators.hpp), so that p^α, m^α and m̃^α are the blocks of p = Sᵀ M V, m = Sᵀ M
+/// and the block-diagonal m̃ = Sᵀ M S (FMPM 2026 Eq. 15), one assembly of S per step.
+///
+/// At a node seen by two fields α < β, the momentum change that moves α to the centre-of-mass
+/// velocity is Δp(0) = (m^α p^β − m^β p^α)/(m^α + m^β) (FMPM 2026 §3.2). With the contact normal
+/// n̂ from α to β, the interface is in compression when N_c = −Δp(0)·n̂/(A_c Δt) > 0 (approaching,
+/// contact 2020 Eq. 14), and in contact when, besides, the materials touch (separation < 0).
+/// A node in contact changes the momenta by (FMPM 2026 Eq. 18; contact 2020 Eqs. 7–10)
+///     Δp = (Δp(0)·n̂) n̂ + S_slide A_c Δt t̂,   p^α += Δp,   p^β −= Δp,
+/// t̂ the unit tangential part of Δp(0), S_slide = min(T_c, μ N_c) for Coulomb friction
+/// (T_c = Δp(0)·t̂/(A_c Δt), the traction that sticks), 0 frictionless, T_c stick.
+
+#include "sparsempm/grid.hpp"
+#include "sparsempm/types.hpp"
+
+#include <Eigen/Core>
+#include <array>
+#include <string_view>
+#include <vector>
+
+namespace smpm {
+
+struct Operators;
+struct ParticleOperators;
+
+/// The tangential law of an interface in contact.
+enum class ContactLaw {
+  Stick,        ///< Δp = Δp(0): both fields move with the centre of mass
+  Frictionless, ///< S_slide = 0
+  Coulomb       ///< S_slide = min(T_c, μ N_c)
+};
+/// How the contact normal n̂ (from field α to β) is found.
+enum class ContactNormal {
+  AverageGradient, ///< AG: n̂ ∝ g^α − g^β, g^α_i = Σ_{p∈α} G_pi V_p (contact 2020 Eqs. 11–13)
+  Specified ///< SN: a direction given in the input, from the first material to the second
+};
+/// When a node whose fields approach (N_c > 0) is in contact.
+enum class ContactDetection {
+  Always,      ///< every node seen by both fields, approaching or not: a bonded interface
+  Approaching, ///< N_c > 0 alone (contact 2020 Eq. 14)
+  Position     ///< N_c > 0 and (x^β − x^α)·n̂ < δ_c h_n (CP = δ_c, contact 2020 Eq. 16)
+};
+
+std::string_view to_string(ContactLaw law);
+std::string_view to_string(ContactNormal normal);
+std::string_view to_string(ContactDetection detection);
+
+/// The contact between two velocity fields.
+struct ContactPair {
+  int first = 0, second = 1; ///< the fields α < β
+  ContactLaw law = ContactLaw::Frictionless;
+  double friction = 0; ///< μ of Coulomb friction
+  ContactNormal normal = ContactNormal::AverageGradient;
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitY(); ///< SN: unit n̂ from α to β
+  ContactDetection detection = ContactDetection::Approaching;
+  double critical_separation = 0.8; ///< δ_c of CP, in cells along n̂ (contact 2020 Eq. 16)
+};
+
+/// The velocity fields of a model and the contact between them.
+struct Contact {
+  /// Field of each material (index into Model::materials); empty: one field (single material
+  /// mode). Materials with the same field share a velocity (a perfect interface).
+  std::vector<int> material_field;
+  /// Contact laws of pairs of fields; a pair without one uses `fallback` if set.
+  std::vector<ContactPair> pairs;
+  bool has_fallback = false;
+  ContactPair fallback{};
+
+  /// Number of velocity fields (1 + the largest field id).
+  int fields() const;
+  /// The law between fields a and b (a ≠ b); throws InputError naming both if there is none.
+  const ContactPair& pair(int a, int b) const;
+  /// Field of every particle (from its material), written into `field` (resized).
+  void particle_fields(const Eigen::VectorXi& material, Eigen::VectorXi& field) const;
+};
+
+/// The grid data that contact needs at the start of a step, computed once and reused by both
+/// corrections of the step (after P2G and after the momentum update): the nodes seen by two or
+/// more fields, their normals, separations and contact areas.
+struct ContactNodes {
+  struct Node {
+    Index node = 0;   ///< grid node i
+    int a = 0, b = 0; ///< the two fields (a < b); a = b = −1 for a node of 3+ fields
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from a to b (d entries used)
+    double separation = 0; ///< (x^b − x^a)·n̂ − δ_c h_n (Position), −1 otherwise
+    double area = 0;       ///< A_c = V_cell / h_n, h_n = Σ_a |n_a| Δx_a
+    const ContactPair* pair = nullptr; ///< the law (two fields)
+  };
+  std::vector<Node> nodes;
+  Field gradient; ///< n × d: g^α_i = Σ_{p∈α} G_pi V_p (AG normals)
+  Field position; ///< n × d: Σ_{p∈α} S_pi M_p X_p (mass-weighted positions; CP)
+  std::vector<Eigen::Vector3d> change; ///< scratch of the lumped nodes
+};
+
+/// Finds the nodes seen by two or more fields of `ops` (block columns) and their normals,
+/// separations and areas (contact 2020 §2.3). `volume` are the current particle volumes.
+void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
+                        const Contact& contact, const ConstFieldRef& X,
+                        const Eigen::VectorXd& volume, ContactNodes& cn);
+
+/// Δp of one node in contact (FMPM 2026 Eq. 18): the momentum change of field α given
+/// Δp(0) = (m^α p^β − m^β p^α)/(m^α + m^β), the unit normal n̂ from α to β and the law.
+/// Returns false (and Δp = 0) when the node is not in contact: not approaching (unless
+/// detection is Always) or separated.
+bool contact_momentum_change(const ContactPair& law, const Eigen::Vector3d& dp0,
+                             const Eigen::Vector3d& normal, double separation, Eigen::Vector3d& dp);
+
+/// Applies contact to the momenta p (block columns, n_f·n_g × d) at every contact node:
+/// p^α += Δp, p^β −= Δp for two fields; for three or more, each field α against all others
+/// lumped (contact 2020 Eq. 50), the law of the heaviest other field. When `force` is given,
+/// adds Δp/Δt to it (the contact force f^{αC,1} of contact 2020 Eq. 33). Returns the number of
+/// nodes in contact. Allocates nothing once `cn` has served a step.
+Index apply_contact(const Operators& ops, ContactNodes& cn, const Contact& contact,
+                    const Grid& grid, double dt, Field& p, Field* force = nullptr);
+
+} // namespace smpm
