@@ -194,5 +194,7 @@ int axis_index(const Reader& r, const toml::node* n, const std::string& name, in
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
                       const std::vector<Material>& mats);
 BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid& g);
+Contact read_contact(const Reader& r, const toml::table& root, const std::vector<Material>& mats,
+                     int dim);
 
 } // namespace smpm::detail

@@ -11,7 +11,10 @@ namespace smpm::detail {
 // Valid keys of every table of the schema ("" is the top level).
 const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> keys = {
-      {"", {"grid", "material", "body", "bc", "time", "scheme", "output", "loads"}},
+      {"", {"grid", "material", "body", "bc", "contact", "time", "scheme", "output", "loads"}},
+      {"contact",
+       {"materials", "law", "friction", "normal", "direction", "detection",
+        "critical_separation"}},
       {"grid", {"dim", "origin", "cell_size", "cells"}},
       {"material", {"name", "model", "density", "youngs", "poisson"}},
       {"body",
@@ -158,10 +161,11 @@ void apply_override(toml::table& root, const std::string& spec) {
   if (parts.size() < 2 || parts.size() > 4 ||
       std::find(top.begin(), top.end(), parts[0]) == top.end())
     throw InputError("--set " + clip(spec) + ": expected section.key=value with a section of " +
-                     "grid, material, body, bc, time, scheme, output, loads" +
+                     "grid, material, body, bc, contact, time, scheme, output, loads" +
                      (parts.empty() ? "" : suggest(parts[0], top)));
   toml::node* sec = root.get(parts[0]);
-  const bool listed = parts[0] == "material" || parts[0] == "body" || parts[0] == "bc";
+  const bool listed = parts[0] == "material" || parts[0] == "body" || parts[0] == "bc" ||
+                      parts[0] == "contact";
   toml::table* target = nullptr;
   std::string section = parts[0]; // the schema section of the key set
   if (listed) {

@@ -1,0 +1,180 @@
+// [[contact]] tables: the velocity fields of the materials and the contact laws between them
+// (contact 2020 §2–3; FMPM 2026 §3.2).
+
+#include "reader.hpp"
+
+#include <numeric>
+
+namespace smpm::detail {
+
+namespace {
+
+int material_index(const Reader& r, const toml::node* n, const std::string& key,
+                   const std::string& name, const std::vector<Material>& mats) {
+  for (size_t m = 0; m < mats.size(); ++m)
+    if (mats[m].name == name)
+      return int(m);
+  std::string known;
+  for (const Material& m : mats)
+    known += (known.empty() ? "" : ", ") + m.name;
+  r.fail(n, key, "no [[material]] named '" + clip(name) + "' (materials: " + known + ")");
+}
+
+// The two materials of a table; {−1, −1} when it has none (the law of every other pair).
+std::array<int, 2> table_materials(const Reader& r, const toml::table& t, const std::string& key,
+                                   const std::vector<Material>& mats) {
+  const toml::node* n = t.get("materials");
+  if (!n)
+    return {-1, -1};
+  const toml::array* a = n->as_array();
+  if (!a || a->size() != 2 || !(*a)[0].is_string() || !(*a)[1].is_string())
+    r.fail(n, key + "materials", "expected two material names");
+  const std::array<int, 2> m{
+      material_index(r, n, key + "materials", *(*a)[0].value<std::string>(), mats),
+      material_index(r, n, key + "materials", *(*a)[1].value<std::string>(), mats)};
+  if (m[0] == m[1])
+    r.fail(n, key + "materials", "a material is not in contact with itself");
+  return m;
+}
+
+ContactPair read_law(const Reader& r, const toml::table& t, const std::string& key, int dim,
+                     bool has_materials) {
+  ContactPair p;
+  const std::string law = r.string(t, "law", key + "law", std::nullopt);
+  if (law == "stick")
+    p.law = ContactLaw::Stick;
+  else if (law == "frictionless")
+    p.law = ContactLaw::Frictionless;
+  else if (law == "coulomb")
+    p.law = ContactLaw::Coulomb;
+  else
+    r.fail(t.get("law"), key + "law",
+           "expected stick | frictionless | coulomb | single-field (a perfect interface)");
+  if (p.law == ContactLaw::Coulomb) {
+    p.friction = r.number(t, "friction", key + "friction", std::nullopt);
+    if (!(p.friction >= 0))
+      r.fail(t.get("friction"), key + "friction", "must be non-negative");
+  } else if (t.get("friction")) {
+    r.fail(t.get("friction"), key + "friction", "only the coulomb law has a friction coefficient");
+  }
+  const std::string normal = r.string(t, "normal", key + "normal", "AG");
+  if (normal == "specified") {
+    if (!has_materials)
+      r.fail(t.get("normal"), key + "normal",
+             "a specified normal needs `materials` (it points from the first to the second)");
+    const auto dir = r.vector(t, "direction", key + "direction", dim, true);
+    p.normal = ContactNormal::Specified;
+    p.direction = Eigen::Vector3d(dir[0], dir[1], dir[2]);
+    if (!(p.direction.norm() > 0))
+      r.fail(t.get("direction"), key + "direction", "must not be zero");
+    p.direction.normalize();
+  } else if (normal != "AG") {
+    r.fail(t.get("normal"), key + "normal", "expected AG (average gradient) | specified");
+  } else if (t.get("direction")) {
+    r.fail(t.get("direction"), key + "direction", "only normal = \"specified\" takes a direction");
+  }
+  const std::string detection = r.string(t, "detection", key + "detection", "approaching");
+  if (detection == "approaching")
+    p.detection = ContactDetection::Approaching;
+  else if (detection == "CP")
+    p.detection = ContactDetection::Position;
+  else if (detection == "always")
+    p.detection = ContactDetection::Always;
+  else
+    r.fail(t.get("detection"), key + "detection",
+           "expected approaching | CP (critical position) | always (bonded)");
+  if (p.detection == ContactDetection::Position)
+    p.critical_separation = r.number(t, "critical_separation", key + "critical_separation", 0.8);
+  else if (t.get("critical_separation"))
+    r.fail(t.get("critical_separation"), key + "critical_separation",
+           "only detection = \"CP\" takes a critical separation");
+  return p;
+}
+
+int root_of(std::vector<int>& parent, int m) {
+  while (parent[size_t(m)] != m)
+    m = parent[size_t(m)] = parent[size_t(parent[size_t(m)])];
+  return m;
+}
+
+} // namespace
+
+Contact read_contact(const Reader& r, const toml::table& root, const std::vector<Material>& mats,
+                     int dim) {
+  Contact c;
+  const auto tables = r.tables(root, "contact", false);
+  if (tables.empty())
+    return c; // single material mode
+  // Fields: every material its own, merged by single-field tables.
+  std::vector<int> parent(mats.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (size_t k = 0; k < tables.size(); ++k) {
+    const toml::table& t = *tables[k];
+    const std::string key = "contact." + std::to_string(k) + ".";
+    r.check_keys(t, "contact");
+    if (r.string(t, "law", key + "law", std::nullopt) != "single-field")
+      continue;
+    const auto m = table_materials(r, t, key, mats);
+    if (m[0] < 0)
+      r.fail(t.get("law"), key + "law", "single-field needs `materials`");
+    parent[size_t(root_of(parent, m[0]))] = root_of(parent, m[1]);
+  }
+  std::vector<int> field_of_root(mats.size(), -1);
+  int fields = 0;
+  c.material_field.resize(mats.size());
+  for (size_t m = 0; m < mats.size(); ++m) {
+    int& f = field_of_root[size_t(root_of(parent, int(m)))];
+    if (f < 0)
+      f = fields++;
+    c.material_field[m] = f;
+  }
+  std::vector<std::vector<std::string>> pair_key(
+      static_cast<size_t>(fields), std::vector<std::string>(static_cast<size_t>(fields)));
+  for (size_t k = 0; k < tables.size(); ++k) {
+    const toml::table& t = *tables[k];
+    const std::string key = "contact." + std::to_string(k) + ".";
+    if (r.string(t, "law", key + "law", std::nullopt) == "single-field")
+      continue;
+    const auto m = table_materials(r, t, key, mats);
+    ContactPair p = read_law(r, t, key, dim, m[0] >= 0);
+    if (m[0] < 0) {
+      if (c.has_fallback)
+        r.fail(t.get("law"), key + "law", "a second [[contact]] table without `materials`");
+      c.has_fallback = true;
+      c.fallback = p;
+      continue;
+    }
+    int a = c.material_field[size_t(m[0])], b = c.material_field[size_t(m[1])];
+    if (a == b)
+      r.fail(t.get("materials"), key + "materials",
+             "'" + mats[size_t(m[0])].name + "' and '" + mats[size_t(m[1])].name +
+                 "' share a velocity field (single-field): they cannot have a contact law");
+    if (a > b) { // stored from the lower field; a specified normal turns with it
+      std::swap(a, b);
+      p.direction = -p.direction;
+    }
+    std::string& seen = pair_key[size_t(a)][size_t(b)];
+    if (!seen.empty())
+      r.fail(t.get("materials"), key + "materials",
+             "these velocity fields already have a law in " + seen);
+    seen = key.substr(0, key.size() - 1);
+    p.first = a;
+    p.second = b;
+    c.pairs.push_back(p);
+  }
+  if (!c.has_fallback) // every pair of fields needs a law
+    for (size_t m1 = 0; m1 < mats.size(); ++m1)
+      for (size_t m2 = m1 + 1; m2 < mats.size(); ++m2) {
+        const int a = std::min(c.material_field[m1], c.material_field[m2]);
+        const int b = std::max(c.material_field[m1], c.material_field[m2]);
+        if (a != b && pair_key[size_t(a)][size_t(b)].empty())
+          throw InputError(r.where(nullptr, "[[contact]]") + ": materials '" + mats[m1].name +
+                           "' and '" + mats[m2].name +
+                           "' are in different velocity fields without a contact law (add a "
+                           "[[contact]] table for them, or one without `materials` for every "
+                           "other pair)");
+      }
+  return c;
+}
+
+} // namespace smpm::detail

@@ -1,0 +1,107 @@
+#!/usr/bin/python3
+"""Multimaterial contact from the input (examples/two_block_compression.toml, contact 2020
+Figs. 2 and 5): full runs against single material mode, and the [[contact]] input errors.
+
+Run by ctest with SMPM and SMPM_SOURCE in the environment.
+"""
+import concurrent.futures
+import os
+import pathlib
+import subprocess
+import tempfile
+import unittest
+
+import h5py
+import numpy as np
+
+SMPM = os.environ.get("SMPM", "smpm")
+SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
+EXAMPLE = SOURCE / "examples" / "two_block_compression.toml"
+SN = ["contact.0.normal=specified", "contact.0.direction=[0.0, 1.0]"]
+
+
+def mean_axial_stress(work, name, *sets):
+    """Mean sigma_yy of the particles at every frame (1% strain apart) of a full run."""
+    out = pathlib.Path(work) / (name + ".h5")
+    args = [SMPM, "run", str(EXAMPLE), "-o", str(out), "-q"]
+    for s in sets:
+        args += ["--set", s]
+    r = subprocess.run(args, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    with h5py.File(out, "r") as f:
+        frames = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])
+        return np.array([g["stress"][:, 3].mean() for g in frames[1:]])
+
+
+class TwoBlocks(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cases = {
+            "single": ["contact.0.law=single-field"],
+            "sn_approaching": ["contact.0.detection=approaching"] + SN,
+            "ag_approaching": ["contact.0.detection=approaching"],
+            "ag_cp": [],
+        }
+        with concurrent.futures.ThreadPoolExecutor(2) as pool:
+            futures = {k: pool.submit(mean_axial_stress, cls.tmp.name, k, *v)
+                       for k, v in cases.items()}
+            cls.r = {k: f.result() for k, f in futures.items()}
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def error(self, name):
+        return 100 * np.abs(self.r[name] / self.r["single"] - 1)
+
+    def test_specified_normal_reverts_to_single_material_mode(self):
+        # The interface is a grid line in pure compression: with its exact normal and the
+        # approaching criterion, contact sticks the normal velocities and multimaterial MPM is
+        # single material MPM (contact 2020 §3.2) up to 20% strain: within 1e-3 % (measured
+        # 1.6e-5 %: nodes whose fields separate for a step are left uncorrected).
+        self.assertLess(self.error("sn_approaching").max(), 1e-3)
+
+    def test_average_gradient_normals_err(self):
+        # Contact 2020 Fig. 5: grid normals (AG) give errors of several % (measured: largest
+        # 13.6% approaching-only, 20.5% CP = 0.8); the paper reports up to 12% for CP = 0.8.
+        # Asserted: both above 2% somewhere and below 40% everywhere.
+        for name in ("ag_approaching", "ag_cp"):
+            with self.subTest(name):
+                self.assertGreater(self.error(name).max(), 2)
+                self.assertLess(self.error(name).max(), 40)
+
+
+class ContactInput(unittest.TestCase):
+    def check(self, sets, words):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = pathlib.Path(tmp) / "x.h5"
+            args = [SMPM, "run", str(EXAMPLE), "-o", str(out), "-q"]
+            for s in sets:
+                args += ["--set", s]
+            r = subprocess.run(args, capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            lines = r.stderr.strip().splitlines()
+            self.assertEqual(len(lines), 1, r.stderr)
+            for w in words:
+                self.assertIn(w, lines[0])
+            self.assertFalse(out.exists())
+
+    def test_bad_inputs(self):
+        self.check(["contact.0.law=glue"], ["contact.0.law", "stick | frictionless"])
+        self.check(["contact.0.materials=[\"lower\", \"lid\"]"], ["no [[material]] named 'lid'"])
+        self.check(["contact.0.materials=[\"lower\", \"lower\"]"], ["not in contact with itself"])
+        self.check(["contact.0.law=stick"], ["contact.0.friction", "only the coulomb law"])
+        self.check(["contact.0.friction=-1"], ["contact.0.friction", "non-negative"])
+        self.check(["contact.0.normal=LR"], ["contact.0.normal", "AG"])
+        self.check(["contact.0.detection=DF"], ["contact.0.detection", "approaching | CP"])
+        self.check(["contact.0.normal=specified"], ["contact.0.direction", "missing"])
+        self.check(SN[:1] + ["contact.0.direction=[0.0, 0.0]"], ["must not be zero"])
+        self.check(["contact.0.critical_separation=1", "contact.0.detection=always"],
+                   ["only detection = \"CP\""])
+        self.check(["scheme.velocity=FMPM", "scheme.order=4"],
+                   ["scheme.velocity = FMPM of order 4", "2 velocity fields"])
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
