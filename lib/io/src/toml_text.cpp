@@ -13,8 +13,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"", {"grid", "material", "body", "bc", "contact", "time", "scheme", "output", "loads"}},
       {"contact",
-       {"materials", "law", "friction", "normal", "direction", "detection",
-        "critical_separation"}},
+       {"materials", "law", "friction", "normal", "direction", "detection", "critical_separation"}},
       {"grid", {"dim", "origin", "cell_size", "cells"}},
       {"material", {"name", "model", "density", "youngs", "poisson"}},
       {"body",
@@ -164,8 +163,8 @@ void apply_override(toml::table& root, const std::string& spec) {
                      "grid, material, body, bc, contact, time, scheme, output, loads" +
                      (parts.empty() ? "" : suggest(parts[0], top)));
   toml::node* sec = root.get(parts[0]);
-  const bool listed = parts[0] == "material" || parts[0] == "body" || parts[0] == "bc" ||
-                      parts[0] == "contact";
+  const bool listed =
+      parts[0] == "material" || parts[0] == "body" || parts[0] == "bc" || parts[0] == "contact";
   toml::table* target = nullptr;
   std::string section = parts[0]; // the schema section of the key set
   if (listed) {
