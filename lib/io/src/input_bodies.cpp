@@ -68,6 +68,20 @@ int body_material(const Reader& r, const toml::table& t, const std::string& key,
 }
 
 // The particles of a body's region: box | disk | ellipse, on the lattice of ppc per cell.
+// Refuses a body whose bounding lattice [lo, hi] (ppc per cell) would hold more particles than
+// this build accepts, before any is made.
+void check_particle_count(const Reader& r, const toml::table& t, const std::string& key,
+                          const Grid& g, const std::array<int, 3>& ppc,
+                          const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
+  double estimate = 1;
+  for (int a = 0; a < g.dim(); ++a)
+    estimate *= (std::ceil((hi[a] - lo[a]) / g.cell_size(a)) + 1.0) * ppc[a];
+  if (estimate > kMaxParticles)
+    r.fail(t.get("ppc"), key + "ppc",
+           "up to " + std::to_string(long(estimate)) + " particles, more than the " +
+               std::to_string(long(kMaxParticles)) + " this build accepts");
+}
+
 Particles body_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
                       const std::array<int, 3>& ppc, double density, int id) {
   const int d = g.dim();
@@ -80,6 +94,7 @@ Particles body_region(const Reader& r, const toml::table& t, const std::string& 
         r.fail(t.get("max"), key + "max", "must exceed min on every axis");
     if (!g.contains(lo) || !g.contains(hi))
       r.fail(t.get("max"), key + "min/max", "particles outside the grid");
+    check_particle_count(r, t, key, g, ppc, lo, hi);
     return make_block(g, lo, hi, ppc, density, id);
   }
   if (region != "disk" && region != "ellipse")
@@ -102,6 +117,7 @@ Particles body_region(const Reader& r, const toml::table& t, const std::string& 
   }
   if (!g.contains(lo) || !g.contains(hi))
     r.fail(t.get("center"), key + "center", "particles outside the grid");
+  check_particle_count(r, t, key, g, ppc, lo, hi);
   return lattice_in(g, c, semi, ppc, density, id);
 }
 
@@ -147,13 +163,6 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
     const std::string key = "body." + std::to_string(index++) + ".";
     const int id = body_material(r, *t, key, mats);
     const auto ppc = r.counts(*t, "ppc", key + "ppc", d);
-    double estimate = 1; // particles of the body's bounding lattice
-    for (int a = 0; a < d; ++a)
-      estimate *= (g.cells(a) + 1.0) * ppc[a];
-    if (estimate > kMaxParticles)
-      r.fail(t->get("ppc"), key + "ppc",
-             "up to " + std::to_string(long(estimate)) + " particles, more than the " +
-                 std::to_string(long(kMaxParticles)) + " this build accepts");
     Particles P = body_region(r, *t, key, g, ppc, mats[size_t(id)].density, id);
     if (P.size() == 0)
       r.fail(t->get("region"), key + "region", "holds no particle");
