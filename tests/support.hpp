@@ -6,12 +6,20 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
 namespace smpm::test {
 
 /// |actual − value| ≤ abs + rel |value|.
 inline Catch::Detail::Approx approx(double value, double abs, double rel = 0) {
   return Catch::Detail::Approx(value).margin(abs).epsilon(rel);
+}
+
+/// A material of the given model and elastic constants.
+inline Material material(const std::string& name, MaterialModel model, double youngs,
+                         double poisson, double density = 1.0) {
+  return Material{
+      .name = name, .model = model, .density = density, .youngs = youngs, .poisson = poisson};
 }
 
 /// A grid of `cells` cells per axis with a different cell size on each axis.

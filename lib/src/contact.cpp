@@ -85,8 +85,7 @@ double cell_volume(const Grid& grid) {
   return v;
 }
 
-// Normal from field set A to field set B at node i, the fields given by their rows; 0 if the
-// gradients cancel.
+// v/|v|, or 0 when v = 0 (gradients that cancel give no normal).
 Eigen::Vector3d unit_or_zero(const Eigen::Vector3d& v) {
   const double norm = v.norm();
   return norm > 0 ? Eigen::Vector3d(v / norm) : Eigen::Vector3d::Zero();

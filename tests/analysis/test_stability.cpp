@@ -224,15 +224,12 @@ TEST_CASE("the linearised step is the derivative of the Stepper's step in 2D", "
   // the d² × d² tangent layout 𝕂(q, (a d + b) d² + c d + e) against L(q, c d + e). The state
   // σ̂ is symmetric and F = I + ε Ê with Ê the strain of σ̂ (σ(F) = ε σ̂ to O(ε²)).
   Model block(Grid(2, {0, 0, 0}, {1, 1, 1}, {10, 8, 1}));
-  Material mat;
-  mat.name = "block";
-  mat.youngs = 100;
-  mat.poisson = 0.3;
-  block.materials = {mat};
+  block.materials = {smpm::test::material("block", MaterialModel::Linear, 100, 0.3)};
   block.particles = make_block(block.grid, {2, 2, 0}, {7, 6, 0}, {2, 2, 1}, 1.0, 0);
   fix_plane(block.grid, 0, 2.0, {true, false, false}, block.bcs);
   block = shifted(block, {0.1, 0.1, 0});
   const Index N = block.particles.size();
+  const Material& mat = block.materials[0];
   const double lam = mat.lame_lambda(), G = mat.shear_modulus(), eps = 1e-7;
   const double dt = 0.3 / courant_of(block, 1.0);
   // x̂ = (V̂, σ̂) with σ̂ symmetric.

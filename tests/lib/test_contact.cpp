@@ -13,13 +13,7 @@ using smpm::test::approx;
 namespace {
 
 Material elastic(const std::string& name, double youngs, double density = 1.0) {
-  Material mat;
-  mat.name = name;
-  mat.model = MaterialModel::NeoHookean;
-  mat.youngs = youngs;
-  mat.poisson = 0.3;
-  mat.density = density;
-  return mat;
+  return smpm::test::material(name, MaterialModel::NeoHookean, youngs, 0.3, density);
 }
 
 ContactPair pair_law(ContactLaw law, ContactDetection detection, double mu = 0) {

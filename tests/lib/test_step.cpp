@@ -16,11 +16,7 @@ TEST_CASE("a block in uniform translation keeps its velocity exactly", "[step]")
     for (VelocityUpdate vel : {VelocityUpdate::FLIP, VelocityUpdate::PIC}) {
       CAPTURE(to_string(shape), to_string(vel));
       Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {14, 10, 1}));
-      Material mat;
-      mat.name = "block";
-      mat.youngs = 100;
-      mat.poisson = 0.3;
-      model.materials = {mat};
+      model.materials = {smpm::test::material("block", MaterialModel::Linear, 100, 0.3)};
       model.particles = make_block(model.grid, {4, 3, 0}, {8, 6, 0}, {2, 2, 1}, 1.0, 0);
       model.particles.V.col(0).setConstant(0.3);
       model.particles.V.col(1).setConstant(-0.2);
@@ -32,7 +28,7 @@ TEST_CASE("a block in uniform translation keeps its velocity exactly", "[step]")
       const Particles& P = model.particles;
       CHECK((P.V.col(0).array() - 0.3).abs().maxCoeff() < 1e-13);
       CHECK((P.V.col(1).array() + 0.2).abs().maxCoeff() < 1e-13);
-      CHECK(P.stress.cwiseAbs().maxCoeff() < 1e-11 * mat.youngs);
+      CHECK(P.stress.cwiseAbs().maxCoeff() < 1e-11 * model.materials[0].youngs);
       CHECK((P.X.col(0) - X0.col(0)).array().mean() == approx(0.3 * 50 * dt, 1e-12));
       CHECK((P.X.col(1) - X0.col(1)).array().mean() == approx(-0.2 * 50 * dt, 1e-12));
     }
@@ -138,12 +134,7 @@ TEST_CASE("a prescribed velocity condition holds on its nodes after every step",
   // nodes of its right edge with v_b = 0.01 t; v⁺ · n̂ must equal v_b at the start of the step
   // (one BC value per step, FMPM 2026 §3.1) to round-off.
   Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {12, 8, 1}));
-  Material mat;
-  mat.name = "block";
-  mat.model = MaterialModel::NeoHookean;
-  mat.youngs = 10;
-  mat.poisson = 0.3;
-  model.materials = {mat};
+  model.materials = {smpm::test::material("block", MaterialModel::NeoHookean, 10, 0.3)};
   model.particles = make_block(model.grid, {2, 2, 0}, {8, 6, 0}, {2, 2, 1}, 1.0, 0);
   VelocityCondition pull;
   pull.nodes = nodes_on_plane(model.grid, 0, 8.0);

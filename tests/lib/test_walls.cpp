@@ -28,12 +28,7 @@ MovingWall right_wall(double depth) {
 // velocity V = ε̇X, its right end driven by the wall.
 Model strip(double depth) {
   Model m(Grid(2, {-1, -1, 0}, {0.25, 0.25, 1}, {60, 12, 1}));
-  Material mat;
-  mat.name = "bar";
-  mat.model = MaterialModel::NeoHookean;
-  mat.youngs = 0.75;
-  mat.poisson = 0;
-  m.materials = {mat};
+  m.materials = {smpm::test::material("bar", MaterialModel::NeoHookean, 0.75, 0)};
   m.particles = make_block(m.grid, {0, 0, 0}, {10, 1, 0}, {2, 2, 1}, 1.0, 0);
   m.particles.V.col(0) = kRate * m.particles.X.col(0);
   m.bcs.add_wall(right_wall(depth));
