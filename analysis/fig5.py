@@ -38,6 +38,8 @@ METHODS = {
     "approaching, SN": ["contact.0.detection=approaching", "contact.0.normal=specified",
                         "contact.0.direction=[0.0, 1.0]"],
     "CP = 0.8, SN": ["contact.0.normal=specified", "contact.0.direction=[0.0, 1.0]"],
+    "LR normal, d_LR": ["contact.0.normal=LR", "contact.0.detection=LR"],
+    "LR normal, approaching": ["contact.0.normal=LR", "contact.0.detection=approaching"],
 }
 REPORT = [1, 5, 10, 20]  # strains (%) of the table
 

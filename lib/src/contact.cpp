@@ -1,11 +1,14 @@
 #include "sparsempm/contact.hpp"
 
+#include "contact_lr.hpp"
+
 #include "sparsempm/errors.hpp"
 #include "sparsempm/operators.hpp"
 #include "sparsempm/stages.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace smpm {
@@ -22,7 +25,15 @@ std::string_view to_string(ContactLaw law) {
   return "?";
 }
 std::string_view to_string(ContactNormal normal) {
-  return normal == ContactNormal::AverageGradient ? "AG" : "specified";
+  switch (normal) {
+  case ContactNormal::AverageGradient:
+    return "AG";
+  case ContactNormal::Specified:
+    return "specified";
+  case ContactNormal::LogisticRegression:
+    return "LR";
+  }
+  return "?";
 }
 std::string_view to_string(ContactDetection detection) {
   switch (detection) {
@@ -32,6 +43,8 @@ std::string_view to_string(ContactDetection detection) {
     return "approaching";
   case ContactDetection::Position:
     return "CP";
+  case ContactDetection::LogisticRegression:
+    return "LR";
   }
   return "?";
 }
@@ -98,46 +111,160 @@ Eigen::Vector3d row3(const Field& f, Index r) {
   return x;
 }
 
-// n̂ from field a to field b at node i (contact 2020 Eq. 13 for AG), and the separation
-// (x^b − x^a)·n̂ − δ_c h_n of CP (Eq. 16), −1 for the other criteria. ga, gb, xa, xb are the
-// gradients and mass-weighted positions of each side, ma, mb their masses.
-void normal_and_separation(const Grid& grid, const ContactPair& pair, bool a_is_first,
-                           const Eigen::Vector3d& ga, const Eigen::Vector3d& gb,
-                           const Eigen::Vector3d& xa, const Eigen::Vector3d& xb, double ma,
-                           double mb, Eigen::Vector3d& n, double& separation) {
-  if (pair.normal == ContactNormal::Specified)
-    n = a_is_first ? pair.direction : Eigen::Vector3d(-pair.direction);
-  else
-    n = unit_or_zero(ga - gb);
-  separation = -1;
-  if (pair.detection == ContactDetection::Position)
-    separation = (xb / mb - xa / ma).dot(n) - pair.critical_separation * cell_width_along(grid, n);
+bool uses(const Contact& c, ContactNormal normal) {
+  bool any = c.has_fallback && c.fallback.normal == normal;
+  for (const ContactPair& p : c.pairs)
+    any = any || p.normal == normal;
+  return any;
+}
+bool uses(const Contact& c, ContactDetection detection) {
+  bool any = c.has_fallback && c.fallback.detection == detection;
+  for (const ContactPair& p : c.pairs)
+    any = any || p.detection == detection;
+  return any;
+}
+
+// The geometry of one contact node: side A is field a, side B field b, or every other field
+// with mass when b < 0 (the lumped virtual material of contact 2020 Eq. 50).
+struct NodeGeometry {
+  const Grid& grid;
+  const Operators& ops;
+  const ContactNodes& cn;
+  const ContactParticles& P;
+  Index node;      // grid node i
+  Index cloud = 0; // its contact index (LR clouds)
+
+  bool in_b(int f, int a, int b) const {
+    return f != a && (b >= 0 ? f == b : ops.active[f * ops.grid_node_count + node]);
+  }
+  // Σ over side B of a node field.
+  Eigen::Vector3d side_b(const Field& x, int a, int b) const {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int f = 0; f < ops.fields; ++f)
+      if (in_b(f, a, b))
+        sum += row3(x, f * ops.grid_node_count + node);
+    return sum;
+  }
+  double mass_b(int a, int b) const {
+    double m = 0;
+    for (int f = 0; f < ops.fields; ++f)
+      if (in_b(f, a, b))
+        m += ops.m[f * ops.grid_node_count + node];
+    return m;
+  }
+  // Class of cloud entry k: −1 on side A, +1 on side B, 0 otherwise.
+  double cls(Index k, int a, int b) const {
+    const int f = cn.cloud[size_t(k)].second;
+    return f == a ? -1.0 : (in_b(f, a, b) ? 1.0 : 0.0);
+  }
+  Eigen::Vector3d relative(Index k) const {
+    const int p = cn.cloud[size_t(k)].first;
+    Eigen::Vector3d x = -grid.node_position(node);
+    for (int c = 0; c < ops.dim; ++c)
+      x[c] += P.X(p, c);
+    return x;
+  }
+
+  // n̂ from A to B: specified, AG (contact 2020 Eq. 13) or LR (Eqs. 19–21).
+  Eigen::Vector3d normal(const ContactPair& pair, int a, int b) const {
+    const Index ng = ops.grid_node_count;
+    switch (pair.normal) {
+    case ContactNormal::Specified:
+      return pair.first == a ? pair.direction : Eigen::Vector3d(-pair.direction);
+    case ContactNormal::AverageGradient:
+      return unit_or_zero(row3(cn.gradient, a * ng + node) - side_b(cn.gradient, a, b));
+    case ContactNormal::LogisticRegression: {
+      const Index first = cn.cloud_offset[size_t(cloud)];
+      const Index count = cn.cloud_offset[size_t(cloud) + 1] - first;
+      return detail::logistic_fit(
+                 ops.dim, count, [&](Index k) { return relative(first + k); },
+                 [&](Index k) { return cls(first + k, a, b); }, grid.min_cell_size())
+          .normal;
+    }
+    }
+    return Eigen::Vector3d::Zero();
+  }
+
+  // CP: (x^B − x^A)·n̂ − δ_c h_n (Eq. 16); LR: d_LR = min_B(X·n̂ − R_p) − max_A(X·n̂ + R_p)
+  // (Eqs. 22–25); −1 (touching) for the other criteria.
+  double separation(const ContactPair& pair, int a, int b, const Eigen::Vector3d& n) const {
+    const Index ng = ops.grid_node_count;
+    if (pair.detection == ContactDetection::Position) {
+      const Eigen::Vector3d xa = row3(cn.position, a * ng + node) / ops.m[a * ng + node];
+      const Eigen::Vector3d xb = side_b(cn.position, a, b) / mass_b(a, b);
+      return (xb - xa).dot(n) - pair.critical_separation * cell_width_along(grid, n);
+    }
+    if (pair.detection != ContactDetection::LogisticRegression)
+      return -1;
+    double max_a = -std::numeric_limits<double>::infinity();
+    double min_b = std::numeric_limits<double>::infinity();
+    const int d = ops.dim;
+    for (Index k = cn.cloud_offset[size_t(cloud)]; k < cn.cloud_offset[size_t(cloud) + 1]; ++k) {
+      const double c = cls(k, a, b);
+      if (c == 0)
+        continue;
+      const int p = cn.cloud[size_t(k)].first;
+      const double s = relative(k).dot(n);
+      const double r =
+          particle_radius_along(d, P.F.data() + p * P.F.outerStride(),
+                                P.half_length.data() + p * P.half_length.outerStride(), n);
+      if (c < 0)
+        max_a = std::max(max_a, s + r);
+      else
+        min_b = std::min(min_b, s - r);
+    }
+    return min_b - max_a; // +inf if a side has no particle here: not touching
+  }
+};
+
+// The particles whose shape functions reach each contact node (any field), with their fields:
+// the LR point clouds (contact 2020 §3.1), two passes over S (count, then fill).
+void build_clouds(const Operators& ops, const ParticleOperators& op, ContactNodes& cn) {
+  const Index ng = ops.grid_node_count, nc = Index(cn.nodes.size());
+  cn.slot.assign(size_t(ng), -1);
+  for (Index c = 0; c < nc; ++c)
+    cn.slot[size_t(cn.nodes[size_t(c)].node)] = int(c);
+  cn.cloud_offset.assign(size_t(nc) + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      for (Index c = 0; c < nc; ++c)
+        cn.cloud_offset[size_t(c) + 1] += cn.cloud_offset[size_t(c)];
+      cn.cloud.resize(size_t(cn.cloud_offset[size_t(nc)]));
+    }
+    std::vector<Index>& next = cn.cloud_offset; // pass 1 fills from the starts, then shifts back
+    for (Index p = 0; p < op.rows; ++p)
+      for (int k = op.outer[p]; k < op.outer[p + 1]; ++k) {
+        if (op.S[k] == 0)
+          continue;
+        const int col = op.inner[k], f = int(col / ng), c = cn.slot[size_t(col - f * ng)];
+        if (c < 0)
+          continue;
+        if (pass == 0)
+          ++next[size_t(c) + 1];
+        else
+          cn.cloud[size_t(next[size_t(c)]++)] = {int(p), f};
+      }
+  }
+  for (Index c = nc; c > 0; --c) // the fill advanced each start to the next one's
+    cn.cloud_offset[size_t(c)] = cn.cloud_offset[size_t(c) - 1];
+  cn.cloud_offset[0] = 0;
 }
 
 } // namespace
 
 void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
-                        const Contact& contact, const ConstFieldRef& X,
-                        const Eigen::VectorXd& volume, ContactNodes& cn) {
+                        const Contact& contact, const ContactParticles& P, ContactNodes& cn) {
   cn.nodes.clear();
+  cn.sides.clear();
   const int nf = ops.fields;
   if (nf < 2)
     return;
   const Index ng = ops.grid_node_count;
-  bool gradient = false, position = false;
-  auto need = [&](const ContactPair& p) {
-    gradient = gradient || p.normal == ContactNormal::AverageGradient;
-    position = position || p.detection == ContactDetection::Position;
-  };
-  for (const ContactPair& p : contact.pairs)
-    need(p);
-  if (contact.has_fallback)
-    need(contact.fallback);
-  if (gradient)
-    volume_gradient(op, volume, cn.gradient);
-  if (position)
-    map_momentum(op, X, cn.position); // Σ_{p∈α} S_pi M_p X_p
-  const double vcell = cell_volume(grid);
+  if (uses(contact, ContactNormal::AverageGradient))
+    volume_gradient(op, P.volume, cn.gradient);
+  if (uses(contact, ContactDetection::Position))
+    map_momentum(op, P.X, cn.position); // Σ_{p∈α} S_pi M_p X_p
+  // The nodes seen by two or more fields.
   for (Index i = 0; i < ng; ++i) {
     int count = 0, a = -1, b = -1;
     for (int f = 0; f < nf; ++f)
@@ -149,24 +276,42 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
       continue;
     ContactNodes::Node node{};
     node.node = i;
-    if (count > 2) { // contact 2020 §3.4: lumped at apply time
-      node.a = node.b = -1;
-      cn.nodes.push_back(node);
+    node.a = count > 2 ? -1 : a;
+    node.b = count > 2 ? -1 : b;
+    cn.nodes.push_back(node);
+  }
+  if (uses(contact, ContactNormal::LogisticRegression) ||
+      uses(contact, ContactDetection::LogisticRegression))
+    build_clouds(ops, op, cn);
+  const double vcell = cell_volume(grid);
+  for (size_t c = 0; c < cn.nodes.size(); ++c) {
+    ContactNodes::Node& node = cn.nodes[c];
+    const NodeGeometry geo{grid, ops, cn, P, node.node, Index(c)};
+    if (node.a >= 0) {
+      node.pair = &contact.pair(node.a, node.b);
+      node.normal = geo.normal(*node.pair, node.a, node.b);
+      node.separation = geo.separation(*node.pair, node.a, node.b, node.normal);
+      const double h = cell_width_along(grid, node.normal);
+      node.area = h > 0 ? vcell / h : 0;
       continue;
     }
-    node.a = a;
-    node.b = b;
-    node.pair = &contact.pair(a, b);
-    const Index ra = a * ng + i, rb = b * ng + i;
-    const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
-    normal_and_separation(
-        grid, *node.pair, node.pair->first == a, gradient ? row3(cn.gradient, ra) : zero,
-        gradient ? row3(cn.gradient, rb) : zero, position ? row3(cn.position, ra) : zero,
-        position ? row3(cn.position, rb) : zero, ops.m[ra], ops.m[rb], node.normal,
-        node.separation);
-    const double h = cell_width_along(grid, node.normal);
-    node.area = h > 0 ? vcell / h : 0;
-    cn.nodes.push_back(node);
+    // Contact 2020 §3.4, Eq. (50): each field against the others lumped, with the law of the
+    // heaviest other field.
+    node.first_side = Index(cn.sides.size());
+    for (int f = 0; f < nf; ++f) {
+      ContactNodes::Side side;
+      if (ops.active[f * ng + node.node]) {
+        int heaviest = -1;
+        for (int o = 0; o < nf; ++o)
+          if (o != f && ops.active[o * ng + node.node] &&
+              (heaviest < 0 || ops.m[o * ng + node.node] > ops.m[heaviest * ng + node.node]))
+            heaviest = o;
+        side.pair = &contact.pair(f, heaviest);
+        side.normal = geo.normal(*side.pair, f, -1);
+        side.separation = geo.separation(*side.pair, f, -1, side.normal);
+      }
+      cn.sides.push_back(side);
+    }
   }
 }
 
@@ -178,8 +323,8 @@ bool contact_momentum_change(const ContactPair& law, const Eigen::Vector3d& dp0,
   if (law.detection != ContactDetection::Always) {
     if (!(dn < 0)) // not approaching: N_c ≤ 0 (contact 2020 Eq. 14)
       return false;
-    if (law.detection == ContactDetection::Position && !(separation < 0))
-      return false; // apart (Eq. 16)
+    if (!(separation < 0))
+      return false; // apart (CP, Eq. 16; LR, Eq. 24)
   }
   if (law.law == ContactLaw::Stick) {
     dp = dp0;
@@ -202,77 +347,70 @@ bool contact_momentum_change(const ContactPair& law, const Eigen::Vector3d& dp0,
 
 namespace {
 
-// Contact 2020 §3.4, Eq. (50): each field α at a node of three or more against all the others
-// lumped into one virtual field, the law of the heaviest other field; the change goes to α only.
-Index lumped_node(const Operators& ops, const ContactNodes& cn, const Contact* contact,
-                  const Grid* grid, Index i, double dt, Field& p, Field* force,
-                  std::vector<Eigen::Vector3d>& change) {
-  const Index ng = ops.grid_node_count;
-  const int nf = ops.fields;
-  const bool gradient = cn.gradient.rows() == ops.num_nodes();
-  const bool position = cn.position.rows() == ops.num_nodes();
-  change.assign(size_t(nf), Eigen::Vector3d::Zero());
-  Eigen::Vector3d g_all = Eigen::Vector3d::Zero(), x_all = Eigen::Vector3d::Zero(),
-                  p_all = Eigen::Vector3d::Zero();
+// The separation at the end of the step if the two sides keep their velocities:
+// δ + Δt (v^β − v^α)·n̂ = δ + Δt Δp(0)·n̂ / m_red. Contact is judged on it, so that sides
+// whose separation is zero to round-off (touching under compression, where δ sits at ±10⁻⁷ of
+// a cell) and that approach are in contact; NairnMPM predicts the gap the same way for its grid
+// separations (CoulombFriction::GetFrictionalDeltaMomentum).
+double gap_at_step_end(double separation, const Eigen::Vector3d& dp0, const Eigen::Vector3d& n,
+                       double ma, double mb, double dt) {
+  return separation + dt * dp0.dot(n) * (ma + mb) / (ma * mb);
+}
+
+// A node of three or more fields (contact 2020 §3.4, Eq. 50): each field α against the others
+// lumped into one virtual field (p^β = Σ_{k≠α} p^k, m^β = Σ_{k≠α} m^k); the change goes to α
+// only, so momentum is not conserved exactly (as the paper says).
+bool lumped_node(const Operators& ops, ContactNodes& cn, const ContactNodes::Node& node, double dt,
+                 Field& p, Field* force) {
+  const Index ng = ops.grid_node_count, i = node.node;
+  const int nf = ops.fields, d = int(p.cols());
+  cn.change.assign(size_t(nf), Eigen::Vector3d::Zero());
+  Eigen::Vector3d p_all = Eigen::Vector3d::Zero();
   double m_all = 0;
   for (int f = 0; f < nf; ++f)
-    if (const Index r = f * ng + i; ops.active[r]) {
-      m_all += ops.m[r];
-      p_all += row3(p, r);
-      if (gradient)
-        g_all += row3(cn.gradient, r);
-      if (position)
-        x_all += row3(cn.position, r);
+    if (ops.active[f * ng + i]) {
+      m_all += ops.m[f * ng + i];
+      p_all += row3(p, f * ng + i);
     }
-  Index in_contact = 0;
+  bool in_contact = false;
   for (int f = 0; f < nf; ++f) {
     const Index r = f * ng + i;
     if (!ops.active[r])
       continue;
-    int heaviest = -1;
-    for (int o = 0; o < nf; ++o)
-      if (o != f && ops.active[o * ng + i] &&
-          (heaviest < 0 || ops.m[o * ng + i] > ops.m[heaviest * ng + i]))
-        heaviest = o;
-    const ContactPair& law = contact->pair(f, heaviest);
+    const ContactNodes::Side& side = cn.sides[size_t(node.first_side + f)];
     const double ma = ops.m[r], mb = m_all - ma;
     const Eigen::Vector3d pa = row3(p, r), pb = p_all - pa;
-    const Eigen::Vector3d ga = gradient ? row3(cn.gradient, r) : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d xa = position ? row3(cn.position, r) : Eigen::Vector3d::Zero();
-    Eigen::Vector3d n;
-    double separation;
-    normal_and_separation(*grid, law, law.first == f, ga, g_all - ga, xa, x_all - xa, ma, mb, n,
-                          separation);
     const Eigen::Vector3d dp0 = (ma * pb - mb * pa) / (ma + mb);
-    in_contact += contact_momentum_change(law, dp0, n, separation, change[size_t(f)]);
+    const double gap = gap_at_step_end(side.separation, dp0, side.normal, ma, mb, dt);
+    in_contact = contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]) ||
+                 in_contact;
   }
-  const int d = int(p.cols());
   for (int f = 0; f < nf; ++f)
     if (const Index r = f * ng + i; ops.active[r]) {
-      p.row(r) += change[size_t(f)].head(d).transpose();
+      p.row(r) += cn.change[size_t(f)].head(d).transpose();
       if (force)
-        force->row(r) += change[size_t(f)].head(d).transpose() / dt;
+        force->row(r) += cn.change[size_t(f)].head(d).transpose() / dt;
     }
-  return in_contact > 0;
+  return in_contact;
 }
 
 } // namespace
 
-Index apply_contact(const Operators& ops, ContactNodes& cn, const Contact& contact,
-                    const Grid& grid, double dt, Field& p, Field* force) {
+Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p, Field* force) {
   const Index ng = ops.grid_node_count;
   const int d = int(p.cols());
   Index in_contact = 0;
   Eigen::Vector3d dp;
   for (const ContactNodes::Node& node : cn.nodes) {
     if (node.a < 0) {
-      in_contact += lumped_node(ops, cn, &contact, &grid, node.node, dt, p, force, cn.change);
+      in_contact += lumped_node(ops, cn, node, dt, p, force);
       continue;
     }
     const Index ra = node.a * ng + node.node, rb = node.b * ng + node.node;
     const double ma = ops.m[ra], mb = ops.m[rb];
     const Eigen::Vector3d dp0 = (ma * row3(p, rb) - mb * row3(p, ra)) / (ma + mb);
-    if (!contact_momentum_change(*node.pair, dp0, node.normal, node.separation, dp))
+    const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
+    if (!contact_momentum_change(*node.pair, dp0, node.normal, gap, dp))
       continue;
     ++in_contact;
     p.row(ra) += dp.head(d).transpose();

@@ -33,7 +33,7 @@ struct Stages {
   // f^{αC,1} = Δp^{α+}/Δt added to f, so that a^α = (m^α)⁻¹(f^{α0} + f^{αC,1}) (Eqs. 32–34).
   void contact(Field& p, Field* force = nullptr) {
     if (c.contact_nodes)
-      apply_contact(*c.ops, *c.contact_nodes, *c.contact, *c.grid, c.dt, p, force);
+      apply_contact(*c.ops, *c.contact_nodes, c.dt, p, force);
   }
 
   // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1).
@@ -151,8 +151,6 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
   SMPM_VERIFY(!s.full_mass || context.mt, "scheme_step: this step needs m~ (context.mt)");
   SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
               "scheme_step: the exact update needs a MassSolver (context.solver)");
-  SMPM_VERIFY(!context.contact_nodes || context.contact,
-              "scheme_step: contact nodes need their Contact (context.contact)");
   buffers.report = FmpmReport{};
   s.momentum();
   s.forces_and_velocity();

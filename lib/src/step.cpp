@@ -132,8 +132,9 @@ void Stepper::step(Model& model, double dt) {
     if (nf > 1) {
       P.jacobian(buf_->volume);
       buf_->volume.array() *= P.volume0.array();
-      find_contact_nodes(model.grid, ops_, particle_operators(ops_), model.contact, P.X,
-                         buf_->volume, buf_->contact);
+      const ContactParticles cp{P.X, P.F, P.half_length, buf_->volume};
+      find_contact_nodes(model.grid, ops_, particle_operators(ops_), model.contact, cp,
+                         buf_->contact);
     }
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.
@@ -153,7 +154,6 @@ void Stepper::step(Model& model, double dt) {
                               .grid = &model.grid,
                               .bcs = &model.bcs,
                               .body_force = model.body_force,
-                              .contact = nf > 1 ? &model.contact : nullptr,
                               .contact_nodes = nf > 1 ? &buf_->contact : nullptr,
                               .time = model.time,
                               .dt = dt,

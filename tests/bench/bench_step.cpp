@@ -250,9 +250,10 @@ void BM_Step(benchmark::State& state, const std::string& problem, smpm::Velocity
 
 // Two blocks of 100 × 50 cells (2 × 2 particles per cell, GIMP, neo-Hookean, 40,000 particles)
 // stacked on a grid line and pressed together (V_y = ∓0.01): the FLIP step in single material
-// mode (one velocity field) and in multimaterial mode with contact (AG normals, CP = 0.8,
-// Coulomb μ = 0.2; contact 2020 §3.2), one assembly of S with the fields as blocks of columns.
-void BM_TwoBlocks(benchmark::State& state, bool contact) {
+// mode (one velocity field) and in multimaterial mode with contact (Coulomb μ = 0.2; contact
+// 2020 §3.2) with AG normals and CP = 0.8, and with LR normals and d_LR (§3.1), one assembly
+// of S with the fields as blocks of columns.
+void BM_TwoBlocks(benchmark::State& state, bool contact, bool lr) {
   using namespace smpm;
   Model m(Grid(2, {0, 0, 0}, {1, 1, 1}, {104, 104, 1}));
   Material mat;
@@ -271,7 +272,8 @@ void BM_TwoBlocks(benchmark::State& state, bool contact) {
     ContactPair law;
     law.law = ContactLaw::Coulomb;
     law.friction = 0.2;
-    law.detection = ContactDetection::Position;
+    law.detection = lr ? ContactDetection::LogisticRegression : ContactDetection::Position;
+    law.normal = lr ? ContactNormal::LogisticRegression : ContactNormal::AverageGradient;
     m.contact.material_field = {0, 1};
     m.contact.pairs = {law};
   }
@@ -281,8 +283,9 @@ void BM_TwoBlocks(benchmark::State& state, bool contact) {
     stepper.step(m, 0.05);
   state.counters["particles"] = double(m.particles.size());
 }
-BENCHMARK_CAPTURE(BM_TwoBlocks, single_material, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_TwoBlocks, contact, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TwoBlocks, single_material, false, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TwoBlocks, contact_AG_CP, true, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TwoBlocks, contact_LR, true, true)->Unit(benchmark::kMillisecond);
 
 // STREAM triad a = b + s c on 3 × 10⁷ doubles: the machine's sustainable memory bandwidth, the
 // bound for passes that stream S, G or m̃ from memory.
@@ -362,11 +365,12 @@ int main(int argc, char** argv) {
                 t("exact_step") / t("fmpm4_step"), t("exact_step") / t("fmpm20_step"));
   }
   const auto single = rep.ms.find("BM_TwoBlocks/single_material");
-  const auto contact = rep.ms.find("BM_TwoBlocks/contact");
-  if (single != rep.ms.end() && contact != rep.ms.end())
-    std::printf("\ntwo blocks: multimaterial FLIP step with contact / single material mode "
-                "%8.3f (target <= 2.0)\n",
-                contact->second / single->second);
+  for (const char* name : {"contact_AG_CP", "contact_LR"}) {
+    const auto contact = rep.ms.find(std::string("BM_TwoBlocks/") + name);
+    if (single != rep.ms.end() && contact != rep.ms.end())
+      std::printf("two blocks: FLIP step with %s / single material mode %8.3f (target <= 2.0)\n",
+                  name, contact->second / single->second);
+  }
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   const double N = 4.0 * (side() - 1) * (side() - 1);

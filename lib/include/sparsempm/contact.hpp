@@ -38,13 +38,15 @@ enum class ContactLaw {
 /// How the contact normal n̂ (from field α to β) is found.
 enum class ContactNormal {
   AverageGradient, ///< AG: n̂ ∝ g^α − g^β, g^α_i = Σ_{p∈α} G_pi V_p (contact 2020 Eqs. 11–13)
-  Specified ///< SN: a direction given in the input, from the first material to the second
+  Specified,         ///< SN: a direction given in the input, from the first material to the second
+  LogisticRegression ///< LR: the plane separating the particle clouds (contact 2020 Eqs. 19–21)
 };
 /// When a node whose fields approach (N_c > 0) is in contact.
 enum class ContactDetection {
   Always,      ///< every node seen by both fields, approaching or not: a bonded interface
   Approaching, ///< N_c > 0 alone (contact 2020 Eq. 14)
-  Position     ///< N_c > 0 and (x^β − x^α)·n̂ < δ_c h_n (CP = δ_c, contact 2020 Eq. 16)
+  Position,    ///< N_c > 0 and (x^β − x^α)·n̂ < δ_c h_n (CP = δ_c, contact 2020 Eq. 16)
+  LogisticRegression ///< N_c > 0 and d_LR < 0 from the particle clouds (contact 2020 Eq. 24)
 };
 
 std::string_view to_string(ContactLaw law);
@@ -80,29 +82,72 @@ struct Contact {
   void particle_fields(const Eigen::VectorXi& material, Eigen::VectorXi& field) const;
 };
 
+/// The particle fields contact reads at the start of a step.
+struct ContactParticles {
+  ConstFieldRef X;           ///< N × d positions
+  ConstFieldRef F;           ///< N × d² deformation gradients (R_p, contact 2020 Eq. 25)
+  ConstFieldRef half_length; ///< N × d initial half-lengths R_0 (Eq. 25)
+  ConstVectorRef volume;     ///< N current volumes (AG normals, Eq. 11)
+};
+
+/// How a logistic-regression fit ended.
+struct LogisticFit {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< unit n̂ from class −1 to class +1
+  int iterations = 0;
+  bool converged = false; ///< 1 − n̂^(k+1)·n̂^(k) < 10⁻⁵ within 15 iterations
+};
+
+/// LR normal (contact 2020 Eqs. 19–21 and Appendix, Eqs. 53–57): the plane x·φ = 0 that
+/// minimises Σ_p (f(x_p, φ) − c_p)² + Σ_j λ_j φ_j², f = 2/(1 + e^{−x·φ}) − 1, by Gauss–Newton
+/// from φ⁽⁰⁾ = 0 (whose first step is the linear regression), with w_p = 1, the paper's penalty
+/// λ = 10⁻⁷ Δx² (1, 1, 1, 0) and its stopping rule (1 − n̂^(k+1)·n̂^(k) < 10⁻⁵, at most 15
+/// iterations, the last iterate kept). `points` are N × d positions (relative to the node),
+/// `classes` −1 (material α) or +1 (β).
+LogisticFit logistic_regression_normal(const ConstFieldRef& points,
+                                       const Eigen::Ref<const Eigen::VectorXd>& classes,
+                                       double cell);
+
+/// R_p of contact 2020 Eq. (25): the distance along the unit n̂ from a particle's centre to
+/// the ellipsoid inscribed in its initial domain (half-lengths r0) carried by F (row-major
+/// d × d): 1/R_p = |diag(r0)⁻¹ F⁻¹ n̂|.
+double particle_radius_along(int dim, const double* F, const double* r0, const Eigen::Vector3d& n);
+
 /// The grid data that contact needs at the start of a step, computed once and reused by both
 /// corrections of the step (after P2G and after the momentum update): the nodes seen by two or
 /// more fields, their normals, separations and contact areas.
 struct ContactNodes {
   struct Node {
-    Index node = 0;   ///< grid node i
-    int a = 0, b = 0; ///< the two fields (a < b); a = b = −1 for a node of 3+ fields
+    Index node = 0;        ///< grid node i
+    int a = 0, b = 0;      ///< the two fields (a < b); a = b = −1 for a node of 3+ fields
+    Index first_side = -1; ///< 3+ fields: sides[first_side + α] is field α against the rest
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from a to b (d entries used)
-    double separation = 0; ///< (x^b − x^a)·n̂ − δ_c h_n (Position), −1 otherwise
+    double separation = 0; ///< CP: (x^b − x^a)·n̂ − δ_c h_n; LR: d_LR; −1 otherwise
     double area = 0;       ///< A_c = V_cell / h_n, h_n = Σ_a |n_a| Δx_a
     const ContactPair* pair = nullptr; ///< the law (two fields)
   };
+  /// One field against all the others lumped (contact 2020 §3.4, Eq. 50).
+  struct Side {
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from the field to the rest
+    double separation = -1;
+    const ContactPair* pair = nullptr; ///< the law with the heaviest other field
+  };
   std::vector<Node> nodes;
+  std::vector<Side> sides;
   Field gradient; ///< n × d: g^α_i = Σ_{p∈α} G_pi V_p (AG normals)
   Field position; ///< n × d: Σ_{p∈α} S_pi M_p X_p (mass-weighted positions; CP)
-  std::vector<Eigen::Vector3d> change; ///< scratch of the lumped nodes
+  // LR point clouds: the particles (and their fields) whose shape functions reach each contact
+  // node, cloud[cloud_offset[c] … cloud_offset[c + 1]) for nodes[c]; reused from step to step.
+  std::vector<int> slot; ///< n_g: index of the node in `nodes`, or −1
+  std::vector<Index> cloud_offset;
+  std::vector<std::pair<int, int>> cloud; ///< (particle, field)
+  std::vector<Eigen::Vector3d> change;    ///< scratch of the lumped nodes
 };
 
 /// Finds the nodes seen by two or more fields of `ops` (block columns) and their normals,
-/// separations and areas (contact 2020 §2.3). `volume` are the current particle volumes.
+/// separations and areas (contact 2020 §2.3, §3.1), once per step.
 void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
-                        const Contact& contact, const ConstFieldRef& X,
-                        const Eigen::VectorXd& volume, ContactNodes& cn);
+                        const Contact& contact, const ContactParticles& particles,
+                        ContactNodes& cn);
 
 /// Δp of one node in contact (FMPM 2026 Eq. 18): the momentum change of field α given
 /// Δp(0) = (m^α p^β − m^β p^α)/(m^α + m^β), the unit normal n̂ from α to β and the law.
@@ -116,7 +161,7 @@ bool contact_momentum_change(const ContactPair& law, const Eigen::Vector3d& dp0,
 /// lumped (contact 2020 Eq. 50), the law of the heaviest other field. When `force` is given,
 /// adds Δp/Δt to it (the contact force f^{αC,1} of contact 2020 Eq. 33). Returns the number of
 /// nodes in contact. Allocates nothing once `cn` has served a step.
-Index apply_contact(const Operators& ops, ContactNodes& cn, const Contact& contact,
-                    const Grid& grid, double dt, Field& p, Field* force = nullptr);
+Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
+                    Field* force = nullptr);
 
 } // namespace smpm

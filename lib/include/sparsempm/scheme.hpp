@@ -69,9 +69,8 @@ struct StepContext {
   /// the values at the start of the step, t, as NairnMPM does (FMPM 2026 §3.1).
   const BoundaryConditions* bcs = nullptr;
   std::array<double, 3> body_force{0, 0, 0};
-  /// Multimaterial contact (contact.hpp): the laws and this step's contact nodes, found at the
-  /// start of the step; null in single material mode.
-  const Contact* contact = nullptr;
+  /// Multimaterial contact (contact.hpp): this step's contact nodes with their laws, normals
+  /// and separations, found at the start of the step; null in single material mode.
   ContactNodes* contact_nodes = nullptr;
   double time = 0; ///< t at the start of the step
   double dt = 0;

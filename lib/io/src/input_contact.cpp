@@ -68,21 +68,27 @@ ContactPair read_law(const Reader& r, const toml::table& t, const std::string& k
     if (!(p.direction.norm() > 0))
       r.fail(t.get("direction"), key + "direction", "must not be zero");
     p.direction.normalize();
+  } else if (normal == "LR") {
+    p.normal = ContactNormal::LogisticRegression;
   } else if (normal != "AG") {
-    r.fail(t.get("normal"), key + "normal", "expected AG (average gradient) | specified");
-  } else if (t.get("direction")) {
-    r.fail(t.get("direction"), key + "direction", "only normal = \"specified\" takes a direction");
+    r.fail(t.get("normal"), key + "normal",
+           "expected AG (average gradient) | LR (logistic regression) | specified");
   }
+  if (normal != "specified" && t.get("direction"))
+    r.fail(t.get("direction"), key + "direction", "only normal = \"specified\" takes a direction");
   const std::string detection = r.string(t, "detection", key + "detection", "approaching");
   if (detection == "approaching")
     p.detection = ContactDetection::Approaching;
   else if (detection == "CP")
     p.detection = ContactDetection::Position;
+  else if (detection == "LR")
+    p.detection = ContactDetection::LogisticRegression;
   else if (detection == "always")
     p.detection = ContactDetection::Always;
   else
     r.fail(t.get("detection"), key + "detection",
-           "expected approaching | CP (critical position) | always (bonded)");
+           "expected approaching | CP (critical position) | LR (logistic regression) | always "
+           "(bonded)");
   if (p.detection == ContactDetection::Position)
     p.critical_separation = r.number(t, "critical_separation", key + "critical_separation", 0.8);
   else if (t.get("critical_separation"))
