@@ -30,7 +30,8 @@ def mean_axial_stress(work, name, *sets):
     assert r.returncode == 0, r.stderr
     with h5py.File(out, "r") as f:
         frames = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])
-        return np.array([g["stress"][:, 3].mean() for g in frames[1:]])
+        series = {k: f["series"][k][:] for k in ("material_mass", "material_centre")}
+        return np.array([g["stress"][:, 3].mean() for g in frames[1:]]), series
 
 
 class TwoBlocks(unittest.TestCase):
@@ -47,7 +48,9 @@ class TwoBlocks(unittest.TestCase):
         with concurrent.futures.ThreadPoolExecutor(2) as pool:
             futures = {k: pool.submit(mean_axial_stress, cls.tmp.name, k, *v)
                        for k, v in cases.items()}
-            cls.r = {k: f.result() for k, f in futures.items()}
+            results = {k: f.result() for k, f in futures.items()}
+        cls.r = {k: v[0] for k, v in results.items()}
+        cls.series = {k: v[1] for k, v in results.items()}
 
     @classmethod
     def tearDownClass(cls):
@@ -67,6 +70,15 @@ class TwoBlocks(unittest.TestCase):
         # Contact 2020 Fig. 5: LR normals with the LR separation d_LR are within 1% of single
         # material mode up to 20% strain (paper: < 1%); measured at most 0.0006%.
         self.assertLess(self.error("lr").max(), 1.0)
+
+    def test_per_material_series(self):
+        # Each block: 40 x 50 mm at 0.001 g/mm^3 = 2 g for every step; centres of mass start at
+        # (20, 25) and (20, 75) mm and stay on x = 20 (the problem is symmetric) to 1e-4 mm.
+        s = self.series["lr"]
+        np.testing.assert_allclose(s["material_mass"], 2.0, rtol=1e-12)
+        np.testing.assert_allclose(s["material_centre"][0], [20, 25, 20, 75], atol=1e-12)
+        np.testing.assert_allclose(s["material_centre"][:, [0, 2]], 20, atol=1e-4)
+        self.assertLess(s["material_centre"][-1, 3], 75 - 10)  # the upper block moved down
 
     def test_average_gradient_normals_err(self):
         # Contact 2020 Fig. 5: grid normals (AG) give errors of several % (measured: largest

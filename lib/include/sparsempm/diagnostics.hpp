@@ -5,6 +5,7 @@
 #include "sparsempm/model.hpp"
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace smpm {
 
@@ -16,5 +17,11 @@ struct Energies {
 };
 
 Energies energies(const Model& model);
+
+/// Mass, momentum and centre of mass of each material's particles (one body per material in
+/// multimaterial runs), one pass: for material k, out[k(1 + 2d) + 0] = Σ M_p,
+/// out[… + 1 + a] = Σ M_p V_pa, out[… + 1 + d + a] = Σ M_p X_pa / Σ M_p (NaN without
+/// particles). `out` is resized to n_materials (1 + 2d).
+void material_sums(const Model& model, std::vector<double>& out);
 
 } // namespace smpm

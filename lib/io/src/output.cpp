@@ -48,6 +48,16 @@ h5::Id access_plist() {
   return fapl;
 }
 
+// The per-material series (mass, momentum, centre of mass) and their widths.
+const char* kMaterialSeries[] = {"material_mass", "material_momentum", "material_centre"};
+hsize_t material_width(int s, int materials, int dim) {
+  return hsize_t(materials) * (s == 0 ? 1 : hsize_t(dim));
+}
+void create_material_series(hid_t series, int materials, int dim) {
+  for (int s = 0; s < 3; ++s)
+    h5::create_series(series, kMaterialSeries[s], material_width(s, materials, dim));
+}
+
 void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) {
   h5::Id g = h5::create_group(parent, name);
   h5::write_doubles(g.get(), "data", A.valuePtr(), hsize_t(A.nonZeros()), 0);
@@ -70,7 +80,7 @@ std::string xdmf_path(const std::string& h5_path) {
 }
 
 OutputFile::OutputFile(const std::string& path, const RunConfig& cfg)
-    : path_(path), dim_(cfg.model.grid.dim()) {
+    : path_(path), dim_(cfg.model.grid.dim()), materials_(int(cfg.model.materials.size())) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const h5::Id fapl = access_plist();
   file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
@@ -101,6 +111,7 @@ void OutputFile::initialize(const RunConfig& cfg) {
   for (const char* s : kSeries)
     h5::create_series(series.get(), s, 0);
   h5::create_series(series.get(), "momentum", hsize_t(dim_));
+  create_material_series(series.get(), materials_, dim_);
   h5::check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flush");
 }
 
@@ -201,6 +212,23 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
     for (int a = 0; a < dim; ++a)
       mom[r * size_t(dim) + size_t(a)] = rows[r].e.momentum[a];
   h5::append_series(series.get(), "momentum", mom.data(), k, hsize_t(dim));
+  // Per material: material_sums lays out (mass, momentum d, centre d) per material.
+  if (k == 0 || rows[0].materials.empty())
+    return;
+  const size_t nm = rows[0].materials.size() / size_t(1 + 2 * dim);
+  for (int s = 0; s < 3; ++s) {
+    const size_t w = size_t(material_width(s, int(nm), dim)), per = w / nm;
+    std::vector<double> data(k * w);
+    for (size_t r = 0; r < k; ++r)
+      for (size_t m = 0; m < nm; ++m)
+        for (size_t a = 0; a < per; ++a)
+          data[r * w + m * per + a] = rows[r].materials[m * size_t(1 + 2 * dim) +
+                                                        (s == 0   ? 0
+                                                         : s == 1 ? 1
+                                                                  : 1 + size_t(dim)) +
+                                                        a];
+    h5::append_series(series.get(), kMaterialSeries[s], data.data(), k, hsize_t(w));
+  }
 }
 } // namespace
 
@@ -503,6 +531,7 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
   OutputFile out;
   out.path_ = path;
   out.dim_ = cfg.model.grid.dim();
+  out.materials_ = int(cfg.model.materials.size());
   out.file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get());
   if (out.file_ < 0)
     throw InputError(path + ": cannot open the run file for restart");
@@ -540,6 +569,16 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
     h5::truncate_series(series.get(), s, keep);
   }
   h5::truncate_series(series.get(), "momentum", keep);
+  for (int s = 0; s < 3; ++s) {
+    const char* name = kMaterialSeries[s];
+    if (!h5::exists(series.get(), name)) { // a file of an earlier version: NaN rows so far
+      const hsize_t w = material_width(s, out.materials_, out.dim_);
+      h5::create_series(series.get(), name, w);
+      const std::vector<double> missing(keep * w, std::numeric_limits<double>::quiet_NaN());
+      h5::append_series(series.get(), name, missing.data(), keep, w);
+    }
+    h5::truncate_series(series.get(), name, keep);
+  }
   h5::set_attribute(out.file_, "status", std::string("running"));
   for (int k : frames) {
     h5::Id fg = h5::open_group(parts.get(), frame_name(k));

@@ -73,7 +73,11 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
       change_sum = kept.series.back().velocity_change_sum;
   }
   auto row = [&](const Model& m, const Energies& e) {
-    SeriesRow r{m.step, m.time, e};
+    SeriesRow r;
+    r.step = m.step;
+    r.t = m.time;
+    r.e = e;
+    material_sums(m, r.materials);
     const Index N = m.particles.size();
     r.velocity_change = N && V0.rows() == N
                             ? std::sqrt((m.particles.V - V0).rowwise().squaredNorm().sum() / N)

@@ -11,6 +11,8 @@
 ///                                (CSR; only with output.matrices = true)
 ///   /series/{step, t, kinetic, strain, total, momentum, velocity_change,
 ///            velocity_change_sum}                        one row per step
+///   /series/{material_mass, material_momentum, material_centre}  per material (one body per
+///            material in multimaterial runs): n_mat, n_mat × d, n_mat × d columns a row
 ///   root attributes: input (the input text), overrides, version, status
 /// Every frame is flushed when written; the HDF5 metadata cache keeps evictions off, so a run
 /// killed between two flushes leaves a file that opens with every completed frame.
@@ -33,6 +35,7 @@ struct SeriesRow {
   /// measured against the velocities at t = 0.
   double velocity_change = 0;
   double velocity_change_sum = 0; ///< its running sum over the steps (⟨error⟩ = sum / N_s)
+  std::vector<double> materials;  ///< material_sums: mass, momentum, centre of each material
 };
 
 class OutputFile {
@@ -74,6 +77,7 @@ private:
   std::string path_;
   long file_ = -1;
   int dim_ = 1;
+  int materials_ = 0; // columns of the per-material series
   double courant_budget_ = 0;
   std::vector<std::pair<int, double>> frames_; // (frame, time) written so far
   std::vector<Index> frame_particles_;
