@@ -1,6 +1,7 @@
 #include "sparsempm/output.hpp"
 
 #include "hdf5_util.hpp"
+#include "output_format.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/run_file.hpp"
 #include "sparsempm/stages.hpp"
@@ -15,6 +16,8 @@
 
 namespace smpm {
 
+using namespace detail;
+
 namespace {
 
 // HDF5 closes the files left open when the process exits. A file whose flush failed (a full
@@ -22,6 +25,10 @@ namespace {
 // 1.10.8: a segfault after the run had reported the failure). The files of a run are closed
 // explicitly; the exit-time pass is turned off before HDF5 is first used.
 const int kNoExitClose = (H5dont_atexit(), 0);
+
+} // namespace
+
+namespace detail {
 
 std::string frame_name(int frame) {
   char buf[16];
@@ -49,7 +56,7 @@ h5::Id access_plist() {
 }
 
 // The per-material series (mass, momentum, centre of mass) and their widths.
-const char* kMaterialSeries[] = {"material_mass", "material_momentum", "material_centre"};
+const char* const kMaterialSeries[] = {"material_mass", "material_momentum", "material_centre"};
 hsize_t material_width(int s, int materials, int dim) {
   return hsize_t(materials) * (s == 0 ? 1 : hsize_t(dim));
 }
@@ -67,11 +74,10 @@ void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) 
   h5::write_ints(g.get(), "shape", shape, 2);
 }
 
-const char* kSeries[] = {
+const char* const kSeries[] = {
     "step", "t", "kinetic", "strain", "total", "velocity_change", "velocity_change_sum"};
-constexpr int kNumSeries = 7;
 
-} // namespace
+} // namespace detail
 
 std::string xdmf_path(const std::string& h5_path) {
   std::filesystem::path p(h5_path);
@@ -367,162 +373,6 @@ void OutputFile::write_xdmf_whole(const std::string& h5_path, const std::string&
       throw std::runtime_error("cannot write the ParaView sidecar " + xmf_path);
   }
   std::filesystem::rename(tmp, xmf_path);
-}
-
-namespace {
-// Opens a run file read-only; InputError saying why not (not HDF5, or locked by a writer).
-hid_t open_for_reading(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f >= 0)
-    return f;
-  if (H5Fis_hdf5(path.c_str()) > 0)
-    throw InputError(path + ": an HDF5 file that cannot be opened now (another process is "
-                            "writing it and holds its lock); try again when that run ends");
-  throw InputError(path + ": not an HDF5 run file");
-}
-
-// Complete frames of a file, ascending.
-std::vector<int> complete_frames(hid_t file) {
-  std::vector<int> frames;
-  h5::Id parts = h5::open_group(file, "particles");
-  H5G_info_t info;
-  H5Gget_info(parts.get(), &info);
-  for (hsize_t k = 0; k < info.nlinks; ++k) {
-    char name[64] = {};
-    if (H5Lget_name_by_idx(parts.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
-                           H5P_DEFAULT) < 0)
-      continue;
-    const std::string s(name);
-    if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos)
-      continue; // not a frame of ours
-    // A frame whose write failed (a full disk) may be a dangling link: not complete.
-    const hid_t g = H5Gopen2(parts.get(), s.c_str(), H5P_DEFAULT);
-    if (g < 0)
-      continue;
-    const h5::Id group(g, H5Gclose);
-    if (h5::has_attribute(g, "complete"))
-      frames.push_back(std::stoi(s));
-  }
-  std::sort(frames.begin(), frames.end()); // numerically, past 999999 too
-  return frames;
-}
-} // namespace
-
-StoredRun read_stored_run(const std::string& path) {
-  check_regular_file(path, kMaxRunFileBytes, "run file");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
-  StoredRun run;
-  try {
-    run.input = h5::get_string_attribute(f, "input");
-    run.overrides = h5::get_strings_attribute(f, "overrides");
-    run.version = h5::get_string_attribute(f, "version");
-    run.status = h5::get_string_attribute(f, "status");
-    h5::Id parts = h5::open_group(f, "particles");
-    for (int frame : complete_frames(f)) {
-      h5::Id g = h5::open_group(parts.get(), frame_name(frame));
-      run.frame_times.push_back(h5::get_double_attribute(g.get(), "time"));
-    }
-    h5::Id series = h5::open_group(f, "series");
-    const Field step = h5::read_doubles(series.get(), "step"),
-                t = h5::read_doubles(series.get(), "t");
-    const Field kin = h5::read_doubles(series.get(), "kinetic");
-    const Field str = h5::read_doubles(series.get(), "strain");
-    const Field tot = h5::read_doubles(series.get(), "total");
-    const bool mms = h5::exists(series.get(), "velocity_change_sum");
-    const Field vc = mms ? h5::read_doubles(series.get(), "velocity_change") : Field();
-    const Field vs = mms ? h5::read_doubles(series.get(), "velocity_change_sum") : Field();
-    for (Index r = 0; r < step.rows(); ++r) {
-      SeriesRow row;
-      row.step = long(step(r, 0));
-      row.t = t(r, 0);
-      row.e.kinetic = kin(r, 0);
-      row.e.strain = str(r, 0);
-      row.e.total = tot(r, 0);
-      if (mms && r < vs.rows() && r < vc.rows()) {
-        row.velocity_change = vc(r, 0);
-        row.velocity_change_sum = vs(r, 0);
-      }
-      run.series.push_back(row);
-    }
-  } catch (const std::runtime_error& e) {
-    throw InputError(path + ": not a sparsempm run file (" + e.what() + ")");
-  }
-  return run;
-}
-
-namespace {
-// Throws std::runtime_error unless the frame's arrays have N rows and the widths of dimension d.
-void check_frame_shapes(const Particles& P, int d) {
-  const Index N = P.X.rows();
-  auto expect = [&](const char* name, Index rows, Index cols, Index want_cols) {
-    if (rows != N || cols != want_cols)
-      throw std::runtime_error(std::string(name) + " is " + std::to_string(rows) + " x " +
-                               std::to_string(cols) + ", expected " + std::to_string(N) + " x " +
-                               std::to_string(want_cols) + " (X has " + std::to_string(N) +
-                               " rows)");
-  };
-  expect("X", P.X.rows(), P.X.cols(), d);
-  expect("V", P.V.rows(), P.V.cols(), d);
-  expect("F", P.F.rows(), P.F.cols(), d * d);
-  expect("stress", P.stress.rows(), P.stress.cols(), d * d);
-  expect("mass", P.mass.rows(), 1, 1);
-  expect("volume0", P.volume0.rows(), 1, 1);
-  expect("half_length", P.half_length.rows(), P.half_length.cols(), d);
-  expect("material", P.material.rows(), 1, 1);
-}
-
-void load_frame_from(hid_t file, int frame, Model& model) {
-  h5::Id parts = h5::open_group(file, "particles");
-  h5::Id g = h5::open_group(parts.get(), frame_name(frame));
-  Particles P;
-  P.X = h5::read_doubles(g.get(), "X");
-  P.V = h5::read_doubles(g.get(), "V");
-  P.F = h5::read_doubles(g.get(), "F");
-  P.stress = h5::read_doubles(g.get(), "stress");
-  P.mass = h5::read_doubles(g.get(), "mass").col(0);
-  P.volume0 = h5::read_doubles(g.get(), "volume0").col(0);
-  P.half_length = h5::read_doubles(g.get(), "half_length");
-  const std::vector<int> mat = h5::read_ints(g.get(), "material");
-  P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
-  P.dim = model.grid.dim();
-  check_frame_shapes(P, P.dim);
-  model.particles = std::move(P);
-  model.time = h5::get_double_attribute(g.get(), "time");
-  model.step = h5::get_long_attribute(g.get(), "step");
-}
-} // namespace
-
-std::vector<int> run_frames(const std::string& path) {
-  check_regular_file(path, kMaxRunFileBytes, "run file");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
-  return complete_frames(f);
-}
-
-double stored_courant_budget(const std::string& path, int frame) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
-  h5::Id parts = h5::open_group(f, "particles");
-  h5::Id g = h5::open_group(parts.get(), frame_name(frame));
-  return h5::has_attribute(g.get(), "courant_budget")
-             ? h5::get_double_attribute(g.get(), "courant_budget")
-             : 0.0;
-}
-
-void load_frame(const std::string& path, int frame, Model& model) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
-  try {
-    load_frame_from(f, frame, model);
-  } catch (const std::runtime_error& e) {
-    throw InputError(path + ": frame " + std::to_string(frame) + ": " + e.what());
-  }
 }
 
 OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next_frame) {

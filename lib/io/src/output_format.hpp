@@ -1,0 +1,34 @@
+#pragma once
+// The layout of a run file shared by its writer (output.cpp) and reader (output_read.cpp):
+// frame names, series names, the file access properties (internal to sparsempm_io).
+
+#include "hdf5_util.hpp"
+#include "sparsempm/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace smpm::detail {
+
+/// "000042" for frame 42.
+std::string frame_name(int frame);
+/// File access with the metadata cache never evicting: metadata reaches the disk only at
+/// H5Fflush, so the file on disk is always the state of the last flush.
+h5::Id access_plist();
+
+/// The one-column series, in the order of SeriesRow's fields.
+extern const char* const kSeries[];
+inline constexpr int kNumSeries = 7;
+/// The per-material series (mass, momentum, centre of mass) and their widths.
+extern const char* const kMaterialSeries[];
+hsize_t material_width(int s, int materials, int dim);
+void create_material_series(hid_t series, int materials, int dim);
+
+/// Opens a run file read-only; InputError saying why not (not HDF5, or locked by a writer).
+hid_t open_for_reading(const std::string& path);
+/// Complete frames of an open file, ascending.
+std::vector<int> complete_frames(hid_t file);
+/// Loads one frame's particle state and clock into `model`.
+void load_frame_from(hid_t file, int frame, Model& model);
+
+} // namespace smpm::detail
