@@ -160,18 +160,24 @@ FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const 
 }
 
 void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, const Field& v,
-                        Field& u, FmpmWorkspace& w) {
+                        Field& u, FmpmWorkspace& w, const Field* dv) {
   SMPM_VERIFY(m >= 1, "XPIC order must be at least 1, got " + std::to_string(m));
-  // v* = Σ_{k=2}^{m} (−1)^k v*_k with v*_k = ((m + 1 − k)/k) S⁺S v*_{k−1}   (Eqs. 42–43)
+  // v* = Σ_{k=2}^{m} (−1)^k (v*_k + ((m − 1)/m) Δv*_{k−1}) with
+  // v*_k = ((m + 1 − k)/k) S⁺S v*_{k−1} and Δv*_k = ((m − k)/k) S⁺S Δv*_{k−1}  (Eqs. 42–44)
   w.prev = v;
+  if (dv)
+    w.dv = *dv; // Δv*_1 = Δv
   u.setZero(v.rows(), v.cols());
   for (int k = 2; k <= m; ++k) {
+    const double sign = k % 2 == 0 ? 1.0 : -1.0;
+    if (dv) { // ((m − 1)/m) Δv*_{k−1}, then Δv*_k
+      u += (sign * double(m - 1) / m) * w.dv;
+      reverse_map_product(ops.m_inv, mt, w.dv, w.next);
+      w.dv = (double(m - k) / k) * w.next;
+    }
     reverse_map_product(ops.m_inv, mt, w.prev, w.next);
     w.prev = (double(m + 1 - k) / k) * w.next;
-    if (k % 2 == 0)
-      u += w.prev;
-    else
-      u -= w.prev;
+    u += sign * w.prev;
   }
   u = double(m) * (v - u); // P V = m S (v − v*)                          (Eq. 41)
 }

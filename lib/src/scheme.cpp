@@ -62,7 +62,13 @@ struct Stages {
   // Task 1: p = Sᵀ M V, BC1, v = m⁻¹ p; task 1.c for USF, USAVG and USAVG+.
   void momentum() {
     map_momentum(op, fields.V, b.g.p);
-    contact(b.g.p);
+    if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC) { // keep Δv^α (Eq. 37)
+      b.contact_dv = b.g.p;
+      contact(b.g.p);
+      b.contact_dv = c.ops->m_inv.asDiagonal() * (b.g.p - b.contact_dv);
+    } else {
+      contact(b.g.p);
+    }
     if (correct_bcs())
       c.bcs->constrain_momentum(*c.grid, c.ops->m, c.time, b.g.p);
     lumped_solve(c.ops->m_inv, b.g.p, b.g.v);
@@ -112,7 +118,8 @@ struct Stages {
       return;
     }
     if (full_mass) {
-      xpic_grid_velocity(*c.ops, *c.mt, opt.fmpm.order, b.g.v, b.xpic, b.fmpm);
+      xpic_grid_velocity(*c.ops, *c.mt, opt.fmpm.order, b.g.v, b.xpic, b.fmpm,
+                         c.contact_nodes ? &b.contact_dv : nullptr);
       b.xpic.noalias() += c.dt * b.g.a; // V' = S (m (v − v*) + a Δt)
     } else {
       b.xpic = b.g.v_plus; // XPIC(1) = PIC

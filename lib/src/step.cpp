@@ -77,13 +77,15 @@ void validate(const StepOptions& opt) {
 void validate_multimaterial(const StepOptions& opt, const Contact& contact) {
   if (contact.fields() < 2)
     return;
-  const bool series = opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::XPIC;
-  if (opt.velocity == VelocityUpdate::Exact || (series && opt.fmpm.order > 1))
+  if (opt.velocity == VelocityUpdate::Exact ||
+      (opt.velocity == VelocityUpdate::FMPM && opt.fmpm.order > 1))
     throw InputError("scheme.velocity = " + std::string(to_string(opt.velocity)) +
-                     (series ? " of order " + std::to_string(opt.fmpm.order) : std::string()) +
+                     (opt.velocity == VelocityUpdate::FMPM
+                          ? " of order " + std::to_string(opt.fmpm.order)
+                          : std::string()) +
                      " with " + std::to_string(contact.fields()) +
                      " velocity fields: contact inside the mass solve (FMPM 2026 §3.2) is not "
-                     "available; use FLIP, PIC or order 1");
+                     "available; use FLIP, PIC, XPIC or FMPM order 1");
 }
 
 bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {

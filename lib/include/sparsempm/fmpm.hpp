@@ -66,6 +66,7 @@ struct FmpmReport {
 /// Scratch storage of the loop (n × d each).
 struct FmpmWorkspace {
   Field prev, next;
+  Field dv; ///< XPIC's Δv*_k (multimaterial)
 };
 
 /// The per-pass corrections of FMPM 2026 Table 1, called on every pass ℓ ≥ 2 after
@@ -107,13 +108,18 @@ FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const 
 double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
                           const Operators& ops);
 
-/// XPIC(m) projection (contact 2020 Eqs. 36, 41–43, single material):
-///     P V = m S (v − v*),  v* = Σ_{k=2}^{m} (−1)^k v*_k,  v*_1 = v,
-///     v*_k = ((m + 1 − k)/k) S⁺S v*_{k−1},
-/// for the lumped grid velocity v = m⁻¹ p of the particle velocities. Returns the n × d grid
-/// field u = m (v − v*), so that P V = S u; XPIC(1) gives u = v (PIC).
+/// XPIC(m) projection (contact 2020 Eqs. 36, 41–44):
+///     P V = m S (v − v*),  v* = Σ_{k=2}^{m} (−1)^k (v*_k + ((m − 1)/m) Δv*_{k−1}),
+///     v*_1 = v,  v*_k = ((m + 1 − k)/k) S⁺S v*_{k−1},
+///     Δv*_1 = Δv,  Δv*_k = ((m − k)/k) S⁺S Δv*_{k−1},
+/// for the lumped grid velocity v = m⁻¹ p of the particle velocities. In multimaterial mode
+/// (block columns, S⁺S = S^{+α}S per field) v is the contact-corrected v^α and `dv` the
+/// correction Δv^α of the contact after P2G (Eq. 26), which gives Eq. (37):
+///     P V = (I − (I − S S^{+α})^m) V + (I − S S^{+α})^{m−1} S Δv^α;
+/// without `dv` it is single-material XPIC (Eq. 36). Returns the n × d grid field
+/// u = m (v − v*), so that P V = S u; XPIC(1) gives u = v (PIC).
 void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, const Field& v,
-                        Field& u, FmpmWorkspace& w);
+                        Field& u, FmpmWorkspace& w, const Field* dv = nullptr);
 
 /// For analysis on small problems: m̃_k⁻¹ = (Σ_{ℓ=1}^{k} c_ℓ A^{ℓ−1}) m⁻¹ with the blending
 /// coefficients c_1 = 1, c_ℓ = c_{ℓ−1} blend_factor(ℓ), assembled as an n × n sparse matrix
