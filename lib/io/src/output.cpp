@@ -162,7 +162,14 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
 void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape,
                 bool matrices) {
   const Particles& P = model.particles;
-  const Operators ops = assemble(model.grid, P, shape);
+  // Multimaterial: each velocity field's nodal fields (node i of field α is α n_g + i), the
+  // extrapolation of contact 2020 Eq. (5) before contact.
+  const int fields = model.contact.fields();
+  Operators ops;
+  Eigen::VectorXi field;
+  if (fields > 1)
+    model.contact.particle_fields(P.material, field);
+  assemble(model.grid, P, shape, ops, fields, fields > 1 ? &field : nullptr);
   {
     // The nodes with mass only (active_nodes), with their indices: a frame of a few particles on
     // a large grid stays small.
@@ -185,7 +192,8 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
     h5::write_doubles(g.get(), "m", m.data(), n, 0);
     h5::write_doubles(g.get(), "p", pa.data(), n, d);
     h5::write_doubles(g.get(), "v", va.data(), n, d);
-    h5::set_attribute(g.get(), "grid_nodes", long(ops.num_nodes()));
+    h5::set_attribute(g.get(), "grid_nodes", long(ops.grid_node_count));
+    h5::set_attribute(g.get(), "velocity_fields", long(fields));
   }
   if (!matrices)
     return;

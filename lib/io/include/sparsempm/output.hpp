@@ -6,7 +6,9 @@
 ///   /particles/<frame>/{X, V, stress, F, mass, volume, volume0, half_length, material}
 ///                      attributes time, step, complete
 ///   /grid/<frame>/{nodes, m, p, v}  P2G of the frame's particle state on the nodes with mass
-///                                (their indices, na × 1, na × d, na × d); attribute grid_nodes
+///                                (their indices, na × 1, na × d, na × d); attributes grid_nodes
+///                                (n_g) and velocity_fields (n_f: with several, each field's
+///                                node i has index α n_g + i, contact 2020 Eq. 5)
 ///   /matrices/<frame>/{S, G0, G1, G2, consistent_mass}/{data, indices, indptr, shape}
 ///                                (CSR; only with output.matrices = true)
 ///   /series/{step, t, kinetic, strain, total, momentum, velocity_change,
