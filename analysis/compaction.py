@@ -73,7 +73,7 @@ def input_text(objects):
         "#              analysis/compaction.py (this packing with AG + CP and with LR, and the",
         "#              interpenetration of each: the fraction of particles inside another object)",
         "# What to look at: the interpenetration at the end. Claimed (asserted by",
-        "# tests/cli/test_compaction.py): grid contact (AG normals, CP = 0.8) leaves 0.18% of the",
+        "# tests/cli/test_compaction.py): grid contact (AG normals, CP = 0.8) leaves 0.82% of the",
         "# particles inside another object, logistic regression none (contact 2020 Fig. 6: LR",
         "# removes the interpenetration of grid methods).",
         "[grid]", "dim = 2", "origin = [-4.0, -4.0]", f"cell_size = [{CELL}, {CELL}]",

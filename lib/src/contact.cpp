@@ -81,14 +81,16 @@ void Contact::particle_fields(const Eigen::VectorXi& material, Eigen::VectorXi& 
 
 namespace {
 
-// h_n = Σ_a |n_a| Δx_a, the width of a cell along n̂; A_c = V_cell / h_n (an axis-aligned
-// interface gets the cell face). A_c only scales tractions: with the laws here it cancels from
-// Δp (S_slide A_c Δt = min(Δp(0)·t̂, −μ Δp(0)·n̂)).
+// h_n = √(Σ_a (n_a Δx_a)²), the cell size along n̂ that NairnMPM uses for the separation
+// and the contact area (MeshInfo::GetPerpendicularDistance: exact there for 2D grids and for
+// cubic cells; its 3D non-cubic form follows the tangent plane): h_n = Δx on square cells for
+// every n̂. A_c = V_cell / h_n only scales tractions: with the laws here it cancels from Δp
+// (S_slide A_c Δt = min(Δp(0)·t̂, −μ Δp(0)·n̂)).
 double cell_width_along(const Grid& grid, const Eigen::Vector3d& n) {
-  double h = 0;
+  double h2 = 0;
   for (int a = 0; a < grid.dim(); ++a)
-    h += std::abs(n[a]) * grid.cell_size(a);
-  return h;
+    h2 += n[a] * n[a] * grid.cell_size(a) * grid.cell_size(a);
+  return std::sqrt(h2);
 }
 
 double cell_volume(const Grid& grid) {

@@ -122,7 +122,7 @@ struct ContactNodes {
     Index first_side = -1; ///< 3+ fields: sides[first_side + α] is field α against the rest
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from a to b (d entries used)
     double separation = 0; ///< CP: (x^b − x^a)·n̂ − δ_c h_n; LR: d_LR; −1 otherwise
-    double area = 0;       ///< A_c = V_cell / h_n, h_n = Σ_a |n_a| Δx_a
+    double area = 0;       ///< A_c = V_cell / h_n, h_n = √(Σ_a (n_a Δx_a)²)
     const ContactPair* pair = nullptr; ///< the law (two fields)
   };
   /// One field against all the others lumped (contact 2020 §3.4, Eq. 50).
