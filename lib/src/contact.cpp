@@ -403,7 +403,10 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
   const int d = int(p.cols());
   Index in_contact = 0;
   Eigen::Vector3d dp;
-  for (const ContactNodes::Node& node : cn.nodes) {
+  cn.prior.resize(cn.nodes.size());
+  cn.net.resize(cn.nodes.size());
+  for (size_t c = 0; c < cn.nodes.size(); ++c) {
+    const ContactNodes::Node& node = cn.nodes[c];
     if (node.a < 0) {
       in_contact += lumped_node(ops, cn, node, dt, p, force);
       continue;
@@ -412,7 +415,12 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
     const double ma = ops.m[ra], mb = ops.m[rb];
     const Eigen::Vector3d dp0 = (ma * row3(p, rb) - mb * row3(p, ra)) / (ma + mb);
     const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
-    if (!contact_momentum_change(*node.pair, dp0, node.normal, gap, dp))
+    const bool touching = contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
+    // Step 1 of FMPM 2026 §3.2's algorithm: initialise the incremental state.
+    const bool evolving = node.pair->fmpm_method == ContactFmpmMethod::Evolving;
+    cn.prior[c] = evolving ? Eigen::Vector3d(dp0 - dp) : dp0;
+    cn.net[c] = dp;
+    if (!touching)
       continue;
     ++in_contact;
     p.row(ra) += dp.head(d).transpose();
@@ -423,6 +431,35 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
     }
   }
   return in_contact;
+}
+
+void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv) {
+  SMPM_VERIFY(cn.prior.size() == cn.nodes.size(),
+              "contact_increment: the lumped contact (apply_contact) must run first");
+  const Index ng = ops.grid_node_count;
+  const int d = int(dv.cols());
+  Eigen::Vector3d dp;
+  for (size_t c = 0; c < cn.nodes.size(); ++c) {
+    const ContactNodes::Node& node = cn.nodes[c];
+    if (node.a < 0)
+      continue; // three or more fields: the lumped correction only
+    const Index ra = node.a * ng + node.node, rb = node.b * ng + node.node;
+    const double ma = ops.m[ra], mb = ops.m[rb], mred = ma * mb / (ma + mb);
+    const Eigen::Vector3d dp0 = cn.prior[c] + mred * (row3(dv, rb) - row3(dv, ra)); // Eq. (20)
+    const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
+    if (!contact_momentum_change(*node.pair, dp0, node.normal, gap, dp))
+      dp.setZero(); // not in contact: Δp(ℓ) = 0
+    Eigen::Vector3d correction = dp;
+    if (node.pair->fmpm_method == ContactFmpmMethod::Evolving) {
+      cn.prior[c] = dp0 - dp;
+    } else {
+      correction = dp - cn.net[c]; // Δp^(eff)(ℓ)
+      cn.prior[c] = dp0;
+      cn.net[c] = dp;
+    }
+    dv.row(ra) += (correction.head(d) / ma).transpose();
+    dv.row(rb) -= (correction.head(d) / mb).transpose();
+  }
 }
 
 } // namespace smpm

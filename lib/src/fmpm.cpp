@@ -152,8 +152,11 @@ FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopCon
 }
 
 FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
-                         const LoopConstraints& bc, Field& v, FmpmWorkspace& w) {
-  const FmpmReport report = fmpm_loop(ops.m_inv, mt, opt, fmpm_hooks(ops, opt, bc), v, w);
+                         const LoopConstraints& bc, Field& v, FmpmWorkspace& w,
+                         const std::function<void(int, Field&, const Field&)>& contact) {
+  FmpmHooks hooks = fmpm_hooks(ops, opt, bc);
+  hooks.contact = contact;
+  const FmpmReport report = fmpm_loop(ops.m_inv, mt, opt, hooks, v, w);
   if (bc.bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
     bc.bcs->constrain_velocity(*bc.grid, bc.time, v, &ops.active);
   return report;

@@ -44,8 +44,16 @@ struct Stages {
       return;
     }
     lumped_solve(c.ops->m_inv, p, v); // v⁺(1) = m⁻¹ p
-    if (full_mass && opt.velocity == VelocityUpdate::FMPM && opt.fmpm.order > 1)
-      b.report = fmpm_velocity(*c.ops, *c.mt, opt.fmpm, bc, v, b.fmpm);
+    if (full_mass && opt.velocity == VelocityUpdate::FMPM && opt.fmpm.order > 1) {
+      // Multimaterial: one loop over the block-diagonal m̃ runs every field's loop, and contact
+      // corrects each increment (FMPM 2026 §3.2), from the state of the lumped correction of p.
+      std::function<void(int, Field&, const Field&)> hook;
+      if (c.contact_nodes)
+        hook = [this](int, Field& dv, const Field&) {
+          contact_increment(*c.ops, *c.contact_nodes, c.dt, dv);
+        };
+      b.report = fmpm_velocity(*c.ops, *c.mt, opt.fmpm, bc, v, b.fmpm, hook);
+    }
   }
 
   // Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).

@@ -77,15 +77,10 @@ void validate(const StepOptions& opt) {
 void validate_multimaterial(const StepOptions& opt, const Contact& contact) {
   if (contact.fields() < 2)
     return;
-  if (opt.velocity == VelocityUpdate::Exact ||
-      (opt.velocity == VelocityUpdate::FMPM && opt.fmpm.order > 1))
-    throw InputError("scheme.velocity = " + std::string(to_string(opt.velocity)) +
-                     (opt.velocity == VelocityUpdate::FMPM
-                          ? " of order " + std::to_string(opt.fmpm.order)
-                          : std::string()) +
-                     " with " + std::to_string(contact.fields()) +
-                     " velocity fields: contact inside the mass solve (FMPM 2026 §3.2) is not "
-                     "available; use FLIP, PIC, XPIC or FMPM order 1");
+  if (opt.velocity == VelocityUpdate::Exact)
+    throw InputError("scheme.velocity = exact with " + std::to_string(contact.fields()) +
+                     " velocity fields: contact inside the exact consistent-mass solve is not "
+                     "available; use FLIP, PIC, XPIC or FMPM");
 }
 
 bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {

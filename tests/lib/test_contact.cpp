@@ -370,3 +370,33 @@ TEST_CASE("multimaterial XPIC(m) is contact 2020 Eq. (37) in dense matrices", "[
     CHECK((S * u - expected).cwiseAbs().maxCoeff() < 1e-12);
   }
 }
+
+TEST_CASE("stick contact inside the FMPM(k) loop reverts to single material mode (Net and "
+          "Evolving)",
+          "[contact][fmpm]") {
+  // FMPM 2026 §3.2: with Δp = Δp(0) at every multimaterial node, both incremental methods revert
+  // the increments to the centre-of-mass field, so multimaterial FMPM(k) is single-material
+  // FMPM(k). Two materials cut along a random line, 20 steps, k = 2, 4, 8. Measured: equal to
+  // print precision for k = 2 and 4, and for the first 10 steps at k = 8 and 12; 8e-9 after 20
+  // steps at k = 8 (asserted 1e-7); the difference appears after 10 steps, where it was not
+  // traced further.
+  for (ContactFmpmMethod method : {ContactFmpmMethod::Net, ContactFmpmMethod::Evolving})
+    for (int k : {2, 4, 8}) {
+      CAPTURE(int(method), k);
+      ContactPair law = pair_law(ContactLaw::Stick, ContactDetection::Always);
+      law.fmpm_method = method;
+      Model multi = cut_block(4, &law);
+      Model single = cut_block(4, nullptr);
+      StepOptions opt;
+      opt.shape = Shape::GIMP;
+      opt.velocity = VelocityUpdate::FMPM;
+      opt.fmpm.order = k;
+      Stepper a(opt), b(opt);
+      for (int s = 0; s < 20; ++s) {
+        a.step(multi, 0.01);
+        b.step(single, 0.01);
+      }
+      CHECK(max_difference(multi.particles.V, single.particles.V) < 1e-7);
+      CHECK(max_difference(multi.particles.X, single.particles.X) < 1e-7);
+    }
+}

@@ -53,6 +53,12 @@ std::string_view to_string(ContactLaw law);
 std::string_view to_string(ContactNormal normal);
 std::string_view to_string(ContactDetection detection);
 
+/// How contact corrects the increments of the FMPM(k) loop (FMPM 2026 §3.2, after Eq. 20).
+enum class ContactFmpmMethod {
+  Net,     ///< the law on the net uncorrected velocities; Δp^(eff)(ℓ) = Δp(ℓ) − Δp^(net)
+  Evolving ///< the law on the evolving corrected velocities; Δp(ℓ) corrects the increment
+};
+
 /// The contact between two velocity fields.
 struct ContactPair {
   int first = 0, second = 1; ///< the fields α < β
@@ -62,6 +68,7 @@ struct ContactPair {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitY(); ///< SN: unit n̂ from α to β
   ContactDetection detection = ContactDetection::Approaching;
   double critical_separation = 0.8; ///< δ_c of CP, in cells along n̂ (contact 2020 Eq. 16)
+  ContactFmpmMethod fmpm_method = ContactFmpmMethod::Net; ///< inside FMPM(k) (FMPM 2026 §3.2)
 };
 
 /// The velocity fields of a model and the contact between them.
@@ -141,6 +148,9 @@ struct ContactNodes {
   std::vector<Index> cloud_offset;
   std::vector<std::pair<int, int>> cloud; ///< (particle, field)
   std::vector<Eigen::Vector3d> change;    ///< scratch of the lumped nodes
+  // The incremental contact of the FMPM loop (FMPM 2026 §3.2): per node of two fields, the
+  // Δp^(prior)(0) and Δp^(net) that the last lumped correction (apply_contact) initialised.
+  std::vector<Eigen::Vector3d> prior, net;
 };
 
 /// Finds the nodes seen by two or more fields of `ops` (block columns) and their normals,
@@ -163,5 +173,15 @@ bool contact_momentum_change(const ContactPair& law, const Eigen::Vector3d& dp0,
 /// nodes in contact. Allocates nothing once `cn` has served a step.
 Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
                     Field* force = nullptr);
+
+/// Contact on the increment Δv(ℓ) of the FMPM(k) loop (FMPM 2026 §3.2, Eqs. 19–20 and the
+/// two-step algorithm after them), the contact hook of the loop (Table 1, line 2). At each node
+/// of two fields, Δp(0) = Δp^(prior)(0) + m_red (Δv^β(ℓ) − Δv^α(ℓ)) (Eq. 20) goes through the
+/// same law as the lumped correction (contact_momentum_change, Eq. 18) and gives Δp(ℓ) (0 when
+/// not in contact); Evolving: Δv^α += Δp(ℓ)/m^α, Δv^β −= Δp(ℓ)/m^β, Δp^(prior)(0) = Δp(0) −
+/// Δp(ℓ); Net: the same with Δp^(eff) = Δp(ℓ) − Δp^(net), then Δp^(prior)(0) = Δp(0),
+/// Δp^(net) = Δp(ℓ). Starts from the state of the last apply_contact. Nodes of three or more
+/// fields keep only their lumped correction.
+void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv);
 
 } // namespace smpm

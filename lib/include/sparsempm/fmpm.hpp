@@ -101,8 +101,11 @@ FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopCon
 /// v⁺(k) = m̃_k⁻¹ p⁺ with the BC method of `opt`: on entry `v` holds v⁺(1) (with the lumped
 /// BCs of Table 2's top block already applied unless the method is Velocity); runs fmpm_loop
 /// with fmpm_hooks, then sets the BC velocities on v⁺(k) for the Velocity and Combined methods.
-FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
-                         const LoopConstraints& bc, Field& v, FmpmWorkspace& w);
+/// `contact`, when given, is the loop's contact hook (Table 1, line 2; contact_increment).
+FmpmReport
+fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
+              const LoopConstraints& bc, Field& v, FmpmWorkspace& w,
+              const std::function<void(int ell, Field& dv, const Field& v)>& contact = {});
 
 /// The convergence metric of FMPM 2026 §3.4 for an increment dv and the evolving v⁺(ℓ).
 double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,

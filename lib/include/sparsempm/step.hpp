@@ -83,10 +83,10 @@ double position_alpha(const StepOptions& options);
 /// the Stepper and the linearised step call it.
 void validate(const StepOptions& options);
 
-/// Throws InputError when the options cannot run with several velocity fields: contact is
-/// applied to the lumped-mass momenta (contact 2020 §3.2), so FLIP, PIC and XPIC(m) (with the
-/// contact term of contact 2020 Eq. 37) run in multimaterial mode; FMPM(k > 1) and the exact
-/// update need contact inside the mass solve (FMPM 2026 §3.2), which is not available.
+/// Throws InputError when the options cannot run with several velocity fields: FLIP, PIC,
+/// XPIC(m) (with the contact term of contact 2020 Eq. 37) and FMPM(k) (contact on every
+/// increment, FMPM 2026 §3.2) run in multimaterial mode; the exact update would need contact
+/// inside the consistent-mass solve, which is not available.
 void validate_multimaterial(const StepOptions& options, const Contact& contact);
 
 /// Whether a step assembles m̃ (FMPM 2026 §2.2): on steps that update particles from grid

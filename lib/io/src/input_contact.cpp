@@ -94,6 +94,12 @@ ContactPair read_law(const Reader& r, const toml::table& t, const std::string& k
   else if (t.get("critical_separation"))
     r.fail(t.get("critical_separation"), key + "critical_separation",
            "only detection = \"CP\" takes a critical separation");
+  const std::string method = r.string(t, "fmpm_method", key + "fmpm_method", "net");
+  if (method == "evolving")
+    p.fmpm_method = ContactFmpmMethod::Evolving;
+  else if (method != "net")
+    r.fail(t.get("fmpm_method"), key + "fmpm_method",
+           "expected net | evolving (contact inside the FMPM(k) loop, FMPM 2026 §3.2)");
   return p;
 }
 

@@ -13,7 +13,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"", {"grid", "material", "body", "bc", "contact", "time", "scheme", "output", "loads"}},
       {"contact",
-       {"materials", "law", "friction", "normal", "direction", "detection", "critical_separation"}},
+       {"materials", "law", "friction", "normal", "direction", "detection", "critical_separation",
+        "fmpm_method"}},
       {"grid", {"dim", "origin", "cell_size", "cells"}},
       {"material", {"name", "model", "density", "youngs", "poisson"}},
       {"body",
