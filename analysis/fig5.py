@@ -35,9 +35,12 @@ METHODS = {
     "approaching only (AG)": ["contact.0.detection=approaching"],
     "CP = 0.8 (AG)": [],
     "CP = 0.92 (AG)": ["contact.0.critical_separation=0.92"],
+    "DF (AG)": ["contact.0.detection=DF"],
     "approaching, SN": ["contact.0.detection=approaching", "contact.0.normal=specified",
                         "contact.0.direction=[0.0, 1.0]"],
     "CP = 0.8, SN": ["contact.0.normal=specified", "contact.0.direction=[0.0, 1.0]"],
+    "DF + SN": ["contact.0.detection=DF", "contact.0.normal=specified",
+                "contact.0.direction=[0.0, 1.0]"],
     "LR normal, d_LR": ["contact.0.normal=LR", "contact.0.detection=LR"],
     "LR normal, approaching": ["contact.0.normal=LR", "contact.0.detection=approaching"],
 }

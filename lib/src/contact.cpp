@@ -45,8 +45,14 @@ std::string_view to_string(ContactDetection detection) {
     return "CP";
   case ContactDetection::LogisticRegression:
     return "LR";
+  case ContactDetection::DistanceFunction:
+    return "DF";
   }
   return "?";
+}
+
+double distance_function_edge(double s, double exponent, double reach) {
+  return s > 0 ? 1.0 : 1 - 2 * std::pow(-s / reach, exponent);
 }
 
 int Contact::fields() const {
@@ -187,14 +193,24 @@ struct NodeGeometry {
     return Eigen::Vector3d::Zero();
   }
 
-  // CP: (x^B − x^A)·n̂ − δ_c h_n (Eq. 16); LR: d_LR = min_B(X·n̂ − R_p) − max_A(X·n̂ + R_p)
-  // (Eqs. 22–25); −1 (touching) for the other criteria.
+  // CP: (x^B − x^A)·n̂ − δ_c h_n (Eq. 16); DF: (−d(−s^B) − d(s^A)) h_n, s = (x − x_i)·n̂/h_n
+  // (Eq. 15); LR: d_LR = min_B(X·n̂ − R_p) − max_A(X·n̂ + R_p) (Eqs. 22–25); −1 (touching)
+  // for the other criteria.
   double separation(const ContactPair& pair, int a, int b, const Eigen::Vector3d& n) const {
     const Index ng = ops.grid_node_count;
-    if (pair.detection == ContactDetection::Position) {
+    if (pair.detection == ContactDetection::Position ||
+        pair.detection == ContactDetection::DistanceFunction) {
       const Eigen::Vector3d xa = row3(cn.position, a * ng + node) / ops.m[a * ng + node];
       const Eigen::Vector3d xb = side_b(cn.position, a, b) / mass_b(a, b);
-      return (xb - xa).dot(n) - pair.critical_separation * cell_width_along(grid, n);
+      const double h = cell_width_along(grid, n);
+      if (pair.detection == ContactDetection::Position)
+        return (xb - xa).dot(n) - pair.critical_separation * h;
+      if (!(h > 0))
+        return 1; // no normal: no separation along it
+      const Eigen::Vector3d xi = grid.node_position(node);
+      const double sa = (xa - xi).dot(n) / h, sb = (xb - xi).dot(n) / h;
+      return -h * (distance_function_edge(-sb, pair.df_exponent, pair.df_reach) +
+                   distance_function_edge(sa, pair.df_exponent, pair.df_reach));
     }
     if (pair.detection != ContactDetection::LogisticRegression)
       return -1;
@@ -264,7 +280,8 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
   const Index ng = ops.grid_node_count;
   if (uses(contact, ContactNormal::AverageGradient))
     volume_gradient(op, P.volume, cn.gradient);
-  if (uses(contact, ContactDetection::Position))
+  if (uses(contact, ContactDetection::Position) ||
+      uses(contact, ContactDetection::DistanceFunction))
     map_momentum(op, P.X, cn.position); // Σ_{p∈α} S_pi M_p X_p
   // The nodes seen by two or more fields.
   for (Index i = 0; i < ng; ++i) {

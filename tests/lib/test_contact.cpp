@@ -400,3 +400,54 @@ TEST_CASE("stick contact inside the FMPM(k) loop reverts to single material mode
       CHECK(max_difference(multi.particles.X, single.particles.X) < 1e-7);
     }
 }
+
+TEST_CASE("the DF fit of the edge position (contact 2020 Eq. 15, Fig. 1B)", "[contact][df]") {
+  // d(s) = 1 − 2(−s/L)^r: −1 where the node's support ends (s = −L), +1 at the node, and with the
+  // default r = ln 2 / ln(10/3) exactly 0 at s = −3/8, where the edge of undeformed uGIMP
+  // particles at two per cell sits on the node (analysis/df_fit.py).
+  const ContactPair p;
+  CHECK(distance_function_edge(-1.25, p.df_exponent, p.df_reach) == approx(-1, 1e-15));
+  CHECK(distance_function_edge(-0.375, p.df_exponent, p.df_reach) == approx(0, 1e-15));
+  CHECK(distance_function_edge(0, p.df_exponent, p.df_reach) == 1);
+  CHECK(distance_function_edge(0.3, p.df_exponent, p.df_reach) == 1);
+}
+
+TEST_CASE("the DF separation is the gap between two blocks, exact when they touch on a node",
+          "[contact][df]") {
+  // Two blocks of uGIMP particles (2 × 2 per cell) one above the other, their domains a gap g
+  // apart (g < 0: overlapping), normal ŷ specified. With the interface on the grid line y = 6
+  // and g = 0, the DF separation of contact 2020 Eq. (15) at the nodes of that line is 0 to
+  // round-off (the fit is exact there); elsewhere it is g within twice the fit's largest error,
+  // 0.021 cells (analysis/df_fit.py): asserted 0.045.
+  for (double bottom : {6.0, 5.9})
+    for (double gap : {0.0, 0.2, 0.05, -0.05, -0.2}) {
+      CAPTURE(bottom, gap);
+      Model m(Grid(2, {0, 0, 0}, {1, 1, 1}, {12, 12, 1}));
+      m.materials = {elastic("a", 40), elastic("b", 40)};
+      m.particles = make_block(m.grid, {2, 2, 0}, {10, bottom, 0}, {2, 2, 1}, 1.0, 0);
+      Particles top = make_block(m.grid, {2, bottom, 0}, {10, bottom + 4, 0}, {2, 2, 1}, 1.0, 1);
+      top.X.col(1).array() += gap;
+      m.particles.append(top);
+      ContactPair law = pair_law(ContactLaw::Frictionless, ContactDetection::DistanceFunction);
+      law.normal = ContactNormal::Specified;
+      m.contact.material_field = {0, 1};
+      m.contact.pairs = {law};
+      Eigen::VectorXi field;
+      m.contact.particle_fields(m.particles.material, field);
+      Operators ops;
+      assemble(m.grid, m.particles, Shape::GIMP, ops, 2, &field);
+      const Eigen::VectorXd volume = m.particles.volume();
+      const ContactParticles cp{m.particles.X, m.particles.F, m.particles.half_length, volume};
+      ContactNodes cn;
+      find_contact_nodes(m.grid, ops, particle_operators(ops), m.contact, cp, cn);
+      REQUIRE(cn.nodes.size() >= 9);
+      for (const ContactNodes::Node& node : cn.nodes) {
+        CAPTURE(node.node, m.grid.node_position(node.node)[1]);
+        REQUIRE(node.a == 0);
+        if (gap == 0 && bottom == 6.0 && m.grid.node_position(node.node)[1] == 6.0)
+          CHECK(std::abs(node.separation) < 1e-12);
+        else
+          CHECK(node.separation == approx(gap, 0.045));
+      }
+    }
+}

@@ -46,6 +46,9 @@ enum class ContactDetection {
   Always,      ///< every node seen by both fields, approaching or not: a bonded interface
   Approaching, ///< N_c > 0 alone (contact 2020 Eq. 14)
   Position,    ///< N_c > 0 and (x^β − x^α)·n̂ < δ_c h_n (CP = δ_c, contact 2020 Eq. 16)
+  /// N_c > 0 and d((x^β − x_i)·n̂) − d((x^α − x_i)·n̂) < 0 (DF, contact 2020 Eq. 15), d the
+  /// power-law fit of the edge positions (distance_function_edge)
+  DistanceFunction,
   LogisticRegression ///< N_c > 0 and d_LR < 0 from the particle clouds (contact 2020 Eq. 24)
 };
 
@@ -67,9 +70,28 @@ struct ContactPair {
   ContactNormal normal = ContactNormal::AverageGradient;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitY(); ///< SN: unit n̂ from α to β
   ContactDetection detection = ContactDetection::Approaching;
-  double critical_separation = 0.8; ///< δ_c of CP, in cells along n̂ (contact 2020 Eq. 16)
+  double critical_separation = 0.8;        ///< δ_c of CP, in cells along n̂ (contact 2020 Eq. 16)
+  double df_exponent = 0.5757166424934449; ///< r of the DF fit: ln 2 / ln(10/3)
+  double df_reach = 1.25;                  ///< L of the DF fit, in cells along n̂
   ContactFmpmMethod fmpm_method = ContactFmpmMethod::Net; ///< inside FMPM(k) (FMPM 2026 §3.2)
 };
+
+/// The DF fit of contact 2020 Eq. (15), the power law of NairnMPM's material separation: the
+/// position, in cells along n̂, of the edge of a material that lies on the −n̂ side of node i,
+/// given the position s = (x^α − x_i)·n̂ / h_n of its extrapolated particle centre,
+///     d(s) = 1 − 2 (−s/L)^r  (s ≤ 0),   d(s) = 1  (s > 0),
+/// so d = −1 where the support of node i ends (s = −L) and d = 1 as the centre reaches the node.
+/// A material on the +n̂ side has the mirrored edge −d(−s) (Fig. 1B's right-hand curves); the
+/// separation of Eq. (15) is h_n (−d(−s^β) − d(s^α)). For s > 0 (a centre past the node, whose
+/// exact edge is at least a cell beyond it) d stays 1, where NairnMPM's odd extension of the fit
+/// would jump to −1. The defaults fit the exact d(s) of undeformed uGIMP particles at two per
+/// cell (contact 2020 Fig. 1B; analysis/df_fit.py): L = 1.25 (the support of the node ends at
+/// centres 1 + l_p cells away) and r = ln 2 / ln(10/3) = 0.5757, which makes the fit exact where
+/// the edge sits on the node (s = −3/8, d = 0), the point that decides contact between like
+/// materials (largest error elsewhere 0.021 cells). The least-squares r = 0.569 is off by
+/// 0.008 cells there: two blocks touching on a grid line would be 0.016 cells apart and
+/// released until they compress that much.
+double distance_function_edge(double s, double exponent, double reach);
 
 /// The velocity fields of a model and the contact between them.
 struct Contact {
@@ -128,7 +150,7 @@ struct ContactNodes {
     int a = 0, b = 0;      ///< the two fields (a < b); a = b = −1 for a node of 3+ fields
     Index first_side = -1; ///< 3+ fields: sides[first_side + α] is field α against the rest
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from a to b (d entries used)
-    double separation = 0; ///< CP: (x^b − x^a)·n̂ − δ_c h_n; LR: d_LR; −1 otherwise
+    double separation = 0; ///< CP: (x^b − x^a)·n̂ − δ_c h_n; DF: Eq. 15; LR: d_LR; −1 otherwise
     double area = 0;       ///< A_c = V_cell / h_n, h_n = √(Σ_a (n_a Δx_a)²)
     const ContactPair* pair = nullptr; ///< the law (two fields)
   };

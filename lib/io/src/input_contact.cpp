@@ -81,19 +81,33 @@ ContactPair read_law(const Reader& r, const toml::table& t, const std::string& k
     p.detection = ContactDetection::Approaching;
   else if (detection == "CP")
     p.detection = ContactDetection::Position;
+  else if (detection == "DF")
+    p.detection = ContactDetection::DistanceFunction;
   else if (detection == "LR")
     p.detection = ContactDetection::LogisticRegression;
   else if (detection == "always")
     p.detection = ContactDetection::Always;
   else
     r.fail(t.get("detection"), key + "detection",
-           "expected approaching | CP (critical position) | LR (logistic regression) | always "
-           "(bonded)");
+           "expected approaching | CP (critical position) | DF (distance function) | LR "
+           "(logistic regression) | always (bonded)");
   if (p.detection == ContactDetection::Position)
     p.critical_separation = r.number(t, "critical_separation", key + "critical_separation", 0.8);
   else if (t.get("critical_separation"))
     r.fail(t.get("critical_separation"), key + "critical_separation",
            "only detection = \"CP\" takes a critical separation");
+  if (p.detection == ContactDetection::DistanceFunction) {
+    p.df_exponent = r.number(t, "df_exponent", key + "df_exponent", p.df_exponent);
+    if (!(p.df_exponent > 0 && p.df_exponent <= 10))
+      r.fail(t.get("df_exponent"), key + "df_exponent", "must be in (0, 10]");
+    p.df_reach = r.number(t, "df_reach", key + "df_reach", p.df_reach);
+    if (!(p.df_reach > 0 && p.df_reach <= 10))
+      r.fail(t.get("df_reach"), key + "df_reach", "must be in (0, 10] cells");
+  } else {
+    for (const char* k : {"df_exponent", "df_reach"})
+      if (t.get(k))
+        r.fail(t.get(k), key + k, "only detection = \"DF\" takes the distance-function fit");
+  }
   const std::string method = r.string(t, "fmpm_method", key + "fmpm_method", "net");
   if (method == "evolving")
     p.fmpm_method = ContactFmpmMethod::Evolving;

@@ -14,7 +14,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"", {"grid", "material", "body", "bc", "contact", "time", "scheme", "output", "loads"}},
       {"contact",
        {"materials", "law", "friction", "normal", "direction", "detection", "critical_separation",
-        "fmpm_method"}},
+        "df_exponent", "df_reach", "fmpm_method"}},
       {"grid", {"dim", "origin", "cell_size", "cells"}},
       {"material", {"name", "model", "density", "youngs", "poisson"}},
       {"body",
