@@ -49,6 +49,9 @@ from ._sparsempm import (  # noqa: F401
 )
 from ._sparsempm import _spectral_radius
 
+for _error in (InputError, NumericalError, UsageError):
+    _error.__module__ = __name__  # tracebacks name sparsempm.InputError
+
 
 class LinearizedStepOperator(_LinearOperator):
     """The linearised step T(C) as a scipy LinearOperator on x = (V, sigma).
