@@ -1,0 +1,99 @@
+"""sparsempm: the Material Point Method with every operator of a step an explicit sparse matrix.
+
+The C++ library (S, G, M, m, the consistent mass m~ = S^T M S, S+ = m^-1 S^T M, A = I - S+ S,
+the step, its linearisation and the stability analyses) with numpy arrays and scipy.sparse
+matrices:
+
+    import sparsempm as smpm
+    model = smpm.Model.from_toml("examples/vibrating_bar.toml", {"scheme.velocity": "FMPM"})
+    ops = smpm.assemble(model, "cpdi")          # ops.S, ops.G, ops.M, ops.m, ops.active
+    A = ops.expansion_matrix()                  # scipy.sparse.csr_matrix
+    print(smpm.mass_spectrum(ops).rho_A)
+
+Errors are InputError (bad input, the messages of `smpm run`) and NumericalError.
+"""
+
+import numpy as _np
+from scipy.sparse.linalg import LinearOperator as _LinearOperator
+
+from ._sparsempm import (  # noqa: F401
+    AdvanceReport,
+    BoundaryConditions,
+    ConfigurationSweep,
+    CriticalCourant,
+    Energies,
+    Grid,
+    InputError,
+    LinearizedStep,
+    MassSpectrum,
+    Material,
+    Model,
+    NumericalError,
+    Operators,
+    Particles,
+    SimulationCourant,
+    SpectralRadius,
+    StepOptions,
+    Stepper,
+    UsageError,
+    __version__,
+    assemble,
+    courant_of,
+    critical_courant,
+    exact_velocity,
+    fmpm_velocity,
+    mass_spectrum,
+    simulation_courant,
+    stable_time_step,
+    sweep_shifts,
+)
+from ._sparsempm import _spectral_radius
+
+for _error in (InputError, NumericalError, UsageError):
+    _error.__module__ = __name__  # tracebacks name sparsempm.InputError
+
+
+class LinearizedStepOperator(_LinearOperator):
+    """The linearised step T(C) as a scipy LinearOperator on x = (V, sigma).
+
+    Products use the dense T (computed once, one product per column) when T has at most
+    `dense_limit` rows, and the library's matrix-free product otherwise. `step` is the
+    underlying sparsempm.LinearizedStep.
+    """
+
+    def __init__(self, step, dense_limit):
+        self.step = step
+        self.dense_limit = dense_limit
+        self._dense = step.dense() if step.rows <= dense_limit else None
+        super().__init__(dtype=_np.float64, shape=(step.rows, step.rows))
+
+    def _matvec(self, x):
+        x = _np.asarray(x, dtype=_np.float64).reshape(-1)
+        if self._dense is not None:
+            return self._dense @ x
+        return self.step.matvec(x)
+
+    def _adjoint(self):
+        return _LinearOperator(dtype=_np.float64, shape=self.shape,
+                               matvec=lambda y: self.toarray().T @ y)
+
+    def toarray(self):
+        """T as a dense numpy array."""
+        return self._dense if self._dense is not None else self.step.dense()
+
+
+def linearized_step(model, options=None, courant=0.5, dense_limit=1500):
+    """One step linearised at the model's frozen configuration, T(C), as a LinearOperator.
+
+    options default to model.options; dt = courant / courant_of(model, 1). Below
+    `dense_limit` rows the dense T is formed once and used for the products.
+    """
+    return LinearizedStepOperator(LinearizedStep(model, options, courant), dense_limit)
+
+
+def spectral_radius(T, dense_limit=1500):
+    """rho(T) of a linearised step (linearized_step() or a LinearizedStep) by the library:
+    dense eigenvalues up to `dense_limit` rows, power iteration and Arnoldi (Spectra) above.
+    Returns a SpectralRadius (rho, status)."""
+    step = T.step if isinstance(T, LinearizedStepOperator) else T
+    return _spectral_radius(step, dense_limit)

@@ -1,0 +1,172 @@
+// Spectra and stability from Python: the linearised step T (stability.hpp) with its
+// matrix-vector product for scipy's LinearOperator, ρ(T), the critical Courant numbers by the
+// spectral and the simulation methods (FMPM 2026 §3.3, Fig. 12) and the spectrum of the mass
+// matrices (spectrum.hpp). The GIL is released while they compute.
+
+#include "bindings.hpp"
+#include "convert.hpp"
+
+#include <sparsempm/advance.hpp>
+#include <sparsempm/errors.hpp>
+#include <sparsempm/spectrum.hpp>
+#include <sparsempm/stability.hpp>
+
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace smpm::python {
+
+namespace {
+
+// T at Courant number C: Δt = C / courant_of(model, 1), as `smpm spectrum --courant` takes it.
+LinearizedStep linearized(const PyModel& pm, const StepOptions& options, double courant) {
+  if (!(courant > 0) || !std::isfinite(courant))
+    throw InputError("courant number must be positive, got " + std::to_string(courant));
+  return LinearizedStep(pm.model, options, courant / courant_of(pm.model, 1.0));
+}
+
+const StepOptions& options_or(const PyModel& pm, const std::optional<StepOptions>& options) {
+  return options ? *options : pm.options;
+}
+
+void bind_linearized_step(py::module_& m) {
+  py::class_<LinearizedStep>(m, "LinearizedStep",
+                             "One step linearised at the model's frozen configuration: a linear "
+                             "map T on x = (V, σ), N d + N d² entries (stability.hpp).")
+      .def(
+          py::init([](const PyModel& pm, const std::optional<StepOptions>& options,
+                      double courant) { return linearized(pm, options_or(pm, options), courant); }),
+          py::arg("model"), py::arg("options") = py::none(), py::arg("courant") = 0.5)
+      .def_property_readonly("rows", &LinearizedStep::rows)
+      .def_property_readonly("dt", &LinearizedStep::dt)
+      .def_property_readonly("steps_per_application", &LinearizedStep::steps_per_application)
+      .def(
+          "matvec",
+          [](const LinearizedStep& T, const py::array_t<double, py::array::forcecast>& x) {
+            if (x.ndim() != 1 || x.shape(0) != T.rows())
+              throw std::invalid_argument("matvec: expected a vector of " +
+                                          std::to_string(T.rows()) + " entries");
+            py::array_t<double> y(T.rows());
+            const double* in = x.data();
+            double* out = y.mutable_data();
+            {
+              py::gil_scoped_release release;
+              T.perform_op(in, out);
+            }
+            return y;
+          },
+          py::arg("x"), "y = T x")
+      .def(
+          "dense",
+          [](const LinearizedStep& T) {
+            Eigen::MatrixXd D;
+            {
+              py::gil_scoped_release release;
+              D = T.dense();
+            }
+            py::array_t<double> a({D.rows(), D.cols()});
+            for (Index i = 0; i < D.rows(); ++i)
+              for (Index j = 0; j < D.cols(); ++j)
+                a.mutable_at(i, j) = D(i, j);
+            return a;
+          },
+          "T as a dense rows × rows array (one product per column)");
+}
+
+void bind_results(py::module_& m) {
+  py::class_<SpectralRadius>(m, "SpectralRadius")
+      .def_readonly("rho", &SpectralRadius::rho)
+      .def_property_readonly(
+          "status", [](const SpectralRadius& r) { return std::string(to_string(r.status)); })
+      .def("__float__", [](const SpectralRadius& r) { return r.rho; });
+  py::class_<CriticalCourant>(m, "CriticalCourant")
+      .def_readonly("courant", &CriticalCourant::courant)
+      .def_readonly("rho", &CriticalCourant::rho)
+      .def_readonly("evaluations", &CriticalCourant::evaluations)
+      .def_readonly("not_converged", &CriticalCourant::not_converged)
+      .def_readonly("non_finite", &CriticalCourant::non_finite)
+      .def("__float__", [](const CriticalCourant& c) { return c.courant; });
+  py::class_<ConfigurationSweep>(m, "ConfigurationSweep")
+      .def_readonly("minimum", &ConfigurationSweep::minimum)
+      .def_readonly("configuration", &ConfigurationSweep::configuration)
+      .def_readonly("all", &ConfigurationSweep::all);
+  py::class_<SimulationCourant>(m, "SimulationCourant")
+      .def_readonly("courant", &SimulationCourant::courant)
+      .def_readonly("energy_change", &SimulationCourant::energy_change)
+      .def_readonly("runs", &SimulationCourant::runs);
+  py::class_<MassSpectrum>(m, "MassSpectrum")
+      .def_readonly("rho_A", &MassSpectrum::rho_A)
+      .def_readonly("min_eig_minv_mt", &MassSpectrum::min_eig_minv_mt)
+      .def_readonly("cond_mt", &MassSpectrum::cond_mt)
+      .def_readonly("active", &MassSpectrum::active);
+}
+
+} // namespace
+
+void bind_analysis(py::module_& m) {
+  bind_linearized_step(m);
+  bind_results(m);
+  m.def(
+      "_spectral_radius",
+      [](const LinearizedStep& T, Index dense_limit) { return spectral_radius(T, dense_limit); },
+      py::arg("T"), py::arg("dense_limit") = 1500, py::call_guard<py::gil_scoped_release>());
+  m.def(
+      "critical_courant",
+      [](const PyModel& pm, const std::optional<StepOptions>& options, double tol, double c_max,
+         double resolution) {
+        const StepOptions& o = options_or(pm, options);
+        py::gil_scoped_release release;
+        return critical_courant(pm.model, o, tol, c_max, resolution);
+      },
+      py::arg("model"), py::arg("options") = py::none(), py::arg("tol") = 1e-6,
+      py::arg("c_max") = 2.0, py::arg("resolution") = 1e-3,
+      "C* = max{C : ρ(T(C)) ≤ 1 + tol} at the model's configuration (bisection to "
+      "resolution); options default to model.options.");
+  m.def(
+      "sweep_shifts",
+      [](const PyModel& pm, const std::optional<StepOptions>& options, int shifts, double tol,
+         double resolution) {
+        const StepOptions& o = options_or(pm, options);
+        py::gil_scoped_release release;
+        return sweep_shifts(pm.model, o, shifts, tol, resolution);
+      },
+      py::arg("model"), py::arg("options") = py::none(), py::arg("shifts") = 4,
+      py::arg("tol") = 1e-6, py::arg("resolution") = 1e-3,
+      "The minimum of C* over `shifts` lattice shifts: the spectral column of `smpm "
+      "stability` (--shifts).");
+  m.def(
+      "simulation_courant",
+      [](const PyModel& pm, const std::optional<StepOptions>& options, std::optional<double> end,
+         double lo, double hi, double resolution, double energy_growth, double max_energy_change) {
+        SimulationCourantOptions sim;
+        sim.end = end ? *end : pm.time_settings.end;
+        sim.lo = lo;
+        sim.hi = hi;
+        sim.resolution = resolution;
+        sim.failure.energy_growth = energy_growth;
+        sim.max_energy_change = max_energy_change;
+        const StepOptions& o = options_or(pm, options);
+        py::gil_scoped_release release;
+        return simulation_courant(pm.model, o, sim);
+      },
+      py::arg("model"), py::arg("options") = py::none(), py::arg("end") = py::none(),
+      py::arg("lo") = 0.02, py::arg("hi") = 1.5, py::arg("resolution") = 0.005,
+      py::arg("energy_growth") = 10.0,
+      py::arg("max_energy_change") = std::numeric_limits<double>::infinity(),
+      "The largest C whose full run to `end` (default model.end) does not fail, by bisection: "
+      "the simulation column of `smpm stability`.");
+  m.def(
+      "mass_spectrum",
+      [](PyOperators& o, Index dense_limit) {
+        const SparseRowMatrix& mt = o.stencil_mass();
+        py::gil_scoped_release release;
+        return mass_spectrum(o.ops, mt, dense_limit);
+      },
+      py::arg("ops"), py::arg("dense_limit") = 2000,
+      "ρ(A), λ_min(m⁻¹m̃) and cond(m̃) on the active nodes (spectrum.hpp)");
+}
+
+} // namespace smpm::python

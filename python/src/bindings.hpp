@@ -1,0 +1,50 @@
+#pragma once
+/// \file bindings.hpp
+/// The objects the Python module adds around the library's, and the functions that bind each
+/// part of the library (one file each).
+
+#include <sparsempm/input.hpp>
+#include <sparsempm/model.hpp>
+#include <sparsempm/operators.hpp>
+#include <sparsempm/step.hpp>
+
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace smpm::python {
+
+namespace py = pybind11;
+
+/// sparsempm.Model: the library's Model with the step options and clock settings of its input
+/// ([scheme] and [time] of a TOML file; defaults for a model built from arrays).
+struct PyModel {
+  Model model;
+  StepOptions options;
+  TimeSettings time_settings;
+  std::string source; ///< input file, or "<arrays>"
+};
+
+/// sparsempm.Operators: the operators of one configuration, with the grid they were assembled
+/// on; m̃ in its stencil storage is assembled on first use (FMPM passes, exact solve, spectra).
+struct PyOperators {
+  Grid grid;
+  Shape shape = Shape::Linear;
+  Operators ops;
+  const SparseRowMatrix& stencil_mass();
+
+private:
+  std::unique_ptr<ConsistentMass> mt_;
+};
+
+/// Parses a name of the input files' vocabulary into a shape etc.; InputError on a bad name.
+Shape shape_arg(const py::object& shape, const PyModel* model);
+
+void bind_model(py::module_& m);
+void bind_operators(py::module_& m);
+void bind_step(py::module_& m);
+void bind_analysis(py::module_& m);
+
+} // namespace smpm::python

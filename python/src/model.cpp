@@ -1,0 +1,439 @@
+// sparsempm.Grid, Material, StepOptions, Particles and Model: the state of a run, read from a
+// TOML input (the reader of `smpm run`) or built from numpy arrays.
+
+#include "bindings.hpp"
+#include "convert.hpp"
+
+#include <sparsempm/diagnostics.hpp>
+#include <sparsempm/errors.hpp>
+#include <sparsempm/exact.hpp>
+
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace smpm::python {
+
+namespace {
+
+using DoubleArray = py::array_t<double, py::array::forcecast>;
+
+std::array<double, 3> triple(const std::vector<double>& v, double fill, const char* name) {
+  if (v.size() > 3)
+    throw InputError(std::string(name) + ": at most 3 entries, got " + std::to_string(v.size()));
+  std::array<double, 3> t{fill, fill, fill};
+  std::copy(v.begin(), v.end(), t.begin());
+  return t;
+}
+
+// A Python value as TOML text for a --set override: true/false, numbers, strings (quoted) and
+// lists of them.
+std::string toml_value(const py::handle& v, bool quote) {
+  if (py::isinstance<py::bool_>(v))
+    return v.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))
+    return py::repr(v).cast<std::string>();
+  if (py::isinstance<py::str>(v)) {
+    const std::string s = v.cast<std::string>();
+    return quote ? py::repr(v).cast<std::string>() : s; // a top-level string: as `--set` takes it
+  }
+  if (py::isinstance<py::sequence>(v)) {
+    std::string out = "[";
+    bool first = true;
+    for (const py::handle item : v) {
+      out += (first ? "" : ", ") + toml_value(item, true);
+      first = false;
+    }
+    return out + "]";
+  }
+  throw InputError("override value " + py::repr(v).cast<std::string>() +
+                   ": expected a bool, number, string or list");
+}
+
+std::array<bool, 3> directions(const std::string& fixed) {
+  std::array<bool, 3> dirs{false, false, false};
+  for (const char c : fixed) {
+    if (c < 'x' || c > 'z')
+      throw InputError("fixed = \"" + fixed + "\": expected axis letters x, y, z");
+    dirs[size_t(c - 'x')] = true;
+  }
+  return dirs;
+}
+
+// sparsempm.Model(grid, X, mass, volume, ...): the checks of the input reader, in its words.
+PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleArray& mass,
+                          const DoubleArray& volume, const std::optional<DoubleArray>& V,
+                          const std::optional<py::array_t<int, py::array::forcecast>>& material,
+                          const std::vector<Material>& materials,
+                          const std::optional<DoubleArray>& half_length,
+                          const std::vector<std::tuple<int, double, std::string>>& fixed,
+                          const std::vector<double>& body_force) {
+  const int d = grid.dim();
+  const Field x = to_field(X, -1, "X");
+  const Index N = x.rows();
+  if (x.cols() != d)
+    throw InputError("X: expected " + std::to_string(d) + " columns (the grid's dimension), got " +
+                     std::to_string(x.cols()));
+  if (materials.empty())
+    throw InputError("materials: give at least one Material");
+  PyModel pm;
+  pm.source = "<arrays>";
+  Model& model = pm.model;
+  model = Model(grid);
+  model.materials = materials;
+  for (const Material& mat : materials)
+    validate(mat);
+  Particles& P = model.particles;
+  P.resize(d, N);
+  P.X = x;
+  P.mass = to_field(mass, N, "mass").col(0);
+  P.volume0 = to_field(volume, N, "volume").col(0);
+  if (V)
+    P.V = to_field(*V, N, "V");
+  if (P.V.cols() != d)
+    throw InputError("V: expected " + std::to_string(d) + " columns");
+  if (material)
+    for (Index p = 0; p < N; ++p)
+      P.material[p] = material->at(p);
+  for (Index p = 0; p < N; ++p) {
+    if (!(P.mass[p] > 0) || !std::isfinite(P.mass[p]) || !(P.volume0[p] > 0) ||
+        !std::isfinite(P.volume0[p]))
+      throw InputError("particle " + std::to_string(p) + ": mass and volume must be positive");
+    if (P.material[p] < 0 || P.material[p] >= int(materials.size()))
+      throw InputError("particle " + std::to_string(p) + ": material id " +
+                       std::to_string(P.material[p]) + " has no material (" +
+                       std::to_string(materials.size()) + " given)");
+    std::array<double, 3> at{0, 0, 0};
+    for (int a = 0; a < d; ++a)
+      at[size_t(a)] = P.X(p, a);
+    if (!grid.contains(at))
+      throw InputError("particle " + std::to_string(p) + " lies outside the grid");
+  }
+  // Default domain: the cube of the particle's volume.
+  for (Index p = 0; p < N; ++p)
+    P.half_length.row(p).setConstant(0.5 * std::pow(P.volume0[p], 1.0 / d));
+  if (half_length)
+    P.half_length = to_field(*half_length, N, "half_length");
+  if (P.half_length.cols() != d)
+    throw InputError("half_length: expected " + std::to_string(d) + " columns");
+  update_stress(model.materials, P.material, P.F, P.stress);
+  for (const auto& [axis, at, dirs] : fixed) {
+    if (axis < 0 || axis >= d)
+      throw InputError("fixed plane axis " + std::to_string(axis) + ": must lie in [0, " +
+                       std::to_string(d) + ")");
+    fix_plane(grid, axis, at, directions(dirs), model.bcs);
+  }
+  model.body_force = triple(body_force, 0.0, "body_force");
+  return pm;
+}
+
+void bind_grid(py::module_& m) {
+  py::class_<Grid>(m, "Grid", "A structured grid in 1, 2 or 3 dimensions (grid.hpp).")
+      .def(py::init([](const std::vector<int>& cells, const std::vector<double>& cell_size,
+                       const std::vector<double>& origin) {
+             if (cells.empty() || cells.size() > 3)
+               throw InputError("cells: give 1 to 3 cell counts (one per axis)");
+             const auto h =
+                 triple(cell_size.empty() ? std::vector<double>(cells.size(), 1.0) : cell_size, 1.0,
+                        "cell_size");
+             std::array<int, 3> n{1, 1, 1};
+             std::copy(cells.begin(), cells.end(), n.begin());
+             return Grid(int(cells.size()), triple(origin, 0.0, "origin"), h, n);
+           }),
+           py::arg("cells"), py::arg("cell_size") = std::vector<double>{},
+           py::arg("origin") = std::vector<double>{},
+           "Grid(cells, cell_size=[1, ...], origin=[0, ...]); the dimension is len(cells).")
+      .def_property_readonly("dim", &Grid::dim)
+      .def_property_readonly("num_nodes", &Grid::num_nodes)
+      .def_property_readonly("cells",
+                             [](const Grid& g) {
+                               std::vector<int> c;
+                               for (int a = 0; a < g.dim(); ++a)
+                                 c.push_back(g.cells(a));
+                               return c;
+                             })
+      .def_property_readonly("cell_size",
+                             [](const Grid& g) {
+                               std::vector<double> h;
+                               for (int a = 0; a < g.dim(); ++a)
+                                 h.push_back(g.cell_size(a));
+                               return h;
+                             })
+      .def_property_readonly("origin",
+                             [](const Grid& g) {
+                               std::vector<double> o;
+                               for (int a = 0; a < g.dim(); ++a)
+                                 o.push_back(g.origin(a));
+                               return o;
+                             })
+      .def(
+          "node_positions", [](const Grid& g) { return from_field(g.node_positions(), false); },
+          "n × d node positions, one row per node (node i + nx (j + ny k)).");
+}
+
+void bind_material(py::module_& m) {
+  py::class_<Material>(m, "Material", "An isotropic elastic material (material.hpp).")
+      .def(py::init([](const std::string& name, const std::string& model, double density,
+                       double youngs, double poisson) {
+             Material mat{name, material_model_from_string(model), density, youngs, poisson};
+             validate(mat);
+             return mat;
+           }),
+           py::arg("name") = "material", py::arg("model") = "linear", py::arg("density") = 1.0,
+           py::arg("youngs") = 1.0, py::arg("poisson") = 0.0)
+      .def_readwrite("name", &Material::name)
+      .def_property(
+          "model", [](const Material& mat) { return std::string(to_string(mat.model)); },
+          [](Material& mat, const std::string& s) { mat.model = material_model_from_string(s); })
+      .def_readwrite("density", &Material::density)
+      .def_readwrite("youngs", &Material::youngs)
+      .def_readwrite("poisson", &Material::poisson)
+      .def("wave_speed", &Material::wave_speed, py::arg("dim"))
+      .def("__repr__", [](const Material& mat) {
+        std::ostringstream os;
+        os << "Material(name='" << mat.name << "', model='" << to_string(mat.model)
+           << "', density=" << mat.density << ", youngs=" << mat.youngs
+           << ", poisson=" << mat.poisson << ")";
+        return os.str();
+      });
+}
+
+// A string-valued property of StepOptions over the library's to_string/from_string pair.
+template <class Enum, class Member>
+void enum_property(py::class_<StepOptions>& c, const char* name, Member member,
+                   Enum (*parse)(std::string_view)) {
+  c.def_property(
+      name, [member](const StepOptions& o) { return std::string(to_string(o.*member)); },
+      [member, parse](StepOptions& o, const std::string& s) { o.*member = parse(s); });
+}
+
+// The regularization and mass cutoff of the exact solver the options make.
+std::pair<double, double> exact_settings(const StepOptions& o) {
+  if (!o.exact_solver)
+    return {0.0, 0.0};
+  const auto solver = o.exact_solver();
+  const auto* c = dynamic_cast<const CholmodSolver*>(solver.get());
+  return c ? std::pair{c->regularization(), c->mass_cutoff()} : std::pair{0.0, 0.0};
+}
+
+void bind_step_options(py::module_& m) {
+  py::class_<StepOptions> c(m, "StepOptions",
+                            "The options of a time step (step.hpp); keys and values as in the "
+                            "[scheme] table of the input files.");
+  c.def(py::init([](const std::string& shape, const std::string& update,
+                    const std::string& velocity, int order, double blend_alpha, int blend_every,
+                    std::optional<double> position_alpha, const std::string& bc_method,
+                    double periodic_cx, const std::string& deformation, double exact_regularization,
+                    double exact_mass_cutoff) {
+          StepOptions o;
+          o.shape = shape_from_string(shape);
+          o.scheme = update_scheme_from_string(update);
+          o.velocity = velocity_update_from_string(velocity);
+          o.fmpm.order = order;
+          o.fmpm.blend_alpha = blend_alpha;
+          o.fmpm.blend_every = blend_every;
+          o.fmpm.bc_method = bc_method_from_string(bc_method);
+          o.position_alpha = position_alpha;
+          o.periodic_cx = periodic_cx;
+          o.deformation = deformation_update_from_string(deformation);
+          o.exact_solver = cholmod_solver_factory(exact_regularization, exact_mass_cutoff);
+          validate(o);
+          return o;
+        }),
+        py::arg("shape") = "linear", py::arg("update") = "USL", py::arg("velocity") = "FLIP",
+        py::arg("order") = 1, py::arg("blend_alpha") = 1.0, py::arg("blend_every") = 1,
+        py::arg("position_alpha") = py::none(), py::arg("bc_method") = "incremental",
+        py::arg("periodic_cx") = 0.0, py::arg("deformation") = "linear",
+        py::arg("exact_regularization") = 0.0, py::arg("exact_mass_cutoff") = 0.0);
+  enum_property(c, "shape", &StepOptions::shape, &shape_from_string);
+  enum_property(c, "update", &StepOptions::scheme, &update_scheme_from_string);
+  enum_property(c, "velocity", &StepOptions::velocity, &velocity_update_from_string);
+  enum_property(c, "deformation", &StepOptions::deformation, &deformation_update_from_string);
+  c.def_property(
+      "order", [](const StepOptions& o) { return o.fmpm.order; },
+      [](StepOptions& o, int k) { o.fmpm.order = k; }, "k of FMPM(k), m of XPIC(m)");
+  c.def_property(
+      "blend_alpha", [](const StepOptions& o) { return o.fmpm.blend_alpha; },
+      [](StepOptions& o, double a) { o.fmpm.blend_alpha = a; });
+  c.def_property(
+      "blend_every", [](const StepOptions& o) { return o.fmpm.blend_every; },
+      [](StepOptions& o, int e) { o.fmpm.blend_every = e; });
+  c.def_property(
+      "bc_method", [](const StepOptions& o) { return std::string(to_string(o.fmpm.bc_method)); },
+      [](StepOptions& o, const std::string& s) { o.fmpm.bc_method = bc_method_from_string(s); });
+  c.def_property(
+      "dynamic_metric", [](const StepOptions& o) { return std::string(to_string(o.fmpm.metric)); },
+      [](StepOptions& o, const std::string& s) {
+        o.fmpm.metric = convergence_metric_from_string(s);
+      });
+  c.def_property(
+      "dynamic_limit", [](const StepOptions& o) { return o.fmpm.dynamic_limit; },
+      [](StepOptions& o, double v) { o.fmpm.dynamic_limit = v; });
+  c.def_readwrite("position_alpha", &StepOptions::position_alpha,
+                  "α of FMPM 2026 Eqs. (8)-(9); None: 1 for FLIP, 1/2 otherwise");
+  c.def_readwrite("periodic_cx", &StepOptions::periodic_cx);
+  c.def_property(
+      "exact_regularization", [](const StepOptions& o) { return exact_settings(o).first; },
+      [](StepOptions& o, double eps) {
+        o.exact_solver = cholmod_solver_factory(eps, exact_settings(o).second);
+      });
+  c.def_property(
+      "exact_mass_cutoff", [](const StepOptions& o) { return exact_settings(o).second; },
+      [](StepOptions& o, double tau) {
+        o.exact_solver = cholmod_solver_factory(exact_settings(o).first, tau);
+      });
+  c.def(
+      "validate", [](const StepOptions& o) { validate(o); },
+      "Raises InputError for values outside their ranges.");
+  c.def("copy", [](const StepOptions& o) { return o; });
+  c.def("__repr__", [](const StepOptions& o) {
+    std::ostringstream os;
+    os << "StepOptions(shape='" << to_string(o.shape) << "', update='" << to_string(o.scheme)
+       << "', velocity='" << to_string(o.velocity) << "', order=" << o.fmpm.order
+       << ", blend_alpha=" << o.fmpm.blend_alpha << ", blend_every=" << o.fmpm.blend_every
+       << ", position_alpha=" << position_alpha(o) << ")";
+    return os.str();
+  });
+}
+
+// A field property of Particles: a numpy view of the C++ storage (read and write in place);
+// assigning an array copies into it (same shape).
+template <class Member>
+void field_property(py::class_<Particles>& c, const char* name, Member member, const char* doc) {
+  c.def_property(
+      name, [member](py::object self) { return field_view(self.cast<Particles&>().*member, self); },
+      [member, name](Particles& P, const DoubleArray& a) { assign_field(P.*member, a, name); },
+      doc);
+}
+
+void bind_particles(py::module_& m) {
+  py::class_<Particles> c(m, "Particles",
+                          "Material points as numpy views of the library's arrays (one row per "
+                          "particle; tensors row-major, d² columns).");
+  field_property(c, "X", &Particles::X, "N × d positions");
+  field_property(c, "V", &Particles::V, "N × d velocities");
+  field_property(c, "F", &Particles::F, "N × d² deformation gradients");
+  field_property(c, "stress", &Particles::stress, "N × d² Cauchy stresses");
+  field_property(c, "half_length", &Particles::half_length, "N × d initial half-lengths r⁰");
+  c.def_property(
+      "mass", [](py::object self) { return vector_view(self.cast<Particles&>().mass, self); },
+      [](Particles& P, const DoubleArray& a) { assign_vector(P.mass, a, "mass"); }, "N masses");
+  c.def_property(
+      "volume0", [](py::object self) { return vector_view(self.cast<Particles&>().volume0, self); },
+      [](Particles& P, const DoubleArray& a) { assign_vector(P.volume0, a, "volume0"); },
+      "N initial volumes");
+  c.def_property_readonly(
+      "material",
+      [](py::object self) { return vector_view(self.cast<Particles&>().material, self); },
+      "N material ids");
+  c.def_readonly("dim", &Particles::dim);
+  c.def("__len__", &Particles::size);
+  c.def("volume", &Particles::volume, "Current volumes det(F) V⁰.");
+  c.def("jacobian", py::overload_cast<>(&Particles::jacobian, py::const_), "det F per particle.");
+}
+
+} // namespace
+
+Shape shape_arg(const py::object& shape, const PyModel* model) {
+  if (shape.is_none())
+    return model ? model->options.shape : Shape::Linear;
+  return shape_from_string(shape.cast<std::string>());
+}
+
+void bind_model(py::module_& m) {
+  bind_grid(m);
+  bind_material(m);
+  bind_step_options(m);
+  bind_particles(m);
+  py::class_<BoundaryConditions>(m, "BoundaryConditions",
+                                 "Grid velocity conditions (boundary.hpp).")
+      .def_property_readonly("num_constrained", &BoundaryConditions::num_constrained)
+      .def("__len__", [](const BoundaryConditions& b) { return b.conditions.size(); })
+      .def_property_readonly("driven", &BoundaryConditions::driven);
+  py::class_<Energies>(m, "Energies")
+      .def_readonly("kinetic", &Energies::kinetic)
+      .def_readonly("strain", &Energies::strain)
+      .def_readonly("total", &Energies::total)
+      .def_property_readonly("momentum", [](const Energies& e) {
+        return std::vector<double>(e.momentum.data(), e.momentum.data() + 3);
+      });
+
+  py::class_<PyModel>(m, "Model",
+                      "A run's state (grid, particles, materials, velocity BCs, clock) with the "
+                      "step options and time settings of its input.")
+      .def(py::init(&model_from_arrays), py::arg("grid"), py::arg("X"), py::arg("mass"),
+           py::arg("volume"), py::arg("V") = py::none(), py::arg("material") = py::none(),
+           py::arg("materials") = std::vector<Material>{}, py::arg("half_length") = py::none(),
+           py::arg("fixed") = std::vector<std::tuple<int, double, std::string>>{},
+           py::arg("body_force") = std::vector<double>{},
+           "Model(grid, X, mass, volume, V=None, material=None, materials=[...], "
+           "half_length=None, fixed=[(axis, at, 'xy'), ...], body_force=[...]): particles from "
+           "arrays (X: N × d, mass and volume: N; V: N × d, zero by default; material: N ids "
+           "into materials, 0 by default; half_length: N × d, by default half the side of the "
+           "cube of each volume); fixed: zero-velocity planes x_axis = at in the named "
+           "directions.")
+      .def_static(
+          "from_toml",
+          [](const std::string& path, const py::dict& overrides) {
+            std::vector<std::string> sets;
+            for (const auto& [key, value] : overrides)
+              sets.push_back(py::str(key).cast<std::string>() + "=" + toml_value(value, false));
+            RunConfig cfg = read_input_file(path, sets);
+            return PyModel{std::move(cfg.model), std::move(cfg.step), cfg.time, path};
+          },
+          py::arg("path"), py::arg("overrides") = py::dict(),
+          "Reads a TOML input as `smpm run path --set key=value ...` does; overrides maps "
+          "'section.key' to a value. Raises InputError with the message of the command.")
+      .def_property_readonly(
+          "particles", [](PyModel& pm) -> Particles& { return pm.model.particles; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "grid", [](const PyModel& pm) { return pm.model.grid; }, "A copy of the grid.")
+      .def_property(
+          "materials", [](const PyModel& pm) { return pm.model.materials; },
+          [](PyModel& pm, const std::vector<Material>& mats) {
+            for (const Material& mat : mats)
+              validate(mat);
+            pm.model.materials = mats;
+          })
+      .def_property_readonly(
+          "bcs", [](PyModel& pm) -> BoundaryConditions& { return pm.model.bcs; },
+          py::return_value_policy::reference_internal)
+      .def_property(
+          "options", [](PyModel& pm) -> StepOptions& { return pm.options; },
+          [](PyModel& pm, const StepOptions& o) { pm.options = o; },
+          py::return_value_policy::reference_internal, "The step options of the input's [scheme].")
+      .def_property(
+          "courant", [](const PyModel& pm) { return pm.time_settings.courant; },
+          [](PyModel& pm, double c) { pm.time_settings.courant = c; }, "[time] courant")
+      .def_property(
+          "end", [](const PyModel& pm) { return pm.time_settings.end; },
+          [](PyModel& pm, double e) { pm.time_settings.end = e; }, "[time] end")
+      .def_property(
+          "time", [](const PyModel& pm) { return pm.model.time; },
+          [](PyModel& pm, double t) { pm.model.time = t; }, "simulated time t")
+      .def_property_readonly(
+          "step", [](const PyModel& pm) { return pm.model.step; }, "steps taken")
+      .def_property_readonly("dim", [](const PyModel& pm) { return pm.model.grid.dim(); })
+      .def_property_readonly("source", [](const PyModel& pm) { return pm.source; })
+      .def(
+          "fix_plane",
+          [](PyModel& pm, int axis, double at, const std::string& fixed) {
+            return fix_plane(pm.model.grid, axis, at, directions(fixed), pm.model.bcs);
+          },
+          py::arg("axis"), py::arg("at"), py::arg("fixed"),
+          "Zero velocity in the directions `fixed` ('x', 'xy', ...) on the nodes of the plane "
+          "x_axis = at; returns the number of nodes.")
+      .def("energies", [](const PyModel& pm) { return energies(pm.model); })
+      .def("copy", [](const PyModel& pm) { return pm; })
+      .def("__repr__", [](const PyModel& pm) {
+        std::ostringstream os;
+        os << "Model(" << pm.source << ": dim " << pm.model.grid.dim() << ", "
+           << pm.model.particles.size() << " particles, " << pm.model.grid.num_nodes()
+           << " nodes, t = " << pm.model.time << ", step " << pm.model.step << ")";
+        return os.str();
+      });
+}
+
+} // namespace smpm::python

@@ -1,0 +1,175 @@
+// sparsempm.assemble and sparsempm.Operators: S, G, M, m and the active nodes of one
+// configuration as scipy.sparse matrices and numpy arrays (views of the library's storage),
+// m̃, S⁺ and A on request, and the grid velocity of FMPM(k) and of the exact inverse.
+
+#include "bindings.hpp"
+#include "convert.hpp"
+
+#include <sparsempm/errors.hpp>
+#include <sparsempm/exact.hpp>
+#include <sparsempm/fmpm.hpp>
+#include <sparsempm/stages.hpp>
+
+#include <pybind11/stl.h>
+
+namespace smpm::python {
+
+const SparseRowMatrix& PyOperators::stencil_mass() {
+  if (!mt_) {
+    mt_ = std::make_unique<ConsistentMass>();
+    assemble_consistent_mass(ops, *mt_);
+  }
+  return mt_->matrix;
+}
+
+namespace {
+
+using DoubleArray = py::array_t<double, py::array::forcecast>;
+
+// The grid momentum p (n or n × d) as a field with one row per node.
+Field momentum(const PyOperators& o, const DoubleArray& p) {
+  return to_field(p, o.ops.num_nodes(), "p");
+}
+
+// v⁺(k) of FMPM 2026 Eqs. (5)–(6): v⁺(1) = m⁻¹ p (with the lumped BCs of Table 2 unless the
+// method is "velocity"), then the loop of Table 1 (fmpm_velocity of fmpm.hpp).
+py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int k, double alpha,
+                             int every, const BoundaryConditions* bcs, double time,
+                             const std::string& bc_method) {
+  FmpmOptions opt{.order = k, .blend_alpha = alpha, .blend_every = every};
+  opt.bc_method = bc_method_from_string(bc_method);
+  validate(opt);
+  const Field p = momentum(o, p_in);
+  const SparseRowMatrix& mt = o.stencil_mass();
+  Field v;
+  {
+    py::gil_scoped_release release;
+    lumped_solve(o.ops.m_inv, p, v);
+    if (bcs && opt.bc_method != BCMethod::Velocity)
+      bcs->constrain_velocity(o.grid, time, v, &o.ops.active);
+    FmpmWorkspace w;
+    fmpm_velocity(o.ops, mt, opt, LoopConstraints{&o.grid, bcs, time}, v, w);
+  }
+  return from_field(std::move(v), p_in.ndim() == 1);
+}
+
+// v = m̃⁻¹ p on the active nodes with the BCs (CHOLMOD, exact.hpp).
+py::array exact_grid_velocity(PyOperators& o, const DoubleArray& p_in,
+                              const BoundaryConditions* bcs, double time, double regularization,
+                              double mass_cutoff) {
+  const Field p = momentum(o, p_in);
+  const SparseRowMatrix& mt = o.stencil_mass();
+  CholmodSolver solver(regularization, mass_cutoff);
+  Field v;
+  {
+    py::gil_scoped_release release;
+    solver.solve(o.ops, mt, LoopConstraints{&o.grid, bcs, time}, p, v);
+  }
+  return from_field(std::move(v), p_in.ndim() == 1);
+}
+
+} // namespace
+
+void bind_operators(py::module_& m) {
+  py::class_<PyOperators>(m, "Operators",
+                          "The operators of one configuration (FMPM 2026 §2.1): S, G, M, m and "
+                          "the active nodes; consistent_mass(), S_plus() and expansion_matrix() "
+                          "on request. Matrices are scipy.sparse.csr_matrix; S, G, M, m and "
+                          "active share the library's storage (read-only).")
+      .def_property_readonly(
+          "S", [](py::object self) { return csr_view(self.cast<PyOperators&>().ops.S, self); },
+          "N × n shape-function weights S_pi")
+      .def_property_readonly(
+          "G",
+          [](py::object self) {
+            PyOperators& o = self.cast<PyOperators&>();
+            py::list G;
+            for (int a = 0; a < o.ops.dim; ++a)
+              G.append(csr_view(o.ops.G[size_t(a)], self));
+            return G;
+          },
+          "[G_x, ...]: N × n gradient weights ∂S_pi/∂x_a, one per axis")
+      .def_property_readonly(
+          "M",
+          [](py::object self) { return vector_view(self.cast<PyOperators&>().ops.M, self, false); },
+          "N particle masses")
+      .def_property_readonly(
+          "m",
+          [](py::object self) { return vector_view(self.cast<PyOperators&>().ops.m, self, false); },
+          "n lumped nodal masses m = Sᵀ M")
+      .def_property_readonly(
+          "m_inv",
+          [](py::object self) {
+            return vector_view(self.cast<PyOperators&>().ops.m_inv, self, false);
+          },
+          "n: 1/m_i on active nodes, 0 elsewhere")
+      .def_property_readonly(
+          "active",
+          [](const PyOperators& o) {
+            py::array_t<bool> a(o.ops.active.size());
+            std::copy(o.ops.active.data(), o.ops.active.data() + o.ops.active.size(),
+                      a.mutable_data());
+            return a;
+          },
+          "n booleans: m_i > 1e-10 max m (Buzzi §4.4)")
+      .def_property_readonly(
+          "active_nodes",
+          [](const PyOperators& o) {
+            Eigen::VectorXi a = active_nodes(o.ops);
+            return py::array_t<int>(a.size(), a.data());
+          },
+          "indices of the active nodes, ascending")
+      .def_property_readonly("dim", [](const PyOperators& o) { return o.ops.dim; })
+      .def_property_readonly("num_nodes", [](const PyOperators& o) { return o.ops.num_nodes(); })
+      .def_property_readonly("num_particles",
+                             [](const PyOperators& o) { return o.ops.num_particles(); })
+      .def_property_readonly("shape",
+                             [](const PyOperators& o) { return std::string(to_string(o.shape)); })
+      .def_property_readonly("grid", [](const PyOperators& o) { return o.grid; })
+      .def(
+          "consistent_mass",
+          [](const PyOperators& o) { return csr_owned(SparseRowMatrix(consistent_mass(o.ops))); },
+          "m̃ = Sᵀ diag(M) S, n × n (rows sum to m)")
+      .def(
+          "S_plus", [](const PyOperators& o) { return csr_owned(SparseRowMatrix(S_plus(o.ops))); },
+          "S⁺ = m⁻¹ Sᵀ M, n × N (rows of inactive nodes zero)")
+      .def(
+          "expansion_matrix",
+          [](const PyOperators& o) { return csr_owned(SparseRowMatrix(expansion_matrix(o.ops))); },
+          "A = I − m⁻¹ m̃ = I − S⁺ S (FMPM 2026 Eq. 1), zero on inactive nodes")
+      .def(
+          "momentum",
+          [](const PyOperators& o, const DoubleArray& V) {
+            Field p;
+            map_momentum(particle_operators(o.ops), to_field(V, o.ops.num_particles(), "V"), p);
+            return from_field(std::move(p), V.ndim() == 1);
+          },
+          py::arg("V"), "p = Sᵀ (M ∘ V), one row per node");
+
+  m.def(
+      "assemble",
+      [](const PyModel& model, const py::object& shape) {
+        PyOperators o;
+        o.grid = model.model.grid;
+        o.shape = shape_arg(shape, &model);
+        assemble(o.grid, model.model.particles, o.shape, o.ops);
+        return o;
+      },
+      py::arg("model"), py::arg("shape") = py::none(),
+      "The operators of the model's configuration for a shape ('linear', 'gimp', 'bspline2', "
+      "'cpdi', 'b2cpdi'; default: the model's options.shape).");
+  m.def("fmpm_velocity", &fmpm_grid_velocity, py::arg("ops"), py::arg("p"), py::arg("k"),
+        py::arg("alpha") = 1.0, py::arg("every") = 1, py::arg("bcs") = nullptr,
+        py::arg("time") = 0.0, py::arg("bc_method") = "incremental",
+        "v⁺(k) = m̃_k⁻¹ p = Σ_{ℓ=1}^{k} Δv(ℓ), Δv(1) = m⁻¹ p, Δv(ℓ) = c_ℓ A Δv(ℓ−1) (FMPM 2026 "
+        "Eqs. 5-6, Table 1; c_ℓ = alpha on every `every`-th pass, §3.3): without blending "
+        "Σ_{j<k} Aʲ m⁻¹ p. With bcs (model.bcs) the velocity BCs of bc_method (§3.1). p: n or "
+        "n × d; the result has its shape.");
+  m.def("exact_velocity", &exact_grid_velocity, py::arg("ops"), py::arg("p"),
+        py::arg("bcs") = nullptr, py::arg("time") = 0.0, py::arg("regularization") = 0.0,
+        py::arg("mass_cutoff") = 0.0,
+        "v = m̃⁻¹ p on the active nodes (zero elsewhere), with the velocity BCs of bcs "
+        "(CHOLMOD; exact.hpp). Raises NumericalError when m̃ is not positive definite there.");
+}
+
+} // namespace smpm::python

@@ -1,0 +1,87 @@
+// sparsempm.Stepper: the library's Stepper (one step) and advance() (the run loop of `smpm
+// run`), with the GIL released while they run.
+
+#include "bindings.hpp"
+#include "convert.hpp"
+
+#include <sparsempm/advance.hpp>
+#include <sparsempm/errors.hpp>
+#include <sparsempm/scheme.hpp>
+
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+namespace smpm::python {
+
+namespace {
+
+// advance() of advance.hpp; `callback(model, energies, at_stop)` after every step, with the
+// GIL held (an exception it raises stops the run and propagates).
+AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj, double end,
+                            double courant, const py::object& callback, double stop_every,
+                            bool land_on_stops, double energy_growth) {
+  PyModel& pm = model_obj.cast<PyModel&>();
+  const AdvanceOptions options{.end = end,
+                               .courant = courant,
+                               .stop_every = stop_every,
+                               .land_on_stops = land_on_stops,
+                               .failure = {.energy_growth = energy_growth},
+                               .energy_start = {}};
+  if (!(stop_every >= 0) || !std::isfinite(stop_every))
+    throw InputError("stop_every must be non-negative, got " + std::to_string(stop_every));
+  StepObserver observer;
+  if (!callback.is_none())
+    observer = [&](const Model&, const Energies& e, bool at_stop) {
+      py::gil_scoped_acquire acquire;
+      callback(model_obj, e, at_stop);
+    };
+  py::gil_scoped_release release;
+  return advance(pm.model, stepper, options, observer);
+}
+
+} // namespace
+
+void bind_step(py::module_& m) {
+  py::class_<AdvanceReport>(m, "AdvanceReport")
+      .def_readonly("steps", &AdvanceReport::steps)
+      .def_readonly("energy_start", &AdvanceReport::energy_start)
+      .def_readonly("energy_end", &AdvanceReport::energy_end)
+      .def_readonly("wall_seconds", &AdvanceReport::wall_seconds);
+
+  py::class_<Stepper>(m, "Stepper",
+                      "Advances a Model by explicit MPM steps with fixed options (step.hpp); "
+                      "keeps the operators and grid fields from step to step.")
+      .def(py::init<const StepOptions&>(), py::arg("options"))
+      .def(
+          "step", [](Stepper& s, PyModel& pm, double dt) { s.step(pm.model, dt); },
+          py::arg("model"), py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
+          "One step of length dt (USL/USF/... of the options). Raises NumericalError naming the "
+          "step, time and particle when the state becomes invalid.")
+      .def("advance", &advance_model, py::arg("model"), py::arg("t_end"), py::arg("courant"),
+           py::arg("callback") = py::none(), py::arg("stop_every") = 0.0,
+           py::arg("land_on_stops") = true, py::arg("energy_growth") = 10.0,
+           "Steps to t_end with Δt = C Δx_min / max(c, max|V|) before every step (the loop of "
+           "`smpm run`; advance.hpp): callback(model, energies, at_stop) after every step, "
+           "stops at multiples of stop_every (steps shortened to land on them unless "
+           "land_on_stops is False), NumericalError when the total energy exceeds "
+           "energy_growth times its start.")
+      .def_property_readonly("options", &Stepper::options)
+      .def_property_readonly(
+          "grid_velocity",
+          [](const Stepper& s) { return from_field(s.grid_state().v_plus, false); },
+          "v⁺ of the last step (n × d), the velocity of its particle update")
+      .def_property_readonly(
+          "fmpm_order", [](const Stepper& s) { return s.last_fmpm().order; },
+          "the FMPM order reached by the last step's loop");
+
+  m.def(
+      "stable_time_step",
+      [](const PyModel& pm, double courant) { return stable_time_step(pm.model, courant); },
+      py::arg("model"), py::arg("courant"),
+      "Δt = C Δx_min / max(c_wave, max_p |V_p|) (FMPM 2026 §3.3)");
+  m.def(
+      "courant_of", [](const PyModel& pm, double dt) { return courant_of(pm.model, dt); },
+      py::arg("model"), py::arg("dt"), "C = Δt max(c_wave, max_p |V_p|) / Δx_min");
+}
+
+} // namespace smpm::python

@@ -1,0 +1,89 @@
+"""Spectra and stability from Python: the linearised step as a scipy LinearOperator, ρ(T) by
+scipy against the library, C* against `smpm stability`, ρ(A) against a dense eigensolver."""
+import csv
+
+import numpy as np
+import pytest
+import scipy.linalg
+import scipy.sparse.linalg
+
+import sparsempm as smpm
+
+from conftest import BAR, run_smpm
+
+
+def options(bar, scheme, k=1):
+    """The options of a row of `smpm stability` (make_rows of apps/stability_command.cpp)."""
+    o = bar.options.copy()
+    o.velocity = scheme
+    o.order = k
+    return o
+
+
+def scipy_rho(T):
+    """ρ(T) by ARPACK (scipy.sparse.linalg.eigs), to 1e-13."""
+    mu = scipy.sparse.linalg.eigs(T, k=1, which="LM", tol=1e-13, return_eigenvectors=False)
+    return abs(mu[0])
+
+
+@pytest.mark.parametrize("scheme,k,courant", [("FLIP", 1, 1.0), ("FMPM", 4, 0.7)])
+def test_linearised_spectral_radius_matches_scipy(bar, scheme, k, courant):
+    # Unstable Courant numbers (above C* = 0.7555 and 0.5547): a dominant eigenvalue off the
+    # unit circle, so that ARPACK converges.
+    T = smpm.linearized_step(bar, options(bar, scheme, k), courant)
+    assert isinstance(T, scipy.sparse.linalg.LinearOperator)
+    assert T.shape == (160, 160)  # x = (V, σ): N d + N d² with N = 80, d = 1
+    rho = smpm.spectral_radius(T)
+    assert rho.status == "converged" and rho.rho > 1.01
+    # The library's ρ (dense eigenvalues) against ARPACK on the LinearOperator.
+    assert rho.rho == pytest.approx(scipy_rho(T), abs=1e-8)
+    # The matrix-free operator (library products, no dense T) gives the same ARPACK result,
+    # and the library's matrix-free path (power iteration + Spectra's Arnoldi) the same ρ.
+    Tf = smpm.linearized_step(bar, options(bar, scheme, k), courant, dense_limit=0)
+    x = np.random.default_rng(1).standard_normal(160)
+    assert np.abs(Tf @ x - T @ x).max() < 1e-12
+    assert scipy_rho(Tf) == pytest.approx(rho.rho, abs=1e-8)
+    assert smpm.spectral_radius(Tf, dense_limit=0).rho == pytest.approx(rho.rho, abs=1e-8)
+
+
+def stability_table(tmp_path, *args):
+    out = tmp_path / "stability.csv"
+    r = run_smpm("stability", BAR, "--k", "4", "--method", "spectral", "--no-exact", "-q",
+                 "-o", out, *args)
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader(out.open()))
+    flip = next(r for r in rows if r["scheme"] == "FLIP")
+    fmpm = next(r for r in rows if r["k"] == "4" and r["alpha"] == "1" and r["blend_every"] == "1"
+                and r["periodic_cx"] == "")
+    return flip, fmpm
+
+
+def test_critical_courant_matches_the_command(bar, tmp_path):
+    # One configuration (--shifts 1): critical_courant at the input's lattice.
+    flip, fmpm = stability_table(tmp_path, "--shifts", "1")
+    c_flip = smpm.critical_courant(bar, options(bar, "FLIP")).courant
+    c_fmpm = smpm.critical_courant(bar, options(bar, "FMPM", 4)).courant
+    # The table prints 4 significant digits (0.7555 and 0.5547 in README's bar).
+    assert f"{c_flip:.4g}" == flip["c_spectral"] and f"{c_fmpm:.4g}" == fmpm["c_spectral"]
+    assert c_fmpm < c_flip - 0.1  # FMPM(4) is less stable than FLIP (FMPM 2026 Fig. 12A)
+    # The default sweep over 4 lattice shifts (the numbers of the README's table: FLIP 0.755,
+    # FMPM(4) 0.451).
+    flip, fmpm = stability_table(tmp_path)
+    s_flip = smpm.sweep_shifts(bar, options(bar, "FLIP"), 4)
+    s_fmpm = smpm.sweep_shifts(bar, options(bar, "FMPM", 4), 4)
+    assert f"{s_flip.minimum.courant:.4g}" == flip["c_spectral"]
+    assert f"{s_fmpm.minimum.courant:.4g}" == fmpm["c_spectral"]
+    assert s_fmpm.configuration == fmpm["config_spectral"]
+
+
+def test_mass_spectrum_matches_dense_eigenvalues(bar):
+    ops = smpm.assemble(bar)
+    ms = smpm.mass_spectrum(ops)
+    act = ops.active
+    A = ops.expansion_matrix().toarray()[np.ix_(act, act)]
+    # ρ(A) = max eigenvalue of A on the active nodes (spectrum.hpp), dense LAPACK round-off.
+    assert ms.active == act.sum()
+    assert ms.rho_A == pytest.approx(np.abs(scipy.linalg.eigvals(A)).max(), abs=1e-12)
+    mt = ops.consistent_mass().toarray()[np.ix_(act, act)]
+    w = scipy.linalg.eigvalsh(mt)
+    assert ms.cond_mt == pytest.approx(w.max() / w.min(), rel=1e-9)

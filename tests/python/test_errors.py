@@ -1,0 +1,67 @@
+"""Errors from Python are the command's: InputError with the message `smpm run` prints after
+"smpm: error: ", NumericalError with the one after "smpm: numerical failure: "."""
+import numpy as np
+import pytest
+
+import sparsempm as smpm
+
+from conftest import BAR, run_smpm
+
+
+def cli_message(r, prefix):
+    assert r.stderr.startswith(prefix), r.stderr
+    return r.stderr[len(prefix):].rstrip("\n")
+
+
+@pytest.mark.parametrize("old,new", [
+    ("youngs = 2.0", "youngs = -2.0"),                     # a bad value
+    ("courant = 0.5", "courrant = 0.5"),                   # an unknown key (nearest named)
+    ('shape = "cpdi"', 'shape = "cpd"'),                   # an unknown name
+])
+def test_bad_input_file(tmp_path, old, new):
+    text = BAR.read_text()
+    assert old in text
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace(old, new, 1))
+    r = run_smpm("run", bad, "-q", "-o", tmp_path / "out.h5")
+    assert r.returncode == 2
+    expected = cli_message(r, "smpm: error: ")
+    with pytest.raises(smpm.InputError) as e:
+        smpm.Model.from_toml(str(bad))
+    assert str(e.value) == expected
+    assert isinstance(e.value, ValueError)
+
+
+def test_bad_override(tmp_path):
+    r = run_smpm("run", BAR, "-q", "-o", tmp_path / "out.h5", "--set", "scheme.order=0",
+                 "--set", "scheme.velocity=FMPM")
+    assert r.returncode == 2
+    expected = cli_message(r, "smpm: error: ")
+    with pytest.raises(smpm.InputError) as e:
+        smpm.Model.from_toml(str(BAR), {"scheme.order": 0, "scheme.velocity": "FMPM"})
+    assert str(e.value) == expected
+
+
+def test_numerical_failure_message(tmp_path):
+    # C = 1.5 is above FLIP's limit (0.86): the energy test stops the run (README).
+    r = run_smpm("run", BAR, "-q", "-o", tmp_path / "out.h5", "--set", "time.courant=1.5")
+    assert r.returncode == 3
+    expected = cli_message(r, "smpm: numerical failure: ")
+    model = smpm.Model.from_toml(str(BAR), {"time.courant": 1.5})
+    with pytest.raises(smpm.NumericalError) as e:
+        smpm.Stepper(model.options).advance(model, model.end, model.courant, stop_every=10.0)
+    assert str(e.value) == expected
+
+
+def test_arrays_outside_the_grid():
+    grid = smpm.Grid(cells=[3])
+    with pytest.raises(smpm.InputError, match="particle 1 lies outside the grid"):
+        smpm.Model(grid, X=[0.5, 3.5], mass=[1, 1], volume=[1, 1], materials=[smpm.Material()])
+    with pytest.raises(smpm.InputError, match="material id 1 has no material"):
+        smpm.Model(grid, X=[0.5, 1.5], mass=[1, 1], volume=[1, 1], material=[0, 1],
+                   materials=[smpm.Material()])
+    with pytest.raises(smpm.InputError, match="poisson"):
+        smpm.Material(poisson=0.5)
+    with pytest.raises(smpm.InputError, match="expected"):
+        smpm.StepOptions(velocity="FLOP")
+    assert np.isfinite(smpm.Material(youngs=4, density=1).wave_speed(1))

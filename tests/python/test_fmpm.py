@@ -1,0 +1,83 @@
+"""FMPM(k) and the exact inverse from Python against the same expressions in scipy
+(FMPM 2026 Eqs. 5-6, §3.3; the limit k → ∞, m̃⁻¹)."""
+import numpy as np
+import pytest
+import scipy.sparse.linalg
+
+import sparsempm as smpm
+
+
+@pytest.fixture
+def bar_state(bar):
+    """Operators of the bar (CPDI) and the grid momentum of its first-mode velocity."""
+    ops = smpm.assemble(bar)
+    return ops, ops.momentum(bar.particles.V)
+
+
+def lumped(ops, p):
+    """m⁻¹ p on the active nodes, 0 elsewhere."""
+    return ops.m_inv[:, None] * p
+
+
+@pytest.mark.parametrize("k", range(1, 7))
+def test_fmpm_is_the_truncated_series(bar_state, k):
+    ops, p = bar_state
+    A = ops.expansion_matrix()
+    # v⁺(k) = Σ_{j<k} Aʲ m⁻¹ p (FMPM 2026 Eq. 5).
+    term = lumped(ops, p)
+    ref = np.zeros_like(p)
+    for _ in range(k):
+        ref += term
+        term = A @ term
+    v = smpm.fmpm_velocity(ops, p, k)
+    assert v.shape == p.shape
+    # Velocities of size 0.16: round-off of k products.
+    assert np.abs(v - ref).max() < 1e-12
+    if k > 1:  # the series changes v: the comparison cannot pass by returning m⁻¹ p
+        assert np.abs(ref - lumped(ops, p)).max() > 1e-6
+    # A vector p gives a vector v.
+    assert np.abs(smpm.fmpm_velocity(ops, p[:, 0], k) - ref[:, 0]).max() < 1e-12
+
+
+def test_blended_series(bar_state):
+    ops, p = bar_state
+    A = ops.expansion_matrix()
+    alpha, every, k = 0.8, 2, 6
+    # Δv(ℓ) = c_ℓ A Δv(ℓ−1), c_ℓ = α when ℓ mod m = 1 (FMPM 2026 §3.3, blend with FMPM(2)).
+    dv = lumped(ops, p)
+    ref = dv.copy()
+    for ell in range(2, k + 1):
+        dv = (alpha if ell % every == 1 else 1.0) * (A @ dv)
+        ref += dv
+    v = smpm.fmpm_velocity(ops, p, k, alpha=alpha, every=every)
+    assert np.abs(v - ref).max() < 1e-12
+    with pytest.raises(smpm.InputError):
+        smpm.fmpm_velocity(ops, p, 0)
+
+
+def test_exact_velocity_solves_the_consistent_mass(bar_state):
+    ops, p = bar_state
+    act = ops.active
+    mt = ops.consistent_mass().tocsc()[act][:, act]
+    ref = scipy.sparse.linalg.spsolve(mt, p[act, 0])
+    v = smpm.exact_velocity(ops, p)
+    # m̃_aa v_a = p_a on the active nodes a (CHOLMOD against SuperLU; the velocities are of
+    # size 0.16 and cond(m̃) of the unshifted bar is moderate).
+    assert np.abs(v[act, 0] - ref).max() < 1e-10
+    assert np.all(v[~act] == 0)
+    # FMPM(k) converges to it (ρ(A) = 0.75: 0.75^200 ≈ 1e-25).
+    assert np.abs(smpm.fmpm_velocity(ops, p, 200) - v).max() < 1e-10
+
+
+def test_exact_velocity_with_the_fixed_end(bar, bar_state):
+    ops, p = bar_state
+    fixed = np.flatnonzero(np.isclose(ops.grid.node_positions()[:, 0], 0.0))
+    assert fixed.size == 1
+    free = ops.active.copy()
+    free[fixed] = False
+    mt = ops.consistent_mass().tocsc()[free][:, free]
+    ref = scipy.sparse.linalg.spsolve(mt, p[free, 0])
+    v = smpm.exact_velocity(ops, p, bcs=bar.bcs)
+    # The fixed node keeps v = 0 and the free ones solve m̃_FF v_F = p_F (exact.hpp).
+    assert v[fixed[0], 0] == 0
+    assert np.abs(v[free, 0] - ref).max() < 1e-10

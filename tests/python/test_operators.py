@@ -1,0 +1,82 @@
+"""The operators from Python: the invariants of FMPM 2026 §2.1 on the scipy matrices, the values
+of S for the README's four particles, and numpy views of the particle fields."""
+import numpy as np
+import pytest
+import scipy.linalg
+import scipy.sparse
+
+import sparsempm as smpm
+
+
+@pytest.mark.parametrize("shape", ["linear", "gimp", "bspline2", "cpdi", "b2cpdi"])
+def test_partition_of_unity_on_the_bar(bar, shape):
+    ops = smpm.assemble(bar, shape)
+    assert isinstance(ops.S, scipy.sparse.csr_matrix)
+    assert ops.S.shape == (80, 49)
+    # S 1 = 1 for every particle: the shape functions are a partition of unity (round-off).
+    assert np.abs(ops.S @ np.ones(ops.num_nodes) - 1).max() < 1e-13
+    # Σ_i G_pi = 0: the gradient of a constant (round-off of entries of size 1/cell).
+    assert np.abs(ops.G[0] @ np.ones(ops.num_nodes)).max() < 1e-13
+    # m = Sᵀ M (the definition of the lumped mass, to round-off of masses of size 0.25).
+    assert np.abs(ops.S.T @ ops.M - ops.m).max() < 1e-14
+
+
+def test_consistent_mass_rows_sum_to_lumped_mass(bar):
+    ops = smpm.assemble(bar)
+    mt = ops.consistent_mass()
+    assert isinstance(mt, scipy.sparse.csr_matrix)
+    # m̃ = Sᵀ diag(M) S, assembled by the library, equals the scipy product (round-off).
+    assert abs(mt - ops.S.T @ scipy.sparse.diags(ops.M) @ ops.S).max() < 1e-15
+    # Rows of m̃ sum to m (FMPM 2026 §2.1), to round-off relative to max m = 0.5.
+    assert np.abs(np.asarray(mt.sum(axis=1)).ravel() - ops.m).max() < 1e-14 * ops.m.max()
+
+
+def test_expansion_matrix_spectrum_in_unit_interval(bar):
+    ops = smpm.assemble(bar)
+    A = ops.expansion_matrix().toarray()
+    # A = I − m⁻¹ m̃ on the active nodes (FMPM 2026 Eq. 1), to round-off.
+    act = ops.active
+    mt = ops.consistent_mass().toarray()
+    ref = np.eye(act.sum()) - mt[np.ix_(act, act)] / ops.m[act][:, None]
+    assert np.abs(A[np.ix_(act, act)] - ref).max() < 1e-14
+    # A is similar to a symmetric matrix: real eigenvalues in [0, 1) (FMPM 2026 §2.2); the
+    # tolerance below 0 is the round-off of the dense eigensolver.
+    mu = scipy.linalg.eigvals(A)
+    assert np.abs(mu.imag).max() < 1e-10
+    assert mu.real.min() > -1e-12 and mu.real.max() < 1
+    # S⁺ S = I − A (the reverse map of FMPM 2026 §2.1).
+    SpS = (ops.S_plus() @ ops.S).toarray()
+    assert np.abs(SpS[np.ix_(act, act)] + A[np.ix_(act, act)] - np.eye(act.sum())).max() < 1e-14
+
+
+def test_readme_four_particles_from_arrays():
+    # The README's "MPM as matrices": 4 particles of mass 1/4 at 0.75 ... 2.25 on nodes 0 ... 3.
+    grid = smpm.Grid(cells=[3])
+    model = smpm.Model(grid, X=[0.75, 1.25, 1.75, 2.25], mass=np.full(4, 0.25),
+                       volume=np.full(4, 0.5), materials=[smpm.Material("m", density=0.5)])
+    ops = smpm.assemble(model, "linear")
+    # Linear hats: S_pi = 1 − |X_p − x_i| (exact in binary).
+    S_exact = np.array([[0.25, 0.75, 0, 0], [0, 0.75, 0.25, 0], [0, 0.25, 0.75, 0],
+                        [0, 0, 0.75, 0.25]])
+    assert np.array_equal(ops.S.toarray(), S_exact)
+    assert np.array_equal(ops.m, [0.0625, 0.4375, 0.4375, 0.0625])
+    # m̃ of the README: 0.25 (S_pi S_pj) summed over particles, exact in binary.
+    assert np.array_equal(ops.consistent_mass().toarray(), 0.25 * S_exact.T @ S_exact)
+
+
+def test_particle_fields_are_views(bar):
+    P = bar.particles
+    assert P.X.shape == (80, 1) and P.F.shape == (80, 1) and P.mass.shape == (80,)
+    P.V[:, 0] = 2.0  # writes the library's storage
+    assert bar.energies().kinetic == pytest.approx(0.5 * 2.0**2 * P.mass.sum(), rel=1e-15)
+    ops = smpm.assemble(bar)
+    # p = Sᵀ (M ∘ V) of the library equals the scipy product (round-off).
+    p = ops.momentum(P.V)
+    assert np.abs(p - ops.S.T @ (ops.M[:, None] * P.V)).max() < 1e-14
+    P.V = np.zeros((80, 1))  # assignment copies into the same storage
+    assert bar.energies().kinetic == 0
+    with pytest.raises(ValueError, match="expected shape"):
+        P.V = np.zeros((79, 1))
+    # Operators' arrays are read-only views of the assembled storage.
+    with pytest.raises(ValueError):
+        ops.S.data[0] = 1

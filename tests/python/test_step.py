@@ -1,0 +1,122 @@
+"""Steps from Python equal `smpm run` bit for bit; the run loop and its callback."""
+import threading
+import time
+
+import h5py
+import numpy as np
+import pytest
+
+import sparsempm as smpm
+
+from conftest import BAR, run_smpm
+
+# 100 steps of the bar: Δt = C Δx / c = 0.5 · 1 / 2 = 0.25 (the wave speed exceeds |V| ≤ 0.16),
+# so t = 25 is reached in exactly 100 steps, and one frame at its end.
+OVERRIDES = {"time.end": 25.0, "output.every": 25.0}
+
+
+@pytest.fixture(scope="module")
+def cli_frame(tmp_path_factory):
+    """Positions and velocities after 100 FLIP steps written by `smpm run`."""
+    out = tmp_path_factory.mktemp("run") / "bar.h5"
+    r = run_smpm("run", BAR, "-q", "-o", out, *[f"--set={k}={v}" for k, v in OVERRIDES.items()])
+    assert r.returncode == 0, r.stderr
+    with h5py.File(out, "r") as f:
+        frame = f["particles"]["000001"]
+        assert frame.attrs["step"] == 100 and frame.attrs["time"] == 25.0
+        assert f["series"]["step"][-1] == 100
+        return frame["X"][...], frame["V"][...], f["series"]["total"][-1]
+
+
+def test_stepper_equals_smpm_run_bit_for_bit(cli_frame):
+    model = smpm.Model.from_toml(str(BAR), OVERRIDES)
+    assert model.options.velocity == "FLIP" and model.options.shape == "cpdi"
+    stepper = smpm.Stepper(model.options)
+    for _ in range(100):
+        stepper.step(model, smpm.stable_time_step(model, model.courant))
+    assert model.step == 100 and model.time == 25.0
+    X, V, _ = cli_frame
+    # The same library calls in the same order: identical doubles.
+    assert np.array_equal(model.particles.X, X)
+    assert np.array_equal(model.particles.V, V)
+
+
+def test_advance_equals_smpm_run_bit_for_bit(cli_frame):
+    model = smpm.Model.from_toml(str(BAR), OVERRIDES)
+    seen = []
+    report = smpm.Stepper(model.options).advance(
+        model, model.end, model.courant, lambda m, e, at_stop: seen.append((m.step, e.total, at_stop)),
+        stop_every=25.0)
+    assert report.steps == 100 and len(seen) == 100
+    assert seen[-1][0] == 100 and seen[-1][2] and not any(s[2] for s in seen[:-1])
+    X, V, total = cli_frame
+    # The callback's energy is the total of the run's series (the same sums).
+    assert seen[-1][1] == total == report.energy_end
+    assert np.array_equal(model.particles.X, X) and np.array_equal(model.particles.V, V)
+
+
+def test_callback_exception_stops_the_run():
+    model = smpm.Model.from_toml(str(BAR))
+
+    def stop(m, e, at_stop):
+        if m.step == 3:
+            raise KeyboardInterrupt("stop here")
+
+    with pytest.raises(KeyboardInterrupt, match="stop here"):
+        smpm.Stepper(model.options).advance(model, 10.0, 0.5, stop)
+    assert model.step == 3
+
+
+def test_steps_run_in_parallel_threads():
+    # The GIL is released during steps: two models stepped on two threads give each the result
+    # of stepping it alone (bit for bit).
+    def run(model, n):
+        s = smpm.Stepper(model.options)
+        for _ in range(n):
+            s.step(model, 0.25)
+
+    alone = smpm.Model.from_toml(str(BAR))
+    run(alone, 200)
+    models = [smpm.Model.from_toml(str(BAR)) for _ in range(2)]
+    threads = [threading.Thread(target=run, args=(m, 200)) for m in models]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for m in models:
+        assert np.array_equal(m.particles.X, alone.particles.X)
+
+
+def longest_pause_of_python(call):
+    """Runs call() on a thread while this thread records the time in a loop; returns the
+    longest pause between two records and the duration of the call. A call holding the GIL
+    pauses this loop for its whole duration."""
+    done = threading.Event()
+    span = []
+
+    def worker():
+        t0 = time.perf_counter()
+        call()
+        span.append(time.perf_counter() - t0)
+        done.set()
+
+    t = threading.Thread(target=worker)
+    stamps = [time.perf_counter()]
+    t.start()
+    while not done.is_set():
+        stamps.append(time.perf_counter())
+    t.join()
+    return np.diff(stamps).max(), span[0]
+
+
+@pytest.mark.parametrize("what", ["advance", "sweep_shifts"])
+def test_gil_released(what):
+    model = smpm.Model.from_toml(str(BAR))
+    o = model.options.copy()
+    o.velocity, o.order = "FMPM", 20
+    calls = {"advance": lambda: smpm.Stepper(o).advance(model, 400.0, 0.2),
+             "sweep_shifts": lambda: smpm.sweep_shifts(model, o, 4)}
+    pause, duration = longest_pause_of_python(calls[what])
+    # The loop kept running: its longest pause (a scheduler slice, ~ms) is far below the
+    # duration of the call (0.1-0.5 s), which a held GIL would have blocked it for.
+    assert duration > 0.05 and pause < 0.5 * duration
