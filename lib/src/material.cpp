@@ -15,16 +15,19 @@ std::string_view to_string(MaterialModel m) {
     return "neo-hookean";
   case MaterialModel::Hyperelastic:
     return "hyperelastic";
+  case MaterialModel::MieGruneisen:
+    return "mie-gruneisen";
   }
   return "?";
 }
 
 MaterialModel material_model_from_string(std::string_view name) {
-  for (auto m : {MaterialModel::Linear, MaterialModel::NeoHookean, MaterialModel::Hyperelastic})
+  for (auto m : {MaterialModel::Linear, MaterialModel::NeoHookean, MaterialModel::Hyperelastic,
+                 MaterialModel::MieGruneisen})
     if (to_string(m) == name)
       return m;
   throw InputError("unknown material model \'" + clip(name) +
-                   "' (expected linear | neo-hookean | hyperelastic)");
+                   "' (expected linear | neo-hookean | hyperelastic | mie-gruneisen)");
 }
 
 double Material::wave_speed(int dim) const {
@@ -37,6 +40,18 @@ void validate(const Material& mat) {
   const std::string who = "material '" + mat.name + "': ";
   if (!(mat.density > 0) || !std::isfinite(mat.density))
     throw InputError(who + "density must be positive, got " + std::to_string(mat.density));
+  if (mat.model == MaterialModel::MieGruneisen) {
+    if (!(mat.bulk > 0) || !std::isfinite(mat.bulk))
+      throw InputError(who + "bulk must be positive, got " + std::to_string(mat.bulk));
+    const std::pair<const char*, double> nonnegative[] = {
+        {"shear", mat.shear},           {"gruneisen", mat.gruneisen},
+        {"s1", mat.hugoniot_slope},     {"viscosity A1", mat.av_linear},
+        {"viscosity A2", mat.av_quadratic}};
+    for (const auto& [key, value] : nonnegative)
+      if (!(value >= 0) || !std::isfinite(value))
+        throw InputError(who + key + " must be non-negative, got " + std::to_string(value));
+    return;
+  }
   if (!(mat.youngs > 0) || !std::isfinite(mat.youngs))
     throw InputError(who + "youngs must be positive, got " + std::to_string(mat.youngs));
   if (!(mat.poisson > -1 && mat.poisson < 0.5))
@@ -66,6 +81,12 @@ Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3
     const Eigen::Matrix3d dev = Bbar - (Bbar.trace() / 3.0) * I;
     return (G / J) * dev + (0.5 * mat.bulk_modulus() * (J * J - 1) / J) * I;
   }
+  case MaterialModel::MieGruneisen: { // U = 0, q = 0: the cold curve with the shear term
+    const double J = F.determinant();
+    const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
+    const Eigen::Matrix3d dev = Bbar - (Bbar.trace() / 3.0) * I;
+    return (G / J) * dev - mie_gruneisen_pressure(mat, J, 0) * I;
+  }
   }
   return Eigen::Matrix3d::Zero();
 }
@@ -90,8 +111,42 @@ double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d
     return 0.5 * G * (I1 * std::pow(J, -2.0 / 3.0) - 3) +
            0.5 * mat.bulk_modulus() * (0.5 * (J * J - 1) - std::log(J));
   }
+  case MaterialModel::MieGruneisen: { // the shear term only: the rest is the energy U
+    const double J = F.determinant(), I1 = (F.transpose() * F).trace();
+    return 0.5 * G * (I1 * std::pow(J, -2.0 / 3.0) - 3);
+  }
   }
   return 0;
+}
+
+double mie_gruneisen_pressure(const Material& mat, double J, double U) {
+  const double eta = 1 - J;
+  if (eta <= 0)
+    return mat.bulk * eta;
+  const double den = 1 - mat.hugoniot_slope * eta;
+  if (!(den > 0))
+    throw NumericalError("material '" + mat.name + "': compression 1 - J = " +
+                         std::to_string(eta) + " beyond the Mie-Gruneisen limit 1/S1");
+  return mat.bulk * eta * (1 - 0.5 * mat.gruneisen * eta) / (den * den) +
+         mat.density * mat.gruneisen * U;
+}
+
+double mie_gruneisen_tangent(const Material& mat, double J, double U) {
+  const double eta = 1 - J;
+  if (eta <= 0)
+    return J * mat.bulk;
+  const double g = mat.gruneisen, s = mat.hugoniot_slope, den = 1 - s * eta;
+  // d/dη [η (1 − γ₀η/2) / (1 − S₁η)²] = ((1 − γ₀η)(1 − S₁η) + 2S₁η(1 − γ₀η/2)) / (1 − S₁η)³
+  const double dp = mat.bulk * ((1 - g * eta) * den + 2 * s * eta * (1 - 0.5 * g * eta)) /
+                    (den * den * den);
+  return J * (dp + g * mie_gruneisen_pressure(mat, J, U));
+}
+
+double artificial_viscosity(const Material& mat, double rho, double C, double dx, double Dkk) {
+  if (!(Dkk < 0))
+    return 0;
+  const double d = std::abs(Dkk);
+  return rho * dx * d * (mat.av_linear * C + mat.av_quadratic * dx * d);
 }
 
 Eigen::Matrix3d embed_3d(const double* F, int d) {
@@ -167,10 +222,81 @@ void update_stress(const std::vector<Material>& materials,
 
 double strain_energy(const std::vector<Material>& materials, const Particles& P) {
   double W = 0;
-  for (Index p = 0; p < P.size(); ++p)
-    W += P.volume0[p] *
-         strain_energy_density(material_of(materials, P.material[p], p), P.dim, particle_F(P, p));
+  for (Index p = 0; p < P.size(); ++p) {
+    const Material& mat = material_of(materials, P.material[p], p);
+    W += P.volume0[p] * strain_energy_density(mat, P.dim, particle_F(P, p));
+    if (mat.model == MaterialModel::MieGruneisen)
+      W += P.mass[p] * P.energy[p];
+  }
   return W;
+}
+
+bool uses_shock_physics(const std::vector<Material>& materials) {
+  for (const Material& m : materials)
+    if (m.model == MaterialModel::MieGruneisen)
+      return true;
+  return false;
+}
+
+namespace {
+// The shear term (G/J) dev(B̄) of a Mie–Grüneisen particle.
+Eigen::Matrix3d shear_term(const Material& mat, const Eigen::Matrix3d& F, double J) {
+  if (mat.shear == 0)
+    return Eigen::Matrix3d::Zero();
+  const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
+  return (mat.shear / J) * (Bbar - (Bbar.trace() / 3.0) * Eigen::Matrix3d::Identity());
+}
+} // namespace
+
+void shock_pressure(const std::vector<Material>& materials,
+                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                    const ConstFieldRef& stress, Eigen::Ref<Eigen::VectorXd> pressure) {
+  const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
+  for (Index p = 0; p < F.rows(); ++p) {
+    const Material& mat = material_of(materials, material[p], p);
+    pressure[p] = 0;
+    if (mat.model != MaterialModel::MieGruneisen)
+      continue;
+    const Eigen::Matrix3d F3 = embed_3d(F.data() + p * F.outerStride(), d);
+    const Eigen::Matrix3d s = shear_term(mat, F3, F3.determinant());
+    double sum = 0;
+    for (int a = 0; a < d; ++a)
+      sum += stress(p, a * d + a) - s(a, a);
+    pressure[p] = -sum / d;
+  }
+}
+
+void update_shock_stress(const std::vector<Material>& materials,
+                         const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                         const Eigen::Ref<const Eigen::VectorXd>& J_old,
+                         const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
+                         Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
+                         FieldRef stress) {
+  const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
+  for (Index p = 0; p < F.rows(); ++p) {
+    const Material& mat = material_of(materials, material[p], p);
+    if (mat.model != MaterialModel::MieGruneisen)
+      continue;
+    const Eigen::Matrix3d F3 = embed_3d(F.data() + p * F.outerStride(), d);
+    const double J = F3.determinant();
+    const double rho = mat.density / J;
+    const double C = std::sqrt(std::max(0.0, mie_gruneisen_tangent(mat, J, energy[p])) / rho);
+    const double q = artificial_viscosity(mat, rho, C, dx, (1 - J_old[p] / J) / dt);
+    // The work of pressure and viscosity per unit mass, dU = −p̄ ΔJ/ρ₀ with p̄ the mean of the
+    // pressures before and after (trapezoidal). p = p_c(J) + ρ₀γ₀U is linear in U, so the
+    // implicit rule is solved exactly:  U (1 + γ₀ΔJ/2) = U_old − (p_old + p_c + q) ΔJ/(2ρ₀).
+    const double dJ = J - J_old[p];
+    const double pc = mie_gruneisen_pressure(mat, J, 0);
+    const double g = J < 1 ? mat.gruneisen : 0.0; // the energy term acts in compression only
+    energy[p] = (energy[p] - 0.5 * (p_old[p] + pc + q) * dJ / mat.density) / (1 + 0.5 * g * dJ);
+    const double P = pc + mat.density * g * energy[p];
+    pressure[p] = P + q;
+    const Eigen::Matrix3d s = shear_term(mat, F3, J);
+    double* sigma = stress.data() + p * stress.outerStride();
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        sigma[a * d + b] = s(a, b) - (a == b ? P + q : 0.0);
+  }
 }
 
 double max_wave_speed(const std::vector<Material>& materials, const Particles& P) {
@@ -183,6 +309,16 @@ double max_wave_speed(const std::vector<Material>& materials, const Particles& P
   for (size_t i = 0; i < materials.size(); ++i)
     if (used[i])
       c = std::max(c, materials[i].wave_speed(P.dim));
+  if (!uses_shock_physics(materials))
+    return c;
+  for (Index p = 0; p < P.size(); ++p) {
+    const Material& mat = materials[size_t(P.material[p])];
+    if (mat.model != MaterialModel::MieGruneisen)
+      continue;
+    const double J = P.det_F(p), rho = mat.density / J;
+    const double Kt = std::max(0.0, mie_gruneisen_tangent(mat, J, P.energy[p]));
+    c = std::max(c, std::sqrt((Kt + 4 * mat.shear / 3) / rho));
+  }
   return c;
 }
 

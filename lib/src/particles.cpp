@@ -22,6 +22,7 @@ void Particles::resize(int d, Index N) {
   volume0.setZero(N);
   material.setZero(N);
   half_length.setZero(N, d);
+  energy.setZero(N);
 }
 
 Eigen::VectorXd Particles::jacobian() const {
@@ -65,6 +66,11 @@ void Particles::append(const Particles& o) {
   stack(volume0, o.volume0);
   stack(material, o.material);
   stack(half_length, o.half_length);
+  const Index n0 = size() - o.size(); // an empty energy column is all 0
+  const Eigen::VectorXd e0 = energy.size() == n0 ? energy : Eigen::VectorXd::Zero(n0);
+  const Eigen::VectorXd e1 = o.energy.size() == o.size() ? o.energy : Eigen::VectorXd::Zero(o.size());
+  energy.resize(n0 + o.size());
+  energy << e0, e1;
 }
 
 Particles make_block(const Grid& grid, const std::array<double, 3>& lo,

@@ -2,12 +2,32 @@
 
 #include "sparsempm/errors.hpp"
 
+#include <Eigen/LU>
+
 namespace smpm {
 
 void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, double dt,
                                   ParticleFields& fields) {
-  update_deformation(op, v, dt, kind_, fields.F); // L, F, det F > 0
+  if (!shock_) {
+    update_deformation(op, v, dt, kind_, fields.F); // L, F, det F > 0
+    update_stress(materials_, material_, fields.F, fields.stress);
+    return;
+  }
+  // Mie–Grüneisen: J and p + q before the step, then the new F, the elastic stresses, and the
+  // shock stresses and energies (contact 2020 Eqs. 51–52).
+  ShockState& s = *shock_;
+  const Index N = fields.F.rows();
+  const int d = int(fields.X.cols());
+  s.J_old.resize(N);
+  s.p_old.resize(N);
+  s.pressure.resize(N);
+  for (Index p = 0; p < N; ++p)
+    s.J_old[p] = embed_3d(fields.F.data() + p * fields.F.outerStride(), d).determinant();
+  shock_pressure(materials_, material_, fields.F, fields.stress, s.p_old);
+  update_deformation(op, v, dt, kind_, fields.F);
   update_stress(materials_, material_, fields.F, fields.stress);
+  update_shock_stress(materials_, material_, fields.F, s.J_old, s.p_old, dt, s.dx, *s.energy,
+                      s.pressure, fields.stress);
 }
 
 namespace {

@@ -95,6 +95,7 @@ struct Stepper::Buffers {
   Eigen::VectorXi field;  ///< velocity field of each particle (multimaterial mode)
   Eigen::VectorXd volume; ///< current particle volumes (AG contact normals)
   ContactNodes contact;
+  ShockState shock;
 };
 
 Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_unique<Buffers>()) {
@@ -156,7 +157,15 @@ void Stepper::step(Model& model, double dt) {
                               .dt = dt,
                               .grid_update = grid_update_};
     ParticleFields fields{P.X, P.V, P.F, P.stress, P.volume0};
-    MaterialStrainUpdate strain(model.materials, P.material, opt_.deformation);
+    const bool shock = uses_shock_physics(model.materials);
+    if (shock) {
+      if (P.energy.size() != P.size()) // no energy column: U = 0
+        P.energy.setZero(P.size());
+      buf_->shock.energy = &P.energy;
+      buf_->shock.dx = model.grid.min_cell_size();
+    }
+    MaterialStrainUpdate strain(model.materials, P.material, opt_.deformation,
+                                shock ? &buf_->shock : nullptr);
     scheme_step(context, fields, strain, buf_->step);
   } catch (const NumericalError& e) {
     throw at_step(e, model.step + 1, model.time + dt);

@@ -17,10 +17,15 @@ namespace smpm {
 enum class MaterialModel {
   Linear,     ///< σ = λ tr(ε) I + 2Gε, ε = sym(F) − I (1D: σ = E (F − 1))
   NeoHookean, ///< σ = (λ/2)(J − 1/J) I + (G/J)(F Fᵀ − I)   (FMPM 2026 Eq. 14)
-  Hyperelastic ///< W = (G/2)(I₁/J^{2/3} − 3) + (K/2)(½(J² − 1) − ln J)  (contact 2020 Eq. 18)
+  Hyperelastic, ///< W = (G/2)(I₁/J^{2/3} − 3) + (K/2)(½(J² − 1) − ln J)  (contact 2020 Eq. 18)
+  /// Shock physics (contact 2020 Eqs. 51–52): σ = −(p + q) I + (G/J) dev(B̄), the shear term of
+  /// Eq. (18) with the Mie–Grüneisen pressure p(J, U) (mie_gruneisen_pressure) and the
+  /// artificial viscosity q (artificial_viscosity); U is the particle's internal energy per
+  /// unit mass (Particles::energy), updated by the strain update.
+  MieGruneisen
 };
 
-/// Name used in input files: linear | neo-hookean | hyperelastic.
+/// Name used in input files: linear | neo-hookean | hyperelastic | mie-gruneisen.
 std::string_view to_string(MaterialModel m);
 /// Inverse of to_string; throws InputError naming the valid choices.
 MaterialModel material_model_from_string(std::string_view name);
@@ -32,17 +37,46 @@ struct Material {
   double density = 1;
   double youngs = 1;
   double poisson = 0;
+  // Mie–Grüneisen (contact 2020 Eqs. 51–52): K and G given directly (G = 0: a fluid), γ₀ and the
+  // slope S₁ of the linear U_s–u_p Hugoniot, the coefficients A₁, A₂ of the viscosity q.
+  double bulk = 0, shear = 0;
+  double gruneisen = 0, hugoniot_slope = 0;
+  double av_linear = 0, av_quadratic = 0;
 
-  double shear_modulus() const { return youngs / (2 * (1 + poisson)); }
-  double lame_lambda() const { return youngs * poisson / ((1 + poisson) * (1 - 2 * poisson)); }
-  double bulk_modulus() const { return youngs / (3 * (1 - 2 * poisson)); }
+  double shear_modulus() const {
+    return model == MaterialModel::MieGruneisen ? shear : youngs / (2 * (1 + poisson));
+  }
+  double bulk_modulus() const {
+    return model == MaterialModel::MieGruneisen ? bulk : youngs / (3 * (1 - 2 * poisson));
+  }
+  double lame_lambda() const {
+    return model == MaterialModel::MieGruneisen
+               ? bulk - 2 * shear / 3
+               : youngs * poisson / ((1 + poisson) * (1 - 2 * poisson));
+  }
   /// Dilatational wave speed in dimension d: √(E/ρ) for the 1D linear bar, otherwise
   /// √((λ + 2G)/ρ) (√((K + 4G/3)/ρ) for the hyperelastic model, the same number).
   double wave_speed(int dim) const;
 };
 
-/// Throws InputError (naming the material) unless density > 0, E > 0 and −1 < ν < ½.
+/// Throws InputError (naming the material) unless density > 0, E > 0 and −1 < ν < ½ (for
+/// Mie–Grüneisen: K > 0, G ≥ 0, γ₀ ≥ 0, S₁ ≥ 0, A₁, A₂ ≥ 0).
 void validate(const Material& mat);
+
+/// Mie–Grüneisen pressure (contact 2020 Eq. 51) at J = det F and internal energy U per unit
+/// mass, with η = 1 − J the relative compression:
+///     p = K η (1 − γ₀η/2) / (1 − S₁η)² + ρ₀ γ₀ U   (compression, η > 0),
+///     p = K η                                        (tension, η ≤ 0).
+/// The paper prints the two cases with the inequalities swapped; this is the form whose
+/// Hugoniot is the linear U_s = c₀ + S₁u_p (c₀² = K/ρ₀), as NairnMPM's HEMGEOSMaterial has it.
+/// Throws NumericalError when 1 − S₁η ≤ 0 (compression beyond the law's limit).
+double mie_gruneisen_pressure(const Material& mat, double J, double U);
+/// The bulk modulus along the current state, K_t = ρ dp/dρ = J (∂p/∂η + γ₀ p) (the energy
+/// term on an isentrope, dU = p dη/ρ₀), so that the bulk wave speed is √(K_t/ρ).
+double mie_gruneisen_tangent(const Material& mat, double J, double U);
+/// The artificial viscosity of contact 2020 Eq. (52) in compression (D_kk < 0; 0 otherwise):
+/// q = ρ Δx |D_kk| (A₁ C + A₂ Δx |D_kk|), ρ current density, C the current bulk wave speed.
+double artificial_viscosity(const Material& mat, double rho, double C, double dx, double Dkk);
 
 /// Cauchy stress for the deformation gradient F (3 × 3; in 1D/2D the unused rows and
 /// columns hold the identity) of a material used in dimension `dim`.
@@ -60,9 +94,36 @@ Eigen::Matrix3d embed_3d(const double* F, int d);
 void update_stress(const std::vector<Material>& materials,
                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
                    FieldRef stress);
-/// Total strain energy Σ_p V_p^(0) W(F_p).
+/// Total strain energy Σ_p V_p^(0) W(F_p); for Mie–Grüneisen particles the internal energy
+/// M_p U_p plus the elastic shear energy V_p^(0) (G/2)(I₁/J^{2/3} − 3).
 double strain_energy(const std::vector<Material>& materials, const Particles& particles);
-/// Largest wave speed over the materials used by the particles.
+/// Largest dilatational wave speed: of the materials used by the particles at rest, and for
+/// Mie–Grüneisen particles of their current state, √((K_t + 4G/3)/ρ) (the time step follows
+/// the shock-compressed material).
 double max_wave_speed(const std::vector<Material>& materials, const Particles& particles);
+
+/// The Mie–Grüneisen part of the strain update (contact 2020 Eqs. 51–52, NairnMPM's order): for
+/// each Mie–Grüneisen particle, from J_old, J_new (det F before and after the step) and its
+/// pressure p_old (with q) before the step, writes σ = −(p + q) I + (G/J) dev(B̄) with
+/// q from D_kk = (1 − J_old/J_new)/Δt (C at U_old), p = p(J_new, U_new) and
+/// U_new = U_old − ½(p_old + p + q)(J_new − J_old)/ρ₀, the work of pressure and viscosity per
+/// unit mass by the implicit trapezoidal rule (solved exactly: p is linear in U), so that a
+/// closed cycle without viscosity returns U to 0 to second order. NairnMPM evaluates p with
+/// U_old (first order). The shear term's energy is elastic and stays out of U. `pressure`
+/// receives p + q.
+void update_shock_stress(const std::vector<Material>& materials,
+                         const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                         const Eigen::Ref<const Eigen::VectorXd>& J_old,
+                         const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
+                         Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
+                         FieldRef stress);
+/// The pressure p + q of every Mie–Grüneisen particle from its stress and F: −(1/d) Σ_a
+/// (σ_aa − s_aa) with s the shear term at F (the in-plane components carry p in 2D plane
+/// strain); 0 for other materials.
+void shock_pressure(const std::vector<Material>& materials,
+                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                    const ConstFieldRef& stress, Eigen::Ref<Eigen::VectorXd> pressure);
+/// True when a particle's material is Mie–Grüneisen.
+bool uses_shock_physics(const std::vector<Material>& materials);
 
 } // namespace smpm

@@ -21,6 +21,9 @@ struct Particles {
   Eigen::VectorXd volume0;  ///< N initial volumes V_p^(0)
   Eigen::VectorXi material; ///< N material ids (index into the material list)
   Field half_length;        ///< N × d initial half-lengths r⁰ of the particle domain
+  /// N internal energies per unit mass U: the work of pressure and artificial viscosity of
+  /// Mie–Grüneisen particles (material.hpp), 0 for other materials. Empty: all 0.
+  Eigen::VectorXd energy;
 
   Index size() const { return X.rows(); }
   /// Resizes to N particles of dimension d with F = I and every other field zero.

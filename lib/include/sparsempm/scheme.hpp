@@ -41,13 +41,23 @@ public:
                       ParticleFields& fields) = 0;
 };
 
+/// The state shock physics carries through a strain update (material.hpp, Mie–Grüneisen): the
+/// particles' internal energies, the cell size of the artificial viscosity, and scratch.
+struct ShockState {
+  Eigen::VectorXd* energy = nullptr; ///< N internal energies per unit mass U (updated)
+  double dx = 0;                     ///< Δx of contact 2020 Eq. (52): the smallest cell size
+  Eigen::VectorXd J_old, p_old, pressure; ///< scratch, reused from step to step
+};
+
 /// The simulation's strain update: F from the velocity gradient (update_deformation), then
-/// σ = σ(F) by each particle's material (update_stress).
+/// σ = σ(F) by each particle's material (update_stress); with `shock` and Mie–Grüneisen
+/// materials, their pressure, artificial viscosity and internal energy (update_shock_stress).
 class MaterialStrainUpdate final : public StrainUpdate {
 public:
   MaterialStrainUpdate(const std::vector<Material>& materials,
-                       const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind)
-      : materials_(materials), material_(material), kind_(kind) {}
+                       const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind,
+                       ShockState* shock = nullptr)
+      : materials_(materials), material_(material), kind_(kind), shock_(shock) {}
   void update(const ParticleOperators& op, const Field& v, double dt,
               ParticleFields& fields) override;
 
@@ -55,6 +65,7 @@ private:
   const std::vector<Material>& materials_;
   Eigen::Ref<const Eigen::VectorXi> material_;
   DeformationUpdate kind_;
+  ShockState* shock_;
 };
 
 /// What the stages read besides the particle fields; fixed during the step.

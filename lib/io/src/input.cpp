@@ -59,6 +59,34 @@ Grid read_grid(const Reader& r, const toml::table& root) {
   return Grid(d, o, hh, cells);
 }
 
+// Shock physics (contact 2020 Eqs. 51–52): K, G, γ₀, S₁ and the viscosity [A₁, A₂].
+void read_mie_gruneisen(const Reader& r, const toml::table& t, const std::string& key,
+                        Material& m) {
+  for (const char* k : {"youngs", "poisson"})
+    if (t.get(k))
+      r.fail(t.get(k), key + k, "model = \"mie-gruneisen\" takes bulk and shear instead");
+  m.bulk = r.positive(t, "bulk", key + "bulk", std::nullopt);
+  auto nonnegative = [&](const char* k, std::optional<double> fallback) {
+    const double v = r.number(t, k, key + k, fallback);
+    if (!(v >= 0))
+      r.fail(t.get(k), key + k, "must be non-negative");
+    return v;
+  };
+  m.shear = nonnegative("shear", 0.0);
+  m.gruneisen = nonnegative("gruneisen", std::nullopt);
+  m.hugoniot_slope = nonnegative("s1", std::nullopt);
+  if (t.get("viscosity")) {
+    const auto av = r.vector(t, "viscosity", key + "viscosity", 2, true);
+    if (!(av[0] >= 0 && av[1] >= 0))
+      r.fail(t.get("viscosity"), key + "viscosity", "A1 and A2 must be non-negative");
+    m.av_linear = av[0];
+    m.av_quadratic = av[1];
+  }
+  // E and ν of the same K and G (wave speed, Lamé constants): E = 9KG/(3K + G).
+  m.youngs = 9 * m.bulk * m.shear / (3 * m.bulk + m.shear);
+  m.poisson = (3 * m.bulk - 2 * m.shear) / (2 * (3 * m.bulk + m.shear));
+}
+
 std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
   std::vector<Material> mats;
   for (const toml::table* t : r.tables(root, "material", true)) {
@@ -76,6 +104,14 @@ std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
       r.fail(t->get("model"), key + "model", e.what());
     }
     m.density = r.positive(*t, "density", key + "density", std::nullopt);
+    if (m.model == MaterialModel::MieGruneisen) {
+      read_mie_gruneisen(r, *t, key, m);
+      mats.push_back(m);
+      continue;
+    }
+    for (const char* k : {"bulk", "shear", "gruneisen", "s1", "viscosity"})
+      if (t->get(k))
+        r.fail(t->get(k), key + k, "only model = \"mie-gruneisen\" takes it");
     m.youngs = r.positive(*t, "youngs", key + "youngs", std::nullopt);
     m.poisson = r.number(*t, "poisson", key + "poisson", 0.0);
     if (!(m.poisson > -1 && m.poisson < 0.5))

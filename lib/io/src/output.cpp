@@ -150,6 +150,8 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
   h5::write_doubles(g.get(), "volume0", P.volume0.data(), N, 0);
   h5::write_doubles(g.get(), "half_length", P.half_length.data(), N, d);
   h5::write_ints(g.get(), "material", P.material.data(), N);
+  if (P.energy.size() == P.size()) // internal energy per unit mass (Mie–Grüneisen)
+    h5::write_doubles(g.get(), "energy", P.energy.data(), N, 0);
   if (P.dim == 1) { // ParaView needs three coordinates
     Field xyz = Field::Zero(P.size(), 3);
     xyz.col(0) = P.X.col(0);

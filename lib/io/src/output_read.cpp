@@ -120,6 +120,7 @@ void check_frame_shapes(const Particles& P, int d) {
   expect("volume0", P.volume0.rows(), 1, 1);
   expect("half_length", P.half_length.rows(), P.half_length.cols(), d);
   expect("material", P.material.rows(), 1, 1);
+  expect("energy", P.energy.rows(), 1, 1);
 }
 
 } // namespace
@@ -137,6 +138,10 @@ void load_frame_from(hid_t file, int frame, Model& model) {
   P.mass = h5::read_doubles(g.get(), "mass").col(0);
   P.volume0 = h5::read_doubles(g.get(), "volume0").col(0);
   P.half_length = h5::read_doubles(g.get(), "half_length");
+  if (h5::exists(g.get(), "energy"))
+    P.energy = h5::read_doubles(g.get(), "energy").col(0);
+  else
+    P.energy.setZero(P.X.rows());
   const std::vector<int> mat = h5::read_ints(g.get(), "material");
   P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
   P.dim = model.grid.dim();
