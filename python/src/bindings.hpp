@@ -29,10 +29,12 @@ struct PyModel {
 
 /// sparsempm.Operators: the operators of one configuration, with the grid they were assembled
 /// on; m̃ in its stencil storage is assembled on first use (FMPM passes, exact solve, spectra).
+/// A multimaterial model's velocity fields are blocks of columns of S, as in Stepper::step.
 struct PyOperators {
   Grid grid;
   Shape shape = Shape::Linear;
   Operators ops;
+  Eigen::VectorXi field; ///< velocity field of each particle (empty: one field)
   const SparseRowMatrix& stencil_mass();
 
 private:

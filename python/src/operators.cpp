@@ -12,6 +12,8 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
+
 namespace smpm::python {
 
 const SparseRowMatrix& PyOperators::stencil_mass() {
@@ -120,6 +122,24 @@ void bind_operators(py::module_& m) {
           },
           "indices of the active nodes, ascending")
       .def_property_readonly("dim", [](const PyOperators& o) { return o.ops.dim; })
+      .def_property_readonly(
+          "fields", [](const PyOperators& o) { return o.ops.fields; },
+          "velocity fields n_f: blocks of n_g columns of S (1 unless the model has [[contact]] "
+          "fields); node i of field α is column α n_g + i")
+      .def_property_readonly(
+          "grid_node_count", [](const PyOperators& o) { return o.ops.grid_node_count; },
+          "n_g, nodes of the grid (num_nodes = fields · n_g)")
+      .def_property_readonly(
+          "particle_field",
+          [](const PyOperators& o) {
+            py::array_t<int> a(o.ops.num_particles());
+            if (o.field.size() == 0)
+              std::fill_n(a.mutable_data(), a.size(), 0);
+            else
+              std::copy_n(o.field.data(), o.field.size(), a.mutable_data());
+            return a;
+          },
+          "N ints: the velocity field of each particle (the block of its row of S)")
       .def_property_readonly("num_nodes", [](const PyOperators& o) { return o.ops.num_nodes(); })
       .def_property_readonly("num_particles",
                              [](const PyOperators& o) { return o.ops.num_particles(); })
@@ -152,12 +172,21 @@ void bind_operators(py::module_& m) {
         PyOperators o;
         o.grid = model.model.grid;
         o.shape = shape_arg(shape, &model);
-        assemble(o.grid, model.model.particles, o.shape, o.ops);
+        const Model& mdl = model.model;
+        const int nf = mdl.contact.fields();
+        if (nf > 1) { // the velocity fields as blocks of columns of S, as Stepper::step does
+          mdl.contact.particle_fields(mdl.particles.material, o.field);
+          assemble(o.grid, mdl.particles, o.shape, o.ops, nf, &o.field);
+        } else {
+          assemble(o.grid, mdl.particles, o.shape, o.ops);
+        }
         return o;
       },
       py::arg("model"), py::arg("shape") = py::none(),
       "The operators of the model's configuration for a shape ('linear', 'gimp', 'bspline2', "
-      "'cpdi', 'b2cpdi'; default: the model's options.shape).");
+      "'cpdi', 'b2cpdi'; default: the model's options.shape). A model with velocity fields "
+      "([[contact]]) has them as blocks of columns of S: n = fields · grid_node_count, node i "
+      "of field α is column α·grid_node_count + i, and m, active and m̃ hold every field.");
   m.def("fmpm_velocity", &fmpm_grid_velocity, py::arg("ops"), py::arg("p"), py::arg("k"),
         py::arg("alpha") = 1.0, py::arg("every") = 1, py::arg("bcs") = nullptr,
         py::arg("time") = 0.0, py::arg("bc_method") = "incremental",

@@ -10,6 +10,7 @@ import sparsempm as smpm
 
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
 BAR = SOURCE / "examples" / "vibrating_bar.toml"
+TWO_BLOCKS = SOURCE / "examples" / "two_block_compression.toml"
 SMPM = os.environ.get("SMPM", "smpm")
 
 

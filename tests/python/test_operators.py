@@ -7,6 +7,8 @@ import scipy.sparse
 
 import sparsempm as smpm
 
+from conftest import TWO_BLOCKS
+
 
 @pytest.mark.parametrize("shape", ["linear", "gimp", "bspline2", "cpdi", "b2cpdi"])
 def test_partition_of_unity_on_the_bar(bar, shape):
@@ -80,3 +82,35 @@ def test_particle_fields_are_views(bar):
     # Operators' arrays are read-only views of the assembled storage.
     with pytest.raises(ValueError):
         ops.S.data[0] = 1
+
+
+def test_velocity_fields_are_blocks_of_columns():
+    # Two blocks, each material its own velocity field ([[contact]]), as Stepper::step assembles
+    # them: node i of field α is column α n_g + i (operators.hpp).
+    model = smpm.Model.from_toml(str(TWO_BLOCKS))
+    ops = smpm.assemble(model)
+    n_g = ops.grid_node_count
+    assert ops.fields == 2 and n_g == ops.grid.num_nodes == 13 * 25  # cells = [12, 24]
+    assert ops.S.shape == (640, 2 * n_g)  # 2 × (40 × 50 mm / 2.5² mm² per particle)
+    # Fields are numbered in the order of the materials (input_contact.cpp): lower 0, upper 1.
+    field = ops.particle_field
+    assert np.array_equal(field, model.particles.material) and np.bincount(field).tolist() == [320, 320]
+    # Each particle's row of S (and of every G) has entries only in its field's block.
+    for B in [ops.S, *ops.G]:
+        C = B.tocoo()
+        assert np.array_equal(C.col // n_g, field[C.row])
+    # Each row still sums to 1 (partition of unity within the block; round-off).
+    assert np.abs(ops.S @ np.ones(ops.num_nodes) - 1).max() < 1e-13
+    # m summed over the blocks equals the single-field m (the same sums Σ_p M_p S_pi split by
+    # field): 1e-12 relative to max m.
+    single = smpm.assemble(smpm.Model.from_toml(str(TWO_BLOCKS), {"contact.0.law": "single-field"}))
+    assert single.fields == 1 and single.S.shape == (640, n_g)
+    summed = ops.m.reshape(2, n_g).sum(axis=0)
+    assert np.abs(summed - single.m).max() <= 1e-12 * single.m.max()
+    # Exactly the 9 nodes of the interface (y = 50 mm, 0 ≤ x ≤ 40 mm: grid row 12, columns 2 to
+    # 10, x fastest) carry mass in both fields (GIMP particles end at the interface).
+    both = (ops.m[:n_g] > 0) & (ops.m[n_g:] > 0)
+    assert np.array_equal(np.nonzero(both)[0], 12 * 13 + np.arange(2, 11))
+    # m̃ is block diagonal (FMPM 2026 Eq. 15): no entry couples two fields.
+    C = ops.consistent_mass().tocoo()
+    assert C.nnz > 0 and np.array_equal(C.row // n_g, C.col // n_g)

@@ -1,0 +1,49 @@
+"""The analysis scripts that call the module (analysis/rho_map.py, analysis/fig12b.py) write the
+same tables through sparsempm as through the `smpm` command (--cli)."""
+import csv
+import pathlib
+import subprocess
+
+import pytest
+
+import sparsempm as smpm
+
+from conftest import BAR, SMPM, SOURCE
+
+BUILD = pathlib.Path(smpm.__file__).resolve().parents[1]  # the directory holding the package
+
+
+def script(name, tmp_path, *args):
+    """Runs analysis/<name> with the module of this build (or with smpm: --cli); its rows."""
+    out = tmp_path / ("cli.png" if "--cli" in args else "module.png")
+    r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / name, "--smpm", SMPM, "--build",
+                        BUILD, "--input", BAR, "-o", out, *args],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    # The last line names what computed the table: the module of this build, or the command.
+    via = SMPM if "--cli" in args else f"sparsempm {smpm.__version__}"
+    assert r.stdout.rstrip().endswith(f"({via})")
+    assert out.stat().st_size > 10000  # a PNG was drawn
+    return list(csv.DictReader(open(out.with_suffix(".csv"))))
+
+
+@pytest.mark.parametrize("name", ["rho_map.py", "fig12b.py"])
+def test_module_and_cli_write_the_same_table(name, tmp_path):
+    # rho_map: C = 0.6 lies above FMPM(4)'s C* = 0.54 (FMPM 2026 §3.3), so the map holds stable
+    # and unstable (k, α). Both paths call the same library functions (spectral_radius of
+    # LinearizedStep, as `smpm spectrum` does; advance(), the loop of `smpm run`): equal text.
+    args = ["--courant", "0.6"] if name == "rho_map.py" else []
+    module, cli = script(name, tmp_path, *args), script(name, tmp_path, *args, "--cli")
+    assert module == cli
+    if name == "rho_map.py":
+        assert len(module) == 80  # 10 orders × 8 fractions
+        rho = {(int(r["k"]), float(r["alpha"])): float(r["rho_T"]) for r in module}
+        # FMPM(1) (PIC) is stable at C = 0.6 (C* = 0.86, FMPM 2026 §3.3) and FMPM(40) is not
+        # (C* = 0.25); 1e-6 is the tolerance of critical_courant's ρ ≤ 1 + tol.
+        assert rho[1, 1.0] <= 1 + 1e-6 and rho[40, 1.0] > 1 + 1e-6
+    else:
+        loss = {float(r["alpha"]): float(r["energy_loss_percent"]) for r in module}
+        assert len(loss) == 11
+        # FMPM 2026 Fig. 12B: pure FMPM(1) (α = 0) dissipates ~40% in five periods at C = 0.539
+        # (vibrating_bar.toml: PIC ~40%), pure FMPM(4) (α = 1) under 0.01%; ±1% and the bound.
+        assert loss[0.0] == pytest.approx(40.4, abs=1.0) and abs(loss[1.0]) < 0.01
