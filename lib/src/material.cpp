@@ -43,10 +43,11 @@ void validate(const Material& mat) {
   if (mat.model == MaterialModel::MieGruneisen) {
     if (!(mat.bulk > 0) || !std::isfinite(mat.bulk))
       throw InputError(who + "bulk must be positive, got " + std::to_string(mat.bulk));
-    const std::pair<const char*, double> nonnegative[] = {
-        {"shear", mat.shear},           {"gruneisen", mat.gruneisen},
-        {"s1", mat.hugoniot_slope},     {"viscosity A1", mat.av_linear},
-        {"viscosity A2", mat.av_quadratic}};
+    const std::pair<const char*, double> nonnegative[] = {{"shear", mat.shear},
+                                                          {"gruneisen", mat.gruneisen},
+                                                          {"s1", mat.hugoniot_slope},
+                                                          {"viscosity A1", mat.av_linear},
+                                                          {"viscosity A2", mat.av_quadratic}};
     for (const auto& [key, value] : nonnegative)
       if (!(value >= 0) || !std::isfinite(value))
         throw InputError(who + key + " must be non-negative, got " + std::to_string(value));
@@ -125,8 +126,8 @@ double mie_gruneisen_pressure(const Material& mat, double J, double U) {
     return mat.bulk * eta;
   const double den = 1 - mat.hugoniot_slope * eta;
   if (!(den > 0))
-    throw NumericalError("material '" + mat.name + "': compression 1 - J = " +
-                         std::to_string(eta) + " beyond the Mie-Gruneisen limit 1/S1");
+    throw NumericalError("material '" + mat.name + "': compression 1 - J = " + std::to_string(eta) +
+                         " beyond the Mie-Gruneisen limit 1/S1");
   return mat.bulk * eta * (1 - 0.5 * mat.gruneisen * eta) / (den * den) +
          mat.density * mat.gruneisen * U;
 }
@@ -137,8 +138,8 @@ double mie_gruneisen_tangent(const Material& mat, double J, double U) {
     return J * mat.bulk;
   const double g = mat.gruneisen, s = mat.hugoniot_slope, den = 1 - s * eta;
   // d/dη [η (1 − γ₀η/2) / (1 − S₁η)²] = ((1 − γ₀η)(1 − S₁η) + 2S₁η(1 − γ₀η/2)) / (1 − S₁η)³
-  const double dp = mat.bulk * ((1 - g * eta) * den + 2 * s * eta * (1 - 0.5 * g * eta)) /
-                    (den * den * den);
+  const double dp =
+      mat.bulk * ((1 - g * eta) * den + 2 * s * eta * (1 - 0.5 * g * eta)) / (den * den * den);
   return J * (dp + g * mie_gruneisen_pressure(mat, J, U));
 }
 
@@ -166,6 +167,14 @@ const Material& material_of(const std::vector<Material>& mats, int id, Index p) 
     throw InputError("particle " + std::to_string(p) + " has material id " + std::to_string(id) +
                      " but only " + std::to_string(mats.size()) + " materials are defined");
   return mats[size_t(id)];
+}
+// Throws NumericalError naming particle p when its compression is beyond the Mie–Grüneisen
+// law's limit 1 − J < 1/S₁ (the law's pressure diverges there).
+void check_compression(const Material& mat, double J, Index p) {
+  if (!(mat.hugoniot_slope * (1 - J) < 1))
+    throw NumericalError("particle " + std::to_string(p) + " (material '" + mat.name +
+                         "'): compression 1 - J = " + std::to_string(1 - J) +
+                         " beyond the Mie-Gruneisen limit 1/S1");
 }
 } // namespace
 
@@ -213,7 +222,10 @@ void update_stress(const std::vector<Material>& materials,
       }
       continue;
     }
-    const Eigen::Matrix3d s = cauchy_stress(mat, d, embed_3d(Fp, d));
+    const Eigen::Matrix3d F3 = embed_3d(Fp, d);
+    if (mat.model == MaterialModel::MieGruneisen)
+      check_compression(mat, F3.determinant(), p);
+    const Eigen::Matrix3d s = cauchy_stress(mat, d, F3);
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
         sigma[a * d + b] = s(a, b);
@@ -279,6 +291,7 @@ void update_shock_stress(const std::vector<Material>& materials,
       continue;
     const Eigen::Matrix3d F3 = embed_3d(F.data() + p * F.outerStride(), d);
     const double J = F3.determinant();
+    check_compression(mat, J, p);
     const double rho = mat.density / J;
     const double C = std::sqrt(std::max(0.0, mie_gruneisen_tangent(mat, J, energy[p])) / rho);
     const double q = artificial_viscosity(mat, rho, C, dx, (1 - J_old[p] / J) / dt);
@@ -316,6 +329,7 @@ double max_wave_speed(const std::vector<Material>& materials, const Particles& P
     if (mat.model != MaterialModel::MieGruneisen)
       continue;
     const double J = P.det_F(p), rho = mat.density / J;
+    check_compression(mat, J, p);
     const double Kt = std::max(0.0, mie_gruneisen_tangent(mat, J, P.energy[p]));
     c = std::max(c, std::sqrt((Kt + 4 * mat.shear / 3) / rho));
   }

@@ -68,7 +68,8 @@ void Particles::append(const Particles& o) {
   stack(half_length, o.half_length);
   const Index n0 = size() - o.size(); // an empty energy column is all 0
   const Eigen::VectorXd e0 = energy.size() == n0 ? energy : Eigen::VectorXd::Zero(n0);
-  const Eigen::VectorXd e1 = o.energy.size() == o.size() ? o.energy : Eigen::VectorXd::Zero(o.size());
+  const Eigen::VectorXd e1 =
+      o.energy.size() == o.size() ? o.energy : Eigen::VectorXd::Zero(o.size());
   energy.resize(n0 + o.size());
   energy << e0, e1;
 }

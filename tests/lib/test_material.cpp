@@ -157,13 +157,14 @@ TEST_CASE("Mie-Gruneisen tangent and artificial viscosity", "[material][shock]")
     const double U = 1e6, h = 1e-6;
     const double p = mie_gruneisen_pressure(m, J, U);
     const double dU = p * h / m.density; // isentrope: dU = p dη / ρ₀
-    const double dp = (mie_gruneisen_pressure(m, J - h, U + dU) -
-                       mie_gruneisen_pressure(m, J + h, U - dU)) /
-                      (2 * h);
+    const double dp =
+        (mie_gruneisen_pressure(m, J - h, U + dU) - mie_gruneisen_pressure(m, J + h, U - dU)) /
+        (2 * h);
     CHECK(mie_gruneisen_tangent(m, J, U) == Approx(J * dp).epsilon(1e-6));
   }
   // Eq. (52): q = ρ Δx |D| (A₁ C + A₂ Δx |D|) in compression, 0 in expansion.
-  CHECK(artificial_viscosity(m, 2.0, 3.0, 0.5, -4.0) == approx(2 * 0.5 * 4 * (0.4 * 3 + 4 * 0.5 * 4), 1e-12));
+  CHECK(artificial_viscosity(m, 2.0, 3.0, 0.5, -4.0) ==
+        approx(2 * 0.5 * 4 * (0.4 * 3 + 4 * 0.5 * 4), 1e-12));
   CHECK(artificial_viscosity(m, 2.0, 3.0, 0.5, 4.0) == 0);
 }
 

@@ -44,8 +44,8 @@ public:
 /// The state shock physics carries through a strain update (material.hpp, Mie–Grüneisen): the
 /// particles' internal energies, the cell size of the artificial viscosity, and scratch.
 struct ShockState {
-  Eigen::VectorXd* energy = nullptr; ///< N internal energies per unit mass U (updated)
-  double dx = 0;                     ///< Δx of contact 2020 Eq. (52): the smallest cell size
+  Eigen::VectorXd* energy = nullptr;      ///< N internal energies per unit mass U (updated)
+  double dx = 0;                          ///< Δx of contact 2020 Eq. (52): the smallest cell size
   Eigen::VectorXd J_old, p_old, pressure; ///< scratch, reused from step to step
 };
 

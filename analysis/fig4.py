@@ -1,0 +1,150 @@
+#!/usr/bin/python3
+"""FMPM 2026 Figs. 4 and 5: a shock through a split nickel bar with stick and frictional contact.
+
+    analysis/fig4.py [--smpm build/apps/smpm] [--jobs 2] [-o fig4]
+
+Runs examples/shock_split_bar.toml with `smpm run` for each case below, two at a time, and takes
+the pressure along the bar at the end (the front near 34 mm, the wall at 46 mm): the particles'
+p = -(sigma_xx + sigma_yy)/2 (the material has no shear stress) averaged in bins of one cell.
+Fig. 4 is bonded stick contact on every shared node, which must reproduce single material mode,
+by FLIP, FMPM(1), FMPM(2) and FMPM(k >= 4) by the Net and Evolving methods; Fig. 5 is frictional
+contact (Coulomb, mu = 0.3, LR normals and d_LR: contact where the fields approach and touch) by
+FMPM(k >= 4) Net and FMPM(4), FMPM(8) Evolving.
+For each case the table gives the plateau pressure behind the front (mean over 37-44 mm, against
+the Rankine-Hugoniot 118.4 GPa), the front position (where p crosses half of it), and the
+largest difference from single material mode by the same update, in % of the plateau. Writes
+<out>.csv (the profiles) and <out>.png.
+"""
+import argparse
+import concurrent.futures
+import csv
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import h5py
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+INPUT = ROOT / "examples" / "shock_split_bar.toml"
+RH = 8.87e-3 * (np.sqrt(188000 / 8.87e-3) + 1.44 * 1840) * 1840 / 1000  # GPa
+FMPM = ["scheme.velocity=FMPM"]
+SINGLE = ["contact.0.law=single-field"]
+FRICTION = ["contact.0.law=coulomb", "contact.0.friction=0.3", "contact.0.detection=LR",
+            "contact.0.normal=LR"]
+EVOLVING = ["contact.0.fmpm_method=evolving"]
+
+
+def fmpm(k):
+    return FMPM + [f"scheme.order={k}"]
+
+
+# name: (figure, --set overrides, name of the single material reference)
+CASES = {
+    "single FLIP": (0, ["scheme.velocity=FLIP"] + SINGLE, None),
+    "single FMPM(1)": (0, fmpm(1) + SINGLE, None),
+    "single FMPM(2)": (0, fmpm(2) + SINGLE, None),
+    "single FMPM(4)": (0, fmpm(4) + SINGLE, None),
+    "single FMPM(8)": (0, fmpm(8) + SINGLE, None),
+    "stick FLIP": (4, ["scheme.velocity=FLIP"], "single FLIP"),
+    "stick FMPM(1)": (4, fmpm(1), "single FMPM(1)"),
+    "stick FMPM(2) Net": (4, fmpm(2), "single FMPM(2)"),
+    "stick FMPM(2) Evolving": (4, fmpm(2) + EVOLVING, "single FMPM(2)"),
+    "stick FMPM(4) Net": (4, fmpm(4), "single FMPM(4)"),
+    "stick FMPM(4) Evolving": (4, fmpm(4) + EVOLVING, "single FMPM(4)"),
+    "stick FMPM(8) Net": (4, fmpm(8), "single FMPM(8)"),
+    "friction FMPM(4) Net": (5, fmpm(4) + FRICTION, "single FMPM(4)"),
+    "friction FMPM(8) Net": (5, fmpm(8) + FRICTION, "single FMPM(8)"),
+    "friction FMPM(4) Evolving": (5, fmpm(4) + FRICTION + EVOLVING, "single FMPM(4)"),
+    "friction FMPM(8) Evolving": (5, fmpm(8) + FRICTION + EVOLVING, "single FMPM(8)"),
+}
+BINS = np.arange(30.0, 47.0, 0.25)
+
+
+def run(smpm, work, name, sets):
+    """Pressure (GPa) in the bins at the last frame, and the wall time; None if the run failed."""
+    out = pathlib.Path(work) / (name.replace(" ", "_").replace("(", "").replace(")", "") + ".h5")
+    args = [smpm, "run", str(INPUT), "-o", str(out), "-q"]
+    for s in sets:
+        args += ["--set", s]
+    start = time.time()
+    r = subprocess.run(args, capture_output=True, text=True)
+    if r.returncode != 0:
+        return None, time.time() - start, r.stderr.strip().splitlines()[-1]
+    with h5py.File(out, "r") as f:
+        g = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])[-1]
+        x = g["X"][:, 0]
+        p = -(g["stress"][:, 0] + g["stress"][:, 3]) / 2 / 1000
+    idx = np.digitize(x, BINS) - 1
+    prof = np.array([p[idx == b].mean() if np.any(idx == b) else np.nan
+                     for b in range(len(BINS) - 1)])
+    return prof, time.time() - start, ""
+
+
+def summary(prof):
+    centre = 0.5 * (BINS[:-1] + BINS[1:])
+    plateau = np.nanmean(prof[(centre > 37) & (centre < 44)])
+    above = np.nonzero(prof > 0.5 * RH)[0]
+    k = above[0]
+    front = np.interp(0.5 * RH, [prof[k - 1], prof[k]], [centre[k - 1], centre[k]])
+    return plateau, front
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("-o", "--out", default="fig4")
+    a = ap.parse_args()
+    with tempfile.TemporaryDirectory() as work, \
+            concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        futures = {k: pool.submit(run, a.smpm, work, k, v[1]) for k, v in CASES.items()}
+        results = {k: f.result() for k, f in futures.items()}
+    print(f"Rankine-Hugoniot pressure {RH:.1f} GPa; the front should be near 34.2 mm")
+    print(f"{'case':28s} {'plateau GPa':>11s} {'front mm':>9s} {'vs single %':>12s} {'run s':>6s}")
+    rows = []
+    for name, (fig, _, ref) in CASES.items():
+        prof, secs, err = results[name]
+        if prof is None:
+            print(f"{name:28s} failed: {err}")
+            continue
+        plateau, front = summary(prof)
+        diff = ""
+        if ref and results[ref][0] is not None:
+            d = 100 * np.nanmax(np.abs(prof - results[ref][0])) / RH
+            diff = f"{d:.3g}"
+        print(f"{name:28s} {plateau:11.2f} {front:9.2f} {diff:>12s} {secs:6.1f}")
+        rows.append((name, fig, prof))
+    with open(a.out + ".csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["case", "figure", "x_mm", "pressure_GPa"])
+        centre = 0.5 * (BINS[:-1] + BINS[1:])
+        for name, fig, prof in rows:
+            for x, p in zip(centre, prof):
+                w.writerow([name, fig, f"{x:.3f}", f"{p:.4f}"])
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+    centre = 0.5 * (BINS[:-1] + BINS[1:])
+    for name, f, prof in rows:
+        if f in (4, 5):
+            axes[0 if f == 4 else 1].plot(centre, prof, label=name, lw=1)
+    for ax, title in zip(axes, ["Fig. 4: stick contact", "Fig. 5: frictional contact"]):
+        ax.axhline(RH, color="k", ls=":", lw=0.8)
+        ax.axvline(40, color="k", ls="--", lw=0.6)
+        ax.set_title(title)
+        ax.set_xlabel("x (mm)")
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("pressure (GPa)")
+    fig.tight_layout()
+    fig.savefig(a.out + ".png", dpi=130)
+    print(f"{a.out}.csv, {a.out}.png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
