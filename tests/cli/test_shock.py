@@ -128,6 +128,26 @@ class Shock(unittest.TestCase):
         self.assertLess(np.abs(net - ref).max() / RH, 0.025)
         self.assertGreater(np.abs(evolving - ref).max() / RH, 0.10)
 
+    def test_restart_carries_the_internal_energy(self):
+        # A run killed after frame 5 and restarted reproduces every later frame bit for bit,
+        # the internal energies U included (stored in each frame's `energy`).
+        from test_files import Restart
+        work = pathlib.Path(self.tmp.name)
+        partial = work / "stick_flip_cut.partial.h5"
+        Restart.cut(work / "stick_flip.h5", partial, 5)
+        r = subprocess.run([SMPM, "run", "--restart", str(partial), "-q"], capture_output=True,
+                           text=True, timeout=600)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(work / "stick_flip.h5", "r") as a, \
+                h5py.File(work / "stick_flip_cut.h5", "r") as b:
+            self.assertEqual(sorted(a["particles"]), sorted(b["particles"]))
+            for frame in a["particles"]:
+                for field in ("X", "V", "F", "stress", "energy"):
+                    self.assertTrue(np.array_equal(a["particles"][frame][field][:],
+                                                   b["particles"][frame][field][:]),
+                                    f"{frame}/{field}")
+            self.assertGreater(a["particles"]["000010"]["energy"][:].max(), 1e6)
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)
