@@ -323,6 +323,10 @@ void bind_particles(py::module_& m) {
       "volume0", [](py::object self) { return vector_view(self.cast<Particles&>().volume0, self); },
       [](Particles& P, const DoubleArray& a) { assign_vector(P.volume0, a, "volume0"); },
       "N initial volumes");
+  c.def_property(
+      "energy", [](py::object self) { return vector_view(self.cast<Particles&>().energy, self); },
+      [](Particles& P, const DoubleArray& a) { assign_vector(P.energy, a, "energy"); },
+      "N internal energies per unit mass U (Mie-Gruneisen materials)");
   c.def_property_readonly(
       "material",
       [](py::object self) { return vector_view(self.cast<Particles&>().material, self); },

@@ -120,3 +120,22 @@ def test_gil_released(what):
     # The loop kept running: its longest pause (a scheduler slice, ~ms) is far below the
     # duration of the call (0.1-0.5 s), which a held GIL would have blocked it for.
     assert duration > 0.05 and pause < 0.5 * duration
+
+
+def test_shock_energy_equals_smpm_run_bit_for_bit(tmp_path):
+    # The Mie-Gruneisen split bar (examples/shock_split_bar.toml) to its second frame: the
+    # internal energies U (a numpy view of the particles) equal the frame's `energy` of
+    # `smpm run`, and the shock has heated the material behind it (U > 1e6 mm²/ms², the
+    # Rankine-Hugoniot u_p²/2 = 1.69e6).
+    src = BAR.parent / "shock_split_bar.toml"
+    over = {"time.end": 0.000434, "output.every": 0.000434}
+    out = tmp_path / "shock.h5"
+    r = run_smpm("run", src, "-q", "-o", out, *[f"--set={k}={v}" for k, v in over.items()])
+    assert r.returncode == 0, r.stderr
+    model = smpm.Model.from_toml(str(src), over)
+    smpm.Stepper(model.options).advance(model, model.end, model.courant, stop_every=0.000434)
+    with h5py.File(out, "r") as f:
+        frame = f["particles"]["000001"]
+        assert np.array_equal(model.particles.energy, frame["energy"][...])
+        assert np.array_equal(model.particles.X, frame["X"][...])
+    assert model.particles.energy.max() > 1e6
