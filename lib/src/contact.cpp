@@ -274,6 +274,7 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
                         const Contact& contact, const ContactParticles& P, ContactNodes& cn) {
   cn.nodes.clear();
   cn.sides.clear();
+  cn.friction_work = 0;
   const int nf = ops.fields;
   if (nf < 2)
     return;
@@ -364,6 +365,15 @@ bool contact_momentum_change(const ContactPair& law, const Eigen::Vector3d& dp0,
   return true;
 }
 
+double contact_friction_work(const Eigen::Vector3d& dp0, const Eigen::Vector3d& dp,
+                             const Eigen::Vector3d& normal, double m_red) {
+  const double stick = (dp0 - dp0.dot(normal) * normal).norm(); // |Δp(0)_t| = T_c A_c Δt
+  const double slide = (dp - dp.dot(normal) * normal).norm();   // S_slide A_c Δt
+  if (!(stick > slide) || !(m_red > 0))
+    return 0; // sticks (or frictionless: no tangential impulse)
+  return slide * (stick - slide) / m_red;
+}
+
 namespace {
 
 // The separation at the end of the step if the two sides keep their velocities:
@@ -401,8 +411,12 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, const ContactNodes::Nod
     const Eigen::Vector3d pa = row3(p, r), pb = p_all - pa;
     const Eigen::Vector3d dp0 = (ma * pb - mb * pa) / (ma + mb);
     const double gap = gap_at_step_end(side.separation, dp0, side.normal, ma, mb, dt);
-    in_contact = contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]) ||
-                 in_contact;
+    const bool touching =
+        contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]);
+    in_contact = touching || in_contact;
+    if (touching && force)
+      cn.friction_work +=
+          contact_friction_work(dp0, cn.change[size_t(f)], side.normal, ma * mb / (ma + mb));
   }
   for (int f = 0; f < nf; ++f)
     if (const Index r = f * ng + i; ops.active[r]) {
@@ -445,6 +459,9 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
     if (force) {
       force->row(ra) += dp.head(d).transpose() / dt;
       force->row(rb) -= dp.head(d).transpose() / dt;
+      // Heat only in the momentum-update correction, as NairnMPM: the correction after P2G
+      // changes the grid velocities the FLIP increment is measured from, not the particles'.
+      cn.friction_work += contact_friction_work(dp0, dp, node.normal, ma * mb / (ma + mb));
     }
   }
   return in_contact;

@@ -278,13 +278,15 @@ void shock_pressure(const std::vector<Material>& materials,
   }
 }
 
-void update_shock_stress(const std::vector<Material>& materials,
-                         const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
-                         const Eigen::Ref<const Eigen::VectorXd>& J_old,
-                         const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
-                         Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
-                         FieldRef stress) {
+double update_shock_stress(const std::vector<Material>& materials,
+                           const Eigen::Ref<const Eigen::VectorXi>& material,
+                           const ConstFieldRef& F, const Eigen::Ref<const Eigen::VectorXd>& volume0,
+                           const Eigen::Ref<const Eigen::VectorXd>& J_old,
+                           const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
+                           Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
+                           FieldRef stress) {
   const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
+  double viscous = 0;
   for (Index p = 0; p < F.rows(); ++p) {
     const Material& mat = material_of(materials, material[p], p);
     if (mat.model != MaterialModel::MieGruneisen)
@@ -304,12 +306,14 @@ void update_shock_stress(const std::vector<Material>& materials,
     energy[p] = (energy[p] - 0.5 * (p_old[p] + pc + q) * dJ / mat.density) / (1 + 0.5 * g * dJ);
     const double P = pc + mat.density * g * energy[p];
     pressure[p] = P + q;
+    viscous -= q * dJ * volume0[p];
     const Eigen::Matrix3d s = shear_term(mat, F3, J);
     double* sigma = stress.data() + p * stress.outerStride();
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
         sigma[a * d + b] = s(a, b) - (a == b ? P + q : 0.0);
   }
+  return viscous;
 }
 
 double max_wave_speed(const std::vector<Material>& materials, const Particles& P) {

@@ -26,8 +26,8 @@ void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, d
   shock_pressure(materials_, material_, fields.F, fields.stress, s.p_old);
   update_deformation(op, v, dt, kind_, fields.F);
   update_stress(materials_, material_, fields.F, fields.stress);
-  update_shock_stress(materials_, material_, fields.F, s.J_old, s.p_old, dt, s.dx, *s.energy,
-                      s.pressure, fields.stress);
+  s.viscous_work += update_shock_stress(materials_, material_, fields.F, fields.volume0, s.J_old,
+                                        s.p_old, dt, s.dx, *s.energy, s.pressure, fields.stress);
 }
 
 namespace {

@@ -163,10 +163,15 @@ void Stepper::step(Model& model, double dt) {
         P.energy.setZero(P.size());
       buf_->shock.energy = &P.energy;
       buf_->shock.dx = model.grid.min_cell_size();
+      buf_->shock.viscous_work = 0;
     }
     MaterialStrainUpdate strain(model.materials, P.material, opt_.deformation,
                                 shock ? &buf_->shock : nullptr);
     scheme_step(context, fields, strain, buf_->step);
+    if (nf > 1)
+      friction_work_ += buf_->contact.friction_work;
+    if (shock)
+      viscous_work_ += buf_->shock.viscous_work;
   } catch (const NumericalError& e) {
     throw at_step(e, model.step + 1, model.time + dt);
   }

@@ -173,7 +173,16 @@ struct ContactNodes {
   // The incremental contact of the FMPM loop (FMPM 2026 §3.2): per node of two fields, the
   // Δp^(prior)(0) and Δp^(net) that the last lumped correction (apply_contact) initialised.
   std::vector<Eigen::Vector3d> prior, net;
+  /// The frictional work of the step's momentum-update correction (apply_contact with a
+  /// force; contact_friction_work), reset by find_contact_nodes.
+  double friction_work = 0;
 };
+
+/// The work of Coulomb friction at one node (NairnMPM's first-order frictional heating): the
+/// tangential impulse S_slide A_c Δt of Δp times the slip velocity it leaves,
+/// (|Δp(0)_t| − S_slide A_c Δt)/m_red; 0 when the node sticks or the law has no friction.
+double contact_friction_work(const Eigen::Vector3d& dp0, const Eigen::Vector3d& dp,
+                             const Eigen::Vector3d& normal, double m_red);
 
 /// Finds the nodes seen by two or more fields of `ops` (block columns) and their normals,
 /// separations and areas (contact 2020 §2.3, §3.1), once per step.
@@ -191,8 +200,9 @@ bool contact_momentum_change(const ContactPair& law, const Eigen::Vector3d& dp0,
 /// Applies contact to the momenta p (block columns, n_f·n_g × d) at every contact node:
 /// p^α += Δp, p^β −= Δp for two fields; for three or more, each field α against all others
 /// lumped (contact 2020 Eq. 50), the law of the heaviest other field. When `force` is given,
-/// adds Δp/Δt to it (the contact force f^{αC,1} of contact 2020 Eq. 33). Returns the number of
-/// nodes in contact. Allocates nothing once `cn` has served a step.
+/// adds Δp/Δt to it (the contact force f^{αC,1} of contact 2020 Eq. 33) and adds the frictional
+/// work of the correction to cn.friction_work. Returns the number of nodes in contact. Allocates
+/// nothing once `cn` has served a step.
 Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
                     Field* force = nullptr);
 

@@ -110,13 +110,14 @@ double max_wave_speed(const std::vector<Material>& materials, const Particles& p
 /// unit mass by the implicit trapezoidal rule (solved exactly: p is linear in U), so that a
 /// closed cycle without viscosity returns U to 0 to second order. NairnMPM evaluates p with
 /// U_old (first order). The shear term's energy is elastic and stays out of U. `pressure`
-/// receives p + q.
-void update_shock_stress(const std::vector<Material>& materials,
-                         const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
-                         const Eigen::Ref<const Eigen::VectorXd>& J_old,
-                         const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
-                         Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
-                         FieldRef stress);
+/// receives p + q. Returns the work of the viscosity, Σ_p −q_p ΔJ_p V_p^(0) (heat, ≥ 0).
+double update_shock_stress(const std::vector<Material>& materials,
+                           const Eigen::Ref<const Eigen::VectorXi>& material,
+                           const ConstFieldRef& F, const Eigen::Ref<const Eigen::VectorXd>& volume0,
+                           const Eigen::Ref<const Eigen::VectorXd>& J_old,
+                           const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
+                           Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
+                           FieldRef stress);
 /// The pressure p + q of every Mie–Grüneisen particle from its stress and F: −(1/d) Σ_a
 /// (σ_aa − s_aa) with s the shear term at F (the in-plane components carry p in 2D plane
 /// strain); 0 for other materials.

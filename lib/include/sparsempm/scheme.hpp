@@ -47,6 +47,7 @@ struct ShockState {
   Eigen::VectorXd* energy = nullptr;      ///< N internal energies per unit mass U (updated)
   double dx = 0;                          ///< Δx of contact 2020 Eq. (52): the smallest cell size
   Eigen::VectorXd J_old, p_old, pressure; ///< scratch, reused from step to step
+  double viscous_work = 0; ///< the viscosity's work Σ_p −q ΔJ V⁽⁰⁾ of the last update
 };
 
 /// The simulation's strain update: F from the velocity gradient (update_deformation), then

@@ -124,6 +124,15 @@ public:
   /// the stepper's state: a restart sets it back with set_courant_budget.
   double courant_budget() const { return courant_budget_; }
   void set_courant_budget(double budget) { courant_budget_ = budget; }
+  /// Work dissipated since the start of the run (or the last set_dissipation): by Coulomb
+  /// friction at contact nodes (contact_friction_work, the momentum-update correction) and by
+  /// the artificial viscosity of Mie–Grüneisen materials (part of their internal energy U).
+  double friction_work() const { return friction_work_; }
+  double viscous_work() const { return viscous_work_; }
+  void set_dissipation(double friction, double viscous) {
+    friction_work_ = friction;
+    viscous_work_ = viscous;
+  }
 
 private:
   struct Buffers;
@@ -133,6 +142,7 @@ private:
   ConsistentMass mt_;
   std::unique_ptr<Buffers> buf_;
   double courant_budget_ = 0;
+  double friction_work_ = 0, viscous_work_ = 0;
   bool grid_update_ = false;
 };
 

@@ -76,7 +76,8 @@ void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) 
 }
 
 const char* const kSeries[] = {
-    "step", "t", "kinetic", "strain", "total", "velocity_change", "velocity_change_sum"};
+    "step",     "t",      "kinetic", "strain", "total", "velocity_change", "velocity_change_sum",
+    "friction", "viscous"};
 
 } // namespace detail
 
@@ -265,9 +266,15 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
   for (int s = 0; s < kNumSeries; ++s) {
     for (size_t r = 0; r < k; ++r) {
       const SeriesRow& row = rows[r];
-      const double vals[kNumSeries] = {double(row.step),       row.t,       row.e.kinetic,
-                                       row.e.strain,           row.e.total, row.velocity_change,
-                                       row.velocity_change_sum};
+      const double vals[kNumSeries] = {double(row.step),
+                                       row.t,
+                                       row.e.kinetic,
+                                       row.e.strain,
+                                       row.e.total,
+                                       row.velocity_change,
+                                       row.velocity_change_sum,
+                                       row.friction,
+                                       row.viscous};
       col[r] = vals[s];
     }
     h5::append_series(series.get(), kSeries[s], col.data(), k, 0);

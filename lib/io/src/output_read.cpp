@@ -82,6 +82,9 @@ StoredRun read_stored_run(const std::string& path) {
     const bool mms = h5::exists(series.get(), "velocity_change_sum");
     const Field vc = mms ? h5::read_doubles(series.get(), "velocity_change") : Field();
     const Field vs = mms ? h5::read_doubles(series.get(), "velocity_change_sum") : Field();
+    const bool dis = h5::exists(series.get(), "viscous"); // files of earlier versions lack them
+    const Field fw = dis ? h5::read_doubles(series.get(), "friction") : Field();
+    const Field vw = dis ? h5::read_doubles(series.get(), "viscous") : Field();
     for (Index r = 0; r < step.rows(); ++r) {
       SeriesRow row;
       row.step = long(step(r, 0));
@@ -92,6 +95,10 @@ StoredRun read_stored_run(const std::string& path) {
       if (mms && r < vs.rows() && r < vc.rows()) {
         row.velocity_change = vc(r, 0);
         row.velocity_change_sum = vs(r, 0);
+      }
+      if (dis && r < fw.rows() && r < vw.rows()) {
+        row.friction = fw(r, 0);
+        row.viscous = vw(r, 0);
       }
       run.series.push_back(row);
     }

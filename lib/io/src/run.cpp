@@ -71,6 +71,9 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     const StoredRun kept = read_stored_run(partial);
     if (!kept.series.empty() && std::isfinite(kept.series.back().velocity_change_sum))
       change_sum = kept.series.back().velocity_change_sum;
+    if (!kept.series.empty() && std::isfinite(kept.series.back().friction) &&
+        std::isfinite(kept.series.back().viscous))
+      stepper.set_dissipation(kept.series.back().friction, kept.series.back().viscous);
   }
   auto row = [&](const Model& m, const Energies& e) {
     SeriesRow r;
@@ -85,6 +88,8 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     if (m.step > 0)
       change_sum += r.velocity_change;
     r.velocity_change_sum = change_sum;
+    r.friction = stepper.friction_work();
+    r.viscous = stepper.viscous_work();
     return r;
   };
   // A frame, with the step it belongs to named when the write fails (a full disk).
