@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""FMPM 2026 Fig. 11: energy lost by the two-disk impact against cell size and Courant number.
+
+    analysis/fig11.py [--smpm build/apps/smpm] [--cells 2,1,0.5] [--courants 0.1,0.2,0.4]
+                      [--jobs 2] [-o fig11]
+
+Runs examples/disk_impact.toml (mu = 0.3) with `smpm run`: A, at C = 0.2 for each cell size
+(mm; the grid keeps its extent) with FLIP and FMPM(4), each by USL and USL+; B, at 1 mm cells
+for each Courant number with FLIP and FMPM(4) by USL. The energy lost is
+1 - (K + W + Q_friction)(end) / (K + W)(0) in % (negative: the run gained energy). Writes
+<out>.csv and <out>.png. The paper's finest cells (0.05 mm) are out of reach here; add 0.333
+to --cells for the paper's standard resolution (about 30 s a run).
+"""
+import argparse
+import concurrent.futures
+import csv
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+INPUT = ROOT / "examples" / "disk_impact.toml"
+EXTENT = (56.0, 48.0)  # the example's grid, mm
+UPDATES = {"FLIP": ["scheme.velocity=FLIP"], "FMPM(4)": ["scheme.velocity=FMPM", "scheme.order=4"]}
+
+
+def run(smpm, work, tag, sets):
+    out = pathlib.Path(work) / (tag + ".h5")
+    args = [smpm, "run", str(INPUT), "-o", str(out), "-q", "--set", "contact.0.friction=0.3"]
+    for s in sets:
+        args += ["--set", s]
+    r = subprocess.run(args, capture_output=True, text=True)
+    if r.returncode != 0:
+        return float("nan"), r.stderr.strip().splitlines()[-1]
+    with h5py.File(out, "r") as f:
+        s = f["series"]
+        e0 = s["kinetic"][0] + s["strain"][0]
+        end = s["kinetic"][-1] + s["strain"][-1] + s["friction"][-1]
+    return 100 * (1 - end / e0), ""
+
+
+def grid(cell):
+    return [f"grid.cell_size=[{cell}, {cell}]",
+            f"grid.cells=[{round(EXTENT[0] / cell)}, {round(EXTENT[1] / cell)}]"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
+    ap.add_argument("--cells", default="2,1,0.5")
+    ap.add_argument("--courants", default="0.1,0.2,0.4")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("-o", "--out", default="fig11")
+    a = ap.parse_args()
+    cells = [float(c) for c in a.cells.split(",")]
+    courants = [float(c) for c in a.courants.split(",")]
+    todo = {}
+    for cell in cells:
+        for name, sets in UPDATES.items():
+            for update in ("USL", "USL+"):
+                todo[("A", cell, name, update)] = sets + grid(cell) + [f"scheme.update={update}"]
+    for c in courants:
+        for name, sets in UPDATES.items():
+            todo[("B", c, name, "USL")] = sets + [f"time.courant={c}"]
+    with tempfile.TemporaryDirectory() as work, \
+            concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        futures = {k: pool.submit(run, a.smpm, work, f"r{i}", v)
+                   for i, (k, v) in enumerate(todo.items())}
+        res = {k: f.result() for k, f in futures.items()}
+    rows = []
+    print("A: energy lost (%) against cell size, C = 0.2, mu = 0.3")
+    print(f"{'cell mm':>8s} " + " ".join(f"{n + ' ' + u:>14s}" for n in UPDATES
+                                           for u in ("USL", "USL+")))
+    for cell in cells:
+        vals = [res[("A", cell, n, u)][0] for n in UPDATES for u in ("USL", "USL+")]
+        print(f"{cell:8.3f} " + " ".join(f"{v:14.3f}" for v in vals))
+    print("B: energy lost (%) against C, 1 mm cells, USL, mu = 0.3")
+    print(f"{'C':>8s} " + " ".join(f"{n:>14s}" for n in UPDATES))
+    for c in courants:
+        print(f"{c:8.2f} " + " ".join(f"{res[('B', c, n, 'USL')][0]:14.3f}" for n in UPDATES))
+    for (panel, x, name, update), (lost, err) in res.items():
+        rows.append([panel, x, name, update, f"{lost:.4f}", err])
+        if err:
+            print(f"{panel} {x} {name} {update} failed: {err}")
+    with open(a.out + ".csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["panel", "cell_or_courant", "update", "scheme", "energy_lost_percent",
+                    "error"])
+        w.writerows(rows)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for name in UPDATES:
+        for update, style in (("USL", "o-"), ("USL+", "s--")):
+            axes[0].plot(cells, [res[("A", c, name, update)][0] for c in cells], style,
+                         label=f"{name} {update}")
+        axes[1].plot(courants, [res[("B", c, name, "USL")][0] for c in courants], "o-",
+                     label=name)
+    axes[0].set_xlabel("cell size (mm)")
+    axes[0].set_title("Fig. 11A: energy lost (%), C = 0.2")
+    axes[1].set_xlabel("Courant number C")
+    axes[1].set_title("Fig. 11B: energy lost (%), 1 mm cells")
+    for ax in axes:
+        ax.axhline(0, color="k", lw=0.6)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(a.out + ".png", dpi=130)
+    print(f"{a.out}.csv, {a.out}.png")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
