@@ -90,7 +90,8 @@ struct Stages {
   // Task 1: p = Sᵀ M V, BC1, v = m⁻¹ p; task 1.c for USF, USAVG and USAVG+.
   void momentum() {
     map_momentum(op, fields.V, b.g.p);
-    if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC) { // keep Δv^α (Eq. 37)
+    if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC &&
+        opt.xpic_contact_term) { // keep Δv^α (Eq. 37)
       b.contact_dv = b.g.p;
       contact(b.g.p);
       b.contact_dv = c.ops->m_inv.asDiagonal() * (b.g.p - b.contact_dv);
@@ -147,7 +148,7 @@ struct Stages {
     }
     if (full_mass) {
       xpic_grid_velocity(*c.ops, *c.mt, opt.fmpm.order, b.g.v, b.xpic, b.fmpm,
-                         c.contact_nodes ? &b.contact_dv : nullptr);
+                         c.contact_nodes && opt.xpic_contact_term ? &b.contact_dv : nullptr);
       b.xpic.noalias() += c.dt * b.g.a; // V' = S (m (v − v*) + a Δt)
     } else {
       b.xpic = b.g.v_plus; // XPIC(1) = PIC

@@ -69,7 +69,10 @@ struct StepOptions {
   FmpmOptions fmpm{};     ///< order k (FMPM) or m (XPIC), blending, BC method, dynamic
   double periodic_cx = 0; ///< C_X of periodic FMPM (§3.3); 0: FMPM on every step
   DeformationUpdate deformation = DeformationUpdate::Linear; ///< F ← (I + LΔt)F or exp(LΔt)F
-  MassSolverFactory exact_solver{};                          ///< required by VelocityUpdate::Exact
+  /// Multimaterial XPIC(m): add the contact term (I − S S^{+α})^{m−1} S Δv^α of contact 2020
+  /// Eq. (37); false gives the "uncorrected XPIC" of its Fig. 7 (for comparison only).
+  bool xpic_contact_term = true;
+  MassSolverFactory exact_solver{}; ///< required by VelocityUpdate::Exact
 };
 
 /// α of Eqs. (8)–(9) when the options leave it unset: 1 for FLIP (the usual choice, FMPM 2026

@@ -209,6 +209,8 @@ void read_scheme(const Reader& r, const toml::table& root, StepOptions& step) {
   } catch (const InputError& e) {
     r.fail(scheme->get("deformation"), "scheme.deformation", e.what());
   }
+  step.xpic_contact_term =
+      r.boolean(*scheme, "xpic_contact_term", "scheme.xpic_contact_term", true);
   read_fmpm(r, *scheme, step);
 }
 

@@ -30,7 +30,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"scheme",
        {"update", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
         "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization",
-        "exact_mass_cutoff", "deformation"}},
+        "exact_mass_cutoff", "deformation", "xpic_contact_term"}},
       {"output", {"file", "every", "matrices"}},
       {"loads", {"gravity"}},
   };
