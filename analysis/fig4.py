@@ -32,6 +32,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from figures import save_figure  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "shock_split_bar.toml"
 RH = 8.87e-3 * (np.sqrt(188000 / 8.87e-3) + 1.44 * 1840) * 1840 / 1000  # GPa
@@ -146,9 +149,7 @@ def main():
         ax.set_xlabel("x (mm)")
         ax.legend(fontsize=7)
     axes[0].set_ylabel("pressure (GPa)")
-    fig.tight_layout()
-    fig.savefig(a.out + ".png", dpi=130)
-    print(f"{a.out}.csv, {a.out}.png")
+    save_figure(fig, a.out)
     return 0
 
 

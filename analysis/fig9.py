@@ -27,6 +27,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from figures import save_figure  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "disk_impact.toml"
 EXTENT = (56.0, 48.0)  # the example's grid, mm
@@ -125,9 +128,7 @@ def main():
     axes[2].set_title("Fig. 9B: energy lost (%), mu = 0.3")
     axes[2].set_xlabel("k")
     axes[2].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(a.out + ".png", dpi=130)
-    print(f"{a.out}.csv, {a.out}.png")
+    save_figure(fig, a.out)
     return 0
 
 

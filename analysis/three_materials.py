@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""Contact 2020 Fig. 4: three materials meeting at a node, compressed by 5%, by the lumping
+method (Eq. 50) against single material mode.
+
+    analysis/three_materials.py [--smpm build/apps/smpm] [-o three_materials]
+
+Runs examples/three_materials.toml as it is (frictionless contact, LR normals and d_LR between
+every pair: lumping at the nodes of three materials), with AG normals, with left and right in one
+velocity field (two fields: no node of three), and with all three in one field (single material
+mode), by replacing its [[contact]] table. Prints the error of the mean axial stress against
+single material mode at each frame (1-5% strain) and the x-momentum at the end (0 when contact
+conserves momentum), and writes <out>.csv and <out>.png (the error against strain, and the
+particles' sigma_yy at the end for the lumped and the single material runs).
+"""
+import argparse
+import csv
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from figures import save_figure  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+INPUT = ROOT / "examples" / "three_materials.toml"
+ONE_FIELD = '[[contact]]\nmaterials = ["{a}", "{b}"]\nlaw = "single-field"\n'
+EVERY_PAIR = '[[contact]]\nlaw = "frictionless"\nnormal = "{normal}"\ndetection = "LR"\n'
+VARIANTS = {
+    "single material": ONE_FIELD.format(a="left", b="right") + ONE_FIELD.format(a="right", b="top"),
+    "lumping, LR": EVERY_PAIR.format(normal="LR"),
+    "lumping, AG": EVERY_PAIR.format(normal="AG"),
+    "two fields (left = right), LR": ONE_FIELD.format(a="left", b="right")
+    + EVERY_PAIR.format(normal="LR"),
+}
+RATE = 0.9622 / 20.0 * 100  # % strain per ms (wall speed over the 20 mm block)
+
+
+def run(smpm, work, name, contact):
+    """Mean sigma_yy per frame, the strain of each frame, the final particles and x-momentum."""
+    text = INPUT.read_text()
+    start = text.index("\n[[contact]]") + 1
+    end = text.index("\n[[bc]]", start) + 1
+    stem = name.split(",")[0].replace(" ", "_").replace("(", "").replace(")", "").replace("=", "")
+    src = pathlib.Path(work) / (stem + name.count("AG") * "_ag" + ".toml")
+    src.write_text(text[:start] + contact + "\n" + text[end:])
+    out = src.with_suffix(".h5")
+    r = subprocess.run([smpm, "run", str(src), "-o", str(out), "-q"], capture_output=True,
+                       text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"{name}: {r.stderr.strip()}")
+    with h5py.File(out, "r") as f:
+        frames = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])[1:]
+        strain = np.array([RATE * g.attrs["time"] for g in frames])
+        syy = np.array([g["stress"][:, 3].mean() for g in frames])
+        last = frames[-1]
+        return strain, syy, last["X"][:], last["stress"][:, 3], f["series"]["momentum"][-1, 0]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
+    ap.add_argument("-o", "--out", default="three_materials")
+    a = ap.parse_args()
+    with tempfile.TemporaryDirectory() as work:
+        res = {k: run(a.smpm, work, k, v) for k, v in VARIANTS.items()}
+    strain, ref = res["single material"][0], res["single material"][1]
+    print("error (MM - SMM)/SMM in % of the mean axial stress; x-momentum at the end (g mm/ms)")
+    print(f"{'variant':32s} " + " ".join(f"{s:6.1f}%" for s in strain) + "  x-momentum")
+    rows = []
+    for name, (s, syy, _, _, px) in res.items():
+        err = 100 * (syy / ref - 1)
+        print(f"{name:32s} " + " ".join(f"{e:7.3f}" for e in err) + f"  {px:10.2e}")
+        rows += [[name, f"{st:.3f}", f"{v:.6g}", f"{e:.6g}"] for st, v, e in zip(s, syy, err)]
+    with open(a.out + ".csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["variant", "strain_percent", "mean_sigma_yy", "error_percent"])
+        w.writerows(rows)
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+    for name, (s, syy, _, _, _) in res.items():
+        if name != "single material":
+            axes[0].plot(s, 100 * (syy / ref - 1), "o-", label=name)
+    axes[0].set_xlabel("axial strain (%)")
+    axes[0].set_ylabel("(MM - SMM)/SMM (%)")
+    axes[0].legend(fontsize=8)
+    lo = min(res[k][3].min() for k in ("lumping, LR", "single material"))
+    for ax, name in zip(axes[1:], ("lumping, LR", "single material")):
+        X, syy = res[name][2], res[name][3]
+        sc = ax.scatter(X[:, 0], X[:, 1], c=syy, s=6, vmin=lo, vmax=0, cmap="viridis")
+        ax.set_aspect("equal")
+        ax.set_title(f"sigma_yy at 5%: {name}")
+    fig.colorbar(sc, ax=axes[2])
+    save_figure(fig, a.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
