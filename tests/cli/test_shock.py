@@ -159,6 +159,17 @@ class Shock(unittest.TestCase):
         self.assertLess(s["viscous"], s["strain"])
         self.assertEqual(s["friction"], 0)
 
+    def test_fmpm_order_series(self):
+        # The series' fmpm_order is the order the FMPM loop reached on each step: k = 8 on every
+        # step of FMPM(8) (not dynamic), 0 for FLIP (analysis/fig14.py averages it for dynamic
+        # FMPM).
+        work = pathlib.Path(self.tmp.name)
+        with h5py.File(work / "stick_fmpm8_net.h5", "r") as f:
+            order = f["series"]["fmpm_order"][:]
+            self.assertTrue(np.all(order[1:] == 8) and order[0] == 0, order)
+        with h5py.File(work / "single_flip.h5", "r") as f:
+            self.assertTrue(np.all(f["series"]["fmpm_order"][:] == 0))
+
     def test_restart_carries_the_internal_energy(self):
         # A run killed after frame 5 and restarted reproduces every later frame bit for bit,
         # the internal energies U included (stored in each frame's `energy`).

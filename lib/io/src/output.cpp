@@ -76,8 +76,8 @@ void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) 
 }
 
 const char* const kSeries[] = {
-    "step",     "t",      "kinetic", "strain", "total", "velocity_change", "velocity_change_sum",
-    "friction", "viscous"};
+    "step",     "t",       "kinetic",   "strain", "total", "velocity_change", "velocity_change_sum",
+    "friction", "viscous", "fmpm_order"};
 
 } // namespace detail
 
@@ -274,7 +274,8 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
                                        row.velocity_change,
                                        row.velocity_change_sum,
                                        row.friction,
-                                       row.viscous};
+                                       row.viscous,
+                                       row.fmpm_order};
       col[r] = vals[s];
     }
     h5::append_series(series.get(), kSeries[s], col.data(), k, 0);

@@ -90,6 +90,10 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     r.velocity_change_sum = change_sum;
     r.friction = stepper.friction_work();
     r.viscous = stepper.viscous_work();
+    r.fmpm_order = m.step > 0 && stepper.last_step_was_fmpm() &&
+                           stepper.options().velocity == VelocityUpdate::FMPM
+                       ? stepper.last_fmpm().order
+                       : 0;
     return r;
   };
   // A frame, with the step it belongs to named when the write fails (a full disk).

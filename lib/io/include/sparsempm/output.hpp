@@ -12,7 +12,7 @@
 ///   /matrices/<frame>/{S, G0, G1, G2, consistent_mass}/{data, indices, indptr, shape}
 ///                                (CSR; only with output.matrices = true)
 ///   /series/{step, t, kinetic, strain, total, momentum, velocity_change,
-///            velocity_change_sum, friction, viscous}     one row per step
+///            velocity_change_sum, friction, viscous, fmpm_order}  one row per step
 ///   /series/{material_mass, material_momentum, material_centre}  per material (one body per
 ///            material in multimaterial runs): n_mat, n_mat × d, n_mat × d columns a row
 ///   root attributes: input (the input text), overrides, version, status
@@ -39,6 +39,7 @@ struct SeriesRow {
   double velocity_change_sum = 0; ///< its running sum over the steps (⟨error⟩ = sum / N_s)
   double friction = 0;            ///< work of Coulomb friction since t = 0 (Stepper::friction_work)
   double viscous = 0;             ///< work of the artificial viscosity since t = 0 (part of strain)
+  double fmpm_order = 0;          ///< the FMPM(k) loop's order ℓ reached on the step (0: none)
   std::vector<double> materials;  ///< material_sums: mass, momentum, centre of each material
 };
 
