@@ -53,6 +53,29 @@ double max_difference(const Field& a, const Field& b) {
   return (a - b).cwiseAbs().maxCoeff();
 }
 
+// Two blocks of GIMP particles (2 × 2 per cell, half-length 0.25) on a 12 × 12 grid of unit
+// cells, materials 0 below y = bottom and 1 above it, the upper lattice (of the same spacing
+// and half-lengths) shifted up by `gap` (< 0: overlapping), with `law` between them: the
+// contact nodes of the configuration (find_contact_nodes; their laws point into m.contact).
+void stacked_blocks_contact(double bottom, double gap, const ContactPair& law, Model& m,
+                            ContactNodes& cn) {
+  m = Model(Grid(2, {0, 0, 0}, {1, 1, 1}, {12, 12, 1}));
+  m.materials = {elastic("a", 40), elastic("b", 40)};
+  m.particles = make_block(m.grid, {2, 2, 0}, {10, bottom, 0}, {2, 2, 1}, 1.0, 0);
+  Particles top = make_block(m.grid, {2, bottom, 0}, {10, bottom + 4, 0}, {2, 2, 1}, 1.0, 1);
+  top.X.col(1).array() += gap;
+  m.particles.append(top);
+  m.contact.material_field = {0, 1};
+  m.contact.pairs = {law};
+  Eigen::VectorXi field;
+  m.contact.particle_fields(m.particles.material, field);
+  Operators ops;
+  assemble(m.grid, m.particles, Shape::GIMP, ops, 2, &field);
+  const Eigen::VectorXd volume = m.particles.volume();
+  const ContactParticles cp{m.particles.X, m.particles.F, m.particles.half_length, volume};
+  find_contact_nodes(m.grid, ops, particle_operators(ops), m.contact, cp, cn);
+}
+
 } // namespace
 
 TEST_CASE("the fields are blocks of columns of one S: p, m and m~ sum over the fields",
@@ -332,26 +355,11 @@ TEST_CASE("d_LR is the gap between two blocks and changes sign when they touch (
   // d_LR = g (contact 2020 Eq. 24) to 1e-6 of a cell.
   for (double gap : {0.2, 0.05, -0.05, -0.2}) {
     CAPTURE(gap);
-    Model m(Grid(2, {0, 0, 0}, {1, 1, 1}, {12, 12, 1}));
-    m.materials = {elastic("a", 40), elastic("b", 40)};
-    m.particles = make_block(m.grid, {2, 2, 0}, {10, 5.9, 0}, {2, 2, 1}, 1.0, 0);
-    // A lattice of the same spacing and half-lengths, shifted so that its lowest domain edge
-    // sits at 5.9 + gap (make_block fits whole lattice sites into the box).
-    Particles top = make_block(m.grid, {2, 5.9, 0}, {10, 9.9, 0}, {2, 2, 1}, 1.0, 1);
-    top.X.col(1).array() += gap;
-    m.particles.append(top);
     ContactPair law = pair_law(ContactLaw::Frictionless, ContactDetection::LogisticRegression);
     law.normal = ContactNormal::LogisticRegression;
-    m.contact.material_field = {0, 1};
-    m.contact.pairs = {law};
-    Eigen::VectorXi field;
-    m.contact.particle_fields(m.particles.material, field);
-    Operators ops;
-    assemble(m.grid, m.particles, Shape::GIMP, ops, 2, &field);
-    const Eigen::VectorXd volume = m.particles.volume();
-    const ContactParticles cp{m.particles.X, m.particles.F, m.particles.half_length, volume};
+    Model m(Grid(1, {0, 0, 0}, {1, 1, 1}, {1, 1, 1}));
     ContactNodes cn;
-    find_contact_nodes(m.grid, ops, particle_operators(ops), m.contact, cp, cn);
+    stacked_blocks_contact(5.9, gap, law, m, cn);
     REQUIRE(cn.nodes.size() >= 9);
     for (const ContactNodes::Node& node : cn.nodes) {
       CAPTURE(node.node);
@@ -451,24 +459,11 @@ TEST_CASE("the DF separation is the gap between two blocks, exact when they touc
   for (double bottom : {6.0, 5.9})
     for (double gap : {0.0, 0.2, 0.05, -0.05, -0.2}) {
       CAPTURE(bottom, gap);
-      Model m(Grid(2, {0, 0, 0}, {1, 1, 1}, {12, 12, 1}));
-      m.materials = {elastic("a", 40), elastic("b", 40)};
-      m.particles = make_block(m.grid, {2, 2, 0}, {10, bottom, 0}, {2, 2, 1}, 1.0, 0);
-      Particles top = make_block(m.grid, {2, bottom, 0}, {10, bottom + 4, 0}, {2, 2, 1}, 1.0, 1);
-      top.X.col(1).array() += gap;
-      m.particles.append(top);
       ContactPair law = pair_law(ContactLaw::Frictionless, ContactDetection::DistanceFunction);
       law.normal = ContactNormal::Specified;
-      m.contact.material_field = {0, 1};
-      m.contact.pairs = {law};
-      Eigen::VectorXi field;
-      m.contact.particle_fields(m.particles.material, field);
-      Operators ops;
-      assemble(m.grid, m.particles, Shape::GIMP, ops, 2, &field);
-      const Eigen::VectorXd volume = m.particles.volume();
-      const ContactParticles cp{m.particles.X, m.particles.F, m.particles.half_length, volume};
+      Model m(Grid(1, {0, 0, 0}, {1, 1, 1}, {1, 1, 1}));
       ContactNodes cn;
-      find_contact_nodes(m.grid, ops, particle_operators(ops), m.contact, cp, cn);
+      stacked_blocks_contact(bottom, gap, law, m, cn);
       REQUIRE(cn.nodes.size() >= 9);
       for (const ContactNodes::Node& node : cn.nodes) {
         CAPTURE(node.node, m.grid.node_position(node.node)[1]);
