@@ -14,6 +14,8 @@ import unittest
 import h5py
 import numpy as np
 
+from example_runs import run_example
+
 SMPM = os.environ.get("SMPM", "smpm")
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
 EXAMPLE = SOURCE / "examples" / "two_block_compression.toml"
@@ -24,12 +26,7 @@ FMPM4 = ["scheme.velocity=FMPM", "scheme.order=4", "time.courant=0.2"]
 
 def mean_axial_stress(work, name, *sets):
     """Mean sigma_yy of the particles at every frame (1% strain apart) of a full run."""
-    out = pathlib.Path(work) / (name + ".h5")
-    args = [SMPM, "run", str(EXAMPLE), "-o", str(out), "-q"]
-    for s in sets:
-        args += ["--set", s]
-    r = subprocess.run(args, capture_output=True, text=True, timeout=600)
-    assert r.returncode == 0, r.stderr
+    out = run_example(EXAMPLE, work, name, sets)
     with h5py.File(out, "r") as f:
         frames = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])
         series = {k: f["series"][k][:] for k in ("material_mass", "material_centre")}

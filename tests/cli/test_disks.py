@@ -8,12 +8,13 @@ Run by ctest (Release builds only) with SMPM and SMPM_SOURCE in the environment.
 import concurrent.futures
 import os
 import pathlib
-import subprocess
 import tempfile
 import unittest
 
 import h5py
 import numpy as np
+
+from example_runs import fmpm, run_example
 
 SMPM = os.environ.get("SMPM", "smpm")
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
@@ -21,17 +22,8 @@ EXAMPLE = SOURCE / "examples" / "disk_impact.toml"
 HALF_MM = ["grid.cell_size=[0.5, 0.5]", "grid.cells=[112, 96]"]
 
 
-def fmpm(k):
-    return ["scheme.velocity=FMPM", f"scheme.order={k}"]
-
-
 def run(work, name, sets):
-    out = pathlib.Path(work) / (name + ".h5")
-    args = [SMPM, "run", str(EXAMPLE), "-o", str(out), "-q"]
-    for s in sets:
-        args += ["--set", s]
-    r = subprocess.run(args, capture_output=True, text=True, timeout=600)
-    assert r.returncode == 0, r.stderr
+    out = run_example(EXAMPLE, work, name, sets)
     with h5py.File(out, "r") as f:
         s = f["series"]
         e = s["kinetic"][:] + s["strain"][:]

@@ -15,6 +15,8 @@ import unittest
 import h5py
 import numpy as np
 
+from example_runs import fmpm, run_example
+
 SMPM = os.environ.get("SMPM", "smpm")
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
 EXAMPLE = SOURCE / "examples" / "shock_split_bar.toml"
@@ -31,18 +33,9 @@ XPIC5 = ["scheme.velocity=XPIC", "scheme.order=5"]
 BINS = np.arange(30.0, 47.0, 0.25)
 
 
-def fmpm(k):
-    return ["scheme.velocity=FMPM", f"scheme.order={k}"]
-
-
 def run(work, name, sets):
     """(time, pressure in GPa per bin) of every frame."""
-    out = pathlib.Path(work) / (name + ".h5")
-    args = [SMPM, "run", str(EXAMPLE), "-o", str(out), "-q"]
-    for s in sets:
-        args += ["--set", s]
-    r = subprocess.run(args, capture_output=True, text=True, timeout=600)
-    assert r.returncode == 0, r.stderr
+    out = run_example(EXAMPLE, work, name, sets)
     frames = []
     with h5py.File(out, "r") as f:
         for g in sorted(f["particles"].values(), key=lambda g: g.attrs["time"]):

@@ -1,0 +1,23 @@
+"""What the example-driven CLI tests share: a full `smpm run` of an example with overrides."""
+import os
+import pathlib
+import subprocess
+
+SMPM = os.environ.get("SMPM", "smpm")
+
+
+def fmpm(k):
+    """The overrides of FMPM(k)."""
+    return ["scheme.velocity=FMPM", f"scheme.order={k}"]
+
+
+def run_example(example, work, name, sets):
+    """Runs `example` with `--set` overrides into <work>/<name>.h5 (asserting exit 0) and
+    returns that path."""
+    out = pathlib.Path(work) / (name + ".h5")
+    args = [SMPM, "run", str(example), "-o", str(out), "-q"]
+    for s in sets:
+        args += ["--set", s]
+    r = subprocess.run(args, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    return out
