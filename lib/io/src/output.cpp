@@ -2,7 +2,6 @@
 
 #include "hdf5_util.hpp"
 #include "output_format.hpp"
-#include "sparsempm/contact.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/run_file.hpp"
 #include "sparsempm/stages.hpp"
@@ -162,51 +161,6 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
   h5::set_attribute(g.get(), "step", model.step);
 }
 
-// The contact nodes of a frame (contact.hpp): the grid nodes seen by two or more velocity
-// fields, the two fields (−1, −1 for a node of three or more, lumped), the normal n̂ from the
-// first to the second, the separation δ of the pair's detection (−1 where it has none) and
-// whether the fields approach there, Δp(0)·n̂ < 0 with Δp(0) from the frame's momenta before
-// contact. The frame's state: a step from it corrects the approaching nodes whose end-of-step
-// gap δ + Δt Δp(0)·n̂/m_red is negative.
-void write_contact_nodes(hid_t g, const Model& model, const Operators& ops, const Field& p) {
-  const Particles& P = model.particles;
-  Eigen::VectorXd volume;
-  P.jacobian(volume);
-  volume.array() *= P.volume0.array();
-  ContactNodes cn;
-  find_contact_nodes(model.grid, ops, particle_operators(ops), model.contact,
-                     ContactParticles{P.X, P.F, P.half_length, volume}, cn);
-  const Index nc = Index(cn.nodes.size()), ng = ops.grid_node_count;
-  const int d = P.dim;
-  std::vector<int> node(static_cast<size_t>(nc)), pair(static_cast<size_t>(2 * nc)),
-      approaching(static_cast<size_t>(nc), 0);
-  Field normal = Field::Zero(nc, d);
-  Eigen::VectorXd separation = Eigen::VectorXd::Constant(nc, -1);
-  for (Index c = 0; c < nc; ++c) {
-    const ContactNodes::Node& n = cn.nodes[size_t(c)];
-    node[size_t(c)] = int(n.node);
-    pair[size_t(2 * c)] = n.a;
-    pair[size_t(2 * c + 1)] = n.b;
-    if (n.a < 0)
-      continue;
-    separation[c] = n.separation;
-    const Index ra = n.a * ng + n.node, rb = n.b * ng + n.node;
-    const double ma = ops.m[ra], mb = ops.m[rb];
-    double dn = 0;
-    for (int a = 0; a < d; ++a) {
-      normal(c, a) = n.normal[a];
-      dn += (ma * p(rb, a) - mb * p(ra, a)) / (ma + mb) * n.normal[a];
-    }
-    approaching[size_t(c)] = dn < 0;
-  }
-  const hsize_t rows = hsize_t(nc);
-  h5::write_ints(g, "contact_nodes", node.data(), rows);
-  h5::write_ints(g, "contact_fields", pair.data(), 2 * rows);
-  h5::write_doubles(g, "contact_normal", normal.data(), rows, hsize_t(d));
-  h5::write_doubles(g, "contact_separation", separation.data(), rows, 0);
-  h5::write_ints(g, "contact_approaching", approaching.data(), rows);
-}
-
 // /grid/<name> (m, p = SᵀMV, v = m⁻¹p) and, when asked, /matrices/<name> (S, G_a, m̃ in CSR).
 void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape,
                 bool matrices) {
@@ -244,7 +198,7 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
     h5::set_attribute(g.get(), "grid_nodes", long(ops.grid_node_count));
     h5::set_attribute(g.get(), "velocity_fields", long(fields));
     if (fields > 1)
-      write_contact_nodes(g.get(), model, ops, p);
+      detail::write_contact_nodes(g.get(), model, ops, p);
   }
   if (!matrices)
     return;
