@@ -21,3 +21,21 @@ def run_example(example, work, name, sets):
     r = subprocess.run(args, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
     return out
+
+
+def check_refused(test, example, sets, words):
+    """Asserts that `smpm run example` with these overrides exits 2 with one line of error
+    holding every one of `words`, and writes no output file."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        out = pathlib.Path(tmp) / "x.h5"
+        args = [SMPM, "run", str(example), "-o", str(out), "-q"]
+        for s in sets:
+            args += ["--set", s]
+        r = subprocess.run(args, capture_output=True, text=True, timeout=60)
+        test.assertEqual(r.returncode, 2, r.stderr)
+        lines = r.stderr.strip().splitlines()
+        test.assertEqual(len(lines), 1, r.stderr)
+        for w in words:
+            test.assertIn(w, lines[0])
+        test.assertFalse(out.exists())

@@ -14,7 +14,7 @@ import unittest
 import h5py
 import numpy as np
 
-from example_runs import run_example
+from example_runs import check_refused, run_example
 
 SMPM = os.environ.get("SMPM", "smpm")
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
@@ -199,18 +199,7 @@ class ThreeMaterials(unittest.TestCase):
 
 class ContactInput(unittest.TestCase):
     def check(self, sets, words):
-        with tempfile.TemporaryDirectory() as tmp:
-            out = pathlib.Path(tmp) / "x.h5"
-            args = [SMPM, "run", str(EXAMPLE), "-o", str(out), "-q"]
-            for s in sets:
-                args += ["--set", s]
-            r = subprocess.run(args, capture_output=True, text=True, timeout=60)
-            self.assertEqual(r.returncode, 2, r.stderr)
-            lines = r.stderr.strip().splitlines()
-            self.assertEqual(len(lines), 1, r.stderr)
-            for w in words:
-                self.assertIn(w, lines[0])
-            self.assertFalse(out.exists())
+        check_refused(self, EXAMPLE, sets, words)
 
     def test_bad_inputs(self):
         self.check(["contact.0.law=glue"], ["contact.0.law", "stick | frictionless"])

@@ -15,7 +15,7 @@ import unittest
 import h5py
 import numpy as np
 
-from example_runs import fmpm, run_example
+from example_runs import check_refused, fmpm, run_example
 
 SMPM = os.environ.get("SMPM", "smpm")
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
@@ -182,6 +182,19 @@ class Shock(unittest.TestCase):
                                                    b["particles"][frame][field][:]),
                                     f"{frame}/{field}")
             self.assertGreater(a["particles"]["000010"]["energy"][:].max(), 1e6)
+
+
+class ShockInput(unittest.TestCase):
+    def test_bad_material_keys(self):
+        # Mie-Gruneisen keys get one-line errors naming file, key and value; nothing is written.
+        for sets, words in (
+                (["material.left.youngs=1.0"], ["material.left.youngs", "takes bulk and shear"]),
+                (["material.left.s1=-1.0"], ["material.left.s1 = -1.0", "non-negative"]),
+                (["material.left.bulk=0.0"], ["material.left.bulk = 0.0", "positive"]),
+                (["material.left.viscosity=[0.4]"], ["material.left.viscosity", "2 numbers"]),
+                (["material.left.model=\"mie\""], ["material.left.model", "mie-gruneisen"])):
+            with self.subTest(sets[0]):
+                check_refused(self, EXAMPLE, sets, words)
 
 
 if __name__ == "__main__":
