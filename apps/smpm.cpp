@@ -6,6 +6,9 @@
 //   smpm stability input.toml [--k 1,2,4] [--blend 1:0.8] [--periodic 2] [--method spectral]
 //   smpm spectrum input.toml [--k ...] [--alpha ...] [--courant C]
 //
+// Threads: SMPM_THREADS=n (a positive integer), else OMP_NUM_THREADS, else every core; the
+// results are the same bit for bit for any number.
+//
 // Exit status: 0 success, 2 bad input (nothing that looks like a run is written),
 // 3 numerical failure (frames written so far are kept in the partial file), 130 / 143 for
 // SIGINT / SIGTERM, 1 any other error (a full disk, a closed standard output).
@@ -16,6 +19,7 @@
 #include <sparsempm/errors.hpp>
 #include <sparsempm/output.hpp>
 #include <sparsempm/run.hpp>
+#include <sparsempm/threads.hpp>
 #include <sparsempm/version.hpp>
 
 #include <CLI/CLI.hpp>
@@ -191,6 +195,7 @@ int main(int argc, char** argv) {
   }
   int code = 0;
   try {
+    smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core
     if (*run)
       code = run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet);
     else if (*stab)

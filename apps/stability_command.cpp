@@ -8,6 +8,7 @@
 #include <sparsempm/run_file.hpp>
 #include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
+#include <sparsempm/threads.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -214,6 +215,7 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
   std::mutex print;
   std::exception_ptr failure;
   auto worker = [&] {
+    set_threads(1); // the two workers already fill both cores
     for (size_t i; !stop && (i = next++) < rows.size();) {
       try {
         Row& r = rows[i];

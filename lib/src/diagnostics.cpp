@@ -1,18 +1,34 @@
 #include "sparsempm/diagnostics.hpp"
 
+#include "parallel.hpp"
+
 #include <cmath>
 
 namespace smpm {
 
 Energies energies(const Model& model) {
   const Particles& P = model.particles;
+  const int d = P.dim;
   Energies e;
-  e.kinetic = 0.5 * (P.mass.asDiagonal() * P.V.rowwise().squaredNorm()).sum();
+  // Σ_p M_p |V_p|² and Σ_p M_p V_p in one pass, summed in the fixed order of ordered_reduce.
+  double sums[4];
+  detail::ordered_reduce(
+      P.size(), 1 + d, 0.0, sums,
+      [&](Index p, double* acc) {
+        const double M = P.mass[p];
+        double v2 = 0;
+        for (int a = 0; a < d; ++a) {
+          v2 += P.V(p, a) * P.V(p, a);
+          acc[1 + a] += M * P.V(p, a);
+        }
+        acc[0] += M * v2;
+      },
+      [](double a, double b) { return a + b; });
+  e.kinetic = 0.5 * sums[0];
   e.strain = strain_energy(model.materials, P);
   e.total = e.kinetic + e.strain;
-  const Eigen::RowVectorXd mom = P.mass.transpose() * P.V;
-  for (int a = 0; a < P.dim; ++a)
-    e.momentum[a] = mom[a];
+  for (int a = 0; a < d; ++a)
+    e.momentum[a] = sums[1 + a];
   return e;
 }
 

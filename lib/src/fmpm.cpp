@@ -1,6 +1,7 @@
 #include "sparsempm/fmpm.hpp"
 
 #include "kernels.hpp"
+#include "parallel.hpp"
 #include "sparsempm/errors.hpp"
 
 #include <cmath>
@@ -92,10 +93,11 @@ void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt
   const double* val = mt.valuePtr();
   const int c = int(x.cols());
   y.resize(mt.rows(), c);
-  // Row i: y_i = m_i⁻¹ Σ_j m̃_ij x_j, with the column count a compile-time constant when small.
+  // Row i: y_i = m_i⁻¹ Σ_j m̃_ij x_j, with the column count a compile-time constant when small;
+  // one row per iteration, so the threads write disjoint rows.
   auto rows = [&]<int C>() {
     const int cols = C ? C : c;
-    for (Index i = 0; i < mt.rows(); ++i) {
+    detail::parallel_for(mt.rows(), [&](Index i) {
       double acc[C ? C : 1];
       double* out = C ? acc : y.data() + i * cols;
       for (int a = 0; a < cols; ++a)
@@ -108,7 +110,7 @@ void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt
       double* yi = y.data() + i * cols;
       for (int a = 0; a < cols; ++a)
         yi[a] = out[a] * m_inv[i];
-    }
+    });
   };
   if (!detail::dispatch_int<1, 2, 3>(c, rows))
     rows.template operator()<0>();

@@ -1,5 +1,7 @@
 #include "sparsempm/material.hpp"
 
+#include "parallel.hpp"
+
 #include "sparsempm/errors.hpp"
 
 #include <Eigen/LU>
@@ -204,7 +206,7 @@ void update_stress(const std::vector<Material>& materials,
   SMPM_VERIFY(d * d == d2 && stress.cols() == d2 && stress.rows() == F.rows() &&
                   material.size() == F.rows(),
               "update_stress: F and stress must be N x d^2 and material of size N");
-  for (Index p = 0; p < F.rows(); ++p) {
+  detail::parallel_for(F.rows(), [&](Index p) {
     const Material& mat = material_of(materials, material[p], p);
     const double* Fp = F.data() + p * F.outerStride();
     double* sigma = stress.data() + p * stress.outerStride();
@@ -220,7 +222,7 @@ void update_stress(const std::vector<Material>& materials,
         linear_stress<3>(mat, Fp, sigma);
         break;
       }
-      continue;
+      return;
     }
     const Eigen::Matrix3d F3 = embed_3d(Fp, d);
     if (mat.model == MaterialModel::MieGruneisen)
@@ -229,18 +231,23 @@ void update_stress(const std::vector<Material>& materials,
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
         sigma[a * d + b] = s(a, b);
-  }
+  });
 }
 
-double strain_energy(const std::vector<Material>& materials, const Particles& P) {
-  double W = 0;
-  for (Index p = 0; p < P.size(); ++p) {
-    const Material& mat = material_of(materials, P.material[p], p);
-    W += P.volume0[p] * strain_energy_density(mat, P.dim, particle_F(P, p));
-    if (mat.model == MaterialModel::MieGruneisen)
-      W += P.mass[p] * P.energy[p];
-  }
+namespace {
+// Ω_p W(F_p), plus M_p U_p for a Mie–Grüneisen particle.
+double particle_strain_energy(const std::vector<Material>& materials, const Particles& P, Index p) {
+  const Material& mat = material_of(materials, P.material[p], p);
+  double W = P.volume0[p] * strain_energy_density(mat, P.dim, particle_F(P, p));
+  if (mat.model == MaterialModel::MieGruneisen)
+    W += P.mass[p] * P.energy[p];
   return W;
+}
+} // namespace
+
+double strain_energy(const std::vector<Material>& materials, const Particles& P) {
+  return detail::ordered_sum(P.size(),
+                             [&](Index p) { return particle_strain_energy(materials, P, p); });
 }
 
 bool uses_shock_physics(const std::vector<Material>& materials) {
@@ -264,18 +271,18 @@ void shock_pressure(const std::vector<Material>& materials,
                     const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
                     const ConstFieldRef& stress, Eigen::Ref<Eigen::VectorXd> pressure) {
   const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
-  for (Index p = 0; p < F.rows(); ++p) {
+  detail::parallel_for(F.rows(), [&](Index p) {
     const Material& mat = material_of(materials, material[p], p);
     pressure[p] = 0;
     if (mat.model != MaterialModel::MieGruneisen)
-      continue;
+      return;
     const Eigen::Matrix3d F3 = embed_3d(F.data() + p * F.outerStride(), d);
     const Eigen::Matrix3d s = shear_term(mat, F3, F3.determinant());
     double sum = 0;
     for (int a = 0; a < d; ++a)
       sum += stress(p, a * d + a) - s(a, a);
     pressure[p] = -sum / d;
-  }
+  });
 }
 
 double update_shock_stress(const std::vector<Material>& materials,
@@ -286,11 +293,11 @@ double update_shock_stress(const std::vector<Material>& materials,
                            Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
                            FieldRef stress) {
   const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
-  double viscous = 0;
-  for (Index p = 0; p < F.rows(); ++p) {
+  // The viscous work −Σ_p q ΔJ Ω_p, summed in the fixed order of ordered_sum.
+  return detail::ordered_sum(F.rows(), [&](Index p) {
     const Material& mat = material_of(materials, material[p], p);
     if (mat.model != MaterialModel::MieGruneisen)
-      continue;
+      return 0.0;
     const Eigen::Matrix3d F3 = embed_3d(F.data() + p * F.outerStride(), d);
     const double J = F3.determinant();
     check_compression(mat, J, p);
@@ -306,14 +313,13 @@ double update_shock_stress(const std::vector<Material>& materials,
     energy[p] = (energy[p] - 0.5 * (p_old[p] + pc + q) * dJ / mat.density) / (1 + 0.5 * g * dJ);
     const double P = pc + mat.density * g * energy[p];
     pressure[p] = P + q;
-    viscous -= q * dJ * volume0[p];
     const Eigen::Matrix3d s = shear_term(mat, F3, J);
     double* sigma = stress.data() + p * stress.outerStride();
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
         sigma[a * d + b] = s(a, b) - (a == b ? P + q : 0.0);
-  }
-  return viscous;
+    return -q * dJ * volume0[p];
+  });
 }
 
 double max_wave_speed(const std::vector<Material>& materials, const Particles& P) {
@@ -328,16 +334,20 @@ double max_wave_speed(const std::vector<Material>& materials, const Particles& P
       c = std::max(c, materials[i].wave_speed(P.dim));
   if (!uses_shock_physics(materials))
     return c;
-  for (Index p = 0; p < P.size(); ++p) {
-    const Material& mat = materials[size_t(P.material[p])];
-    if (mat.model != MaterialModel::MieGruneisen)
-      continue;
-    const double J = P.det_F(p), rho = mat.density / J;
-    check_compression(mat, J, p);
-    const double Kt = std::max(0.0, mie_gruneisen_tangent(mat, J, P.energy[p]));
-    c = std::max(c, std::sqrt((Kt + 4 * mat.shear / 3) / rho));
-  }
-  return c;
+  double shock = 0; // the largest Mie–Grüneisen speed, blocks in a fixed order
+  detail::ordered_reduce(
+      P.size(), 1, 0.0, &shock,
+      [&](Index p, double* acc) {
+        const Material& mat = materials[size_t(P.material[p])];
+        if (mat.model != MaterialModel::MieGruneisen)
+          return;
+        const double J = P.det_F(p), rho = mat.density / J;
+        check_compression(mat, J, p);
+        const double Kt = std::max(0.0, mie_gruneisen_tangent(mat, J, P.energy[p]));
+        acc[0] = std::max(acc[0], std::sqrt((Kt + 4 * mat.shear / 3) / rho));
+      },
+      [](double a, double b) { return std::max(a, b); });
+  return std::max(c, shock);
 }
 
 } // namespace smpm

@@ -1,5 +1,7 @@
 #include "sparsempm/operators.hpp"
 
+#include "parallel.hpp"
+
 #include "sparsempm/errors.hpp"
 
 #include <algorithm>
@@ -8,6 +10,26 @@
 #include <string>
 
 namespace smpm {
+
+void build_column_index(const SparseRowMatrix& S, ColumnIndex& c) {
+  const Index N = S.rows(), n = S.cols(), nnz = S.nonZeros();
+  const int* outer = S.outerIndexPtr();
+  const int* inner = S.innerIndexPtr();
+  c.outer.assign(size_t(n + 1), 0);
+  for (Index k = 0; k < nnz; ++k)
+    ++c.outer[size_t(inner[k]) + 1];
+  for (Index i = 0; i < n; ++i)
+    c.outer[size_t(i + 1)] += c.outer[size_t(i)];
+  c.entry.resize(size_t(nnz));
+  c.row.resize(size_t(nnz));
+  std::vector<int> next(c.outer.begin(), c.outer.end() - 1);
+  for (Index p = 0; p < N; ++p) // ascending particles: each column in particle order
+    for (int k = outer[p]; k < outer[p + 1]; ++k) {
+      const int t = next[size_t(inner[k])]++;
+      c.entry[size_t(t)] = k;
+      c.row[size_t(t)] = int(p);
+    }
+}
 
 void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops, int fields,
               const Eigen::VectorXi* field) {
@@ -22,10 +44,23 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
   ops.grid_nodes = {grid.nodes(0), grid.nodes(1), grid.nodes(2)};
   static std::atomic<long> versions{0}; // unique across all Operators objects
   if (assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support, fields,
-                     fields > 1 ? field->data() : nullptr))
+                     fields > 1 ? field->data() : nullptr) ||
+      ops.columns.entry.size() != size_t(ops.S.nonZeros())) {
     ops.pattern_version = ++versions;
+    build_column_index(ops.S, ops.columns);
+  }
   ops.M = particles.mass;
-  ops.m.noalias() = ops.S.transpose() * ops.M; // m = Sᵀ M
+  // m = Sᵀ M (FMPM 2026 §2.1), gathered node by node in particle order.
+  const Index n = ops.num_nodes();
+  ops.m.resize(n);
+  const ColumnIndex& cols = ops.columns;
+  const double* sv = ops.S.valuePtr();
+  detail::parallel_for(n, [&](Index i) {
+    double sum = 0;
+    for (int t = cols.outer[size_t(i)]; t < cols.outer[size_t(i + 1)]; ++t)
+      sum += sv[cols.entry[size_t(t)]] * ops.M[cols.row[size_t(t)]];
+    ops.m[i] = sum;
+  });
   const double tol = kMassTolerance * (ops.m.size() ? ops.m.maxCoeff() : 0.0);
   ops.active = ops.m.array() > tol;
   ops.m_inv = ops.active.select(ops.m.array().inverse(), 0.0).matrix();
@@ -127,44 +162,43 @@ void build_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
   ro[n] = int(pos);
 }
 
-// Values: m̃_ij += M_p S_pi S_pj for every pair (i, j) of particle p's box (FMPM 2026 §2.1).
-void scatter_consistent_mass(const Operators& ops, ConsistentMass& mt) {
+// Values: m̃_ij = Σ_p M_p S_pi S_pj (FMPM 2026 §2.1), row i gathered from the particles of node i
+// in particle order (the column index of S), so that each row is written by one thread.
+void gather_consistent_mass(const Operators& ops, ConsistentMass& mt) {
   const auto& nodes = ops.grid_nodes;
   const auto& w = mt.half_width;
   const int* outer = ops.S.outerIndexPtr();
-  const int* inner = ops.S.innerIndexPtr();
+  const ColumnIndex& cols = ops.columns;
   SparseRowMatrix& A = mt.matrix;
-  std::fill(A.valuePtr(), A.valuePtr() + A.nonZeros(), 0.0);
   const int* ro = A.outerIndexPtr();
   double* val = A.valuePtr();
   const double* sv = ops.S.valuePtr();
-  for (Index p = 0; p < ops.num_particles(); ++p) {
-    const ShapeSupport& s = ops.support[size_t(p)];
-    const int begin = outer[p];
-    const double Mp = ops.M[p];
-    int qa = 0;
-    for (int a2 = 0; a2 < s.count[2]; ++a2)
-      for (int a1 = 0; a1 < s.count[1]; ++a1)
-        for (int a0 = 0; a0 < s.count[0]; ++a0, ++qa) {
-          const double wa = Mp * sv[begin + qa];
-          if (wa == 0)
-            continue;
-          int lo[3], c[3];
-          stencil(s.first[0] + a0, w[0], nodes[0], lo[0], c[0]);
-          stencil(s.first[1] + a1, w[1], nodes[1], lo[1], c[1]);
-          stencil(s.first[2] + a2, w[2], nodes[2], lo[2], c[2]);
-          double* row = val + ro[inner[begin + qa]];
-          const double* sb = sv + begin;
-          for (int b2 = 0; b2 < s.count[2]; ++b2)
-            for (int b1 = 0; b1 < s.count[1]; ++b1) {
-              double* r = row +
-                          ((s.first[2] + b2 - lo[2]) * c[1] + (s.first[1] + b1 - lo[1])) * c[0] +
-                          (s.first[0] - lo[0]);
-              for (int b0 = 0; b0 < s.count[0]; ++b0)
-                r[b0] += wa * *sb++;
-            }
+  detail::parallel_for(ops.num_nodes(), [&](Index i) {
+    double* row = val + ro[i];
+    std::fill(row, val + ro[i + 1], 0.0);
+    for (int t = cols.outer[size_t(i)]; t < cols.outer[size_t(i + 1)]; ++t) {
+      const int p = cols.row[size_t(t)], begin = outer[p], ka = cols.entry[size_t(t)];
+      const double wa = ops.M[p] * sv[ka];
+      if (wa == 0)
+        continue;
+      // Node i is entry (a0, a1, a2) of particle p's box (x fastest).
+      const ShapeSupport& s = ops.support[size_t(p)];
+      const int qa = ka - begin, a0 = qa % s.count[0], a1 = (qa / s.count[0]) % s.count[1],
+                a2 = qa / (s.count[0] * s.count[1]);
+      int lo[3], c[3];
+      stencil(s.first[0] + a0, w[0], nodes[0], lo[0], c[0]);
+      stencil(s.first[1] + a1, w[1], nodes[1], lo[1], c[1]);
+      stencil(s.first[2] + a2, w[2], nodes[2], lo[2], c[2]);
+      const double* sb = sv + begin;
+      for (int b2 = 0; b2 < s.count[2]; ++b2)
+        for (int b1 = 0; b1 < s.count[1]; ++b1) {
+          double* r = row + ((s.first[2] + b2 - lo[2]) * c[1] + (s.first[1] + b1 - lo[1])) * c[0] +
+                      (s.first[0] - lo[0]);
+          for (int b0 = 0; b0 < s.count[0]; ++b0)
+            r[b0] += wa * *sb++;
         }
-  }
+    }
+  });
 }
 } // namespace
 
@@ -172,7 +206,7 @@ void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
   mt.pattern_reused = keep_stencil_pattern(ops, mt);
   if (!mt.pattern_reused)
     build_stencil_pattern(ops, mt);
-  scatter_consistent_mass(ops, mt);
+  gather_consistent_mass(ops, mt);
 }
 
 SparseMatrix S_plus(const Operators& ops) {

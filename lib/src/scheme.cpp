@@ -1,5 +1,7 @@
 #include "sparsempm/scheme.hpp"
 
+#include "parallel.hpp"
+
 #include "sparsempm/errors.hpp"
 
 #include <Eigen/LU>
@@ -21,8 +23,9 @@ void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, d
   s.J_old.resize(N);
   s.p_old.resize(N);
   s.pressure.resize(N);
-  for (Index p = 0; p < N; ++p)
+  detail::parallel_for(N, [&](Index p) {
     s.J_old[p] = embed_3d(fields.F.data() + p * fields.F.outerStride(), d).determinant();
+  });
   shock_pressure(materials_, material_, fields.F, fields.stress, s.p_old);
   update_deformation(op, v, dt, kind_, fields.F);
   update_stress(materials_, material_, fields.F, fields.stress);

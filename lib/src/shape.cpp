@@ -1,11 +1,13 @@
 #include "sparsempm/shape.hpp"
 
+#include "parallel.hpp"
 #include "shape_functions.hpp"
 
 #include "sparsempm/errors.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -230,32 +232,43 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   if (point) {
     changed = detail::point_supports(grid, P, shape == Shape::BSpline2, support, nnz) || changed;
   } else {
-    for (Index p = 0; p < N; ++p) {
+    std::atomic<bool> moved{false};
+    detail::parallel_for(N, [&](Index p) {
       const ShapeSupport s = support_of(grid, P, p, shape);
-      changed = changed || !(s == support[p]);
-      support[p] = s;
+      if (!(s == support[size_t(p)])) {
+        support[size_t(p)] = s;
+        moved.store(true, std::memory_order_relaxed);
+      }
+    });
+    changed = moved.load() || changed;
+    for (const ShapeSupport& s : support)
       nnz += Index(s.count[0]) * s.count[1] * s.count[2];
-    }
   }
   if (nnz > Index(std::numeric_limits<int>::max()))
     throw NumericalError("S would hold " + std::to_string(nnz) +
                          " nonzeros, more than its 32-bit indices allow");
   if (changed) {
     set_pattern(S, N, n, nnz);
+    // Row offsets (an exclusive prefix sum of the box sizes), then the rows in parallel.
     int* outer = S.outerIndexPtr();
     int* inner = S.innerIndexPtr();
     Index pos = 0;
     for (Index p = 0; p < N; ++p) {
       outer[p] = int(pos);
-      const ShapeSupport& s = support[p];
+      const ShapeSupport& s = support[size_t(p)];
+      pos += Index(s.count[0]) * s.count[1] * s.count[2];
+    }
+    outer[N] = int(pos);
+    detail::parallel_for(N, [&](Index p) {
+      const ShapeSupport& s = support[size_t(p)];
       const Index block = fields > 1 ? Index(field[p]) * ng : 0; // node i of field α: α n_g + i
+      int* row = inner + outer[p];
       for (int k2 = 0; k2 < s.count[2]; ++k2)
         for (int k1 = 0; k1 < s.count[1]; ++k1)
           for (int k0 = 0; k0 < s.count[0]; ++k0)
-            inner[pos++] =
+            *row++ =
                 int(block + grid.node_index(s.first[0] + k0, s.first[1] + k1, s.first[2] + k2));
-    }
-    outer[N] = int(pos);
+    });
     for (int a = 0; a < 3; ++a) {
       if (a >= d) {
         G[a].resize(0, 0);
@@ -275,18 +288,20 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     detail::point_values(grid, P, shape == Shape::BSpline2, support, outer, sv, gv);
     return changed;
   }
-  BoxValues box;
-  for (Index p = 0; p < N; ++p) {
-    const ShapeSupport& s = support[p];
+  detail::parallel_for(N, [&](Index p) {
+    BoxValues box; // on the stack of the thread
+    const ShapeSupport& s = support[size_t(p)];
     if (uses_corners(shape))
       corner_values(grid, P, p, shape, s, box);
     else
       tensor_values(grid, P, p, shape, s, box);
     const int begin = outer[p], len = outer[p + 1] - begin;
-    std::copy(box.S, box.S + len, sv + begin);
-    for (int a = 0; a < d; ++a)
-      std::copy(box.G[a], box.G[a] + len, gv[a] + begin);
-  }
+    for (int j = 0; j < len; ++j) {
+      sv[begin + j] = box.S[j];
+      for (int a = 0; a < d; ++a)
+        gv[a][begin + j] = box.G[a][j];
+    }
+  });
   return changed;
 }
 

@@ -1,10 +1,12 @@
 // The fast path of the point-based shape families (linear hat, quadratic B-spline): dimension
 // and family known at compile time, values written straight into the CSR arrays.
 
+#include "parallel.hpp"
 #include "shape_functions.hpp"
 
 #include "sparsempm/errors.hpp"
 
+#include <atomic>
 #include <sstream>
 
 namespace smpm::detail {
@@ -39,7 +41,8 @@ void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>
                     bool& changed, Index& nnz) {
   constexpr int width = BS ? 3 : 2;
   const CellCoordinates<D> xi_of(g, P);
-  for (Index p = 0; p < P.size(); ++p) {
+  std::atomic<bool> moved{false};
+  parallel_for(P.size(), [&](Index p) {
     ShapeSupport s;
     for (int a = 0; a < D; ++a) {
       const double xi = xi_of(p, a);
@@ -53,11 +56,12 @@ void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>
       s.count[a] = width;
     }
     if (!(s == support[size_t(p)])) { // write only what changed: the pattern is usually kept
-      changed = true;
+      moved.store(true, std::memory_order_relaxed);
       support[size_t(p)] = s;
     }
-    nnz += BS ? (D == 1 ? 3 : D == 2 ? 9 : 27) : (1 << D);
-  }
+  });
+  changed = moved.load() || changed;
+  nnz += P.size() * (BS ? (D == 1 ? 3 : D == 2 ? 9 : 27) : (1 << D));
 }
 
 template <int D, bool BS>
@@ -65,7 +69,7 @@ void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupp
                   const int* outer, double* sv, double* const* gv) {
   constexpr int width = BS ? 3 : 2;
   const CellCoordinates<D> xi_of(g, P);
-  for (Index p = 0; p < P.size(); ++p) {
+  parallel_for(P.size(), [&](Index p) {
     const ShapeSupport& s = support[size_t(p)];
     double w[3][width], dw[3][width];
     for (int a = 0; a < 3; ++a) {
@@ -98,7 +102,7 @@ void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupp
           if constexpr (D > 2)
             gv[2][q] = w0 * w1 * dw[2][k2];
         }
-  }
+  });
 }
 
 template <bool BS>

@@ -1,14 +1,17 @@
 #include "sparsempm/stages.hpp"
 
 #include "kernels.hpp"
+#include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
 
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace smpm {
 
@@ -44,6 +47,30 @@ inline void particle_gradient(const ParticleOperators& op, Index q, const Field&
   }
 }
 
+// Calls add(q, k) for every entry of node i in the block, in ascending particle order: q the
+// particle's row in the block, k the entry's position in the CSR arrays of S and the G_b.
+template <class Add>
+inline void node_entries(const ParticleOperators& op, Index i, Add&& add) {
+  const int* r = op.col_row;
+  const int* lo = r + op.col_outer[i];
+  const int* hi = r + op.col_outer[i + 1];
+  if (op.first != 0 || op.rows != op.all_rows) { // the block's particles: a run of the column
+    lo = std::lower_bound(lo, hi, op.first);
+    hi = std::lower_bound(lo, hi, op.first + op.rows);
+  }
+  for (const int* t = lo; t < hi; ++t)
+    add(Index(*t) - op.first, op.col_entry[t - r]);
+}
+
+// Per-particle scratch of the calling thread (its worker threads write disjoint rows of it),
+// kept between steps so that a step allocates nothing.
+double* scratch(Index size) {
+  thread_local std::vector<double> buffer;
+  if (buffer.size() < size_t(size))
+    buffer.resize(size_t(size));
+  return buffer.data();
+}
+
 void check_node_field(const ParticleOperators& op, const Field& v, const char* who) {
   SMPM_VERIFY(v.rows() == op.nodes && v.cols() == op.dim,
               std::string(who) + ": the node field must be n x d");
@@ -56,6 +83,7 @@ ParticleOperators ParticleOperators::block(Index first, Index count) const {
               "ParticleOperators::block: rows out of range");
   ParticleOperators b = *this;
   b.rows = count;
+  b.first = this->first + first;
   b.outer = outer + first;
   b.M = M + first;
   return b;
@@ -75,36 +103,46 @@ ParticleOperators particle_operators(const Operators& ops) {
     op.G[size_t(b)] = ops.G[size_t(b)].valuePtr();
   }
   op.M = ops.M.data();
+  SMPM_VERIFY(ops.columns.entry.size() == size_t(ops.S.nonZeros()) &&
+                  ops.columns.outer.size() == size_t(op.nodes + 1),
+              "particle_operators: the column index must match S (see assemble)");
+  op.col_outer = ops.columns.outer.data();
+  op.col_entry = ops.columns.entry.data();
+  op.col_row = ops.columns.row.data();
+  op.first = 0;
+  op.all_rows = op.rows;
   return op;
 }
 
 void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p) {
   SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
-  p.setZero(op.nodes, op.dim);
+  p.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    for (Index q = 0; q < op.rows; ++q) {
-      double mv[D];
-      for (int a = 0; a < D; ++a)
-        mv[a] = op.M[q] * V(q, a);
-      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
-        double* pi = p.data() + Index(op.inner[k]) * D;
+    detail::parallel_for(op.nodes, [&](Index i) { // p_i = Σ_q S_qi M_q V_q
+      double sum[D] = {};
+      node_entries(op, i, [&](Index q, int k) {
         for (int a = 0; a < D; ++a)
-          pi[a] += op.S[k] * mv[a];
-      }
-    }
+          sum[a] += op.S[k] * (op.M[q] * V(q, a));
+      });
+      for (int a = 0; a < D; ++a)
+        p(i, a) = sum[a];
+    });
   });
 }
 
 void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g) {
   SMPM_VERIFY(volume.size() == op.rows, "volume_gradient: one volume per particle");
-  g.setZero(op.nodes, op.dim);
+  g.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    for (Index q = 0; q < op.rows; ++q)
-      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
-        double* gi = g.data() + Index(op.inner[k]) * D;
+    detail::parallel_for(op.nodes, [&](Index i) { // g_i = Σ_q G_qi V_q
+      double sum[D] = {};
+      node_entries(op, i, [&](Index q, int k) {
         for (int b = 0; b < D; ++b)
-          gi[b] += op.G[size_t(b)][k] * volume[q];
-      }
+          sum[b] += op.G[size_t(b)][k] * volume[q];
+      });
+      for (int b = 0; b < D; ++b)
+        g(i, b) = sum[b];
+    });
   });
 }
 
@@ -114,24 +152,29 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
   SMPM_VERIFY(volume0.size() == op.rows && F.rows() == op.rows && F.cols() == d2 &&
                   stress.rows() == op.rows && stress.cols() == d2,
               "internal_force: volume0, F and stress must have one row per particle");
-  f.setZero(op.nodes, op.dim);
+  f.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    for (Index q = 0; q < op.rows; ++q) {
+    double* tau = scratch(op.rows * D * D); // −Ω J σ of every particle
+    detail::parallel_for(op.rows, [&](Index q) {
       const double* sq = stress.data() + q * stress.outerStride();
       const double vol = -volume0[q] * det<D>(F.data() + q * F.outerStride()); // −Ω J
-      double tau[D * D];
       for (int c = 0; c < D * D; ++c)
-        tau[c] = vol * sq[c];
-      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
-        double* fi = f.data() + Index(op.inner[k]) * D;
+        tau[q * D * D + c] = vol * sq[c];
+    });
+    detail::parallel_for(op.nodes, [&](Index i) { // f_i = Σ_q Σ_b τ_q,·b G_b(q, i)
+      double fi[D] = {};
+      node_entries(op, i, [&](Index q, int k) {
+        const double* tq = tau + q * D * D;
         for (int a = 0; a < D; ++a) {
           double sum = 0;
           for (int b = 0; b < D; ++b)
-            sum += tau[a * D + b] * op.G[size_t(b)][k];
+            sum += tq[a * D + b] * op.G[size_t(b)][k];
           fi[a] += sum;
         }
-      }
-    }
+      });
+      for (int a = 0; a < D; ++a)
+        f(i, a) = fi[a];
+    });
   });
 }
 
@@ -152,7 +195,7 @@ void update_particles_flip(const ParticleOperators& op, const Field& v_plus, con
   // One pass over S: (S v⁺)_p and (S a)_p, then V += Δt S a, X += Δt S v⁺ − (1 − α) Δt² S a.
   by_dim(op.dim, [&]<int D>() {
     const double c = (1 - alpha) * dt * dt;
-    for (Index q = 0; q < op.rows; ++q) {
+    detail::parallel_for(op.rows, [&](Index q) {
       double sv[D] = {}, sa[D] = {};
       for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
         const Index i = op.inner[k];
@@ -169,7 +212,7 @@ void update_particles_flip(const ParticleOperators& op, const Field& v_plus, con
         if (!std::isfinite(x[b]) || !std::isfinite(v[b]))
           bad_particle(q, "a non-finite position or velocity", v[b]);
       }
-    }
+    });
   });
 }
 
@@ -178,7 +221,7 @@ void update_particles_pic(const ParticleOperators& op, const Field& vg, double d
   check_node_field(op, vg, "update_particles_pic");
   // One pass over S: V' = (S v)_p, X += (α V' + (1 − α) V) Δt, V = V'.
   by_dim(op.dim, [&]<int D>() {
-    for (Index q = 0; q < op.rows; ++q) {
+    detail::parallel_for(op.rows, [&](Index q) {
       double sv[D] = {};
       for (int k = op.outer[q]; k < op.outer[q + 1]; ++k)
         for (int b = 0; b < D; ++b)
@@ -191,7 +234,7 @@ void update_particles_pic(const ParticleOperators& op, const Field& vg, double d
         if (!std::isfinite(x[b]) || !std::isfinite(v[b]))
           bad_particle(q, "a non-finite position or velocity", v[b]);
       }
-    }
+    });
   });
 }
 
@@ -200,8 +243,7 @@ void velocity_gradient(const ParticleOperators& op, const Field& v, FieldRef L) 
   SMPM_VERIFY(L.rows() == op.rows && L.cols() == op.dim * op.dim,
               "velocity_gradient: L must be N x d^2");
   by_dim(op.dim, [&]<int D>() {
-    for (Index q = 0; q < op.rows; ++q)
-      particle_gradient<D>(op, q, v, row(L, q));
+    detail::parallel_for(op.rows, [&](Index q) { particle_gradient<D>(op, q, v, row(L, q)); });
   });
 }
 
@@ -222,7 +264,7 @@ namespace {
 template <int D, bool Exponential>
 void deformation_rows(const ParticleOperators& op, const Field& v, double dt, FieldRef& F) {
   using Mat = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
-  for (Index q = 0; q < op.rows; ++q) {
+  detail::parallel_for(op.rows, [&](Index q) {
     double L[D * D];
     particle_gradient<D>(op, q, v, L);
     double* f = row(F, q);
@@ -245,7 +287,7 @@ void deformation_rows(const ParticleOperators& op, const Field& v, double dt, Fi
     const double J = det<D>(f);
     if (!(J > 0))
       bad_particle(q, "det F <= 0", J);
-  }
+  });
 }
 } // namespace
 

@@ -11,6 +11,8 @@ matrices:
     print(smpm.mass_spectrum(ops).rho_A)
 
 Errors are InputError (bad input, the messages of `smpm run`) and NumericalError.
+Threads: SMPM_THREADS at import (else OMP_NUM_THREADS or every core), or set_threads(n); the
+results are the same bit for bit for any number.
 """
 
 import numpy as _np
@@ -43,9 +45,11 @@ from ._sparsempm import (  # noqa: F401
     exact_velocity,
     fmpm_velocity,
     mass_spectrum,
+    set_threads,
     simulation_courant,
     stable_time_step,
     sweep_shifts,
+    threads,
 )
 from ._sparsempm import _spectral_radius
 

@@ -5,6 +5,7 @@
 #include "bindings.hpp"
 
 #include <sparsempm/errors.hpp>
+#include <sparsempm/threads.hpp>
 #include <sparsempm/version.hpp>
 
 PYBIND11_MODULE(_sparsempm, m) {
@@ -19,4 +20,10 @@ PYBIND11_MODULE(_sparsempm, m) {
   bind_operators(m);
   bind_step(m);
   bind_analysis(m);
+  m.def("threads", &threads,
+        "Threads of the library's kernels (SMPM_THREADS, OMP_NUM_THREADS or every core); the "
+        "results are the same bit for bit for any number.");
+  m.def("set_threads", &set_threads, py::arg("count"),
+        "Uses `count` >= 1 threads in the kernels from now on.");
+  threads_from_environment(); // SMPM_THREADS at import: a bad value fails the import
 }

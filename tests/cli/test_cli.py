@@ -245,6 +245,40 @@ class Restart(Base):
             self.assertEqual(b.attrs["status"], "completed")
 
 
+class Threads(Base):
+    """SMPM_THREADS: 1 and 2 threads write the same bits; a bad value is one line, exit 2."""
+
+    def run_with(self, threads, name):
+        out = self.dir / (name + ".h5")
+        env = dict(os.environ, SMPM_THREADS=threads)
+        r = subprocess.run([SMPM, "run", EXAMPLES / "block_impact.toml", "-o", out, "-q",
+                            "--set", "time.end=0.03", "--set", "output.every=0.01",
+                            "--set", "scheme.velocity=FMPM", "--set", "scheme.order=4"],
+                           capture_output=True, text=True, env=env, timeout=600)
+        return r, out
+
+    def test_one_and_two_threads_write_the_same_bits(self):
+        (r1, one), (r2, two) = self.run_with("1", "one"), self.run_with("2", "two")
+        self.assertEqual(r1.returncode, 0, r1.stderr)
+        self.assertEqual(r2.returncode, 0, r2.stderr)
+        with h5py.File(one, "r") as a, h5py.File(two, "r") as b:
+            self.assertEqual(sorted(a["particles"]), sorted(b["particles"]))
+            self.assertGreaterEqual(len(a["particles"]), 4)
+            for name in a["particles"]:
+                for field in ("X", "V", "F", "stress"):
+                    self.assertTrue(np.array_equal(a["particles"][name][field][:], b["particles"][name][field][:]), f"{name}/{field}")
+            for s in ("kinetic", "strain", "total", "momentum"):
+                self.assertTrue(np.array_equal(a["series"][s][:], b["series"][s][:]), s)
+
+    def test_bad_thread_count(self):
+        for bad in ("0", "two", "-1"):
+            r, out = self.run_with(bad, "bad")
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertEqual(r.stderr.strip().splitlines(),
+                             [f"smpm: error: SMPM_THREADS='{bad}': expected a positive integer (at most 4096), the number of threads"])
+            self.assertFalse(out.exists())
+
+
 class FmpmVariants(Base):
     """The vibrating bar runs with FLIP, FMPM(4), blended, periodic, dynamic, XPIC and exact."""
 

@@ -16,6 +16,20 @@ namespace smpm {
 /// Relative tolerance of an active node: m_i > kMassTolerance · max_j m_j (Buzzi §4.4 M_TOL).
 inline constexpr double kMassTolerance = 1e-10;
 
+/// The pattern of an N × n operator by columns (a transpose index of S): the entries of node i
+/// are entry[outer[i]] … entry[outer[i + 1] − 1] (positions in S's CSR arrays) of the particles
+/// row[outer[i]] …, in ascending particle order. The node sums of a step (p = Sᵀ M V, m = Sᵀ M,
+/// f, m̃) are gathers over it: each node adds its particles' terms in the order of the particles,
+/// whatever the number of threads.
+struct ColumnIndex {
+  std::vector<int> outer; ///< n + 1 offsets
+  std::vector<int> entry; ///< nnz positions in S's arrays
+  std::vector<int> row;   ///< nnz particles
+};
+
+/// Builds the column index of S (rows: particles, columns: nodes).
+void build_column_index(const SparseRowMatrix& S, ColumnIndex& columns);
+
 /// Everything a time step needs from the particle configuration, assembled once per step.
 ///
 /// Multimaterial MPM (contact.hpp) keeps one S with the velocity fields as blocks of columns:
@@ -34,6 +48,7 @@ struct Operators {
   Eigen::Array<bool, Eigen::Dynamic, 1> active; ///< n: m_i > kMassTolerance · max m
   Eigen::VectorXd m_inv;                        ///< n: 1/m_i on active nodes, 0 elsewhere
   std::vector<ShapeSupport> support;            ///< workspace: the pattern of S and G
+  ColumnIndex columns;                          ///< S's pattern by columns
   std::array<int, 3> grid_nodes{1, 1, 1};       ///< nodes per axis of the grid
   long pattern_version = 0; ///< a new process-unique number whenever S's pattern changes
   Index num_particles() const { return S.rows(); }
@@ -66,8 +81,9 @@ struct ConsistentMass {
   const Operators* source = nullptr;         ///< the operators of the last assembly ...
   long source_version = -1;                  ///< ... and their pattern version
 };
-/// m̃_ij = Σ_p M_p S_pi S_pj scattered directly into the stencil pattern (no sparse × sparse
-/// product); the pattern is rebuilt only when the stencil width or the touched set changes.
+/// m̃_ij = Σ_p M_p S_pi S_pj written directly into the stencil pattern (no sparse × sparse
+/// product), row i from the particles of node i in particle order (ops.columns), one row per
+/// thread; the pattern is rebuilt only when the stencil width or the touched set changes.
 void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt);
 /// Lumped reverse map S⁺ = m⁻¹ Sᵀ M, n × N; rows of inactive nodes are zero (FMPM 2026 §2.1).
 SparseMatrix S_plus(const Operators& ops);

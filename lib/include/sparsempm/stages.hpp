@@ -6,6 +6,10 @@
 /// is the order in which scheme.cpp calls them. Node fields are n × d (one row per node),
 /// particle fields N × d or N × d² (one row per particle, tensors row-major).
 ///
+/// Every kernel runs on threads(): the particle kernels one particle per iteration, the node
+/// sums (P2G, internal force) one node per iteration as gathers in particle order, so the
+/// results are the same bit for bit for any number of threads (threads.hpp).
+///
 /// The kernels see the particles through ParticleOperators, the CSR rows of a contiguous block
 /// of particles: all of them, or the block of one material (ParticleOperators::block), with
 /// the matching rows of the fields (`P.V.middleRows(first, count)`).
@@ -30,6 +34,13 @@ struct ParticleOperators {
   const double* S = nullptr;        ///< S_pi of each entry
   std::array<const double*, 3> G{}; ///< ∂S_pi/∂x_b of each entry (b < d)
   const double* M = nullptr;        ///< rows particle masses
+  /// S's pattern by columns (Operators::columns): the node sums gather a node's particles in
+  /// particle order, so they do not depend on the number of threads.
+  const int* col_outer = nullptr; ///< n + 1 offsets into col_entry and col_row
+  const int* col_entry = nullptr; ///< positions in inner, S and G
+  const int* col_row = nullptr;   ///< particle of each position (absolute row)
+  Index first = 0;                ///< absolute row of the block's first particle
+  Index all_rows = 0;             ///< rows of the operators the view was taken from
 
   /// The rows [first, first + count) of this block (one material's particles).
   ParticleOperators block(Index first, Index count) const;

@@ -1,0 +1,30 @@
+#pragma once
+/// \file threads.hpp
+/// The number of OpenMP threads the kernels of a step use. Results do not depend on it, bit for
+/// bit: sums over the particles of a node are gathers in particle order, reductions are summed
+/// in blocks of a fixed size (see DESIGN.md, "Threads").
+
+#include "sparsempm/types.hpp"
+
+namespace smpm {
+
+/// Threads of the parallel regions started by the calling thread (OpenMP's nthreads-var:
+/// OMP_NUM_THREADS or the number of cores unless set_threads was called).
+int threads();
+
+/// Uses `count` ≥ 1 threads in the parallel regions the calling thread starts from now on.
+/// Throws InputError for count < 1.
+void set_threads(int count);
+
+/// Applies the environment variable SMPM_THREADS when it is set (it takes precedence over
+/// OMP_NUM_THREADS) and returns threads(). Throws InputError naming the variable and its value
+/// unless it is a positive integer.
+int threads_from_environment();
+
+/// Rows (particles, nodes) below which a kernel runs on the calling thread alone, since starting
+/// the threads costs more than the work (default 1024). 0 runs every kernel on all threads,
+/// which tests use to exercise the parallel paths on small problems.
+Index parallel_threshold();
+void set_parallel_threshold(Index rows);
+
+} // namespace smpm

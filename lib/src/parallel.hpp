@@ -1,0 +1,135 @@
+#pragma once
+// The OpenMP loops of the library (every parallel region is one of these). Their results do not
+// depend on the number of threads: each index is computed by one thread, sums run in a fixed
+// order, and the exception a serial loop would throw first is rethrown after the region.
+
+#include "sparsempm/threads.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <vector>
+
+#include <omp.h>
+
+#if defined(__SANITIZE_THREAD__)
+#include <sanitizer/tsan_interface.h>
+extern "C" void AnnotateIgnoreWritesBegin(const char* file, int line);
+extern "C" void AnnotateIgnoreWritesEnd(const char* file, int line);
+#endif
+
+namespace smpm::detail {
+
+// libgomp is not instrumented for ThreadSanitizer, which therefore does not see the fork and
+// join of a parallel region (what ARCHER adds through OMPT). These annotations tell it: the
+// calling thread releases before the region and acquires after it, every thread of the region
+// acquires at its start and releases at its end, and the calling thread's writes of the
+// region's arguments (which libgomp hands to the other threads) are not recorded. What
+// ThreadSanitizer reports are then races between the threads of a region.
+inline char region_sync;
+inline void region_fork() {
+#if defined(__SANITIZE_THREAD__)
+  __tsan_release(&region_sync);
+  AnnotateIgnoreWritesBegin(__FILE__, __LINE__);
+#endif
+}
+inline void region_enter() {
+#if defined(__SANITIZE_THREAD__)
+  if (omp_get_thread_num() == 0)
+    AnnotateIgnoreWritesEnd(__FILE__, __LINE__);
+  __tsan_acquire(&region_sync);
+#endif
+}
+inline void region_leave() {
+#if defined(__SANITIZE_THREAD__)
+  __tsan_release(&region_sync);
+#endif
+}
+inline void region_join() {
+#if defined(__SANITIZE_THREAD__)
+  __tsan_acquire(&region_sync);
+#endif
+}
+
+/// Calls body(i) for every i in [0, n), spread over the threads when `rows` (the particles or
+/// nodes the loop covers; n when negative) reaches parallel_threshold(). No exception leaves the
+/// region: each thread records the first index that threw, and the exception of the smallest one is
+/// rethrown after the region (the one a serial loop stops at; indices after a recorded failure may
+/// be skipped).
+template <class Body>
+void parallel_for(Index n, Body&& body, Index rows = -1) {
+  std::atomic<Index> first_failure{n};
+  std::exception_ptr failure;
+  std::mutex lock;
+  const bool many = n > 1 && (rows < 0 ? n : rows) >= parallel_threshold() && threads() > 1;
+  auto guarded = [&](Index i) {
+    if (i > first_failure.load(std::memory_order_relaxed))
+      return;
+    try {
+      body(i);
+    } catch (...) {
+      std::lock_guard<std::mutex> guard(lock);
+      if (i < first_failure.load(std::memory_order_relaxed)) {
+        first_failure.store(i, std::memory_order_relaxed);
+        failure = std::current_exception();
+      }
+    }
+  };
+  if (!many) {
+    for (Index i = 0; i < n && !failure; ++i)
+      guarded(i);
+  } else {
+    region_fork();
+#pragma omp parallel
+    {
+      region_enter();
+#pragma omp for schedule(static)
+      for (Index i = 0; i < n; ++i)
+        guarded(i);
+      region_leave();
+    }
+    region_join();
+  }
+  if (failure)
+    std::rethrow_exception(failure);
+}
+
+/// Rows per block of the ordered reductions: a fixed size, so the order of the additions is
+/// the same for any number of threads.
+inline constexpr Index kReductionBlock = 512;
+
+/// out[c] = combine over i in [0, n) of the k values term(i, acc) adds into acc (c < k), with
+/// combine(a, b) the reduction (a + b for sums, max for maxima): blocks of kReductionBlock
+/// indices in order, each from `init`, then the blocks in order. Bit for bit the same for any
+/// number of threads.
+template <class Term, class Combine>
+void ordered_reduce(Index n, int k, double init, double* out, Term&& term, Combine&& combine) {
+  const Index blocks = (n + kReductionBlock - 1) / kReductionBlock;
+  std::vector<double> partial(size_t(blocks * k), init);
+  parallel_for(
+      blocks,
+      [&](Index b) {
+        double* acc = partial.data() + b * k;
+        for (Index i = b * kReductionBlock, end = std::min(n, i + kReductionBlock); i < end; ++i)
+          term(i, acc);
+      },
+      n);
+  for (int c = 0; c < k; ++c) {
+    out[c] = init;
+    for (Index b = 0; b < blocks; ++b)
+      out[c] = combine(out[c], partial[size_t(b * k + c)]);
+  }
+}
+
+/// Σ_i term(i) for i in [0, n) in the fixed order of ordered_reduce.
+template <class Term>
+double ordered_sum(Index n, Term&& term) {
+  double sum;
+  ordered_reduce(
+      n, 1, 0.0, &sum, [&](Index i, double* acc) { acc[0] += term(i); },
+      [](double a, double b) { return a + b; });
+  return sum;
+}
+
+} // namespace smpm::detail

@@ -1,0 +1,131 @@
+// Threads (threads.hpp, DESIGN.md "Threads"): the loops of the library give the same bits for
+// any number of threads, rethrow the error a serial loop would throw first, and whole runs of
+// the example problems with 1 and 2 threads end in identical particle states.
+
+#include "support.hpp"
+
+#include "parallel.hpp" // lib/src: the library's OpenMP loops
+
+#include <sparsempm/input.hpp>
+#include <sparsempm/threads.hpp>
+
+#include <omp.h>
+
+#include <cstdlib>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace smpm;
+
+namespace {
+
+// Sets the thread count and the parallel threshold for a scope and restores them after.
+struct ThreadScope {
+  int saved_threads = threads();
+  Index saved_threshold = parallel_threshold();
+  ThreadScope(int count, Index threshold) {
+    set_threads(count);
+    set_parallel_threshold(threshold);
+  }
+  ~ThreadScope() {
+    set_threads(saved_threads);
+    set_parallel_threshold(saved_threshold);
+  }
+};
+
+// The particle state after `steps` Courant steps of an example with `overrides`.
+Particles run_example(const std::string& file, const std::vector<std::string>& overrides, int steps,
+                      int thread_count) {
+  const ThreadScope scope(thread_count, 0); // every kernel on all threads, even on the bar
+  RunConfig cfg = read_input_file(std::string(SMPM_EXAMPLES_DIR) + "/" + file, overrides);
+  Stepper stepper(cfg.step);
+  for (int s = 0; s < steps; ++s)
+    stepper.step(cfg.model, stable_time_step(cfg.model, cfg.time.courant));
+  return cfg.model.particles;
+}
+
+} // namespace
+
+TEST_CASE("parallel_for runs on the threads and rethrows the first failure", "[threads]") {
+  const ThreadScope scope(2, 0);
+  std::vector<int> thread_of(1000, -1);
+  detail::parallel_for(1000, [&](Index i) { thread_of[size_t(i)] = omp_get_thread_num(); });
+  CHECK(std::set<int>(thread_of.begin(), thread_of.end()) == std::set<int>{0, 1});
+  // Indices 700 and 300 fail (in different halves, so on different threads): the exception of
+  // 300 is the one a serial loop would meet first, whichever thread records first.
+  for (int repeat = 0; repeat < 20; ++repeat)
+    CHECK_THROWS_WITH(detail::parallel_for(1000,
+                                           [&](Index i) {
+                                             if (i == 700 || i == 300)
+                                               throw std::runtime_error(std::to_string(i));
+                                           }),
+                      "300");
+}
+
+TEST_CASE("ordered sums do not depend on the number of threads", "[threads]") {
+  // Terms of mixed sign and magnitude, whose sum depends on the order of the additions.
+  std::mt19937 rng(5u);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> x(100003);
+  for (double& v : x)
+    v = u(rng) * std::pow(10.0, 8 * u(rng));
+  auto sum_with = [&](int count) {
+    const ThreadScope scope(count, 0);
+    return detail::ordered_sum(Index(x.size()), [&](Index i) { return x[size_t(i)]; });
+  };
+  // The fixed order: blocks of kReductionBlock terms, then the block sums, serially.
+  double blocks = 0;
+  for (size_t b = 0; b < x.size(); b += size_t(detail::kReductionBlock)) {
+    double s = 0;
+    for (size_t i = b; i < std::min(x.size(), b + size_t(detail::kReductionBlock)); ++i)
+      s += x[i];
+    blocks += s;
+  }
+  CHECK(sum_with(1) == blocks);
+  CHECK(sum_with(2) == blocks);
+  CHECK(sum_with(3) == blocks);
+}
+
+TEST_CASE("SMPM_THREADS is applied and checked", "[threads]") {
+  const ThreadScope scope(1, parallel_threshold());
+  ::setenv("SMPM_THREADS", "3", 1);
+  CHECK(threads_from_environment() == 3);
+  CHECK(threads() == 3);
+  for (const char* bad : {"0", "-2", "two", "", "2.5", "99999"}) {
+    ::setenv("SMPM_THREADS", bad, 1);
+    CHECK_THROWS_WITH(threads_from_environment(),
+                      "SMPM_THREADS='" + std::string(bad) +
+                          "': expected a positive integer (at most 4096), the number of threads");
+  }
+  ::unsetenv("SMPM_THREADS");
+  CHECK(threads_from_environment() == 3); // unset: unchanged
+  CHECK_THROWS_AS(set_threads(0), InputError);
+}
+
+TEST_CASE("1 and 2 threads give bit-identical runs of the examples", "[threads]") {
+  // 50 steps of FLIP, FMPM(4), XPIC(3) and the exact update (C = 0.1, light nodes lumped) on the
+  // vibrating bar (CPDI, 80 particles) and on the block impact (CPDI, neo-Hookean, 8000 particles):
+  // X, V, F and the stress after the run are equal bit for bit.
+  const std::vector<std::vector<std::string>> schemes = {
+      {"scheme.velocity=FLIP"},
+      {"scheme.velocity=FMPM", "scheme.order=4"},
+      {"scheme.velocity=XPIC", "scheme.order=3"},
+      {"scheme.velocity=exact", "time.courant=0.1", "scheme.exact_mass_cutoff=1e-2"}};
+  for (const std::string file : {"vibrating_bar.toml", "block_impact.toml"})
+    for (const auto& scheme : schemes) {
+      INFO(file << " " << scheme.front() << (scheme.size() > 1 ? " " + scheme[1] : ""));
+      const Particles one = run_example(file, scheme, 50, 1);
+      const Particles two = run_example(file, scheme, 50, 2);
+      CHECK(one.X == two.X);
+      CHECK(one.V == two.V);
+      CHECK(one.F == two.F);
+      CHECK(one.stress == two.stress);
+      // The runs did something: the particles moved and carry stress.
+      const RunConfig start = read_input_file(std::string(SMPM_EXAMPLES_DIR) + "/" + file);
+      CHECK((one.X - start.model.particles.X).cwiseAbs().maxCoeff() > 0);
+      CHECK(one.stress.cwiseAbs().maxCoeff() > 0);
+    }
+}
