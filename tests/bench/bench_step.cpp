@@ -9,11 +9,14 @@
 // 8000 particles). For each problem the baseline is the matrix-free USL FLIP step below, run
 // on the same particles with linear shape functions. Printed after the runs: every time as a
 // ratio to that baseline, F = (one FMPM pass)/(baseline), FMPM(20)/FLIP, exact/FMPM(k), and the
-// peak resident memory per particle.
+// peak resident memory per particle. Everything runs on one thread except the steps named
+// "..._2_threads" (the same FLIP and FMPM(4) steps on two threads; their speed-ups over one
+// thread are printed; the results are the same bits, threads.hpp).
 
 #include <sparsempm/exact.hpp>
 #include <sparsempm/input.hpp>
 #include <sparsempm/sparsempm.hpp>
+#include <sparsempm/threads.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -236,7 +239,9 @@ void BM_FmpmPass(benchmark::State& state, const std::string& problem) { // one �
   }
 }
 
-void BM_Step(benchmark::State& state, const std::string& problem, smpm::VelocityUpdate vel, int k) {
+void BM_Step(benchmark::State& state, const std::string& problem, smpm::VelocityUpdate vel, int k,
+             int threads = 1) {
+  smpm::set_threads(threads);
   Problem pb = make_problem(problem);
   smpm::StepOptions opt{.shape = pb.shape, .velocity = vel, .fmpm = {.order = k}};
   if (vel == smpm::VelocityUpdate::Exact)
@@ -246,6 +251,8 @@ void BM_Step(benchmark::State& state, const std::string& problem, smpm::Velocity
   for (auto _ : state)
     stepper.step(pb.model, pb.dt);
   state.counters["particles"] = double(pb.model.particles.size());
+  state.counters["threads"] = threads;
+  smpm::set_threads(1);
 }
 
 // Two blocks of 100 × 50 cells (2 × 2 particles per cell, GIMP, neo-Hookean, 40,000 particles)
@@ -329,6 +336,10 @@ void register_problem(const std::string& pb) {
   reg("fmpm_pass", [pb](benchmark::State& s) { BM_FmpmPass(s, pb); });
   reg("flip_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FLIP, 1); });
   reg("fmpm4_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 4); });
+  reg("flip_step_2_threads",
+      [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FLIP, 1, 2); });
+  reg("fmpm4_step_2_threads",
+      [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 4, 2); });
   reg("fmpm20_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 20); });
   reg("exact_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::Exact, 1); });
 }
@@ -337,6 +348,7 @@ void register_problem(const std::string& pb) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  smpm::set_threads(1); // the baseline is serial; the "_2_threads" steps set their own count
   register_problem("block");
   register_problem("impact");
   RatioReporter rep;
@@ -363,6 +375,9 @@ int main(int argc, char** argv) {
                 t("fmpm20_step") / t("flip_step"));
     std::printf("  exact step / FMPM(4) step, / FMPM(20) step       %8.3f, %.3f\n",
                 t("exact_step") / t("fmpm4_step"), t("exact_step") / t("fmpm20_step"));
+    std::printf("  2-thread speed-up: FLIP step %.3f, FMPM(4) step %.3f (target >= 1.7)\n",
+                t("flip_step") / t("flip_step_2_threads"),
+                t("fmpm4_step") / t("fmpm4_step_2_threads"));
   }
   const auto single = rep.ms.find("BM_TwoBlocks/single_material");
   for (const char* name : {"contact_AG_CP", "contact_LR"}) {
