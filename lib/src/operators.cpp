@@ -15,20 +15,47 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& c) {
   const Index N = S.rows(), n = S.cols(), nnz = S.nonZeros();
   const int* outer = S.outerIndexPtr();
   const int* inner = S.innerIndexPtr();
-  c.outer.assign(size_t(n + 1), 0);
-  for (Index k = 0; k < nnz; ++k)
-    ++c.outer[size_t(inner[k]) + 1];
-  for (Index i = 0; i < n; ++i)
-    c.outer[size_t(i + 1)] += c.outer[size_t(i)];
+  // A counting sort by node over chunks of consecutive particles, one chunk per thread: chunk t
+  // counts its entries of each node, writes after those of the chunks before it, and walks its
+  // particles in ascending order. Each column lists its particles in ascending order whatever
+  // the chunks, so the index does not depend on the number of threads.
+  const Index chunks = std::max<Index>(1, std::min<Index>(threads(), N));
+  auto chunk_begin = [&](Index t) { return t * N / chunks; };
+  c.work.assign(size_t(chunks * n), 0);
+  auto count = [&](Index t) { return c.work.data() + t * n; };
+  detail::parallel_for(
+      chunks,
+      [&](Index t) {
+        int* ct = count(t);
+        for (int k = outer[chunk_begin(t)]; k < outer[chunk_begin(t + 1)]; ++k)
+          ++ct[inner[k]];
+      },
+      N);
+  c.outer.resize(size_t(n + 1));
+  int sum = 0;
+  for (Index i = 0; i < n; ++i) { // column offsets; each chunk's count becomes its start
+    c.outer[size_t(i)] = sum;
+    for (Index t = 0; t < chunks; ++t) {
+      const int k = count(t)[i];
+      count(t)[i] = sum;
+      sum += k;
+    }
+  }
+  c.outer[size_t(n)] = sum;
   c.entry.resize(size_t(nnz));
   c.row.resize(size_t(nnz));
-  std::vector<int> next(c.outer.begin(), c.outer.end() - 1);
-  for (Index p = 0; p < N; ++p) // ascending particles: each column in particle order
-    for (int k = outer[p]; k < outer[p + 1]; ++k) {
-      const int t = next[size_t(inner[k])]++;
-      c.entry[size_t(t)] = k;
-      c.row[size_t(t)] = int(p);
-    }
+  detail::parallel_for(
+      chunks,
+      [&](Index t) {
+        int* next = count(t);
+        for (Index p = chunk_begin(t); p < chunk_begin(t + 1); ++p)
+          for (int k = outer[p]; k < outer[p + 1]; ++k) {
+            const int at = next[inner[k]]++;
+            c.entry[size_t(at)] = k;
+            c.row[size_t(at)] = int(p);
+          }
+      },
+      N);
 }
 
 void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops, int fields,

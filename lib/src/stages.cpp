@@ -118,7 +118,7 @@ void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p)
   SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
   p.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    detail::parallel_for(op.nodes, [&](Index i) { // p_i = Σ_q S_qi M_q V_q
+    detail::parallel_for(op.nodes, [&](Index i) { // p_i = Σ_q S_qi M_q V_q (FMPM 2026 task 1)
       double sum[D] = {};
       node_entries(op, i, [&](Index q, int k) {
         for (int a = 0; a < D; ++a)
@@ -134,7 +134,7 @@ void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, 
   SMPM_VERIFY(volume.size() == op.rows, "volume_gradient: one volume per particle");
   g.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    detail::parallel_for(op.nodes, [&](Index i) { // g_i = Σ_q G_qi V_q
+    detail::parallel_for(op.nodes, [&](Index i) { // g_i = Σ_q G_qi V_q (contact 2020 Eq. 11)
       double sum[D] = {};
       node_entries(op, i, [&](Index q, int k) {
         for (int b = 0; b < D; ++b)
@@ -161,7 +161,7 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
       for (int c = 0; c < D * D; ++c)
         tau[q * D * D + c] = vol * sq[c];
     });
-    detail::parallel_for(op.nodes, [&](Index i) { // f_i = Σ_q Σ_b τ_q,·b G_b(q, i)
+    detail::parallel_for(op.nodes, [&](Index i) { // f_i = Σ_q Σ_b τ_q,·b G_b(q, i) (Buzzi Eq. 15)
       double fi[D] = {};
       node_entries(op, i, [&](Index q, int k) {
         const double* tq = tau + q * D * D;

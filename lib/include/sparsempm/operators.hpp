@@ -25,6 +25,7 @@ struct ColumnIndex {
   std::vector<int> outer; ///< n + 1 offsets
   std::vector<int> entry; ///< nnz positions in S's arrays
   std::vector<int> row;   ///< nnz particles
+  std::vector<int> work;  ///< workspace of the build: per-chunk counts and positions
 };
 
 /// Builds the column index of S (rows: particles, columns: nodes).
