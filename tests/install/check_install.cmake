@@ -12,6 +12,8 @@ if(SANITIZE)
   # changes its allocator, so the consumer must be compiled the same way.
   set(extra -DCMAKE_CXX_FLAGS=-fsanitize=address,undefined
             -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined)
+elseif(TSAN)
+  set(extra -DCMAKE_CXX_FLAGS=-fsanitize=thread -DCMAKE_EXE_LINKER_FLAGS=-fsanitize=thread)
 endif()
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build
                         -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release ${extra}

@@ -2,7 +2,8 @@
 /// \file threads.hpp
 /// The number of OpenMP threads the kernels of a step use. Results do not depend on it, bit for
 /// bit: sums over the particles of a node are gathers in particle order, reductions are summed
-/// in blocks of a fixed size (see DESIGN.md, "Threads").
+/// in blocks of a fixed size (see DESIGN.md, "Threads"). On a machine shared with other busy
+/// processes, OMP_WAIT_POLICY=passive keeps waiting threads from spinning.
 
 #include "sparsempm/types.hpp"
 
