@@ -11,9 +11,11 @@
 #include <mutex>
 #include <vector>
 
+#if defined(_OPENMP)
 #include <omp.h>
+#endif
 
-#if defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_THREAD__) && defined(_OPENMP)
 #include <sanitizer/tsan_interface.h>
 extern "C" void AnnotateIgnoreWritesBegin(const char* file, int line);
 extern "C" void AnnotateIgnoreWritesEnd(const char* file, int line);
@@ -29,25 +31,25 @@ namespace smpm::detail {
 // ThreadSanitizer reports are then races between the threads of a region.
 inline char region_sync;
 inline void region_fork() {
-#if defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_THREAD__) && defined(_OPENMP)
   __tsan_release(&region_sync);
   AnnotateIgnoreWritesBegin(__FILE__, __LINE__);
 #endif
 }
 inline void region_enter() {
-#if defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_THREAD__) && defined(_OPENMP)
   if (omp_get_thread_num() == 0)
     AnnotateIgnoreWritesEnd(__FILE__, __LINE__);
   __tsan_acquire(&region_sync);
 #endif
 }
 inline void region_leave() {
-#if defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_THREAD__) && defined(_OPENMP)
   __tsan_release(&region_sync);
 #endif
 }
 inline void region_join() {
-#if defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_THREAD__) && defined(_OPENMP)
   __tsan_acquire(&region_sync);
 #endif
 }

@@ -2,7 +2,9 @@
 
 #include "sparsempm/errors.hpp"
 
+#if defined(_OPENMP)
 #include <omp.h>
+#endif
 
 #include <atomic>
 #include <cstdlib>
@@ -16,14 +18,20 @@ std::atomic<Index> g_threshold{1024};
 } // namespace
 
 int threads() {
+#if defined(_OPENMP)
   return omp_get_max_threads();
+#else
+  return 1; // built without OpenMP (the clang fuzz target): every kernel is serial
+#endif
 }
 
 void set_threads(int count) {
   if (count < 1 || count > kMaxThreads)
     throw InputError("the number of threads must lie in [1, " + std::to_string(kMaxThreads) +
                      "], got " + std::to_string(count));
+#if defined(_OPENMP)
   omp_set_num_threads(count);
+#endif
 }
 
 int threads_from_environment() {
