@@ -114,6 +114,9 @@ const GridState& Stepper::grid_state() const {
 const FmpmReport& Stepper::last_fmpm() const {
   return buf_->step.report;
 }
+const std::vector<double>& Stepper::last_fmpm_metrics() const {
+  return buf_->step.fmpm.metrics;
+}
 
 void Stepper::step(Model& model, double dt) {
   Particles& P = model.particles;
