@@ -436,6 +436,7 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
   Eigen::Vector3d dp;
   cn.prior.resize(cn.nodes.size());
   cn.net.resize(cn.nodes.size());
+  cn.heat.assign(cn.nodes.size(), 0.0);
   for (size_t c = 0; c < cn.nodes.size(); ++c) {
     const ContactNodes::Node& node = cn.nodes[c];
     if (node.a < 0) {
@@ -461,13 +462,15 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
       force->row(rb) -= dp.head(d).transpose() / dt;
       // Heat only in the momentum-update correction, as NairnMPM: the correction after P2G
       // changes the grid velocities the FLIP increment is measured from, not the particles'.
-      cn.friction_work += contact_friction_work(dp0, dp, node.normal, ma * mb / (ma + mb));
+      cn.heat[c] = contact_friction_work(dp0, dp, node.normal, ma * mb / (ma + mb));
+      cn.friction_work += cn.heat[c];
     }
   }
   return in_contact;
 }
 
-void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv) {
+void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv,
+                       bool friction_work) {
   SMPM_VERIFY(cn.prior.size() == cn.nodes.size(),
               "contact_increment: the lumped contact (apply_contact) must run first");
   const Index ng = ops.grid_node_count;
@@ -481,15 +484,24 @@ void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field&
     const double ma = ops.m[ra], mb = ops.m[rb], mred = ma * mb / (ma + mb);
     const Eigen::Vector3d dp0 = cn.prior[c] + mred * (row3(dv, rb) - row3(dv, ra)); // Eq. (20)
     const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
-    if (!contact_momentum_change(*node.pair, dp0, node.normal, gap, dp))
+    const bool touching = contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
+    if (!touching)
       dp.setZero(); // not in contact: Δp(ℓ) = 0
+    const double work = touching && friction_work
+                            ? contact_friction_work(dp0, dp, node.normal, mred)
+                            : 0.0; // first-order frictional heat of Δp(ℓ)
     Eigen::Vector3d correction = dp;
     if (node.pair->fmpm_method == ContactFmpmMethod::Evolving) {
       cn.prior[c] = dp0 - dp;
+      cn.friction_work += work;
     } else {
       correction = dp - cn.net[c]; // Δp^(eff)(ℓ)
       cn.prior[c] = dp0;
       cn.net[c] = dp;
+      if (friction_work) {
+        cn.friction_work += work - cn.heat[c];
+        cn.heat[c] = work;
+      }
     }
     dv.row(ra) += (correction.head(d) / ma).transpose();
     dv.row(rb) -= (correction.head(d) / mb).transpose();

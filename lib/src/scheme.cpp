@@ -56,8 +56,9 @@ struct Stages {
       apply_contact(*c.ops, *c.contact_nodes, c.dt, p, force);
   }
 
-  // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1).
-  void grid_velocity(const Field& p, Field& v) {
+  // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1); `heat` on the
+  // call after the momentum update, whose contact corrections do frictional work.
+  void grid_velocity(const Field& p, Field& v, bool heat = false) {
     const LoopConstraints bc{c.grid, c.bcs, c.time};
     if (full_mass && opt.velocity == VelocityUpdate::Exact) {
       c.solver->solve(*c.ops, *c.mt, bc, p, v);
@@ -69,8 +70,8 @@ struct Stages {
       // corrects each increment (FMPM 2026 §3.2), from the state of the lumped correction of p.
       std::function<void(int, Field&, const Field&)> hook;
       if (c.contact_nodes)
-        hook = [this](int, Field& dv, const Field&) {
-          contact_increment(*c.ops, *c.contact_nodes, c.dt, dv);
+        hook = [this, heat](int, Field& dv, const Field&) {
+          contact_increment(*c.ops, *c.contact_nodes, c.dt, dv, heat);
         };
       b.report = fmpm_velocity(*c.ops, *c.mt, opt.fmpm, bc, v, b.fmpm, hook);
     }
@@ -129,7 +130,7 @@ struct Stages {
     }
     lumped_solve(c.ops->m_inv, g.f, g.a);
     if (opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::Exact)
-      grid_velocity(g.p_plus, g.v_plus);
+      grid_velocity(g.p_plus, g.v_plus, true);
     else
       lumped_solve(c.ops->m_inv, g.p_plus, g.v_plus);
   }

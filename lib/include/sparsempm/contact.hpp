@@ -173,6 +173,9 @@ struct ContactNodes {
   // The incremental contact of the FMPM loop (FMPM 2026 §3.2): per node of two fields, the
   // Δp^(prior)(0) and Δp^(net) that the last lumped correction (apply_contact) initialised.
   std::vector<Eigen::Vector3d> prior, net;
+  /// Per node: the frictional work of its current net correction, when the last apply_contact
+  /// was the momentum-update correction (0 otherwise); the loop replaces it (Net).
+  std::vector<double> heat;
   /// The frictional work of the step's momentum-update correction (apply_contact with a
   /// force; contact_friction_work), reset by find_contact_nodes.
   double friction_work = 0;
@@ -213,7 +216,10 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
 /// not in contact); Evolving: Δv^α += Δp(ℓ)/m^α, Δv^β −= Δp(ℓ)/m^β, Δp^(prior)(0) = Δp(0) −
 /// Δp(ℓ); Net: the same with Δp^(eff) = Δp(ℓ) − Δp^(net), then Δp^(prior)(0) = Δp(0),
 /// Δp^(net) = Δp(ℓ). Starts from the state of the last apply_contact. Nodes of three or more
-/// fields keep only their lumped correction.
-void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv);
+/// fields keep only their lumped correction. When `friction_work` (the loop after the
+/// momentum-update correction), the frictional work follows the corrections: Net replaces the
+/// node's work by that of Δp(ℓ) (NairnMPM's priorMredDelWf), Evolving adds that of each Δp(ℓ).
+void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv,
+                       bool friction_work = false);
 
 } // namespace smpm
