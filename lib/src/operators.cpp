@@ -26,8 +26,31 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
     ops.pattern_version = ++versions;
   ops.M = particles.mass;
   ops.m.noalias() = ops.S.transpose() * ops.M; // m = Sᵀ M
-  const double tol = kMassTolerance * (ops.m.size() ? ops.m.maxCoeff() : 0.0);
-  ops.active = ops.m.array() > tol;
+  if (fields == 1) {
+    const double tol = kMassTolerance * (ops.m.size() ? ops.m.maxCoeff() : 0.0);
+    ops.active = ops.m.array() > tol;
+  } else {
+    // Multimaterial: a field is active on a node where it has mass and the node is active in
+    // single material mode (total mass Σ_α m^α_i above the tolerance), so that the nodes of
+    // every field together are the single-material nodes and bonded contact reverts to it.
+    const Index ng = ops.grid_node_count;
+    auto total = [&](Index i) {
+      double sum = 0;
+      for (int f = 0; f < fields; ++f)
+        sum += ops.m[f * ng + i];
+      return sum;
+    };
+    double largest = 0;
+    for (Index i = 0; i < ng; ++i)
+      largest = std::max(largest, total(i));
+    const double tol = kMassTolerance * largest;
+    ops.active.resize(ops.m.size());
+    for (Index i = 0; i < ng; ++i) {
+      const bool node = total(i) > tol;
+      for (int f = 0; f < fields; ++f)
+        ops.active[f * ng + i] = node && ops.m[f * ng + i] > 0;
+    }
+  }
   ops.m_inv = ops.active.select(ops.m.array().inverse(), 0.0).matrix();
 }
 
