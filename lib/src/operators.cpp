@@ -30,26 +30,18 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
     const double tol = kMassTolerance * (ops.m.size() ? ops.m.maxCoeff() : 0.0);
     ops.active = ops.m.array() > tol;
   } else {
-    // Multimaterial: a field is active on a node where it has mass and the node is active in
-    // single material mode (total mass Σ_α m^α_i above the tolerance), so that the nodes of
-    // every field together are the single-material nodes and bonded contact reverts to it.
+    // Multimaterial: the tolerance of single material mode (relative to the largest total
+    // nodal mass Σ_α m^α_i), so that a field alone on a node is active exactly when the node
+    // is in single material mode and bonded contact reverts to it.
     const Index ng = ops.grid_node_count;
-    auto total = [&](Index i) {
-      double sum = 0;
-      for (int f = 0; f < fields; ++f)
-        sum += ops.m[f * ng + i];
-      return sum;
-    };
     double largest = 0;
-    for (Index i = 0; i < ng; ++i)
-      largest = std::max(largest, total(i));
-    const double tol = kMassTolerance * largest;
-    ops.active.resize(ops.m.size());
     for (Index i = 0; i < ng; ++i) {
-      const bool node = total(i) > tol;
+      double total = 0;
       for (int f = 0; f < fields; ++f)
-        ops.active[f * ng + i] = node && ops.m[f * ng + i] > 0;
+        total += ops.m[f * ng + i];
+      largest = std::max(largest, total);
     }
+    ops.active = ops.m.array() > kMassTolerance * largest;
   }
   ops.m_inv = ops.active.select(ops.m.array().inverse(), 0.0).matrix();
 }

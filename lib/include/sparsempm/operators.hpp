@@ -31,8 +31,8 @@ struct Operators {
   std::array<SparseRowMatrix, 3> G; ///< G[a]: N × n gradient weights ∂S_pi/∂x_a (a < d)
   Eigen::VectorXd M;                ///< N particle masses (the diagonal of 𝗠)
   Eigen::VectorXd m;                ///< n lumped nodal masses m = Sᵀ M
-  /// n: m_i > kMassTolerance · max m; with several fields, m^α_i > 0 on a node whose total
-  /// mass Σ_α m^α_i exceeds kMassTolerance times the largest total (single material's nodes)
+  /// n: m_i > kMassTolerance · max m; with several fields, m^α_i > kMassTolerance times the
+  /// largest total nodal mass Σ_α m^α_i (the tolerance of single material mode)
   Eigen::Array<bool, Eigen::Dynamic, 1> active;
   Eigen::VectorXd m_inv;                  ///< n: 1/m_i on active nodes, 0 elsewhere
   std::vector<ShapeSupport> support;      ///< workspace: the pattern of S and G
