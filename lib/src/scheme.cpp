@@ -62,6 +62,13 @@ struct Stages {
     const LoopConstraints bc{c.grid, c.bcs, c.time};
     if (full_mass && opt.velocity == VelocityUpdate::Exact) {
       c.solver->solve(*c.ops, *c.mt, bc, p, v);
+      if (c.contact_nodes) { // each field's m̃^α with contact at the Net limit (§3.2)
+        b.p_contact = p;
+        exact_contact(
+            *c.ops, *c.contact_nodes, c.dt,
+            [this](const Field& r, Field& u) { c.solver->solve_again(r, u); }, b.p_contact, v,
+            heat);
+      }
       return;
     }
     lumped_solve(c.ops->m_inv, p, v); // v⁺(1) = m⁻¹ p
