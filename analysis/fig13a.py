@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""FMPM 2026 Fig. 13A: the two convergence metrics of dynamic FMPM against the pass ℓ, on one
-step in the middle of the block impact and of the shock.
+"""FMPM 2026 Fig. 13A: the convergence metrics of dynamic FMPM against the pass ℓ.
+
+One step in the middle of the block impact and of the shock.
 
     analysis/fig13a.py [--build build/python] [--order 40] [-o fig13a]
 

@@ -8,7 +8,7 @@ extent) for mu = 0, 0.3, 0.6 with FLIP, FMPM(1), FMPM(2) and FMPM(4) (Fig. 9A), 
 mu = 0.3 with FMPM(k), k = 1 ... 8 (Fig. 9B), two runs at a time. For each run it reports the
 energy lost, 1 - (K + W + Q_friction)(end) / (K + W)(0) in % (the paper's U + K without heat
 conduction: the frictional work stays as heat), the frictional work in % of the initial energy,
-and each disk's centre-of-mass displacement at the end (the deflection grows with mu).
+and the left disk's centre-of-mass displacement at the end (the deflection grows with mu).
 Writes <out>.csv and <out>.png. The trajectories of Fig. 8 are analysis/fig8.py.
 """
 import argparse

@@ -196,6 +196,7 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
   SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
               "scheme_step: the exact update needs a MassSolver (context.solver)");
   buffers.report = FmpmReport{};
+  buffers.fmpm.metrics.clear(); // a step without a loop has no trace
   s.momentum();
   s.forces_and_velocity();
   s.particle_update();

@@ -246,7 +246,8 @@ TEST_CASE("Coulomb friction: a sliding block decelerates at mu g; without fricti
     // impulse times the slip it leaves at the end of the loop; Evolving: the sum over its
     // increments, each a full friction impulse): measured 1.668 of 2.450 (68%) for Net and
     // 2.179 of 2.369 (92%) for Evolving; counting the lumped correction only gave 75% and 79%.
-    // The bounds catch a sign error or work counted twice (above the loss) and work left out.
+    // The bounds catch a sign error or work counted twice (above the loss), and work counted
+    // for the lumped correction only.
     for (const auto& [order, method] :
          {std::pair{1, ContactFmpmMethod::Net}, std::pair{4, ContactFmpmMethod::Net},
           std::pair{4, ContactFmpmMethod::Evolving}}) {
@@ -273,7 +274,14 @@ TEST_CASE("Coulomb friction: a sliding block decelerates at mu g; without fricti
       const double lost = e0 - mechanical(), work = stepper.friction_work() - w0;
       CAPTURE(order, method == ContactFmpmMethod::Net, lost, work);
       CHECK(work < lost);
-      CHECK(work > (order == 1 ? 0.8 : 0.6) * lost);
+      // FLIP above 80%; the loop's accounting, not the lumped correction's alone (75% Net,
+      // 79% Evolving): Net between 60 and 72%, Evolving above 85%.
+      if (order == 1)
+        CHECK(work > 0.8 * lost);
+      else if (method == ContactFmpmMethod::Net)
+        CHECK((work > 0.6 * lost && work < 0.72 * lost));
+      else
+        CHECK(work > 0.85 * lost);
     }
   }
 }
@@ -397,7 +405,7 @@ TEST_CASE("stick contact inside the FMPM(k) loop reverts to single material mode
   // total nodal mass, operators.hpp) while their sum is above it: a node of single material
   // mode in neither field. Making every field with mass active on such nodes reverts to 6e-16,
   // but fields of vanishing mass then took contact corrections and the compaction example
-  // failed (det F ≤ 0); a tolerance relative to each field's own largest mass gave 1e-7.
+  // failed (det F ≤ 0); a tolerance relative to the largest single-field nodal mass gave 1e-7.
   for (ContactFmpmMethod method : {ContactFmpmMethod::Net, ContactFmpmMethod::Evolving})
     for (int k : {2, 4, 8}) {
       CAPTURE(int(method), k);

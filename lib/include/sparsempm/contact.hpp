@@ -178,7 +178,8 @@ struct ContactNodes {
   /// was the momentum-update correction (0 otherwise); the loop replaces it (Net).
   std::vector<double> heat;
   /// The frictional work of the step's momentum-update correction (apply_contact with a
-  /// force; contact_friction_work), reset by find_contact_nodes.
+  /// force; contact_friction_work) and of the corrections that follow it in the FMPM loop or
+  /// the exact update (contact_increment, exact_contact), reset by find_contact_nodes.
   double friction_work = 0;
 };
 

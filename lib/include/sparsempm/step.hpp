@@ -121,9 +121,11 @@ public:
   bool last_step_was_fmpm() const { return grid_update_; }
   /// How the last FMPM loop ended (order reached, metric).
   const FmpmReport& last_fmpm() const;
-  /// The convergence metric of each pass ℓ = 2, 3, ... of the last FMPM loop (dynamic FMPM,
-  /// FMPM 2026 §3.4 and Fig. 13A; empty without a metric). With dynamic_limit = 0 the loop runs
-  /// to the order k and this is the whole curve.
+  /// The convergence metric of each pass ℓ = 2, 3, ... of the last step's last FMPM loop
+  /// (dynamic FMPM, FMPM 2026 §3.4 and Fig. 13A; empty without a metric or a loop, as on the
+  /// FLIP steps of periodic FMPM). With USL+ and USAVG+ the last loop is that of the
+  /// re-extrapolated velocities (task 4.c). With dynamic_limit = 0 the loop runs to the order k
+  /// and this is the whole curve.
   const std::vector<double>& last_fmpm_metrics() const;
   /// Periodic FMPM: the Courant number accumulated since the last FMPM step (§3.3). Part of
   /// the stepper's state: a restart sets it back with set_courant_budget.
