@@ -204,7 +204,7 @@ double block_velocity(const Model& m) {
 }
 } // namespace
 
-TEST_CASE("Coulomb friction: a sliding block decelerates at mu g; without friction it keeps "
+TEST_CASE("Coulomb friction: a sliding block decelerates at mu g, without friction it keeps "
           "its speed",
           "[contact]") {
   const double g = 10, v0 = 1, dt = 2e-4;
