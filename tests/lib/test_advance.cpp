@@ -68,7 +68,7 @@ TEST_CASE("stops do not change a constant-step run, landing on them does", "[adv
   REQUIRE(constant.size() == 11);
   REQUIRE(landed.size() == 11);
   for (int k = 1; k <= 10; ++k) {
-    CHECK(constant[size_t(k - 1)] >= 7.3 * k - 80e-12); // advance's tolerance: 1e-12 t_end
+    CHECK(constant[size_t(k - 1)] >= 7.3 * k - 80e-12);      // advance's tolerance: 1e-12 t_end
     CHECK(constant[size_t(k - 1)] < 7.3 * k + 0.15 + 1e-12); // within one step Δt = 0.15
     CHECK(landed[size_t(k - 1)] == approx(7.3 * k, 1e-12));
   }
