@@ -2,11 +2,11 @@
 fig8.py, fig9.py and fig11.py run it: one `smpm run` with overrides, and what they read from its
 series."""
 import pathlib
-import subprocess
-import time
 
 import h5py
 import numpy as np
+
+from figures import run_smpm
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "disk_impact.toml"
@@ -32,11 +32,7 @@ def run(smpm, out, sets):
     heat), the frictional work in % of the initial energy, the centre of mass of each disk at
     every step (rows: x, y of the left disk, then the right), the time, the largest |total
     momentum| and the run time. Raises RuntimeError with the command's message when it fails."""
-    args = [smpm, "run", str(INPUT), "-o", str(out), "-q"]
-    for s in sets:
-        args += ["--set", s]
-    start = time.time()
-    r = subprocess.run(args, capture_output=True, text=True)
+    r, seconds = run_smpm(smpm, INPUT, out, sets)
     if r.returncode != 0:
         raise RuntimeError(r.stderr.strip().splitlines()[-1] if r.stderr.strip() else
                            f"exit {r.returncode}")
@@ -47,4 +43,4 @@ def run(smpm, out, sets):
         return {"lost": 100 * (1 - (e[-1] + friction[-1]) / e[0]),
                 "friction": 100 * friction[-1] / e[0], "centre": s["material_centre"][:],
                 "time": s["t"][:], "momentum": np.abs(s["momentum"][:]).max(),
-                "seconds": time.time() - start}
+                "seconds": seconds}
