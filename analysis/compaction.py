@@ -18,9 +18,7 @@ import argparse
 import concurrent.futures
 import csv
 import pathlib
-import subprocess
 import sys
-import time
 
 import h5py
 import numpy as np
@@ -29,6 +27,9 @@ from scipy.spatial import cKDTree
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from figures import run_smpm  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 BOX, CELL, SPEED, STRAIN = 40.0, 1.0, 10.0, 0.45
@@ -118,14 +119,9 @@ def interpenetration(X, F, r0, mat):
 
 
 def run(smpm, src, out, sets):
-    args = [smpm, "run", str(src), "-o", str(out), "-q"]
-    for s in sets:
-        args += ["--set", s]
-    start = time.time()
-    r = subprocess.run(args, capture_output=True, text=True)
+    r, secs = run_smpm(smpm, src, out, sets)
     if r.returncode != 0:
         raise RuntimeError(r.stderr.strip())
-    secs = time.time() - start
     with h5py.File(out, "r") as f:
         g = max(f["particles"].values(), key=lambda g: g.attrs["time"])
         X, F, r0, mat = g["X"][:], g["F"][:], g["half_length"][:], g["material"][:]

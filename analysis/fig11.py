@@ -15,43 +15,29 @@ import argparse
 import concurrent.futures
 import csv
 import pathlib
-import subprocess
 import sys
 import tempfile
 
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import disks  # noqa: E402
+from disks import ROOT, grid, velocity  # noqa: E402
 from figures import save_figure  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-INPUT = ROOT / "examples" / "disk_impact.toml"
-EXTENT = (56.0, 48.0)  # the example's grid, mm
-UPDATES = {"FLIP": ["scheme.velocity=FLIP"], "FMPM(4)": ["scheme.velocity=FMPM", "scheme.order=4"]}
+UPDATES = {name: velocity(name) for name in ("FLIP", "FMPM(4)")}
 
 
 def run(smpm, work, tag, sets):
-    out = pathlib.Path(work) / (tag + ".h5")
-    args = [smpm, "run", str(INPUT), "-o", str(out), "-q", "--set", "contact.0.friction=0.3"]
-    for s in sets:
-        args += ["--set", s]
-    r = subprocess.run(args, capture_output=True, text=True)
-    if r.returncode != 0:
-        return float("nan"), r.stderr.strip().splitlines()[-1]
-    with h5py.File(out, "r") as f:
-        s = f["series"]
-        e0 = s["kinetic"][0] + s["strain"][0]
-        end = s["kinetic"][-1] + s["strain"][-1] + s["friction"][-1]
-    return 100 * (1 - end / e0), ""
-
-
-def grid(cell):
-    return [f"grid.cell_size=[{cell}, {cell}]",
-            f"grid.cells=[{round(EXTENT[0] / cell)}, {round(EXTENT[1] / cell)}]"]
+    """(energy lost in %, "") or (nan, the command's message) when the run fails."""
+    try:
+        return disks.run(smpm, pathlib.Path(work) / (tag + ".h5"),
+                         ["contact.0.friction=0.3"] + sets)["lost"], ""
+    except RuntimeError as e:
+        return float("nan"), str(e)
 
 
 def main():

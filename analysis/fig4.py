@@ -20,10 +20,8 @@ import argparse
 import concurrent.futures
 import csv
 import pathlib
-import subprocess
 import sys
 import tempfile
-import time
 
 import h5py
 import numpy as np
@@ -33,7 +31,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from figures import save_figure  # noqa: E402
+from figures import run_smpm, save_figure  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "shock_split_bar.toml"
@@ -78,13 +76,9 @@ BINS = np.arange(30.0, 47.0, 0.25)
 def run(smpm, work, name, sets):
     """Pressure (GPa) in the bins at the last frame, and the wall time; None if the run failed."""
     out = pathlib.Path(work) / (name.replace(" ", "_").replace("(", "").replace(")", "") + ".h5")
-    args = [smpm, "run", str(INPUT), "-o", str(out), "-q"]
-    for s in sets:
-        args += ["--set", s]
-    start = time.time()
-    r = subprocess.run(args, capture_output=True, text=True)
+    r, seconds = run_smpm(smpm, INPUT, out, sets)
     if r.returncode != 0:
-        return None, time.time() - start, r.stderr.strip().splitlines()[-1]
+        return None, seconds, r.stderr.strip().splitlines()[-1]
     with h5py.File(out, "r") as f:
         g = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])[-1]
         x = g["X"][:, 0]
@@ -92,7 +86,7 @@ def run(smpm, work, name, sets):
     idx = np.digitize(x, BINS) - 1
     prof = np.array([p[idx == b].mean() if np.any(idx == b) else np.nan
                      for b in range(len(BINS) - 1)])
-    return prof, time.time() - start, ""
+    return prof, seconds, ""
 
 
 def summary(prof):

@@ -15,10 +15,8 @@ import argparse
 import concurrent.futures
 import csv
 import pathlib
-import subprocess
 import sys
 import tempfile
-import time
 
 import h5py
 import numpy as np
@@ -26,6 +24,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from figures import run_smpm  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "two_block_compression.toml"
@@ -51,18 +52,14 @@ def run(smpm, work, name, sets):
     """(strain in %, mean sigma_yy) of every frame of one run, and its wall time."""
     out = pathlib.Path(work) / (name.replace(" ", "_").replace("(", "").replace(")", "")
                                 .replace("=", "").replace(",", "") + ".h5")
-    args = [smpm, "run", str(INPUT), "-o", str(out), "-q"]
-    for s in sets:
-        args += ["--set", s]
-    start = time.time()
-    r = subprocess.run(args, capture_output=True, text=True)
+    r, seconds = run_smpm(smpm, INPUT, out, sets)
     if r.returncode != 0:
         raise RuntimeError(f"{name}: {r.stderr.strip()}")
     with h5py.File(out, "r") as f:
         frames = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])
         strain = np.array([100 * RATE * g.attrs["time"] for g in frames])
         syy = np.array([g["stress"][:, 3].mean() for g in frames])
-    return strain, syy, time.time() - start
+    return strain, syy, seconds
 
 
 def main():

@@ -7,7 +7,8 @@
 //   smpm spectrum input.toml [--k ...] [--alpha ...] [--courant C]
 //
 // Threads: SMPM_THREADS=n (a positive integer), else OMP_NUM_THREADS, else every core; the
-// results are the same bit for bit for any number.
+// results are the same bit for bit for any number. Waiting threads sleep (OMP_WAIT_POLICY=passive)
+// unless OMP_WAIT_POLICY says otherwise.
 //
 // Exit status: 0 success, 2 bad input (nothing that looks like a run is written),
 // 3 numerical failure (frames written so far are kept in the partial file), 130 / 143 for
@@ -27,6 +28,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -172,9 +174,24 @@ CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp) {
   return spec;
 }
 
+// libgomp reads OMP_WAIT_POLICY once, when it is loaded, before main. Its default lets the
+// threads that wait at the end of a parallel region spin; with another busy process on the same
+// cores (two runs of a parameter study, ctest -j2) the spinning threads take the cores from the
+// working ones: tests/cli/test_shock.py (15 runs of the shock, two at a time, two threads each)
+// took 187 s with spinning and 38 s with passive waiting on two cores. So, unless the user chose
+// a policy, the program starts itself once more with passive waiting; if that fails it goes on
+// with libgomp's default.
+void wait_passively_unless_chosen(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY"))
+    return;
+  if (setenv("OMP_WAIT_POLICY", "passive", 1) == 0)
+    execv("/proc/self/exe", argv);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
+  wait_passively_unless_chosen(argv);
   CLI::App app{"sparsempm: the Material Point Method with explicit sparse operators"};
   app.set_version_flag("--version", std::string(smpm::kVersion));
   app.require_subcommand(1);

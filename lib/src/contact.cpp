@@ -1,5 +1,7 @@
 #include "sparsempm/contact.hpp"
 
+#include "contact_detail.hpp"
+
 #include "contact_lr.hpp"
 
 #include "sparsempm/errors.hpp"
@@ -12,6 +14,28 @@
 #include <string>
 
 namespace smpm {
+
+namespace detail {
+Eigen::Vector3d row3(const Field& f, Index r) {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int a = 0; a < f.cols(); ++a)
+    x[a] = f(r, a);
+  return x;
+}
+
+// The separation at the end of the step if the two sides keep their velocities:
+// δ + Δt (v^β − v^α)·n̂ = δ + Δt Δp(0)·n̂ / m_red. Contact is judged on it, so that sides
+// whose separation is zero to round-off (touching under compression, where δ sits at ±10⁻⁷ of
+// a cell) and that approach are in contact; NairnMPM predicts the gap the same way for its grid
+// separations (CoulombFriction::GetFrictionalDeltaMomentum).
+double gap_at_step_end(double separation, const Eigen::Vector3d& dp0, const Eigen::Vector3d& n,
+                       double ma, double mb, double dt) {
+  return separation + dt * dp0.dot(n) * (ma + mb) / (ma * mb);
+}
+} // namespace detail
+
+using detail::gap_at_step_end;
+using detail::row3;
 
 std::string_view to_string(ContactLaw law) {
   switch (law) {
@@ -110,13 +134,6 @@ double cell_volume(const Grid& grid) {
 Eigen::Vector3d unit_or_zero(const Eigen::Vector3d& v) {
   const double norm = v.norm();
   return norm > 0 ? Eigen::Vector3d(v / norm) : Eigen::Vector3d::Zero();
-}
-
-Eigen::Vector3d row3(const Field& f, Index r) {
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  for (int a = 0; a < f.cols(); ++a)
-    x[a] = f(r, a);
-  return x;
 }
 
 bool uses(const Contact& c, ContactNormal normal) {
@@ -376,16 +393,6 @@ double contact_friction_work(const Eigen::Vector3d& dp0, const Eigen::Vector3d& 
 
 namespace {
 
-// The separation at the end of the step if the two sides keep their velocities:
-// δ + Δt (v^β − v^α)·n̂ = δ + Δt Δp(0)·n̂ / m_red. Contact is judged on it, so that sides
-// whose separation is zero to round-off (touching under compression, where δ sits at ±10⁻⁷ of
-// a cell) and that approach are in contact; NairnMPM predicts the gap the same way for its grid
-// separations (CoulombFriction::GetFrictionalDeltaMomentum).
-double gap_at_step_end(double separation, const Eigen::Vector3d& dp0, const Eigen::Vector3d& n,
-                       double ma, double mb, double dt) {
-  return separation + dt * dp0.dot(n) * (ma + mb) / (ma * mb);
-}
-
 // A node of three or more fields (contact 2020 §3.4, Eq. 50): each field α against the others
 // lumped into one virtual field (p^β = Σ_{k≠α} p^k, m^β = Σ_{k≠α} m^k); the change goes to α
 // only, so momentum is not conserved exactly (as the paper says).
@@ -436,6 +443,7 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
   Eigen::Vector3d dp;
   cn.prior.resize(cn.nodes.size());
   cn.net.resize(cn.nodes.size());
+  cn.heat.assign(cn.nodes.size(), 0.0);
   for (size_t c = 0; c < cn.nodes.size(); ++c) {
     const ContactNodes::Node& node = cn.nodes[c];
     if (node.a < 0) {
@@ -461,13 +469,15 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
       force->row(rb) -= dp.head(d).transpose() / dt;
       // Heat only in the momentum-update correction, as NairnMPM: the correction after P2G
       // changes the grid velocities the FLIP increment is measured from, not the particles'.
-      cn.friction_work += contact_friction_work(dp0, dp, node.normal, ma * mb / (ma + mb));
+      cn.heat[c] = contact_friction_work(dp0, dp, node.normal, ma * mb / (ma + mb));
+      cn.friction_work += cn.heat[c];
     }
   }
   return in_contact;
 }
 
-void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv) {
+void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv,
+                       bool friction_work) {
   SMPM_VERIFY(cn.prior.size() == cn.nodes.size(),
               "contact_increment: the lumped contact (apply_contact) must run first");
   const Index ng = ops.grid_node_count;
@@ -481,15 +491,24 @@ void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field&
     const double ma = ops.m[ra], mb = ops.m[rb], mred = ma * mb / (ma + mb);
     const Eigen::Vector3d dp0 = cn.prior[c] + mred * (row3(dv, rb) - row3(dv, ra)); // Eq. (20)
     const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
-    if (!contact_momentum_change(*node.pair, dp0, node.normal, gap, dp))
+    const bool touching = contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
+    if (!touching)
       dp.setZero(); // not in contact: Δp(ℓ) = 0
+    const double work = touching && friction_work
+                            ? contact_friction_work(dp0, dp, node.normal, mred)
+                            : 0.0; // first-order frictional heat of Δp(ℓ)
     Eigen::Vector3d correction = dp;
     if (node.pair->fmpm_method == ContactFmpmMethod::Evolving) {
       cn.prior[c] = dp0 - dp;
+      cn.friction_work += work;
     } else {
       correction = dp - cn.net[c]; // Δp^(eff)(ℓ)
       cn.prior[c] = dp0;
       cn.net[c] = dp;
+      if (friction_work) {
+        cn.friction_work += work - cn.heat[c];
+        cn.heat[c] = work;
+      }
     }
     dv.row(ra) += (correction.head(d) / ma).transpose();
     dv.row(rb) -= (correction.head(d) / mb).transpose();

@@ -120,6 +120,7 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
                      const FmpmOptions& opt, const FmpmHooks& hooks, Field& v, FmpmWorkspace& w) {
   FmpmReport report;
   w.prev = v; // Δv(1) = v⁺(1)
+  w.metrics.clear();
   for (int ell = 2; ell <= opt.order; ++ell) {
     reverse_map_product(m_inv, mt, w.prev, w.next); // S⁺S Δv(ℓ−1)
     w.prev -= w.next;                               // Δv(ℓ) = A Δv(ℓ−1)          (Eq. 6)
@@ -132,8 +133,12 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
       hooks.contact(ell, w.prev, v); // (2)
     v += w.prev; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                     (Eq. 5)
     report.order = ell;
-    if (hooks.converged && hooks.converged(ell, w.prev, v, report.metric)) // (3)
-      break;
+    if (hooks.converged) { // (3)
+      const bool done = hooks.converged(ell, w.prev, v, report.metric);
+      w.metrics.push_back(report.metric);
+      if (done)
+        break;
+    }
   }
   return report;
 }

@@ -88,8 +88,23 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
       sum += sv[cols.entry[size_t(t)]] * ops.M[cols.row[size_t(t)]];
     ops.m[i] = sum;
   });
-  const double tol = kMassTolerance * (ops.m.size() ? ops.m.maxCoeff() : 0.0);
-  ops.active = ops.m.array() > tol;
+  if (fields == 1) {
+    const double tol = kMassTolerance * (ops.m.size() ? ops.m.maxCoeff() : 0.0);
+    ops.active = ops.m.array() > tol;
+  } else {
+    // Multimaterial: the tolerance of single material mode (relative to the largest total
+    // nodal mass Σ_α m^α_i), so that a field alone on a node is active exactly when the node
+    // is in single material mode and bonded contact reverts to it.
+    const Index ng = ops.grid_node_count;
+    double largest = 0;
+    for (Index i = 0; i < ng; ++i) {
+      double total = 0;
+      for (int f = 0; f < fields; ++f)
+        total += ops.m[f * ng + i];
+      largest = std::max(largest, total);
+    }
+    ops.active = ops.m.array() > kMassTolerance * largest;
+  }
   ops.m_inv = ops.active.select(ops.m.array().inverse(), 0.0).matrix();
 }
 

@@ -59,11 +59,19 @@ struct Stages {
       apply_contact(*c.ops, *c.contact_nodes, c.dt, p, force);
   }
 
-  // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1).
-  void grid_velocity(const Field& p, Field& v) {
+  // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1); `heat` on the
+  // call after the momentum update, whose contact corrections do frictional work.
+  void grid_velocity(const Field& p, Field& v, bool heat = false) {
     const LoopConstraints bc{c.grid, c.bcs, c.time};
     if (full_mass && opt.velocity == VelocityUpdate::Exact) {
       c.solver->solve(*c.ops, *c.mt, bc, p, v);
+      if (c.contact_nodes) { // each field's m̃^α with contact at the Net limit (§3.2)
+        b.p_contact = p;
+        exact_contact(
+            *c.ops, *c.contact_nodes, c.dt,
+            [this](const Field& r, Field& u) { c.solver->solve_again(r, u); }, b.p_contact, v,
+            heat);
+      }
       return;
     }
     lumped_solve(c.ops->m_inv, p, v); // v⁺(1) = m⁻¹ p
@@ -72,8 +80,8 @@ struct Stages {
       // corrects each increment (FMPM 2026 §3.2), from the state of the lumped correction of p.
       std::function<void(int, Field&, const Field&)> hook;
       if (c.contact_nodes)
-        hook = [this](int, Field& dv, const Field&) {
-          contact_increment(*c.ops, *c.contact_nodes, c.dt, dv);
+        hook = [this, heat](int, Field& dv, const Field&) {
+          contact_increment(*c.ops, *c.contact_nodes, c.dt, dv, heat);
         };
       b.report = fmpm_velocity(*c.ops, *c.mt, opt.fmpm, bc, v, b.fmpm, hook);
     }
@@ -132,7 +140,7 @@ struct Stages {
     }
     lumped_solve(c.ops->m_inv, g.f, g.a);
     if (opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::Exact)
-      grid_velocity(g.p_plus, g.v_plus);
+      grid_velocity(g.p_plus, g.v_plus, true);
     else
       lumped_solve(c.ops->m_inv, g.p_plus, g.v_plus);
   }
@@ -191,6 +199,7 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
   SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
               "scheme_step: the exact update needs a MassSolver (context.solver)");
   buffers.report = FmpmReport{};
+  buffers.fmpm.metrics.clear(); // a step without a loop has no trace
   s.momentum();
   s.forces_and_velocity();
   s.particle_update();

@@ -74,20 +74,16 @@ void validate(const StepOptions& opt) {
               "the exact velocity update needs StepOptions::exact_solver (see exact.hpp)");
 }
 
-void validate_multimaterial(const StepOptions& opt, const Contact& contact) {
-  if (contact.fields() < 2)
-    return;
-  if (opt.velocity == VelocityUpdate::Exact)
-    throw InputError("scheme.velocity = exact with " + std::to_string(contact.fields()) +
-                     " velocity fields: contact inside the exact consistent-mass solve is not "
-                     "available; use FLIP, PIC, XPIC or FMPM");
-}
-
 bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {
   if (!grid_update)
     return false;
   const bool series = opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::XPIC;
   return opt.velocity == VelocityUpdate::Exact || (series && opt.fmpm.order > 1);
+}
+
+void MassSolver::solve_again(const Field&, Field&) {
+  throw InputError("this mass solver cannot solve again with its last matrix (needed by the "
+                   "exact update with contact)");
 }
 
 struct Stepper::Buffers {
@@ -114,13 +110,15 @@ const GridState& Stepper::grid_state() const {
 const FmpmReport& Stepper::last_fmpm() const {
   return buf_->step.report;
 }
+const std::vector<double>& Stepper::last_fmpm_metrics() const {
+  return buf_->step.fmpm.metrics;
+}
 
 void Stepper::step(Model& model, double dt) {
   Particles& P = model.particles;
   try {
     const int nf = model.contact.fields();
     if (nf > 1) { // multimaterial: the fields as blocks of columns of S (contact.hpp)
-      validate_multimaterial(opt_, model.contact);
       model.contact.particle_fields(P.material, buf_->field);
       assemble(model.grid, P, opt_.shape, ops_, nf, &buf_->field);
     } else {

@@ -12,8 +12,15 @@ matrices:
 
 Errors are InputError (bad input, the messages of `smpm run`) and NumericalError.
 Threads: SMPM_THREADS at import (else OMP_NUM_THREADS or every core), or set_threads(n); the
-results are the same bit for bit for any number.
+results are the same bit for bit for any number. Waiting threads sleep
+(OMP_WAIT_POLICY=passive, set here unless the environment chose a policy before the first
+OpenMP library was loaded), so that runs sharing the cores do not slow each other down.
 """
+
+import os as _os
+
+# libgomp reads the policy when it is loaded, that is when the extension below is imported.
+_os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 import numpy as _np
 from scipy.sparse.linalg import LinearOperator as _LinearOperator

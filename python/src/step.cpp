@@ -72,7 +72,11 @@ void bind_step(py::module_& m) {
           "v⁺ of the last step (n × d), the velocity of its particle update")
       .def_property_readonly(
           "fmpm_order", [](const Stepper& s) { return s.last_fmpm().order; },
-          "the FMPM order reached by the last step's loop");
+          "the FMPM order reached by the last step's loop")
+      .def_property_readonly(
+          "fmpm_metrics", [](const Stepper& s) { return s.last_fmpm_metrics(); },
+          "the convergence metric of passes 2, 3, ... of the last step's FMPM loop (dynamic "
+          "FMPM; scheme.dynamic_limit = 0 runs it to the order)");
 
   m.def(
       "stable_time_step",

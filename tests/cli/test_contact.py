@@ -217,7 +217,6 @@ class ContactInput(unittest.TestCase):
         self.check(SN[:1] + ["contact.0.direction=[0.0, 0.0]"], ["must not be zero"])
         self.check(["contact.0.critical_separation=1", "contact.0.detection=always"],
                    ["only detection = \"CP\""])
-        self.check(["scheme.velocity=exact"], ["scheme.velocity = exact", "2 velocity fields"])
 
 
 if __name__ == "__main__":

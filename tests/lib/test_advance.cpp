@@ -43,7 +43,7 @@ TEST_CASE("a failing run stops with the step named", "[advance]") {
   CHECK(bar.time < 400);
 }
 
-TEST_CASE("stops do not change a constant-step run; landing on them does", "[advance]") {
+TEST_CASE("stops do not change a constant-step run, landing on them does", "[advance]") {
   // land_on_stops = false: every step is the Courant step, so a run with stops every 7.3 is bit
   // for bit the run without stops; stops are reported at the first step past 7.3 k (10 of them)
   // and at the end (t ≥ 80). With landing, the steps before stops are shortened: the reports
@@ -68,7 +68,7 @@ TEST_CASE("stops do not change a constant-step run; landing on them does", "[adv
   REQUIRE(constant.size() == 11);
   REQUIRE(landed.size() == 11);
   for (int k = 1; k <= 10; ++k) {
-    CHECK(constant[size_t(k - 1)] >= 7.3 * k);
+    CHECK(constant[size_t(k - 1)] >= 7.3 * k - 80e-12);      // advance's tolerance: 1e-12 t_end
     CHECK(constant[size_t(k - 1)] < 7.3 * k + 0.15 + 1e-12); // within one step Δt = 0.15
     CHECK(landed[size_t(k - 1)] == approx(7.3 * k, 1e-12));
   }

@@ -172,6 +172,16 @@ TEST_CASE("dynamic FMPM stops at the first order whose metric is below the limit
     CHECK(r.order == expected);
     CHECK(r.metric == approx(m[size_t(expected)], 1e-14, 1e-12));
     CHECK(rel(v, loop(s, {.order = expected})) < 1e-14);
+    // The trace of the metric (Fig. 13A) holds the metric of every pass ℓ = 2 … order.
+    REQUIRE(w.metrics.size() == size_t(expected - 1));
+    for (int ell = 2; ell <= expected; ++ell)
+      CHECK(w.metrics[size_t(ell - 2)] == approx(m[size_t(ell)], 1e-14, 1e-12));
+    // A limit of 0 never stops the loop: the whole curve to the order.
+    Field u = lumped(s);
+    fmpm_velocity(s.ops, s.mt.matrix, {.order = 20, .metric = metric, .dynamic_limit = 0}, {}, u,
+                  w);
+    REQUIRE(w.metrics.size() == 19);
+    CHECK(w.metrics.back() == approx(m[20], 1e-14, 1e-12));
   }
 }
 

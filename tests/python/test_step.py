@@ -164,3 +164,30 @@ def test_one_and_two_threads_step_the_same_bits():
     assert np.abs(states[0][3]).max() > 0  # the run did something: stresses
     for one, two in zip(*states):
         assert np.array_equal(one, two)
+
+
+def test_fmpm_metrics_trace_the_dynamic_loop():
+    # FMPM 2026 §3.4 / Fig. 13A: with a limit of 0 the loop of FMPM(12) runs to ℓ = 12 and
+    # fmpm_metrics holds the metric of passes 2 … 12; with a limit between the values of
+    # passes 4 and 5 the loop stops where that curve first falls below it, and its trace is the
+    # curve up to there (the same doubles: same state, same passes).
+    model = smpm.Model.from_toml(str(BAR), {"scheme.velocity": "FMPM", "scheme.order": 12,
+                                            "scheme.dynamic_metric": "means",
+                                            "scheme.dynamic_limit": 1e-3})
+    stepper = smpm.Stepper(model.options)
+    for _ in range(20):
+        stepper.step(model, smpm.stable_time_step(model, model.courant))
+    dt = smpm.stable_time_step(model, model.courant)
+    full = model.options.copy()
+    full.dynamic_limit = 0.0
+    s = smpm.Stepper(full)
+    s.step(model.copy(), dt)
+    curve = s.fmpm_metrics
+    assert len(curve) == 11 and s.fmpm_order == 12 and all(c > 0 for c in curve)
+    limit = 0.5 * (curve[2] + curve[3])
+    expected = next(ell for ell, c in enumerate(curve, start=2) if c < limit)
+    early = model.options.copy()
+    early.dynamic_limit = limit
+    s = smpm.Stepper(early)
+    s.step(model.copy(), dt)
+    assert s.fmpm_order == expected and s.fmpm_metrics == curve[:expected - 1]

@@ -19,6 +19,7 @@ struct Factor {
   std::vector<int> free;           // local → node
   std::vector<int> colptr, rowind; // pattern of the restricted matrix (CSC, full symmetric)
   std::vector<double> values;
+  std::vector<int> comps; // the velocity components solved with this factor
   cholmod_factor* L = nullptr;
 };
 } // namespace
@@ -26,6 +27,8 @@ struct Factor {
 struct CholmodSolver::Impl {
   cholmod_common c;
   std::vector<Factor> factors;
+  size_t used = 0; // factors of the last solve
+  Index rows = 0;  // nodes of the last solve
   long analyses = 0, factorizations = 0;
   double rcond = std::numeric_limits<double>::quiet_NaN();
   Impl() {
@@ -213,6 +216,44 @@ Eigen::MatrixXd right_hand_sides(const Operators& ops, const SparseRowMatrix& mt
 }
 } // namespace
 
+namespace {
+// v(F, comps) = L⁻ᵀL⁻¹ B with the factor of f.
+void solve_factor(cholmod_common& c, Factor& f, Eigen::MatrixXd& B, Field& v) {
+  cholmod_dense rhs{};
+  rhs.nrow = f.free.size();
+  rhs.ncol = f.comps.size();
+  rhs.nzmax = rhs.nrow * rhs.ncol;
+  rhs.d = rhs.nrow;
+  rhs.x = B.data();
+  rhs.xtype = CHOLMOD_REAL;
+  rhs.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* X = cholmod_solve(CHOLMOD_A, f.L, &rhs, &c);
+  if (!X)
+    throw NumericalError("CHOLMOD could not solve with the consistent mass matrix");
+  const double* x = static_cast<const double*>(X->x);
+  for (size_t k = 0; k < f.comps.size(); ++k)
+    for (size_t q = 0; q < f.free.size(); ++q)
+      v(f.free[q], f.comps[k]) = x[k * X->d + q];
+  cholmod_free_dense(&X, &c);
+}
+} // namespace
+
+void CholmodSolver::solve_again(const Field& r, Field& v) {
+  SMPM_VERIFY(r.rows() == impl_->rows, "solve_again: " + std::to_string(r.rows()) +
+                                           " rows after a solve of " + std::to_string(impl_->rows));
+  v.setZero(r.rows(), r.cols());
+  for (size_t s = 0; s < impl_->used; ++s) {
+    Factor& f = impl_->factors[s];
+    if (f.free.empty() || !f.L)
+      continue;
+    Eigen::MatrixXd B(f.free.size(), f.comps.size());
+    for (size_t k = 0; k < f.comps.size(); ++k)
+      for (size_t q = 0; q < f.free.size(); ++q)
+        B(Index(q), Index(k)) = r(f.free[q], f.comps[k]);
+    solve_factor(impl_->c, f, B, v);
+  }
+}
+
 void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
                           const LoopConstraints& bc, const Field& p, Field& v) {
   const Index n = ops.num_nodes();
@@ -229,6 +270,7 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
     for (size_t k = 0; k < F.size(); ++k)
       local[size_t(F[k])] = int(k);
     const bool same_pattern = restrict_matrix(ops, mt, regularization_, local, f, F);
+    f.comps = comps;
     if (F.empty())
       continue;
     cholmod_sparse A = as_cholmod(f);
@@ -247,23 +289,10 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
     impl_->rcond = cholmod_rcond(f.L, &c);
     Eigen::MatrixXd B =
         right_hand_sides(ops, mt, 1 - regularization_, p, prescribed, F, local, comps, v);
-    cholmod_dense rhs{};
-    rhs.nrow = F.size();
-    rhs.ncol = comps.size();
-    rhs.nzmax = rhs.nrow * rhs.ncol;
-    rhs.d = rhs.nrow;
-    rhs.x = B.data();
-    rhs.xtype = CHOLMOD_REAL;
-    rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* X = cholmod_solve(CHOLMOD_A, f.L, &rhs, &c);
-    if (!X)
-      throw NumericalError("CHOLMOD could not solve with the consistent mass matrix");
-    const double* x = static_cast<const double*>(X->x);
-    for (size_t k = 0; k < comps.size(); ++k)
-      for (size_t q = 0; q < F.size(); ++q)
-        v(F[q], comps[k]) = x[k * X->d + q];
-    cholmod_free_dense(&X, &c);
+    solve_factor(c, f, B, v);
   }
+  impl_->used = slot;
+  impl_->rows = n;
   // Components whose free set is empty keep only their prescribed values.
   for (int a = 0; a < d; ++a)
     for (Index i = 0; i < n; ++i)

@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <string_view>
 #include <vector>
 
@@ -173,8 +174,12 @@ struct ContactNodes {
   // The incremental contact of the FMPM loop (FMPM 2026 §3.2): per node of two fields, the
   // Δp^(prior)(0) and Δp^(net) that the last lumped correction (apply_contact) initialised.
   std::vector<Eigen::Vector3d> prior, net;
+  /// Per node: the frictional work of its current net correction, when the last apply_contact
+  /// was the momentum-update correction (0 otherwise); the loop replaces it (Net).
+  std::vector<double> heat;
   /// The frictional work of the step's momentum-update correction (apply_contact with a
-  /// force; contact_friction_work), reset by find_contact_nodes.
+  /// force; contact_friction_work) and of the corrections that follow it in the FMPM loop or
+  /// the exact update (contact_increment, exact_contact), reset by find_contact_nodes.
   double friction_work = 0;
 };
 
@@ -213,7 +218,28 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
 /// not in contact); Evolving: Δv^α += Δp(ℓ)/m^α, Δv^β −= Δp(ℓ)/m^β, Δp^(prior)(0) = Δp(0) −
 /// Δp(ℓ); Net: the same with Δp^(eff) = Δp(ℓ) − Δp^(net), then Δp^(prior)(0) = Δp(0),
 /// Δp^(net) = Δp(ℓ). Starts from the state of the last apply_contact. Nodes of three or more
-/// fields keep only their lumped correction.
-void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv);
+/// fields keep only their lumped correction. When `friction_work` (the loop after the
+/// momentum-update correction), the frictional work follows the corrections: Net replaces the
+/// node's work by that of Δp(ℓ) (NairnMPM's priorMredDelWf), Evolving adds that of each Δp(ℓ).
+void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field& dv,
+                       bool friction_work = false);
+
+/// Contact for the exact update in multimaterial mode: the k → ∞ limit of the Net method
+/// (FMPM 2026 §3.2). Summing the Net recursion over all passes gives its fixed point
+///     v^α = (m̃^α)⁻¹ (p^α ± Δp),   Δp = law(Δp + m_red (v^β − v^α))   (Eqs. 18–20)
+/// at every node of two fields (m̃ is block diagonal, one block per field, Eq. 15). On entry p
+/// holds the momenta with the last lumped correction (apply_contact: Δp^(net)) and v = m̃⁻¹ p;
+/// `respond(r, u)` gives u = m̃⁻¹ r with homogeneous velocity conditions (MassSolver::
+/// solve_again). Each outer pass classifies the nodes by the law at the current state — apart
+/// (Δp = 0), sticking (v^β = v^α), or normal only (the normal component of v^β − v^α zero, the
+/// tangential impulse fixed at the law's: 0 frictionless, S_slide A_c Δt sliding) — and solves
+/// the linear equations for the impulses by conjugate gradients on K = B ᵀ m̃⁻¹ B (one solve a
+/// product, preconditioned by m_red), until the law holds at every node (changes below 1e-12
+/// of the largest nodal momentum). Nodes of three or more fields keep their lumped correction.
+/// Updates p, v, Δp^(net) and, with `friction_work`, the frictional work of the net impulses.
+/// Returns the number of outer passes; throws NumericalError when they do not converge.
+int exact_contact(const Operators& ops, ContactNodes& cn, double dt,
+                  const std::function<void(const Field& r, Field& u)>& respond, Field& p, Field& v,
+                  bool friction_work = false);
 
 } // namespace smpm

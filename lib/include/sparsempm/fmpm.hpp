@@ -66,7 +66,8 @@ struct FmpmReport {
 /// Scratch storage of the loop (n × d each).
 struct FmpmWorkspace {
   Field prev, next;
-  Field dv; ///< XPIC's Δv*_k (multimaterial)
+  Field dv;                    ///< XPIC's Δv*_k (multimaterial)
+  std::vector<double> metrics; ///< metric of passes ℓ = 2, 3, ... of the last loop (dynamic FMPM)
 };
 
 /// The per-pass corrections of FMPM 2026 Table 1, called on every pass ℓ ≥ 2 after
@@ -87,7 +88,8 @@ void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt
                          Field& y);
 
 /// The FMPM loop of FMPM 2026 Table 1. On entry `v` holds v⁺(1) = m⁻¹ p⁺ (with whatever
-/// lumped corrections the caller applied); on return v⁺(ℓ) at the last pass ℓ ≤ k. Each pass:
+/// lumped corrections the caller applied); on return v⁺(ℓ) at the last pass ℓ ≤ k, and
+/// w.metrics holds the metric hook (3) gave on each pass (FMPM 2026 Fig. 13A). Each pass:
 ///     Δv(ℓ) = c_ℓ (Δv(ℓ−1) − S⁺S Δv(ℓ−1))        (Eq. 6; c_ℓ = blend_factor(ℓ), §3.3)
 ///     hooks (1) and (2) correct Δv(ℓ);  v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)   (Eq. 5);  hook (3).
 FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,

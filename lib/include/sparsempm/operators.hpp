@@ -46,11 +46,13 @@ struct Operators {
   std::array<SparseRowMatrix, 3> G; ///< G[a]: N × n gradient weights ∂S_pi/∂x_a (a < d)
   Eigen::VectorXd M;                ///< N particle masses (the diagonal of 𝗠)
   Eigen::VectorXd m;                ///< n lumped nodal masses m = Sᵀ M
-  Eigen::Array<bool, Eigen::Dynamic, 1> active; ///< n: m_i > kMassTolerance · max m
-  Eigen::VectorXd m_inv;                        ///< n: 1/m_i on active nodes, 0 elsewhere
-  std::vector<ShapeSupport> support;            ///< workspace: the pattern of S and G
-  ColumnIndex columns;                          ///< S's pattern by columns
-  std::array<int, 3> grid_nodes{1, 1, 1};       ///< nodes per axis of the grid
+  /// n: m_i > kMassTolerance · max m; with several fields, m^α_i > kMassTolerance times the
+  /// largest total nodal mass Σ_α m^α_i (the tolerance of single material mode)
+  Eigen::Array<bool, Eigen::Dynamic, 1> active;
+  Eigen::VectorXd m_inv;                  ///< n: 1/m_i on active nodes, 0 elsewhere
+  std::vector<ShapeSupport> support;      ///< workspace: the pattern of S and G
+  ColumnIndex columns;                    ///< S's pattern by columns
+  std::array<int, 3> grid_nodes{1, 1, 1}; ///< nodes per axis of the grid
   long pattern_version = 0; ///< a new process-unique number whenever S's pattern changes
   Index num_particles() const { return S.rows(); }
   Index num_nodes() const { return S.cols(); }

@@ -96,6 +96,7 @@ struct StepBuffers {
   FmpmReport report;                   ///< how the last FMPM loop ended
   Field v_strain, p_re, v_re, xpic, L; ///< n × d and N × d² scratch
   Field contact_dv; ///< Δv^α = m⁻¹Δp^α of the contact after P2G (multimaterial XPIC, Eq. 37)
+  Field p_contact;  ///< p with the contact impulses of the exact update (multimaterial)
 };
 
 /// One step of the scheme context.options->scheme (FMPM 2026 Fig. 1):

@@ -55,6 +55,10 @@ public:
   virtual ~MassSolver() = default;
   virtual void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
                      const Field& p, Field& v) = 0;
+  /// The response v = m̃⁻¹ r to a momentum change r with the matrix of the last solve and
+  /// homogeneous conditions (zero on the components that solve prescribed): what the contact
+  /// of the exact update in multimaterial mode needs. The default throws InputError.
+  virtual void solve_again(const Field& r, Field& v);
 };
 /// Makes a new MassSolver (e.g. cholmod_solver_factory() of exact.hpp).
 using MassSolverFactory = std::function<std::unique_ptr<MassSolver>()>;
@@ -85,12 +89,6 @@ double position_alpha(const StepOptions& options);
 /// C_X < 0) and UsageError for Exact without a solver factory. The only check of StepOptions:
 /// the Stepper and the linearised step call it.
 void validate(const StepOptions& options);
-
-/// Throws InputError when the options cannot run with several velocity fields: FLIP, PIC,
-/// XPIC(m) (with the contact term of contact 2020 Eq. 37) and FMPM(k) (contact on every
-/// increment, FMPM 2026 §3.2) run in multimaterial mode; the exact update would need contact
-/// inside the consistent-mass solve, which is not available.
-void validate_multimaterial(const StepOptions& options, const Contact& contact);
 
 /// Whether a step assembles m̃ (FMPM 2026 §2.2): on steps that update particles from grid
 /// velocities (`grid_update`) with the exact inverse, or with FMPM(k) or XPIC(m) of order > 1.
@@ -123,6 +121,12 @@ public:
   bool last_step_was_fmpm() const { return grid_update_; }
   /// How the last FMPM loop ended (order reached, metric).
   const FmpmReport& last_fmpm() const;
+  /// The convergence metric of each pass ℓ = 2, 3, ... of the last step's last FMPM loop
+  /// (dynamic FMPM, FMPM 2026 §3.4 and Fig. 13A; empty without a metric or a loop, as on the
+  /// FLIP steps of periodic FMPM). With USL+ and USAVG+ the last loop is that of the
+  /// re-extrapolated velocities (task 4.c). With dynamic_limit = 0 the loop runs to the order k
+  /// and this is the whole curve.
+  const std::vector<double>& last_fmpm_metrics() const;
   /// Periodic FMPM: the Courant number accumulated since the last FMPM step (§3.3). Part of
   /// the stepper's state: a restart sets it back with set_courant_budget.
   double courant_budget() const { return courant_budget_; }

@@ -279,11 +279,6 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
 
   read_scheme(r, root, cfg.step);
   cfg.model.contact = detail::read_contact(r, root, cfg.model.materials, grid.dim());
-  try {
-    validate_multimaterial(cfg.step, cfg.model.contact);
-  } catch (const InputError& e) {
-    throw InputError(source + ": " + e.what());
-  }
 
   const toml::table* loads = r.table(root, "loads", "[loads]", false);
   if (loads) {

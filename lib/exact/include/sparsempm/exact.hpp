@@ -31,6 +31,8 @@ public:
 
   void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
              const Field& p, Field& v) override;
+  /// m̃_FF x_F = r_F with the factors of the last solve, x = 0 off F (no refactorisation).
+  void solve_again(const Field& r, Field& v) override;
 
   double regularization() const { return regularization_; }
   double mass_cutoff() const { return mass_cutoff_; }
