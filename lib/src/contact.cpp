@@ -4,6 +4,7 @@
 
 #include "contact_lr.hpp"
 
+#include "sparsempm/boundary.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/operators.hpp"
 #include "sparsempm/stages.hpp"
@@ -252,13 +253,32 @@ struct NodeGeometry {
   }
 };
 
+// The projectors onto the directions left free by the velocity conditions on each contact node
+// (find_contact_nodes): I − Σ b̂ b̂ᵀ over an orthonormal basis b̂ of the fixed directions (the
+// conditions on a node are parallel or perpendicular, boundary.hpp).
+void free_directions(const BoundaryConditions& bcs, ContactNodes& cn) {
+  cn.free.clear();
+  for (const VelocityCondition& bc : bcs.conditions)
+    for (Index i : bc.nodes) {
+      const int c = cn.slot[size_t(i)];
+      if (c < 0)
+        continue;
+      ContactNodes::Node& node = cn.nodes[size_t(c)];
+      if (node.constrained < 0) {
+        node.constrained = int(cn.free.size());
+        cn.free.push_back(Eigen::Matrix3d::Identity());
+      }
+      Eigen::Matrix3d& free = cn.free[size_t(node.constrained)];
+      const Eigen::Vector3d b = free * bc.direction; // the part not fixed already
+      if (b.norm() > 1e-9)
+        free -= b.normalized() * b.normalized().transpose();
+    }
+}
+
 // The particles whose shape functions reach each contact node (any field), with their fields:
 // the LR point clouds (contact 2020 §3.1), two passes over S (count, then fill).
 void build_clouds(const Operators& ops, const ParticleOperators& op, ContactNodes& cn) {
   const Index ng = ops.grid_node_count, nc = Index(cn.nodes.size());
-  cn.slot.assign(size_t(ng), -1);
-  for (Index c = 0; c < nc; ++c)
-    cn.slot[size_t(cn.nodes[size_t(c)].node)] = int(c);
   cn.cloud_offset.assign(size_t(nc) + 1, 0);
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1) {
@@ -288,7 +308,8 @@ void build_clouds(const Operators& ops, const ParticleOperators& op, ContactNode
 } // namespace
 
 void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
-                        const Contact& contact, const ContactParticles& P, ContactNodes& cn) {
+                        const Contact& contact, const ContactParticles& P, ContactNodes& cn,
+                        const BoundaryConditions* bcs) {
   cn.nodes.clear();
   cn.sides.clear();
   cn.friction_work = 0;
@@ -317,6 +338,17 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
     node.b = count > 2 ? -1 : b;
     cn.nodes.push_back(node);
   }
+  cn.slot.assign(size_t(ng), -1);
+  for (size_t c = 0; c < cn.nodes.size(); ++c)
+    cn.slot[size_t(cn.nodes[c].node)] = int(c);
+  if (bcs)
+    free_directions(*bcs, cn);
+  else
+    cn.free.clear();
+  // n̂ ← P n̂ / |P n̂| with P the node's projector onto its free directions.
+  auto constrain = [&](const ContactNodes::Node& node, const Eigen::Vector3d& n) {
+    return node.constrained < 0 ? n : unit_or_zero(cn.free[size_t(node.constrained)] * n);
+  };
   if (uses(contact, ContactNormal::LogisticRegression) ||
       uses(contact, ContactDetection::LogisticRegression))
     build_clouds(ops, op, cn);
@@ -326,7 +358,7 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
     const NodeGeometry geo{grid, ops, cn, P, node.node, Index(c)};
     if (node.a >= 0) {
       node.pair = &contact.pair(node.a, node.b);
-      node.normal = geo.normal(*node.pair, node.a, node.b);
+      node.normal = constrain(node, geo.normal(*node.pair, node.a, node.b));
       node.separation = geo.separation(*node.pair, node.a, node.b, node.normal);
       const double h = cell_width_along(grid, node.normal);
       node.area = h > 0 ? vcell / h : 0;
@@ -344,7 +376,7 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
               (heaviest < 0 || ops.m[o * ng + node.node] > ops.m[heaviest * ng + node.node]))
             heaviest = o;
         side.pair = &contact.pair(f, heaviest);
-        side.normal = geo.normal(*side.pair, f, -1);
+        side.normal = constrain(node, geo.normal(*side.pair, f, -1));
         side.separation = geo.separation(*side.pair, f, -1, side.normal);
       }
       cn.sides.push_back(side);
@@ -396,8 +428,9 @@ namespace {
 // A node of three or more fields (contact 2020 §3.4, Eq. 50): each field α against the others
 // lumped into one virtual field (p^β = Σ_{k≠α} p^k, m^β = Σ_{k≠α} m^k); the change goes to α
 // only, so momentum is not conserved exactly (as the paper says).
-bool lumped_node(const Operators& ops, ContactNodes& cn, const ContactNodes::Node& node, double dt,
-                 Field& p, Field* force) {
+bool lumped_node(const Operators& ops, ContactNodes& cn, size_t c, double dt, Field& p,
+                 Field* force) {
+  const ContactNodes::Node& node = cn.nodes[c];
   const Index ng = ops.grid_node_count, i = node.node;
   const int nf = ops.fields, d = int(p.cols());
   cn.change.assign(size_t(nf), Eigen::Vector3d::Zero());
@@ -416,7 +449,7 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, const ContactNodes::Nod
     const ContactNodes::Side& side = cn.sides[size_t(node.first_side + f)];
     const double ma = ops.m[r], mb = m_all - ma;
     const Eigen::Vector3d pa = row3(p, r), pb = p_all - pa;
-    const Eigen::Vector3d dp0 = (ma * pb - mb * pa) / (ma + mb);
+    const Eigen::Vector3d dp0 = free_part(cn, c, (ma * pb - mb * pa) / (ma + mb));
     const double gap = gap_at_step_end(side.separation, dp0, side.normal, ma, mb, dt);
     const bool touching =
         contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]);
@@ -447,12 +480,12 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
   for (size_t c = 0; c < cn.nodes.size(); ++c) {
     const ContactNodes::Node& node = cn.nodes[c];
     if (node.a < 0) {
-      in_contact += lumped_node(ops, cn, node, dt, p, force);
+      in_contact += lumped_node(ops, cn, c, dt, p, force);
       continue;
     }
     const Index ra = node.a * ng + node.node, rb = node.b * ng + node.node;
     const double ma = ops.m[ra], mb = ops.m[rb];
-    const Eigen::Vector3d dp0 = (ma * row3(p, rb) - mb * row3(p, ra)) / (ma + mb);
+    const Eigen::Vector3d dp0 = free_part(cn, c, (ma * row3(p, rb) - mb * row3(p, ra)) / (ma + mb));
     const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
     const bool touching = contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
     // Step 1 of FMPM 2026 §3.2's algorithm: initialise the incremental state.
@@ -489,7 +522,9 @@ void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field&
       continue; // three or more fields: the lumped correction only
     const Index ra = node.a * ng + node.node, rb = node.b * ng + node.node;
     const double ma = ops.m[ra], mb = ops.m[rb], mred = ma * mb / (ma + mb);
-    const Eigen::Vector3d dp0 = cn.prior[c] + mred * (row3(dv, rb) - row3(dv, ra)); // Eq. (20)
+    // Eq. (20)
+    const Eigen::Vector3d dp0 =
+        cn.prior[c] + free_part(cn, c, mred * (row3(dv, rb) - row3(dv, ra)));
     const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
     const bool touching = contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
     if (!touching)

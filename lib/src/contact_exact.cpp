@@ -62,7 +62,8 @@ int exact_contact(const Operators& ops, ContactNodes& cn, double dt,
       if (node.a < 0)
         continue;
       const auto [ra, rb] = rows(c);
-      const Eigen::Vector3d dp0 = cn.net[c] + mred(c) * (row3(v, rb) - row3(v, ra));
+      const Eigen::Vector3d dp0 =
+          cn.net[c] + free_part(cn, c, mred(c) * (row3(v, rb) - row3(v, ra)));
       const double gap =
           gap_at_step_end(node.separation, dp0, node.normal, ops.m[ra], ops.m[rb], dt);
       Eigen::Vector3d& dp = law_dp[c];

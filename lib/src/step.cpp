@@ -130,7 +130,7 @@ void Stepper::step(Model& model, double dt) {
       buf_->volume.array() *= P.volume0.array();
       const ContactParticles cp{P.X, P.F, P.half_length, buf_->volume};
       find_contact_nodes(model.grid, ops_, particle_operators(ops_), model.contact, cp,
-                         buf_->contact);
+                         buf_->contact, &model.bcs);
     }
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.

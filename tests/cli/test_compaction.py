@@ -31,7 +31,7 @@ class Compaction(unittest.TestCase):
         ag = float(rows["AG, CP = 0.8"]["interpenetration"])
         lr = float(rows["LR, d_LR"]["interpenetration"])
         df = float(rows["AG, DF"]["interpenetration"])
-        # Measured: 0.82% of the particles inside another object with AG + CP, 0.97% with
+        # Measured: 0.72% of the particles inside another object with AG + CP, 0.97% with
         # AG + DF, none with LR (contact 2020 Fig. 6: LR removes the interpenetration).
         self.assertGreater(ag, 0.0005)
         self.assertGreater(df, 0.0005)

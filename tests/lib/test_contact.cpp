@@ -16,6 +16,18 @@ using smpm::test::pair_law;
 
 namespace {
 
+// The operators of m (GIMP, one field per material of m.contact) and its contact nodes
+// (find_contact_nodes, with the velocity conditions `bcs` if given).
+void contact_nodes_of(const Model& m, Operators& ops, ContactNodes& cn,
+                      const BoundaryConditions* bcs = nullptr) {
+  Eigen::VectorXi field;
+  m.contact.particle_fields(m.particles.material, field);
+  assemble(m.grid, m.particles, Shape::GIMP, ops, 2, &field);
+  const Eigen::VectorXd volume = m.particles.volume();
+  const ContactParticles cp{m.particles.X, m.particles.F, m.particles.half_length, volume};
+  find_contact_nodes(m.grid, ops, particle_operators(ops), m.contact, cp, cn, bcs);
+}
+
 // Two blocks of GIMP particles (2 × 2 per cell, half-length 0.25) on a 12 × 12 grid of unit
 // cells, materials 0 below y = bottom and 1 above it, the upper lattice (of the same spacing
 // and half-lengths) shifted up by `gap` (< 0: overlapping), with `law` between them: the
@@ -30,13 +42,8 @@ void stacked_blocks_contact(double bottom, double gap, const ContactPair& law, M
   m.particles.append(top);
   m.contact.material_field = {0, 1};
   m.contact.pairs = {law};
-  Eigen::VectorXi field;
-  m.contact.particle_fields(m.particles.material, field);
   Operators ops;
-  assemble(m.grid, m.particles, Shape::GIMP, ops, 2, &field);
-  const Eigen::VectorXd volume = m.particles.volume();
-  const ContactParticles cp{m.particles.X, m.particles.F, m.particles.half_length, volume};
-  find_contact_nodes(m.grid, ops, particle_operators(ops), m.contact, cp, cn);
+  contact_nodes_of(m, ops, cn);
 }
 
 } // namespace
@@ -115,14 +122,9 @@ TEST_CASE("every contact correction conserves momentum", "[contact]") {
       CAPTURE(to_string(law_kind), to_string(det));
       const ContactPair law = pair_law(law_kind, det, 0.4);
       Model m = cut_block(5, &law);
-      Eigen::VectorXi field;
-      m.contact.particle_fields(m.particles.material, field);
       Operators ops;
-      assemble(m.grid, m.particles, Shape::GIMP, ops, 2, &field);
       ContactNodes cn;
-      const Eigen::VectorXd volume = m.particles.volume();
-      const ContactParticles cp{m.particles.X, m.particles.F, m.particles.half_length, volume};
-      find_contact_nodes(m.grid, ops, particle_operators(ops), m.contact, cp, cn);
+      contact_nodes_of(m, ops, cn);
       REQUIRE(cn.nodes.size() > 5);
       std::mt19937 rng(7);
       std::normal_distribution<double> z;
@@ -139,6 +141,54 @@ TEST_CASE("every contact correction conserves momentum", "[contact]") {
       CHECK((f.topRows(ng) + f.bottomRows(ng)).cwiseAbs().maxCoeff() < 1e-12);
       CHECK(max_difference(p, before) > 1e-3); // something changed
     }
+}
+
+TEST_CASE("velocity conditions on a contact node: its normal and Δp(0) lose the fixed directions",
+          "[contact]") {
+  // find_contact_nodes with BCs (contact.hpp; NairnMPM's AdjustForSymmetry): on the nodes of a
+  // roller fixing y, n̂ = (n_x, 0)/|n_x| of the unconstrained normal and free_part(Δp(0)) has
+  // no y; on nodes fixing x and y there is no normal left; elsewhere nothing changes (the same
+  // bits). The cut block's line is tilted, so its AG normals have both components.
+  ContactPair law = pair_law(ContactLaw::Coulomb, ContactDetection::Always, 0.4);
+  law.normal = ContactNormal::AverageGradient;
+  const Model m = cut_block(5, &law);
+  Operators ops;
+  ContactNodes free, constrained;
+  contact_nodes_of(m, ops, free);
+  BoundaryConditions bcs;
+  fix_box(m.grid, {0, 0, 0}, {12, 6, 0}, {false, true, false}, bcs);   // y below y = 6
+  fix_box(m.grid, {0, 0, 0}, {12, 6, 0}, {false, true, false}, bcs);   // twice: parallel
+  fix_box(m.grid, {0, 0, 0}, {12, 4.5, 0}, {true, false, false}, bcs); // and x below 4.5
+  contact_nodes_of(m, ops, constrained, &bcs);
+  REQUIRE(free.nodes.size() == constrained.nodes.size());
+  int rollers = 0, fixed = 0, open = 0;
+  for (size_t c = 0; c < free.nodes.size(); ++c) {
+    const ContactNodes::Node &a = free.nodes[c], &b = constrained.nodes[c];
+    const double y = m.grid.node_position(a.node)[1];
+    CAPTURE(c, y, a.normal.transpose(), b.normal.transpose());
+    const Eigen::Vector3d dp0(0.3, -0.7, 0);
+    if (y > 6 + 1e-9) {
+      ++open;
+      CHECK(b.constrained < 0);
+      CHECK(b.normal == a.normal);
+      CHECK(b.separation == a.separation);
+      CHECK(free_part(constrained, c, dp0) == dp0);
+    } else if (y > 4.5 + 1e-9) {
+      ++rollers;
+      REQUIRE(std::abs(a.normal[0]) > 0.1);
+      CHECK(b.normal[1] == 0);
+      CHECK(b.normal[0] == approx(std::copysign(1.0, a.normal[0]), 1e-15));
+      CHECK(b.area == approx(1.0, 1e-15)); // V_cell / h_n with n̂ = ±x̂
+      CHECK(free_part(constrained, c, dp0).isApprox(Eigen::Vector3d(0.3, 0, 0), 1e-15));
+    } else {
+      ++fixed;
+      CHECK(b.normal.norm() == 0);
+      CHECK(free_part(constrained, c, dp0).norm() < 1e-15);
+    }
+  }
+  CHECK(rollers > 0);
+  CHECK(fixed > 0);
+  CHECK(open > 0);
 }
 
 TEST_CASE("the contact law of one node (FMPM 2026 Eq. 18)", "[contact]") {

@@ -27,6 +27,7 @@
 
 namespace smpm {
 
+struct BoundaryConditions;
 struct Operators;
 struct ParticleOperators;
 
@@ -154,6 +155,7 @@ struct ContactNodes {
     double separation = 0; ///< CP: (x^b − x^a)·n̂ − δ_c h_n; DF: Eq. 15; LR: d_LR; −1 otherwise
     double area = 0;       ///< A_c = V_cell / h_n, h_n = √(Σ_a (n_a Δx_a)²)
     const ContactPair* pair = nullptr; ///< the law (two fields)
+    int constrained = -1; ///< index into `free` when velocity conditions act here, else −1
   };
   /// One field against all the others lumped (contact 2020 §3.4, Eq. 50).
   struct Side {
@@ -163,6 +165,9 @@ struct ContactNodes {
   };
   std::vector<Node> nodes;
   std::vector<Side> sides;
+  /// Projectors onto the directions the velocity conditions of a node leave free
+  /// (Node::constrained); find_contact_nodes projects the normals, and the contact laws Δp(0).
+  std::vector<Eigen::Matrix3d> free;
   Field gradient; ///< n × d: g^α_i = Σ_{p∈α} G_pi V_p (AG normals)
   Field position; ///< n × d: Σ_{p∈α} S_pi M_p X_p (mass-weighted positions; CP)
   // LR point clouds: the particles (and their fields) whose shape functions reach each contact
@@ -191,9 +196,25 @@ double contact_friction_work(const Eigen::Vector3d& dp0, const Eigen::Vector3d& 
 
 /// Finds the nodes seen by two or more fields of `ops` (block columns) and their normals,
 /// separations and areas (contact 2020 §2.3, §3.1), once per step.
+///
+/// With `bcs`, a contact node on which velocity conditions fix directions (a roller, a wall)
+/// takes the part of its normal in the directions they leave free, renormalised, and its
+/// separation and area along that normal; the contact laws then act on the free part of Δp(0)
+/// (ContactNodes::free). The conditions overwrite those components of every field's velocity
+/// after contact, so a normal tilted toward them (logistic regression on the truncated particle
+/// clouds beside a wall) would lose that share of the normal impulse and let the materials
+/// interpenetrate along the wall. NairnMPM zeroes the same components of normals and momentum
+/// changes on its symmetry planes (CrackVelocityField::AdjustForSymmetry).
 void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
-                        const Contact& contact, const ContactParticles& particles,
-                        ContactNodes& cn);
+                        const Contact& contact, const ContactParticles& particles, ContactNodes& cn,
+                        const BoundaryConditions* bcs = nullptr);
+
+/// Δp(0) of contact node c with the directions fixed by velocity conditions removed
+/// (find_contact_nodes); Δp(0) itself where no condition acts.
+inline Eigen::Vector3d free_part(const ContactNodes& cn, size_t c, const Eigen::Vector3d& dp0) {
+  const int k = cn.nodes[c].constrained;
+  return k < 0 ? dp0 : Eigen::Vector3d(cn.free[size_t(k)] * dp0);
+}
 
 /// Δp of one node in contact (FMPM 2026 Eq. 18): the momentum change of field α given
 /// Δp(0) = (m^α p^β − m^β p^α)/(m^α + m^β), the unit normal n̂ from α to β and the law.
