@@ -11,6 +11,14 @@ def fmpm(k):
     return ["scheme.velocity=FMPM", f"scheme.order={k}"]
 
 
+def one_thread_each():
+    """The environment of runs started two at a time: one thread each unless SMPM_THREADS is
+    set (the results are the same bit for bit; tests/cli/test_cli.py compares 1 and 2)."""
+    env = dict(os.environ)
+    env.setdefault("SMPM_THREADS", "1")
+    return env
+
+
 def run_example(example, work, name, sets):
     """Runs `example` with `--set` overrides into <work>/<name>.h5 (asserting exit 0) and
     returns that path."""
@@ -18,7 +26,7 @@ def run_example(example, work, name, sets):
     args = [SMPM, "run", str(example), "-o", str(out), "-q"]
     for s in sets:
         args += ["--set", s]
-    r = subprocess.run(args, capture_output=True, text=True, timeout=600)
+    r = subprocess.run(args, capture_output=True, text=True, timeout=600, env=one_thread_each())
     assert r.returncode == 0, r.stderr
     return out
 
