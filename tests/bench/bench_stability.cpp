@@ -5,12 +5,14 @@
 //
 //   build/tests/bench/bench_stability      (SMPM_BENCH_STAB_SIDE: block side in cells, 158)
 
+#include <sparsempm/problems.hpp>
 #include <sparsempm/sparsempm.hpp>
 #include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cstdlib>
 
 namespace {
@@ -60,8 +62,41 @@ void BM_RhoA(benchmark::State& state) {
   state.counters["active_nodes"] = double(ops.active.count());
 }
 
+// The C* search along a series (FMPM 2026 Fig. 12A's FMPM(k), k = 1 … 20, on the §3.3 bar at the
+// lattice shift that sets the plateau): each search from scratch (range 0), or started from the
+// C* of k − 1 (range 1, critical_courant's hint; the same C*). Counters: spectral radii computed
+// and, for the hinted series, its time over the plain series' of the same run.
+double g_plain_seconds = 0;
+
+void BM_CourantSeries(benchmark::State& state) {
+  const bool hinted = state.range(0) == 1;
+  const smpm::Model bar = smpm::shifted(smpm::vibrating_bar({}), {0.375, 0, 0});
+  int evaluations = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    double hint = 0;
+    evaluations = 0;
+    for (int k = 1; k <= 20; ++k) {
+      const smpm::StepOptions opt{
+          .shape = smpm::Shape::CPDI, .velocity = smpm::VelocityUpdate::FMPM, .fmpm = {.order = k}};
+      const smpm::CriticalCourant c = smpm::critical_courant(bar, opt, 1e-6, 2.0, 1e-3, hint);
+      evaluations += c.evaluations;
+      if (hinted)
+        hint = c.courant;
+    }
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  state.counters["evaluations"] = evaluations;
+  if (!hinted)
+    g_plain_seconds = seconds;
+  else if (g_plain_seconds > 0)
+    state.counters["time_over_plain"] = seconds / g_plain_seconds;
+}
+
 BENCHMARK(BM_RhoT_FMPM4)->Arg(30)->Arg(90)->Unit(benchmark::kSecond)->Iterations(1); // C = 0.3, 0.9
 BENCHMARK(BM_RhoA)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_CourantSeries)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1);
 
 } // namespace
 

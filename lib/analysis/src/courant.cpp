@@ -5,14 +5,17 @@
 
 #include "sparsempm/errors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 namespace smpm {
 
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol,
-                                 double c_max, double resolution) {
+                                 double c_max, double resolution, double hint) {
+  SMPM_VERIFY(resolution > 0 && c_max > 0, "critical_courant: resolution and c_max must be > 0");
   const double dt_per_c = 1.0 / courant_of(model, 1.0); // Δt for C = 1
   LinearizedStep T(model, options, 0.05 * dt_per_c);
   CriticalCourant out;
@@ -25,29 +28,95 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
     rho = std::pow(r.rho, 1.0 / T.steps_per_application()); // growth per step
     return r.status != SpectralStatus::NonFinite && rho <= 1 + tol;
   };
-  double lo = 0, hi = 0.05, rho_lo = 1, rho = 0;
-  while (stable(hi, rho)) { // bracket: lo stable, hi unstable
-    lo = hi;
-    rho_lo = rho;
-    if (hi >= c_max) {
-      out.courant = lo;
-      out.rho = rho_lo;
-      return out;
+  // The brackets [e_{j−1}, e_j]: e_0 = 0 (the identity step, ρ = 1), e_1 = 0.05, doubling up
+  // to c_max; in a bracket, the grid of 2^n intervals with n the least that makes them no wider
+  // than `resolution`. C* is the last stable grid point before an unstable one: the same point
+  // whether the search starts from the hint or from below, if stability is monotone in C (which
+  // bisection assumes anyway).
+  std::vector<double> edge{0.0, std::min(0.05, c_max)};
+  while (edge.back() < c_max)
+    edge.push_back(std::min(2 * edge.back(), c_max));
+  const int last = int(edge.size()) - 1;
+  double rho = 0, low_rho = 1; // ρ at e_{j−1} when it is known stable
+  bool low_known = true, high_known = false, entered = false;
+  int j = 1;
+  if (hint > 0) { // the bracket that holds the hint
+    while (j < last && edge[size_t(j)] <= hint)
+      ++j;
+    low_known = j == 1;
+  } else { // doubling: the edges upward until one is unstable
+    for (; !high_known; ++j) {
+      if (!stable(edge[size_t(j)], rho)) {
+        high_known = true;
+        break;
+      }
+      low_rho = rho;
+      if (j == last) {
+        out.courant = edge[size_t(j)];
+        out.rho = rho;
+        return out;
+      }
     }
-    hi = std::min(2 * hi, c_max);
   }
-  while (hi - lo > resolution) {
-    const double mid = 0.5 * (lo + hi);
-    if (stable(mid, rho)) {
-      lo = mid;
-      rho_lo = rho;
-    } else {
-      hi = mid;
+  for (;;) {
+    const double a = edge[size_t(j - 1)], b = edge[size_t(j)];
+    Index n = 1;
+    while ((b - a) / double(n) > resolution)
+      n *= 2;
+    const double h = (b - a) / double(n);
+    auto at = [&](Index i) { return i == n ? b : a + double(i) * h; };
+    Index s = low_known ? 0 : -1, u = high_known ? n : -1; // stable s < unstable u
+    double rho_s = low_rho;
+    // Gallop from the hint until both are found (in a bracket entered from a neighbour, its
+    // far end first, as doubling does) ...
+    Index i = hint > a ? Index(std::floor((hint - a) / h)) : 0;
+    if (entered)
+      i = s >= 0 ? n : 0;
+    if (s < 0 || u < 0)
+      i = std::clamp(i, s + 1, u >= 0 ? u - 1 : n);
+    for (Index step = 1; s < 0 || u < 0; step *= 2) {
+      if (stable(at(i), rho)) {
+        s = i;
+        rho_s = rho;
+        if (u >= 0 || i == n)
+          break;
+        i = std::min(n, i + step);
+      } else {
+        u = i;
+        if (s >= 0 || i == 0)
+          break;
+        i = std::max(Index(0), i - step);
+      }
     }
+    if (u < 0) { // stable at b: the transition is in a higher bracket
+      if (j == last) {
+        out.courant = b;
+        out.rho = rho_s;
+        return out;
+      }
+      ++j;
+      low_known = true, low_rho = rho_s, high_known = false, entered = true;
+      continue;
+    }
+    if (s < 0) { // unstable at a (j > 1): in a lower bracket
+      --j;
+      high_known = true, low_known = j == 1, low_rho = 1, entered = true;
+      continue;
+    }
+    // ... then bisect between them.
+    while (u - s > 1) {
+      const Index mid = s + (u - s) / 2;
+      if (stable(at(mid), rho)) {
+        s = mid;
+        rho_s = rho;
+      } else {
+        u = mid;
+      }
+    }
+    out.courant = at(s);
+    out.rho = rho_s;
+    return out;
   }
-  out.courant = lo;
-  out.rho = rho_lo;
-  return out;
 }
 
 Model shifted(const Model& model, const std::array<double, 3>& shift) {
@@ -58,12 +127,9 @@ Model shifted(const Model& model, const std::array<double, 3>& shift) {
   return m;
 }
 
-ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
-                                double tol, double resolution) {
+std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts) {
   if (shifts < 1)
     throw InputError("the number of lattice shifts must be at least 1");
-  ConfigurationSweep out;
-  out.minimum.courant = std::numeric_limits<double>::infinity();
   // The lattice repeats itself after one particle spacing 2 r⁰: shifts j/shifts of it (in cells
   // along each axis) reach every distinct position of the lattice relative to the grid.
   std::array<double, 3> period{0, 0, 0};
@@ -71,16 +137,30 @@ ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, 
     period[size_t(a)] = model.particles.size()
                             ? 2 * model.particles.half_length(0, a) / model.grid.cell_size(a)
                             : 1.0;
+  std::vector<LatticeShift> out;
   for (int j = 0; j < shifts; ++j) {
     const double f = double(j) / shifts;
-    const std::array<double, 3> s{f * period[0], f * period[1], f * period[2]};
+    LatticeShift s;
+    s.cells = {f * period[0], f * period[1], f * period[2]};
     std::ostringstream name;
-    name << "shift " << s[0];
-    const CriticalCourant c = critical_courant(shifted(model, s), options, tol, 2.0, resolution);
-    out.all.emplace_back(name.str(), c.courant);
+    name << "shift " << s.cells[0];
+    s.name = name.str();
+    out.push_back(s);
+  }
+  return out;
+}
+
+ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
+                                double tol, double resolution) {
+  ConfigurationSweep out;
+  out.minimum.courant = std::numeric_limits<double>::infinity();
+  for (const LatticeShift& s : lattice_shifts(model, shifts)) {
+    const CriticalCourant c =
+        critical_courant(shifted(model, s.cells), options, tol, 2.0, resolution);
+    out.all.emplace_back(s.name, c.courant);
     if (c.courant < out.minimum.courant) {
       out.minimum = c;
-      out.configuration = name.str();
+      out.configuration = s.name;
     }
   }
   return out;

@@ -88,9 +88,12 @@ struct CriticalCourant {
 
 /// The critical Courant number C* = max{C : ρ(T(C))^{1/s} ≤ 1 + tol}, s the steps spanned by
 /// T (the growth per step), bracketed by doubling from C = 0.05 up to c_max and refined by
-/// bisection to ±resolution/2. A non-finite ρ counts as unstable.
+/// bisection on a grid of spacing ≤ resolution in that bracket. A non-finite ρ counts as
+/// unstable. With `hint` > 0 (the C* of a neighbouring scheme, e.g. FMPM(k − 1) on the same
+/// lattice: C* changes little with k) the search starts there and gallops to the transition:
+/// the same C* (the same grid point, if stability is monotone in C) in fewer evaluations.
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol = 1e-6,
-                                 double c_max = 2.0, double resolution = 1e-3);
+                                 double c_max = 2.0, double resolution = 1e-3, double hint = 0);
 
 /// The model with every particle translated by `shift` (in cells along each axis); boundary
 /// conditions stay on their nodes. Throws NumericalError if a particle leaves the grid.
@@ -101,6 +104,16 @@ struct ConfigurationSweep {
   std::string configuration; ///< which configuration set it, e.g. "shift 0.25"
   std::vector<std::pair<std::string, double>> all; ///< every configuration and its C*
 };
+
+/// A uniform shift of the particle lattice relative to the grid, in cells along each axis.
+struct LatticeShift {
+  std::array<double, 3> cells{0, 0, 0};
+  std::string name; ///< e.g. "shift 0.125" (in cells along x)
+};
+
+/// The shifts of sweep_shifts: j/shifts (j = 0 … shifts − 1) of the particle spacing 2r⁰ (the
+/// lattice's period) along every axis at once. Throws InputError for shifts < 1.
+std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts);
 
 /// C* over uniform shifts of the particle lattice relative to the grid: j/shifts (j = 0 …
 /// shifts − 1) of the particle spacing 2r⁰ (the lattice's period) along every axis at once;
