@@ -116,15 +116,16 @@ void bind_analysis(py::module_& m) {
   m.def(
       "critical_courant",
       [](const PyModel& pm, const std::optional<StepOptions>& options, double tol, double c_max,
-         double resolution) {
+         double resolution, double hint) {
         const StepOptions& o = options_or(pm, options);
         py::gil_scoped_release release;
-        return critical_courant(pm.model, o, tol, c_max, resolution);
+        return critical_courant(pm.model, o, tol, c_max, resolution, hint);
       },
       py::arg("model"), py::arg("options") = py::none(), py::arg("tol") = 1e-6,
-      py::arg("c_max") = 2.0, py::arg("resolution") = 1e-3,
+      py::arg("c_max") = 2.0, py::arg("resolution") = 1e-3, py::arg("hint") = 0.0,
       "C* = max{C : ρ(T(C)) ≤ 1 + tol} at the model's configuration (bisection to "
-      "resolution); options default to model.options.");
+      "resolution); options default to model.options. hint > 0 (the C* of a neighbouring "
+      "scheme) starts the search there: the same C*, fewer evaluations (.evaluations).");
   m.def(
       "sweep_shifts",
       [](const PyModel& pm, const std::optional<StepOptions>& options, int shifts, double tol,

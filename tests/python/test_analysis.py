@@ -66,6 +66,14 @@ def test_critical_courant_matches_the_command(bar, tmp_path):
     # The table prints 4 significant digits (0.7555 and 0.5547 in README's bar).
     assert f"{c_flip:.4g}" == flip["c_spectral"] and f"{c_fmpm:.4g}" == fmpm["c_spectral"]
     assert c_fmpm < c_flip - 0.1  # FMPM(4) is less stable than FLIP (FMPM 2026 Fig. 12A)
+    # Started from a neighbour's C* (hint), the search finds the same grid point: from
+    # FMPM(2)'s 0.641 in as many spectral radii (measured 14 and 14), from a close one in far
+    # fewer (measured 4 from C* + 0.002).
+    c2 = smpm.critical_courant(bar, options(bar, "FMPM", 2)).courant
+    plain = smpm.critical_courant(bar, options(bar, "FMPM", 4))
+    for hint, most in ((c2, plain.evaluations), (plain.courant + 0.002, plain.evaluations // 2)):
+        hinted = smpm.critical_courant(bar, options(bar, "FMPM", 4), hint=hint)
+        assert hinted.courant == plain.courant and hinted.evaluations <= most
     # The default sweep over 4 lattice shifts (the numbers of the README's table: FLIP 0.755,
     # FMPM(4) 0.451).
     flip, fmpm = stability_table(tmp_path)
