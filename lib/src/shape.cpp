@@ -106,14 +106,11 @@ ShapeSupport support_of(const Grid& g, const Particles& P, Index p, Shape shape)
   return s;
 }
 
-// Values of S and ∂S/∂x_a on the box of one particle, written in box order (x fastest).
-struct BoxValues {
-  double S[kMaxBox * kMaxBox * kMaxBox];
-  double G[3][kMaxBox * kMaxBox * kMaxBox];
-};
-
-void tensor_values(const Grid& g, const Particles& P, Index p, Shape shape, const ShapeSupport& s,
-                   BoxValues& out) {
+// uGIMP (the tensor-product shape without a fast point path): the 1D weights and slopes of each
+// axis, their products written straight into the particle's row of S and G (box order, x
+// fastest).
+void tensor_row(const Grid& g, const Particles& P, Index p, const ShapeSupport& s, double* S,
+                double* const G[3]) {
   const int d = P.dim;
   double s1[3][kMaxBox], g1[3][kMaxBox];
   for (int a = 0; a < 3; ++a) {
@@ -124,23 +121,12 @@ void tensor_values(const Grid& g, const Particles& P, Index p, Shape shape, cons
     }
     const double h = g.cell_size(a);
     const double xi = (P.X(p, a) - g.origin(a)) / h;
+    const double l = P.half_length(p, a) / h;
     for (int k = 0; k < s.count[a]; ++k) {
+      // The average of the hat over [ξ − l, ξ + l] (Buzzi Eqs. 17–18).
       const double r = xi - (s.first[a] + k);
-      switch (shape) {
-      case Shape::Linear: // two nodes; r ∈ [0, 1) for the left one, r − 1 for the right one
-        s1[a][k] = k == 0 ? 1 - r : 1 + r;
-        g1[a][k] = (k == 0 ? -1.0 : 1.0) / h;
-        break;
-      case Shape::BSpline2:
-        s1[a][k] = bspline2(r);
-        g1[a][k] = bspline2_slope(r) / h;
-        break;
-      default: { // GIMP: average of the hat over [ξ − l, ξ + l] (Buzzi Eqs. 17–18)
-        const double l = P.half_length(p, a) / h;
-        s1[a][k] = (hat_integral(r + l) - hat_integral(r - l)) / (2 * l);
-        g1[a][k] = (hat(r + l) - hat(r - l)) / (2 * l * h);
-      }
-      }
+      s1[a][k] = (hat_integral(r + l) - hat_integral(r - l)) / (2 * l);
+      g1[a][k] = (hat(r + l) - hat(r - l)) / (2 * l * h);
     }
   }
   int q = 0;
@@ -148,12 +134,20 @@ void tensor_values(const Grid& g, const Particles& P, Index p, Shape shape, cons
     for (int k1 = 0; k1 < s.count[1]; ++k1)
       for (int k0 = 0; k0 < s.count[0]; ++k0, ++q) {
         const double w0 = s1[0][k0], w1 = s1[1][k1], w2 = s1[2][k2];
-        out.S[q] = w0 * w1 * w2;
-        out.G[0][q] = g1[0][k0] * w1 * w2;
-        out.G[1][q] = w0 * g1[1][k1] * w2;
-        out.G[2][q] = w0 * w1 * g1[2][k2];
+        S[q] = w0 * w1 * w2;
+        G[0][q] = g1[0][k0] * w1 * w2;
+        if (d > 1)
+          G[1][q] = w0 * g1[1][k1] * w2;
+        if (d > 2)
+          G[2][q] = w0 * w1 * g1[2][k2];
       }
 }
+
+// Values of S and ∂S/∂x_a on the box of one particle, written in box order (x fastest).
+struct BoxValues {
+  double S[kMaxBox * kMaxBox * kMaxBox];
+  double G[3][kMaxBox * kMaxBox * kMaxBox];
+};
 
 void corner_values(const Grid& g, const Particles& P, Index p, Shape shape, const ShapeSupport& s,
                    BoxValues& out) {
@@ -288,13 +282,18 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     detail::point_values(grid, P, shape == Shape::BSpline2, support, outer, sv, gv);
     return changed;
   }
+  if (!uses_corners(shape)) { // uGIMP
+    detail::parallel_for(N, [&](Index p) {
+      const int begin = outer[p];
+      double* const g[3] = {gv[0] + begin, d > 1 ? gv[1] + begin : nullptr,
+                            d > 2 ? gv[2] + begin : nullptr};
+      tensor_row(grid, P, p, support[size_t(p)], sv + begin, g);
+    });
+    return changed;
+  }
   detail::parallel_for(N, [&](Index p) {
     BoxValues box; // on the stack of the thread
-    const ShapeSupport& s = support[size_t(p)];
-    if (uses_corners(shape))
-      corner_values(grid, P, p, shape, s, box);
-    else
-      tensor_values(grid, P, p, shape, s, box);
+    corner_values(grid, P, p, shape, support[size_t(p)], box);
     const int begin = outer[p], len = outer[p + 1] - begin;
     for (int j = 0; j < len; ++j) {
       sv[begin + j] = box.S[j];
