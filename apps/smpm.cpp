@@ -29,7 +29,9 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
@@ -180,9 +182,17 @@ CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp) {
 // working ones: tests/cli/test_shock.py (15 runs of the shock, two at a time, two threads each)
 // took 187 s with spinning and 38 s with passive waiting on two cores. So, unless the user chose
 // a policy, the program starts itself once more with passive waiting; if that fails it goes on
-// with libgomp's default.
+// with libgomp's default. Only when /proc/self/exe is this program's own file: started through
+// the dynamic loader (ld.so ./smpm …) or an emulator it is not, and the program goes on as it is.
 void wait_passively_unless_chosen(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY"))
+    return;
+  Dl_info self{};
+  struct stat program {
+  }, exe{};
+  if (!dladdr(reinterpret_cast<void*>(&wait_passively_unless_chosen), &self) || !self.dli_fname ||
+      stat(self.dli_fname, &program) != 0 || stat("/proc/self/exe", &exe) != 0 ||
+      program.st_dev != exe.st_dev || program.st_ino != exe.st_ino)
     return;
   if (setenv("OMP_WAIT_POLICY", "passive", 1) == 0)
     execv("/proc/self/exe", argv);

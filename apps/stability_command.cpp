@@ -246,7 +246,9 @@ void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityAr
     double hint = 0;
     for (size_t i : series[task / configs.size()]) {
       c[i][f] = critical_courant(configs[f], rows[i].opt, 1e-6, 2.0, 1e-3, hint);
-      hint = c[i][f].courant;
+      // Periodic FMPM's T(C) spans ⌈C_X/C⌉ steps, a count that jumps with C: its stability need
+      // not be monotone in C, so its searches start from scratch.
+      hint = rows[i].cx > 0 ? 0.0 : c[i][f].courant;
     }
   });
   for (size_t i = 0; i < rows.size(); ++i) {

@@ -269,8 +269,10 @@ void free_directions(const BoundaryConditions& bcs, ContactNodes& cn) {
         cn.free.push_back(Eigen::Matrix3d::Identity());
       }
       Eigen::Matrix3d& free = cn.free[size_t(node.constrained)];
-      const Eigen::Vector3d b = free * bc.direction; // the part not fixed already
-      if (b.norm() > 1e-9)
+      // The part not fixed already; below 1e-4 the direction is one already fixed (parallel
+      // within the 4.5e-5 rad that check_superposition accepts as parallel).
+      const Eigen::Vector3d b = free * bc.direction;
+      if (b.norm() > 1e-4)
         free -= b.normalized() * b.normalized().transpose();
     }
 }

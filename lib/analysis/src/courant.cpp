@@ -15,7 +15,10 @@ namespace smpm {
 
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol,
                                  double c_max, double resolution, double hint) {
-  SMPM_VERIFY(resolution > 0 && c_max > 0, "critical_courant: resolution and c_max must be > 0");
+  SMPM_VERIFY(c_max > 0 && std::isfinite(c_max) && resolution >= 1e-12 * c_max,
+              "critical_courant: c_max must be positive and finite and resolution at least "
+              "1e-12 c_max");
+  hint = std::isfinite(hint) ? std::min(hint, c_max) : 0.0;
   const double dt_per_c = 1.0 / courant_of(model, 1.0); // Δt for C = 1
   LinearizedStep T(model, options, 0.05 * dt_per_c);
   CriticalCourant out;

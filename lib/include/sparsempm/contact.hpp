@@ -201,10 +201,11 @@ double contact_friction_work(const Eigen::Vector3d& dp0, const Eigen::Vector3d& 
 /// takes the part of its normal in the directions they leave free, renormalised, and its
 /// separation and area along that normal; the contact laws then act on the free part of Δp(0)
 /// (ContactNodes::free). The conditions overwrite those components of every field's velocity
-/// after contact, so a normal tilted toward them (logistic regression on the truncated particle
-/// clouds beside a wall) would lose that share of the normal impulse and let the materials
-/// interpenetrate along the wall. NairnMPM zeroes the same components of normals and momentum
-/// changes on its symmetry planes (CrackVelocityField::AdjustForSymmetry).
+/// after contact (with the correct BC ordering; Buzzi's improper ordering, kept for
+/// comparison, does not re-apply them), so a normal tilted toward them (logistic regression on the
+/// truncated particle clouds beside a wall) would lose that share of the normal impulse and let the
+/// materials interpenetrate along the wall. NairnMPM zeroes the same components of normals and
+/// momentum changes on its symmetry planes (CrackVelocityField::AdjustForSymmetry).
 void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
                         const Contact& contact, const ContactParticles& particles, ContactNodes& cn,
                         const BoundaryConditions* bcs = nullptr);

@@ -21,8 +21,10 @@ void write_contact_nodes(hid_t g, const Model& model, const Operators& ops, cons
   P.jacobian(volume);
   volume.array() *= P.volume0.array();
   ContactNodes cn;
+  BoundaryConditions bcs = model.bcs; // the walls' nodes at the frame's time, as a step selects
+  bcs.select_wall_nodes(model.grid, ops.active, model.time);
   find_contact_nodes(model.grid, ops, particle_operators(ops), model.contact,
-                     ContactParticles{P.X, P.F, P.half_length, volume}, cn, &model.bcs);
+                     ContactParticles{P.X, P.F, P.half_length, volume}, cn, &bcs);
   const Index nc = Index(cn.nodes.size()), ng = ops.grid_node_count;
   const int d = P.dim;
   std::vector<int> node(static_cast<size_t>(nc)), pair(static_cast<size_t>(2 * nc)),
