@@ -84,22 +84,23 @@ double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field
   return count ? sum / double(count) : 0.0;
 }
 
-void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, const Field& x,
-                         Field& y) {
-  SMPM_VERIFY(mt.rows() == mt.cols() && x.rows() == mt.cols() && m_inv.size() == mt.rows(),
-              "reverse_map_product: m~ must be n x n, x n x d and m_inv of size n");
+namespace {
+// y_i = m_i⁻¹ Σ_j m̃_ij x_j into row i of y, then finish(i, y_i); the column count is a
+// compile-time constant when small. One row per iteration, so the threads write disjoint rows.
+template <class Finish>
+void reverse_map_rows(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, const Field& x,
+                      Field& y, Finish&& finish) {
   const int* outer = mt.outerIndexPtr();
   const int* inner = mt.innerIndexPtr();
   const double* val = mt.valuePtr();
   const int c = int(x.cols());
   y.resize(mt.rows(), c);
-  // Row i: y_i = m_i⁻¹ Σ_j m̃_ij x_j, with the column count a compile-time constant when small;
-  // one row per iteration, so the threads write disjoint rows.
   auto rows = [&]<int C>() {
     const int cols = C ? C : c;
     detail::parallel_for(mt.rows(), [&](Index i) {
       double acc[C ? C : 1];
-      double* out = C ? acc : y.data() + i * cols;
+      double* yi = y.data() + i * cols;
+      double* out = C ? acc : yi;
       for (int a = 0; a < cols; ++a)
         out[a] = 0;
       for (int k = outer[i]; k < outer[i + 1]; ++k) {
@@ -107,13 +108,52 @@ void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt
         for (int a = 0; a < cols; ++a)
           out[a] += val[k] * xj[a];
       }
-      double* yi = y.data() + i * cols;
       for (int a = 0; a < cols; ++a)
         yi[a] = out[a] * m_inv[i];
+      finish(i, cols, yi);
     });
   };
   if (!detail::dispatch_int<1, 2, 3>(c, rows))
     rows.template operator()<0>();
+}
+
+void check_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, const Field& x) {
+  SMPM_VERIFY(mt.rows() == mt.cols() && x.rows() == mt.cols() && m_inv.size() == mt.rows(),
+              "reverse_map_product: m~ must be n x n, x n x d and m_inv of size n");
+}
+} // namespace
+
+void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, const Field& x,
+                         Field& y) {
+  check_product(m_inv, mt, x);
+  reverse_map_rows(m_inv, mt, x, y, [](Index, int, double*) {});
+}
+
+void fmpm_pass(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, double c, const Field& dv,
+               Field& next, Field* v) {
+  check_product(m_inv, mt, dv);
+  SMPM_VERIFY(&next != &dv && (!v || v->rows() == dv.rows()),
+              "fmpm_pass: next must not alias dv, and v must have dv's rows");
+  // The blend and the update of v as compile-time switches: the row loop stays branch-free.
+  auto rows = [&]<bool Blend, bool AddV>() {
+    reverse_map_rows(m_inv, mt, dv, next, [&](Index i, int cols, double* out) {
+      const double* d = dv.data() + i * cols;
+      for (int a = 0; a < cols; ++a) {
+        out[a] = d[a] - out[a]; // Δv(ℓ) = Δv(ℓ−1) − S⁺S Δv(ℓ−1) = A Δv(ℓ−1)   (Eq. 6)
+        if constexpr (Blend)
+          out[a] *= c; // blended recursion (§3.3)
+      }
+      if constexpr (AddV) {
+        double* vi = v->data() + i * cols;
+        for (int a = 0; a < cols; ++a)
+          vi[a] += out[a]; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                   (Eq. 5)
+      }
+    });
+  };
+  if (c != 1)
+    v ? rows.template operator()<true, true>() : rows.template operator()<true, false>();
+  else
+    v ? rows.template operator()<false, true>() : rows.template operator()<false, false>();
 }
 
 FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
@@ -121,17 +161,18 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
   FmpmReport report;
   w.prev = v; // Δv(1) = v⁺(1)
   w.metrics.clear();
+  // Without corrections between Eqs. 6 and 5, one pass over the rows does both.
+  const bool fused = !hooks.velocity_bcs && !hooks.contact;
   for (int ell = 2; ell <= opt.order; ++ell) {
-    reverse_map_product(m_inv, mt, w.prev, w.next); // S⁺S Δv(ℓ−1)
-    w.prev -= w.next;                               // Δv(ℓ) = A Δv(ℓ−1)          (Eq. 6)
-    const double c = blend_factor(opt, ell);
-    if (c != 1)
-      w.prev *= c; // blended recursion (§3.3)
+    // Δv(ℓ) = A Δv(ℓ−1) = Δv(ℓ−1) − S⁺S Δv(ℓ−1), blended                  (Eq. 6, §3.3)
+    fmpm_pass(m_inv, mt, blend_factor(opt, ell), w.prev, w.next, fused ? &v : nullptr);
+    w.prev.swap(w.next);
     if (hooks.velocity_bcs)
       hooks.velocity_bcs(ell, w.prev); // (1)
     if (hooks.contact)
       hooks.contact(ell, w.prev, v); // (2)
-    v += w.prev; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                     (Eq. 5)
+    if (!fused)
+      v += w.prev; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                   (Eq. 5)
     report.order = ell;
     if (hooks.converged) { // (3)
       const bool done = hooks.converged(ell, w.prev, v, report.metric);

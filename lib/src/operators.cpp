@@ -204,43 +204,116 @@ void build_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
   ro[n] = int(pos);
 }
 
-// Values: m̃_ij = Σ_p M_p S_pi S_pj (FMPM 2026 §2.1), row i gathered from the particles of node i
-// in particle order (the column index of S), so that each row is written by one thread.
+// Adds particle p's M_p S_pa S_pb (a, b in its box) to the rows of the box's nodes in [r0, r1).
+// place(i, a0, a1, a2, stride) returns where p's box starts in row i (its node a) and sets the
+// row's strides along y and z. Box sizes C0 × C1 × C2 are compile-time constants when nonzero.
+template <int C0, int C1, int C2, class Place>
+inline void scatter_box(const std::array<int, 3>& count, const double* sb, const int* ib, double M,
+                        Index r0, Index r1, Place&& place) {
+  const int c0 = C0 ? C0 : count[0], c1 = C1 ? C1 : count[1], c2 = C2 ? C2 : count[2];
+  int qa = 0;
+  for (int a2 = 0; a2 < c2; ++a2)
+    for (int a1 = 0; a1 < c1; ++a1)
+      for (int a0 = 0; a0 < c0; ++a0, ++qa) {
+        const Index i = ib[qa];
+        const double wa = M * sb[qa];
+        if (i < r0 || i >= r1 || wa == 0)
+          continue;
+        int stride[2];
+        double* r = place(i, a0, a1, a2, stride);
+        const double* sq = sb;
+        for (int b2 = 0; b2 < c2; ++b2)
+          for (int b1 = 0; b1 < c1; ++b1) {
+            double* rb = r + b2 * stride[1] + b1 * stride[0];
+            for (int b0 = 0; b0 < c0; ++b0)
+              rb[b0] += wa * *sq++;
+          }
+      }
+}
+
+// Values: m̃_ij = Σ_p M_p S_pi S_pj (FMPM 2026 §2.1), scattered from the particles in particle
+// order. Each thread owns a range of rows and takes from every particle the rows of its box in
+// that range, so every entry sums its particles in ascending order whatever the number of
+// threads (the same bits as a serial loop). The particles are read in order (S, M and the boxes
+// stream from memory); the rows they write are those of neighbouring nodes. A box whose nodes
+// all have unclipped stencils (away from the grid's edges) lies at a fixed offset in each row,
+// and the common box sizes have compile-time loops.
 void gather_consistent_mass(const Operators& ops, ConsistentMass& mt) {
   const auto& nodes = ops.grid_nodes;
   const auto& w = mt.half_width;
   const int* outer = ops.S.outerIndexPtr();
-  const ColumnIndex& cols = ops.columns;
+  const int* inner = ops.S.innerIndexPtr();
   SparseRowMatrix& A = mt.matrix;
   const int* ro = A.outerIndexPtr();
   double* val = A.valuePtr();
   const double* sv = ops.S.valuePtr();
-  detail::parallel_for(ops.num_nodes(), [&](Index i) {
-    double* row = val + ro[i];
-    std::fill(row, val + ro[i + 1], 0.0);
-    for (int t = cols.outer[size_t(i)]; t < cols.outer[size_t(i + 1)]; ++t) {
-      const int p = cols.row[size_t(t)], begin = outer[p], ka = cols.entry[size_t(t)];
-      const double wa = ops.M[p] * sv[ka];
-      if (wa == 0)
-        continue;
-      // Node i is entry (a0, a1, a2) of particle p's box (x fastest).
-      const ShapeSupport& s = ops.support[size_t(p)];
-      const int qa = ka - begin, a0 = qa % s.count[0], a1 = (qa / s.count[0]) % s.count[1],
-                a2 = qa / (s.count[0] * s.count[1]);
-      int lo[3], c[3];
-      stencil(s.first[0] + a0, w[0], nodes[0], lo[0], c[0]);
-      stencil(s.first[1] + a1, w[1], nodes[1], lo[1], c[1]);
-      stencil(s.first[2] + a2, w[2], nodes[2], lo[2], c[2]);
-      const double* sb = sv + begin;
-      for (int b2 = 0; b2 < s.count[2]; ++b2)
-        for (int b1 = 0; b1 < s.count[1]; ++b1) {
-          double* r = row + ((s.first[2] + b2 - lo[2]) * c[1] + (s.first[1] + b1 - lo[1])) * c[0] +
-                      (s.first[0] - lo[0]);
-          for (int b0 = 0; b0 < s.count[0]; ++b0)
-            r[b0] += wa * *sb++;
+  const Index n = ops.num_nodes(), N = ops.S.rows();
+  const int full[3] = {2 * w[0] + 1, 2 * w[1] + 1, 2 * w[2] + 1};
+  const Index parts = std::max<Index>(1, std::min<Index>(threads(), n));
+  detail::parallel_for(
+      parts,
+      [&](Index t) {
+        const Index r0 = t * n / parts, r1 = (t + 1) * n / parts;
+        std::fill(val + ro[r0], val + ro[r1], 0.0);
+        for (Index p = 0; p < N; ++p) {
+          const int begin = outer[p], end = outer[p + 1];
+          if (begin == end || inner[begin] >= r1 || inner[end - 1] < r0)
+            continue; // no row of p's box is in this range (columns ascend along a row of S)
+          const ShapeSupport& s = ops.support[size_t(p)];
+          const double *sb = sv + begin, M = ops.M[p];
+          const int* ib = inner + begin;
+          bool interior = true;
+          for (size_t d = 0; d < 3; ++d)
+            interior =
+                interior && s.first[d] >= w[d] && s.first[d] + s.count[d] - 1 + w[d] < nodes[d];
+          if (!interior) { // near the grid's edges: each row's stencil is clipped to the grid
+            scatter_box<0, 0, 0>(
+                s.count, sb, ib, M, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
+                  const int ijk[3] = {s.first[0] + a0, s.first[1] + a1, s.first[2] + a2};
+                  int lo[3], c[3];
+                  for (int d = 0; d < 3; ++d)
+                    stencil(ijk[d], w[size_t(d)], nodes[size_t(d)], lo[d], c[d]);
+                  stride[0] = c[0];
+                  stride[1] = c[0] * c[1];
+                  return val + ro[i] + ((s.first[2] - lo[2]) * c[1] + (s.first[1] - lo[1])) * c[0] +
+                         (s.first[0] - lo[0]);
+                });
+            continue;
+          }
+          // Row a's full stencil starts w before node a: the box sits at w − a.
+          auto place = [&](Index i, int a0, int a1, int a2, int stride[2]) {
+            stride[0] = full[0];
+            stride[1] = full[0] * full[1];
+            return val + ro[i] + ((w[2] - a2) * full[1] + (w[1] - a1)) * full[0] + (w[0] - a0);
+          };
+          auto kernel = [&]<int C0, int C1, int C2>() {
+            scatter_box<C0, C1, C2>(s.count, sb, ib, M, r0, r1, place);
+          };
+          switch (s.count[0] * 100 + s.count[1] * 10 + s.count[2]) {
+          case 221:
+            kernel.template operator()<2, 2, 1>();
+            break;
+          case 331:
+            kernel.template operator()<3, 3, 1>();
+            break;
+          case 231:
+            kernel.template operator()<2, 3, 1>();
+            break;
+          case 321:
+            kernel.template operator()<3, 2, 1>();
+            break;
+          case 222:
+            kernel.template operator()<2, 2, 2>();
+            break;
+          case 333:
+            kernel.template operator()<3, 3, 3>();
+            break;
+          default:
+            kernel.template operator()<0, 0, 0>();
+          }
         }
-    }
-  });
+      },
+      N);
 }
 } // namespace
 

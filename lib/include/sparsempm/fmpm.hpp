@@ -86,6 +86,12 @@ struct FmpmHooks {
 /// the CSR rows of m̃; m_inv is 1/m_i on active nodes and 0 elsewhere.
 void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, const Field& x,
                          Field& y);
+/// One pass of FMPM 2026 Table 1 in one sweep over the rows of m̃:
+/// next = c (dv − m⁻¹ m̃ dv) = c A dv (Eq. 6, blended by c, §3.3) and, when v is given,
+/// v += next (Eq. 5). The same bits as reverse_map_product followed by those vector operations.
+/// `next` must not be `dv`.
+void fmpm_pass(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, double c, const Field& dv,
+               Field& next, Field* v = nullptr);
 
 /// The FMPM loop of FMPM 2026 Table 1. On entry `v` holds v⁺(1) = m⁻¹ p⁺ (with whatever
 /// lumped corrections the caller applied); on return v⁺(ℓ) at the last pass ℓ ≤ k, and

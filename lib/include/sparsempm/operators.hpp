@@ -85,8 +85,9 @@ struct ConsistentMass {
   long source_version = -1;                  ///< ... and their pattern version
 };
 /// m̃_ij = Σ_p M_p S_pi S_pj written directly into the stencil pattern (no sparse × sparse
-/// product), row i from the particles of node i in particle order (ops.columns), one row per
-/// thread; the pattern is rebuilt only when the stencil width or the touched set changes.
+/// product): the particles in order scatter their boxes' products into the rows, each thread
+/// owning a range of rows, so each entry sums its particles in ascending order on any number of
+/// threads; the pattern is rebuilt only when the stencil width or the touched set changes.
 void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt);
 /// Lumped reverse map S⁺ = m⁻¹ Sᵀ M, n × N; rows of inactive nodes are zero (FMPM 2026 §2.1).
 SparseMatrix S_plus(const Operators& ops);
