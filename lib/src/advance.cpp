@@ -1,5 +1,6 @@
 #include "sparsempm/advance.hpp"
 
+#include "parallel.hpp"
 #include "sparsempm/errors.hpp"
 
 #include <algorithm>
@@ -10,19 +11,34 @@
 
 namespace smpm {
 
-double signal_speed(const Model& model) {
-  const double c = max_wave_speed(model.materials, model.particles);
-  const double vmax = model.particles.size() ? model.particles.V.rowwise().norm().maxCoeff() : 0;
-  return std::max(c, vmax);
+namespace {
+// max_p |V_p|, as energies() finds it.
+double max_particle_speed(const Particles& P) {
+  double v2 = 0;
+  detail::ordered_reduce(
+      P.size(), 1, 0.0, &v2,
+      [&](Index p, double* acc) { acc[0] = std::max(acc[0], speed_squared(P, p)); },
+      [](double a, double b) { return std::max(a, b); });
+  return std::sqrt(v2);
 }
 
-double stable_time_step(const Model& model, double courant) {
+// Δt = C Δx_min / speed.
+double time_step(const Model& model, double courant, double speed) {
   if (!(courant > 0) || !std::isfinite(courant))
     throw InputError("courant number must be positive, got " + std::to_string(courant));
-  const double speed = signal_speed(model);
   if (!(speed > 0))
     throw InputError("cannot choose a time step: no wave speed and no particle velocity");
   return courant * model.grid.min_cell_size() / speed;
+}
+} // namespace
+
+double signal_speed(const Model& model) {
+  return std::max(max_wave_speed(model.materials, model.particles),
+                  max_particle_speed(model.particles));
+}
+
+double stable_time_step(const Model& model, double courant) {
+  return time_step(model, courant, signal_speed(model));
 }
 
 double courant_of(const Model& model, double dt) {
@@ -70,13 +86,20 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   };
   double stop = next_stop(model.time);
   const auto start = std::chrono::steady_clock::now();
+  // The signal speed of the next step: the materials' wave speed (fixed unless Mie–Grüneisen
+  // particles change it with their state) and the largest particle speed, which the energies of
+  // each step provide.
+  const bool shock = uses_shock_physics(model.materials);
+  const double wave = shock ? 0 : max_wave_speed(model.materials, model.particles);
+  double speed = signal_speed(model);
   while (model.time < o.end - eps) {
-    double dt = stable_time_step(model, o.courant);
+    double dt = time_step(model, o.courant, speed);
     if (o.land_on_stops)
       dt = std::min(dt, stop - model.time);
     stepper.step(model, dt);
     ++report.steps;
-    const Energies e = energies(model);
+    const Energies e = stepper.energies(model); // W(F_p) from the step's stress update
+    speed = std::max(shock ? max_wave_speed(model.materials, model.particles) : wave, e.max_speed);
     check_energy(model, e.total, report.energy_start, o.failure);
     report.energy_end = e.total;
     const bool at_stop = model.time >= stop - eps;

@@ -1,34 +1,50 @@
 #include "sparsempm/diagnostics.hpp"
 
+#include "kernels.hpp"
 #include "parallel.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace smpm {
 
-Energies energies(const Model& model) {
+Energies energies(const Model& model, const Eigen::VectorXd* density) {
   const Particles& P = model.particles;
   const int d = P.dim;
   Energies e;
-  // Σ_p M_p |V_p|² and Σ_p M_p V_p in one pass, summed in the fixed order of ordered_reduce.
-  double sums[4];
-  detail::ordered_reduce(
-      P.size(), 1 + d, 0.0, sums,
-      [&](Index p, double* acc) {
-        const double M = P.mass[p];
-        double v2 = 0;
-        for (int a = 0; a < d; ++a) {
-          v2 += P.V(p, a) * P.V(p, a);
-          acc[1 + a] += M * P.V(p, a);
-        }
-        acc[0] += M * v2;
-      },
-      [](double a, double b) { return a + b; });
+  // Σ_p M_p |V_p|², Σ_p M_p V_p and max_p |V_p|² in one pass, in the fixed order of
+  // ordered_reduce_blocks; each block sums in registers, the dimension a compile-time constant.
+  double sums[5];
+  auto pass = [&]<int D>() {
+    detail::ordered_reduce_blocks(
+        P.size(), 2 + D, 0.0, sums,
+        [&](Index begin, Index end, double* out) {
+          double kin = 0, vmax = 0, mom[D] = {};
+          for (Index p = begin; p < end; ++p) {
+            const double* V = P.V.data() + p * P.V.outerStride();
+            const double M = P.mass[p];
+            double v2 = 0;
+            for (int a = 0; a < D; ++a)
+              v2 += V[a] * V[a]; // as speed_squared
+            for (int a = 0; a < D; ++a)
+              mom[a] += M * V[a];
+            kin += M * v2;
+            vmax = std::max(vmax, v2);
+          }
+          out[0] = kin;
+          out[1] = vmax;
+          for (int a = 0; a < D; ++a)
+            out[2 + a] = mom[a];
+        },
+        [](int c, double a, double b) { return c == 1 ? std::max(a, b) : a + b; });
+  };
+  detail::by_dim(d, pass);
   e.kinetic = 0.5 * sums[0];
-  e.strain = strain_energy(model.materials, P);
+  e.max_speed = std::sqrt(sums[1]);
+  e.strain = strain_energy(model.materials, P, density);
   e.total = e.kinetic + e.strain;
   for (int a = 0; a < d; ++a)
-    e.momentum[a] = sums[1 + a];
+    e.momentum[a] = sums[2 + a];
   return e;
 }
 

@@ -61,6 +61,58 @@ void validate(const Material& mat) {
     throw InputError(who + "poisson must lie in (-1, 0.5), got " + std::to_string(mat.poisson));
 }
 
+namespace {
+// Linear elasticity written out for dimension D (the common case, kept cheap on the hot path):
+// σ = λ tr(ε) I + 2Gε with ε = sym(F) − I (D ≥ 2), σ = E (F − 1) in 1D.
+template <int D>
+void linear_stress(const Material& m, const double* F, double* sigma) {
+  if constexpr (D == 1) {
+    sigma[0] = m.youngs * (F[0] - 1);
+  } else {
+    const double lam = m.lame_lambda(), G2 = 2 * m.shear_modulus();
+    double tr = 0;
+    for (int a = 0; a < D; ++a)
+      tr += F[a * D + a] - 1;
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) {
+        const double eps = 0.5 * (F[a * D + b] + F[b * D + a]) - (a == b ? 1.0 : 0.0);
+        sigma[a * D + b] = G2 * eps + (a == b ? lam * tr : 0.0);
+      }
+  }
+}
+
+// W = ½ σ : ε of linear elasticity from F and its σ (linear_stress), dimension D.
+template <int D>
+double linear_energy(const Material& m, const double* F, const double* sigma) {
+  if constexpr (D == 1) {
+    return 0.5 * m.youngs * (F[0] - 1) * (F[0] - 1);
+  } else {
+    double W = 0;
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b)
+        W += sigma[a * D + b] * (0.5 * (F[a * D + b] + F[b * D + a]) - (a == b ? 1.0 : 0.0));
+    return 0.5 * W;
+  }
+}
+
+// σ and W of linear elasticity in dimension d (1, 2 or 3); W only with `energy`.
+void linear_stress_energy(const Material& m, int d, const double* F, double* sigma,
+                          double* energy) {
+  auto run = [&]<int D>() {
+    linear_stress<D>(m, F, sigma);
+    if (energy)
+      *energy = linear_energy<D>(m, F, sigma);
+  };
+  if (d == 1)
+    run.template operator()<1>();
+  else if (d == 2)
+    run.template operator()<2>();
+  else
+    run.template operator()<3>();
+}
+
+} // namespace
+
 Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3d& F) {
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   const double G = mat.shear_modulus();
@@ -97,11 +149,13 @@ Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3
 double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d& F) {
   const double G = mat.shear_modulus();
   switch (mat.model) {
-  case MaterialModel::Linear: {
-    if (dim == 1)
-      return 0.5 * mat.youngs * (F(0, 0) - 1) * (F(0, 0) - 1);
-    const Eigen::Matrix3d eps = 0.5 * (F + F.transpose()) - Eigen::Matrix3d::Identity();
-    return 0.5 * (cauchy_stress(mat, dim, F).cwiseProduct(eps)).sum();
+  case MaterialModel::Linear: { // as update_stress computes it: the same bits
+    double Fd[9], sigma[9], W = 0;
+    for (int a = 0; a < dim; ++a)
+      for (int b = 0; b < dim; ++b)
+        Fd[a * dim + b] = F(a, b);
+    linear_stress_energy(mat, dim, Fd, sigma, &W);
+    return W;
   }
   case MaterialModel::NeoHookean: {
     // W = (G/2)(I₁ − 3 − 2 ln J) + (λ/4)(J² − 1 − 2 ln J) gives Eq. (14) through τ = (∂W/∂F) Fᵀ.
@@ -180,48 +234,21 @@ void check_compression(const Material& mat, double J, Index p) {
 }
 } // namespace
 
-// Linear elasticity written out for dimension D (the common case, kept cheap on the hot path):
-// σ = λ tr(ε) I + 2Gε with ε = sym(F) − I (D ≥ 2), σ = E (F − 1) in 1D.
-template <int D>
-void linear_stress(const Material& m, const double* F, double* sigma) {
-  if constexpr (D == 1) {
-    sigma[0] = m.youngs * (F[0] - 1);
-  } else {
-    const double lam = m.lame_lambda(), G2 = 2 * m.shear_modulus();
-    double tr = 0;
-    for (int a = 0; a < D; ++a)
-      tr += F[a * D + a] - 1;
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) {
-        const double eps = 0.5 * (F[a * D + b] + F[b * D + a]) - (a == b ? 1.0 : 0.0);
-        sigma[a * D + b] = G2 * eps + (a == b ? lam * tr : 0.0);
-      }
-  }
-}
-
 void update_stress(const std::vector<Material>& materials,
                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
-                   FieldRef stress) {
+                   FieldRef stress, Eigen::VectorXd* density) {
   const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
   SMPM_VERIFY(d * d == d2 && stress.cols() == d2 && stress.rows() == F.rows() &&
                   material.size() == F.rows(),
               "update_stress: F and stress must be N x d^2 and material of size N");
+  if (density)
+    density->resize(F.rows());
   detail::parallel_for(F.rows(), [&](Index p) {
     const Material& mat = material_of(materials, material[p], p);
     const double* Fp = F.data() + p * F.outerStride();
     double* sigma = stress.data() + p * stress.outerStride();
     if (mat.model == MaterialModel::Linear) {
-      switch (d) {
-      case 1:
-        linear_stress<1>(mat, Fp, sigma);
-        break;
-      case 2:
-        linear_stress<2>(mat, Fp, sigma);
-        break;
-      default:
-        linear_stress<3>(mat, Fp, sigma);
-        break;
-      }
+      linear_stress_energy(mat, d, Fp, sigma, density ? density->data() + p : nullptr);
       return;
     }
     const Eigen::Matrix3d F3 = embed_3d(Fp, d);
@@ -231,23 +258,33 @@ void update_stress(const std::vector<Material>& materials,
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
         sigma[a * d + b] = s(a, b);
+    if (density)
+      (*density)[p] = strain_energy_density(mat, d, F3);
   });
 }
 
 namespace {
-// Ω_p W(F_p), plus M_p U_p for a Mie–Grüneisen particle.
-double particle_strain_energy(const std::vector<Material>& materials, const Particles& P, Index p) {
+// Ω_p W(F_p), plus M_p U_p for a Mie–Grüneisen particle; W(F_p) from `density` when given.
+double particle_strain_energy(const std::vector<Material>& materials, const Particles& P, Index p,
+                              const Eigen::VectorXd* density) {
   const Material& mat = material_of(materials, P.material[p], p);
-  double W = P.volume0[p] * strain_energy_density(mat, P.dim, particle_F(P, p));
+  double W = P.volume0[p] *
+             (density ? (*density)[p] : strain_energy_density(mat, P.dim, particle_F(P, p)));
   if (mat.model == MaterialModel::MieGruneisen)
     W += P.mass[p] * P.energy[p];
   return W;
 }
 } // namespace
 
-double strain_energy(const std::vector<Material>& materials, const Particles& P) {
-  return detail::ordered_sum(P.size(),
-                             [&](Index p) { return particle_strain_energy(materials, P, p); });
+double strain_energy(const std::vector<Material>& materials, const Particles& P,
+                     const Eigen::VectorXd* density) {
+  SMPM_VERIFY(!density || density->size() == P.size(),
+              "strain_energy: one strain energy density per particle");
+  if (density && !uses_shock_physics(materials)) // Σ_p V_p^(0) W(F_p): the stress update
+    return detail::ordered_sum(                  // checked the material ids
+        P.size(), [&](Index p) { return P.volume0[p] * (*density)[p]; });
+  return detail::ordered_sum(
+      P.size(), [&](Index p) { return particle_strain_energy(materials, P, p, density); });
 }
 
 bool uses_shock_physics(const std::vector<Material>& materials) {

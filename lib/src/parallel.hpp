@@ -9,6 +9,7 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <type_traits>
 #include <vector>
 
 #if defined(_OPENMP)
@@ -101,27 +102,43 @@ void parallel_for(Index n, Body&& body, Index rows = -1) {
 /// the same for any number of threads.
 inline constexpr Index kReductionBlock = 512;
 
-/// out[c] = combine over i in [0, n) of the k values term(i, acc) adds into acc (c < k), with
-/// combine(a, b) the reduction (a + b for sums, max for maxima): blocks of kReductionBlock
-/// indices in order, each from `init`, then the blocks in order. Bit for bit the same for any
-/// number of threads.
-template <class Term, class Combine>
-void ordered_reduce(Index n, int k, double init, double* out, Term&& term, Combine&& combine) {
+/// out[c] = combine over the blocks of [0, n) of the k values block(begin, end, acc) adds into
+/// acc (c < k) for the indices [begin, end) of a block, with combine(a, b) the reduction (a + b
+/// for sums, max for maxima), or combine(c, a, b) when it differs between the values: blocks
+/// of kReductionBlock indices in order, each from `init`, then the blocks in order. Bit for bit
+/// the same for any number of threads.
+template <class Block, class Combine>
+void ordered_reduce_blocks(Index n, int k, double init, double* out, Block&& block,
+                           Combine&& combine) {
   const Index blocks = (n + kReductionBlock - 1) / kReductionBlock;
   std::vector<double> partial(size_t(blocks * k), init);
   parallel_for(
       blocks,
       [&](Index b) {
-        double* acc = partial.data() + b * k;
-        for (Index i = b * kReductionBlock, end = std::min(n, i + kReductionBlock); i < end; ++i)
-          term(i, acc);
+        block(b * kReductionBlock, std::min(n, (b + 1) * kReductionBlock), partial.data() + b * k);
       },
       n);
   for (int c = 0; c < k; ++c) {
     out[c] = init;
-    for (Index b = 0; b < blocks; ++b)
-      out[c] = combine(out[c], partial[size_t(b * k + c)]);
+    for (Index b = 0; b < blocks; ++b) {
+      if constexpr (std::is_invocable_v<Combine, int, double, double>)
+        out[c] = combine(c, out[c], partial[size_t(b * k + c)]);
+      else
+        out[c] = combine(out[c], partial[size_t(b * k + c)]);
+    }
   }
+}
+
+/// ordered_reduce_blocks with term(i, acc) adding index i's values into acc.
+template <class Term, class Combine>
+void ordered_reduce(Index n, int k, double init, double* out, Term&& term, Combine&& combine) {
+  ordered_reduce_blocks(
+      n, k, init, out,
+      [&](Index begin, Index end, double* acc) {
+        for (Index i = begin; i < end; ++i)
+          term(i, acc);
+      },
+      combine);
 }
 
 /// Σ_i term(i) for i in [0, n) in the fixed order of ordered_reduce.

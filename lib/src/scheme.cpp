@@ -12,7 +12,7 @@ void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, d
                                   ParticleFields& fields) {
   if (!shock_) {
     update_deformation(op, v, dt, kind_, fields.F); // L, F, det F > 0
-    update_stress(materials_, material_, fields.F, fields.stress);
+    update_stress(materials_, material_, fields.F, fields.stress, density_);
     return;
   }
   // Mie–Grüneisen: J and p + q before the step, then the new F, the elastic stresses, and the
@@ -28,7 +28,7 @@ void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, d
   });
   shock_pressure(materials_, material_, fields.F, fields.stress, s.p_old);
   update_deformation(op, v, dt, kind_, fields.F);
-  update_stress(materials_, material_, fields.F, fields.stress);
+  update_stress(materials_, material_, fields.F, fields.stress, density_);
   s.viscous_work += update_shock_stress(materials_, material_, fields.F, fields.volume0, s.J_old,
                                         s.p_old, dt, s.dx, *s.energy, s.pressure, fields.stress);
 }

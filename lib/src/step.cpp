@@ -92,6 +92,7 @@ struct Stepper::Buffers {
   Eigen::VectorXd volume; ///< current particle volumes (AG contact normals)
   ContactNodes contact;
   ShockState shock;
+  Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
 };
 
 Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_unique<Buffers>()) {
@@ -103,6 +104,11 @@ Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_uni
 Stepper::~Stepper() = default;
 Stepper::Stepper(Stepper&&) noexcept = default;
 Stepper& Stepper::operator=(Stepper&&) noexcept = default;
+
+Energies Stepper::energies(const Model& model) const {
+  const bool stored = buf_->density.size() == model.particles.size();
+  return smpm::energies(model, stored ? &buf_->density : nullptr);
+}
 
 const GridState& Stepper::grid_state() const {
   return buf_->step.g;
@@ -163,8 +169,9 @@ void Stepper::step(Model& model, double dt) {
       buf_->shock.dx = model.grid.min_cell_size();
       buf_->shock.viscous_work = 0;
     }
+    buf_->density.resize(0);
     MaterialStrainUpdate strain(model.materials, P.material, opt_.deformation,
-                                shock ? &buf_->shock : nullptr);
+                                shock ? &buf_->shock : nullptr, &buf_->density);
     scheme_step(context, fields, strain, buf_->step);
     if (nf > 1)
       friction_work_ += buf_->contact.friction_work;

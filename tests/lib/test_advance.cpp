@@ -76,3 +76,54 @@ TEST_CASE("stops do not change a constant-step run, landing on them does", "[adv
   CHECK(landed.back() == approx(80, 1e-12));
   CHECK((a.particles.X - c.particles.X).cwiseAbs().maxCoeff() > 0.0);
 }
+
+TEST_CASE("the energies of a step equal those of its particle state", "[advance]") {
+  // Stepper::energies takes W(F_p) from the step's stress update; energies() evaluates it
+  // again from F: the same terms in the same order, so the same bits (==). The largest speed
+  // is max_p |V_p| (to one rounding: Eigen's norm may sum the axes in another order).
+  auto block = [](int dim, MaterialModel model) {
+    Model m(Grid(dim, {0, 0, 0}, {1, 1, 1}, {8, 8, 8}));
+    Material mat = smpm::test::material("block", model, 100, 0.3);
+    if (model == MaterialModel::MieGruneisen) {
+      mat.bulk = 80;
+      mat.shear = 30;
+      mat.gruneisen = 1.6;
+      mat.hugoniot_slope = 1.4;
+    }
+    m.materials = {mat};
+    m.particles = make_block(m.grid, {2, 2, dim == 3 ? 2.0 : 0.0}, {6, 6, dim == 3 ? 6.0 : 0.0},
+                             {2, 2, dim == 3 ? 2 : 1}, 1.0, 0);
+    for (Index p = 0; p < m.particles.size(); ++p)
+      for (int a = 0; a < dim; ++a) // a compression toward the centre and a shear
+        m.particles.V(p, a) =
+            -0.2 * (m.particles.X(p, a) - 4) + 0.1 * m.particles.X(p, (a + 1) % dim);
+    return m;
+  };
+  std::vector<std::pair<std::string, Model>> models;
+  models.emplace_back("1D linear bar", vibrating_bar({}));
+  models.emplace_back("2D linear", block(2, MaterialModel::Linear));
+  models.emplace_back("3D linear", block(3, MaterialModel::Linear));
+  models.emplace_back("2D neo-Hookean", block(2, MaterialModel::NeoHookean));
+  models.emplace_back("3D hyperelastic", block(3, MaterialModel::Hyperelastic));
+  models.emplace_back("2D Mie-Gruneisen", block(2, MaterialModel::MieGruneisen));
+  for (auto& [name, model] : models) {
+    CAPTURE(name);
+    Stepper stepper({.shape = Shape::GIMP});
+    for (int s = 0; s < 5; ++s)
+      stepper.step(model, stable_time_step(model, 0.3));
+    const Energies fused = stepper.energies(model), direct = energies(model);
+    CHECK(fused.strain == direct.strain);
+    CHECK(fused.kinetic == direct.kinetic);
+    CHECK(fused.total == direct.total);
+    CHECK(fused.momentum == direct.momentum);
+    CHECK(fused.max_speed == direct.max_speed);
+    CHECK(direct.strain > 0);
+    const double vmax = model.particles.V.rowwise().norm().maxCoeff();
+    CHECK(std::abs(direct.max_speed - vmax) <= 2.3e-16 * vmax);
+    // A stepper that has not stepped evaluates W from F.
+    Model other = model;
+    other.particles.F *= 1.01;
+    Stepper fresh({.shape = Shape::GIMP});
+    CHECK(fresh.energies(other).strain == energies(other).strain);
+  }
+}

@@ -90,13 +90,17 @@ double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d
 Eigen::Matrix3d embed_3d(const double* F, int d);
 
 /// σ_p = σ(F_p) for every particle (rows of F and stress, N × d²), each with its own material
-/// id (N). Throws InputError for a material id without a material.
+/// id (N). With `density`, also W(F_p) of each particle (resized to N; the same bits as
+/// strain_energy_density), so that the energies of the step need no second pass over F. Throws
+/// InputError for a material id without a material.
 void update_stress(const std::vector<Material>& materials,
                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
-                   FieldRef stress);
+                   FieldRef stress, Eigen::VectorXd* density = nullptr);
 /// Total strain energy Σ_p V_p^(0) W(F_p); for Mie–Grüneisen particles the internal energy
-/// M_p U_p plus the elastic shear energy V_p^(0) (G/2)(I₁/J^{2/3} − 3).
-double strain_energy(const std::vector<Material>& materials, const Particles& particles);
+/// M_p U_p plus the elastic shear energy V_p^(0) (G/2)(I₁/J^{2/3} − 3). With `density` (W(F_p)
+/// of each particle, as update_stress stores it) W is not evaluated again: the same bits.
+double strain_energy(const std::vector<Material>& materials, const Particles& particles,
+                     const Eigen::VectorXd* density = nullptr);
 /// Largest dilatational wave speed: of the materials used by the particles at rest, and for
 /// Mie–Grüneisen particles of their current state, √((K_t + 4G/3)/ρ) (the time step follows
 /// the shock-compressed material).

@@ -55,10 +55,12 @@ struct ShockState {
 /// materials, their pressure, artificial viscosity and internal energy (update_shock_stress).
 class MaterialStrainUpdate final : public StrainUpdate {
 public:
+  /// With `density`, each stress update also stores W(F_p) of every particle there
+  /// (update_stress), for the energies of the step.
   MaterialStrainUpdate(const std::vector<Material>& materials,
                        const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind,
-                       ShockState* shock = nullptr)
-      : materials_(materials), material_(material), kind_(kind), shock_(shock) {}
+                       ShockState* shock = nullptr, Eigen::VectorXd* density = nullptr)
+      : materials_(materials), material_(material), kind_(kind), shock_(shock), density_(density) {}
   void update(const ParticleOperators& op, const Field& v, double dt,
               ParticleFields& fields) override;
 
@@ -67,6 +69,7 @@ private:
   Eigen::Ref<const Eigen::VectorXi> material_;
   DeformationUpdate kind_;
   ShockState* shock_;
+  Eigen::VectorXd* density_;
 };
 
 /// What the stages read besides the particle fields; fixed during the step.

@@ -4,6 +4,7 @@
 /// The stages of the step are written once, in scheme.hpp (scheme_step); the Stepper assembles
 /// the operators of the current configuration and calls it.
 
+#include "sparsempm/diagnostics.hpp"
 #include "sparsempm/fmpm.hpp"
 #include "sparsempm/model.hpp"
 #include "sparsempm/operators.hpp"
@@ -108,6 +109,12 @@ public:
   /// and runs scheme_step. Throws NumericalError naming the step, time and particle when the
   /// state becomes invalid (a particle leaves the grid, NaN, det F ≤ 0).
   void step(Model& model, double dt);
+
+  /// energies(model) after a step, with the strain energy densities W(F_p) its stress update
+  /// stored: the same bits without evaluating W again. The particles must be as the last step
+  /// left them; when no step has run (or the strain update stored nothing) this is
+  /// energies(model).
+  Energies energies(const Model& model) const;
 
   const StepOptions& options() const { return opt_; }
   /// The operators assembled for the last step (configuration at its start).
