@@ -1,18 +1,23 @@
 // Cost of the matrix form of MPM against a lean matrix-free step measured in the same run
 // (FMPM 2026 §3.4, Eq. 3: relative time 1 + φ(k − 1)F).
 //
-//   build/tests/bench/bench_step [--benchmark_filter=...]
+//   build/tests/bench/bench_step [--benchmark_filter=...] [--benchmark_repetitions=3]
 //
-// Problems: "block", a 2D block of side × side cells with 2 × 2 particles per cell (linear
-// shape functions, linear elastic; side = 500 gives 10⁶ particles and 251,001 nodes; set
-// SMPM_BENCH_SIDE to change it), "plate", a plane-strain plate of 200 × 50 cells (uGIMP,
-// 2 × 2 per cell, linear elastic, 39,204 particles), and "impact", examples/block_impact.toml
-// (CPDI, neo-Hookean, 8000 particles). For each problem the baseline is the matrix-free USL FLIP
-// step below, run on the same particles with linear shape functions. Printed after the runs: every
-// time as a ratio to that baseline, F = (one FMPM pass)/(baseline), FMPM(20)/FLIP, exact/FMPM(k),
-// and the peak resident memory per particle. Everything runs on one thread except the steps named
-// "..._2_threads" (the same FLIP and FMPM(4) steps on two threads; their speed-ups over one
-// thread are printed; the results are the same bits, threads.hpp).
+// Problems (SMPM_BENCH_SIDE sets the block's side, 500):
+//   block         2D block of side × side cells, 2 × 2 particles per cell, linear shape functions,
+//                 linear elastic (side 500: 996,004 particles, 251,001 nodes);
+//   plate         plane-strain plate of 200 × 50 cells, 2 × 2 per cell, uGIMP, linear elastic
+//                 (39,204 particles); plate_cpdi and plate_b2cpdi: the same with CPDI and B2CPDI;
+//   block3d       3D block of 40³ cells, 2 × 2 × 2 per cell, linear, linear elastic (493,039);
+//   impact        examples/block_impact.toml (CPDI, neo-Hookean, 8000 particles).
+// For each, the baseline is a matrix-free USL FLIP step (plain loops over particles and nodes,
+// linear shape functions, linear elasticity) on the same particles. Steps: FLIP, FMPM(k) for
+// k = 2, 4, 8, 16, 20, 32 and the exact consistent-mass update, on 1 thread and ("/2t") on 2
+// (the same bits, threads.hpp). "scaling/<N>/<step>/<threads>": ns per particle-step of the
+// block for N = 10⁴, 10⁵, 10⁶. Printed after the runs: the ratios to the baseline, the targets
+// of the step's cost at 1 and 2 threads (medians over --benchmark_repetitions, with the
+// smallest and largest run), the FMPM pass's share of the STREAM triad bandwidth and the peak
+// resident memory per particle.
 
 #include <sparsempm/exact.hpp>
 #include <sparsempm/input.hpp>
@@ -36,23 +41,29 @@ int side() {
   return s ? std::atoi(s) : 500;
 }
 
-smpm::Model block_model(int n, int ny = 0) {
+// A block of cells[a] cells per axis of particles (ppc per axis 2) on a grid with one empty cell
+// around it (B2CPDI reaches 1.5 cells beyond a particle), unit cells from the origin.
+smpm::Model block_model(int dim, std::array<int, 3> cells) {
   using namespace smpm;
-  if (ny == 0)
-    ny = n;
-  Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {n, ny, 1}));
+  std::array<int, 3> grid_cells{1, 1, 1}, ppc{1, 1, 1};
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  for (int a = 0; a < dim; ++a) {
+    grid_cells[size_t(a)] = cells[size_t(a)] + 4;
+    lo[size_t(a)] = 2;
+    hi[size_t(a)] = 2 + cells[size_t(a)];
+    ppc[size_t(a)] = 2;
+  }
+  Model model(Grid(dim, {0, 0, 0}, {1, 1, 1}, grid_cells));
   Material mat;
   mat.name = "block";
   mat.youngs = 100;
   mat.poisson = 0.3;
   model.materials = {mat};
-  model.particles =
-      make_block(model.grid, {0.5, 0.5, 0}, {n - 0.5, ny - 0.5, 0}, {2, 2, 1}, 1.0, 0);
+  model.particles = make_block(model.grid, lo, hi, ppc, 1.0, 0);
   auto& P = model.particles;
-  for (Eigen::Index p = 0; p < P.size(); ++p) { // a smooth velocity field
-    P.V(p, 0) = 0.01 * std::sin(0.1 * P.X(p, 1));
-    P.V(p, 1) = 0.01 * std::cos(0.1 * P.X(p, 0));
-  }
+  for (Eigen::Index p = 0; p < P.size(); ++p) // a smooth velocity field
+    for (int a = 0; a < dim; ++a)
+      P.V(p, a) = 0.01 * std::sin(0.1 * P.X(p, (a + 1) % dim) + a);
   return model;
 }
 
@@ -64,14 +75,19 @@ struct Problem {
 };
 
 Problem make_problem(const std::string& name) {
-  if (name == "block") {
-    smpm::Model m = block_model(side());
-    return {name, m, smpm::Shape::Linear, 1e-4};
-  }
-  if (name == "plate") { // 2D plane strain, 200 × 50 cells, 2 × 2 per cell: 39,204 particles
-    smpm::Model m = block_model(201, 51);
-    m.materials[0].model = smpm::MaterialModel::Linear;
-    return {name, m, smpm::Shape::GIMP, 1e-4};
+  using smpm::Shape;
+  if (name == "block")
+    return {name, block_model(2, {side(), side(), 1}), Shape::Linear, 1e-4};
+  if (name.rfind("scaling_", 0) == 0) // scaling_<side>
+    return {name, block_model(2, {std::stoi(name.substr(8)), std::stoi(name.substr(8)), 1}),
+            Shape::Linear, 1e-4};
+  if (name == "block3d")
+    return {name, block_model(3, {40, 40, 40}), Shape::Linear, 1e-4};
+  if (name.rfind("plate", 0) == 0) {
+    const Shape shape = name == "plate_cpdi"     ? Shape::CPDI
+                        : name == "plate_b2cpdi" ? Shape::B2CPDI
+                                                 : Shape::GIMP;
+    return {name, block_model(2, {200, 50, 1}), shape, 1e-4};
   }
   smpm::RunConfig cfg =
       smpm::read_input_file(std::string(SMPM_EXAMPLES_DIR) + "/block_impact.toml");
@@ -80,85 +96,119 @@ Problem make_problem(const std::string& name) {
   return {name, cfg.model, cfg.step.shape, 1e-6 * smpm::stable_time_step(cfg.model, 0.2)};
 }
 
-// The baseline: one USL FLIP step written as plain loops over particles and nodes.
+// The baseline: one USL FLIP step in D = 2 or 3 dimensions written as plain loops over particles
+// and nodes (linear shape functions on unit cells from the origin, linear elasticity).
+template <int D>
 struct MatrixFree {
-  int nx, ny;
-  std::vector<double> m, px, py, fx, fy;
+  std::array<int, 3> nodes;
+  std::vector<double> m, p, f; // m: n; p, f: n × D
+  // The 2^D nodes of particle X's cell (x fastest) with their weights and gradients, written
+  // out per dimension.
+  static void cell(const double* X, const std::array<int, 3>& nodes, size_t k[8], double w[8],
+                   double g[8][3]) {
+    const int i = int(X[0]), j = int(X[1]);
+    const double tx = X[0] - i, ty = X[1] - j;
+    const double wx[2] = {1 - tx, tx}, wy[2] = {1 - ty, ty}, s[2] = {-1, 1};
+    const size_t nx = size_t(nodes[0]), base = size_t(i) + size_t(j) * nx;
+    if constexpr (D == 2) {
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) {
+          const int c = a + 2 * b;
+          k[c] = base + size_t(a) + size_t(b) * nx;
+          w[c] = wx[a] * wy[b];
+          g[c][0] = s[a] * wy[b];
+          g[c][1] = wx[a] * s[b];
+        }
+    } else {
+      const int l = int(X[2]);
+      const double tz = X[2] - l, wz[2] = {1 - tz, tz};
+      const size_t nxy = nx * size_t(nodes[1]), base3 = base + size_t(l) * nxy;
+      for (int e = 0; e < 2; ++e)
+        for (int b = 0; b < 2; ++b)
+          for (int a = 0; a < 2; ++a) {
+            const int c = a + 2 * b + 4 * e;
+            k[c] = base3 + size_t(a) + size_t(b) * nx + size_t(e) * nxy;
+            w[c] = wx[a] * wy[b] * wz[e];
+            g[c][0] = s[a] * wy[b] * wz[e];
+            g[c][1] = wx[a] * s[b] * wz[e];
+            g[c][2] = wx[a] * wy[b] * s[e];
+          }
+    }
+  }
   void step(smpm::Model& model, double dt) {
     auto& P = model.particles;
     const double lam = model.materials[0].lame_lambda(), G = model.materials[0].shear_modulus();
     const Eigen::Index N = P.size();
-    const size_t n = size_t(nx) * ny;
+    const size_t n = size_t(nodes[0]) * nodes[1] * nodes[2];
     m.assign(n, 0);
-    px.assign(n, 0);
-    py.assign(n, 0);
-    fx.assign(n, 0);
-    fy.assign(n, 0);
-    for (Eigen::Index p = 0; p < N; ++p) { // P2G: mass, momentum, internal force
-      const double x = P.X(p, 0), y = P.X(p, 1);
-      const int i = int(x), j = int(y);
-      const double tx = x - i, ty = y - j;
-      const double wx[2] = {1 - tx, tx}, wy[2] = {1 - ty, ty}, gx[2] = {-1, 1};
-      const double F00 = P.F(p, 0), F01 = P.F(p, 1), F10 = P.F(p, 2), F11 = P.F(p, 3);
-      const double vol = P.volume0[p] * (F00 * F11 - F01 * F10);
-      const double sxx = P.stress(p, 0), sxy = P.stress(p, 1), syy = P.stress(p, 3);
-      for (int b = 0; b < 2; ++b)
-        for (int a = 0; a < 2; ++a) {
-          const size_t k = size_t(i + a) + size_t(j + b) * nx;
-          const double w = wx[a] * wy[b], dx = gx[a] * wy[b], dy = wx[a] * gx[b];
-          m[k] += w * P.mass[p];
-          px[k] += w * P.mass[p] * P.V(p, 0);
-          py[k] += w * P.mass[p] * P.V(p, 1);
-          fx[k] -= vol * (sxx * dx + sxy * dy);
-          fy[k] -= vol * (sxy * dx + syy * dy);
+    p.assign(n * D, 0);
+    f.assign(n * D, 0);
+    size_t k[8];
+    double w[8], g[8][3];
+    for (Eigen::Index q = 0; q < N; ++q) { // P2G: mass, momentum, internal force
+      cell(P.X.row(q).data(), nodes, k, w, g);
+      const double* F = P.F.row(q).data();
+      const double* sig = P.stress.row(q).data();
+      double J = F[0];
+      if constexpr (D == 2)
+        J = F[0] * F[3] - F[1] * F[2];
+      if constexpr (D == 3)
+        J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+            F[2] * (F[3] * F[7] - F[4] * F[6]);
+      const double vol = P.volume0[q] * J, M = P.mass[q];
+      for (int c = 0; c < (1 << D); ++c) {
+        m[k[c]] += w[c] * M;
+        for (int a = 0; a < D; ++a) {
+          p[k[c] * D + a] += w[c] * M * P.V(q, a);
+          double fa = 0;
+          for (int b = 0; b < D; ++b)
+            fa += sig[a * D + b] * g[c][b];
+          f[k[c] * D + a] -= vol * fa;
         }
-    }
-    for (size_t k = 0; k < n; ++k) { // grid update: a = f/m, v⁺ = (p + f dt)/m
-      if (m[k] > 1e-12) {
-        px[k] = (px[k] + fx[k] * dt) / m[k];
-        py[k] = (py[k] + fy[k] * dt) / m[k];
-        fx[k] /= m[k];
-        fy[k] /= m[k];
-      } else {
-        px[k] = py[k] = fx[k] = fy[k] = 0;
       }
     }
-    for (Eigen::Index p = 0; p < N; ++p) { // G2P: FLIP, position, L, F, stress
-      const double x = P.X(p, 0), y = P.X(p, 1);
-      const int i = int(x), j = int(y);
-      const double tx = x - i, ty = y - j;
-      const double wx[2] = {1 - tx, tx}, wy[2] = {1 - ty, ty}, gx[2] = {-1, 1};
-      double ax = 0, ay = 0, vx = 0, vy = 0, L00 = 0, L01 = 0, L10 = 0, L11 = 0;
-      for (int b = 0; b < 2; ++b)
-        for (int a = 0; a < 2; ++a) {
-          const size_t k = size_t(i + a) + size_t(j + b) * nx;
-          const double w = wx[a] * wy[b], dx = gx[a] * wy[b], dy = wx[a] * gx[b];
-          ax += w * fx[k];
-          ay += w * fy[k];
-          vx += w * px[k];
-          vy += w * py[k];
-          L00 += px[k] * dx;
-          L01 += px[k] * dy;
-          L10 += py[k] * dx;
-          L11 += py[k] * dy;
+    for (size_t i = 0; i < n; ++i) // grid update: a = f/m, v⁺ = (p + f dt)/m
+      for (int a = 0; a < D; ++a) {
+        const size_t j = i * D + a;
+        if (m[i] > 1e-12) {
+          p[j] = (p[j] + f[j] * dt) / m[i];
+          f[j] /= m[i];
+        } else {
+          p[j] = f[j] = 0;
         }
-      P.V(p, 0) += dt * ax;
-      P.V(p, 1) += dt * ay;
-      P.X(p, 0) += dt * vx;
-      P.X(p, 1) += dt * vy;
-      const double F00 = P.F(p, 0), F01 = P.F(p, 1), F10 = P.F(p, 2), F11 = P.F(p, 3);
-      const double n00 = F00 + dt * (L00 * F00 + L01 * F10),
-                   n01 = F01 + dt * (L00 * F01 + L01 * F11);
-      const double n10 = F10 + dt * (L10 * F00 + L11 * F10),
-                   n11 = F11 + dt * (L10 * F01 + L11 * F11);
-      P.F(p, 0) = n00;
-      P.F(p, 1) = n01;
-      P.F(p, 2) = n10;
-      P.F(p, 3) = n11;
-      const double exx = n00 - 1, eyy = n11 - 1, exy = 0.5 * (n01 + n10), tr = exx + eyy;
-      P.stress(p, 0) = lam * tr + 2 * G * exx;
-      P.stress(p, 1) = P.stress(p, 2) = 2 * G * exy;
-      P.stress(p, 3) = lam * tr + 2 * G * eyy;
+      }
+    for (Eigen::Index q = 0; q < N; ++q) { // G2P: FLIP, position, L, F, stress
+      cell(P.X.row(q).data(), nodes, k, w, g);
+      double acc[D] = {}, vel[D] = {}, L[D * D] = {};
+      for (int c = 0; c < (1 << D); ++c)
+        for (int a = 0; a < D; ++a) {
+          acc[a] += w[c] * f[k[c] * D + a];
+          vel[a] += w[c] * p[k[c] * D + a];
+          for (int b = 0; b < D; ++b)
+            L[a * D + b] += p[k[c] * D + a] * g[c][b];
+        }
+      for (int a = 0; a < D; ++a) {
+        P.V(q, a) += dt * acc[a];
+        P.X(q, a) += dt * vel[a];
+      }
+      double* F = P.F.row(q).data();
+      double Fn[D * D], tr = 0;
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b) {
+          double s = 0;
+          for (int c = 0; c < D; ++c)
+            s += L[a * D + c] * F[c * D + b];
+          Fn[a * D + b] = F[a * D + b] + dt * s;
+        }
+      for (int a = 0; a < D; ++a)
+        tr += Fn[a * D + a] - 1;
+      double* sig = P.stress.row(q).data();
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b) {
+          F[a * D + b] = Fn[a * D + b];
+          const double eps = 0.5 * (Fn[a * D + b] + Fn[b * D + a]) - (a == b ? 1.0 : 0.0);
+          sig[a * D + b] = 2 * G * eps + (a == b ? lam * tr : 0.0);
+        }
     }
   }
 };
@@ -170,14 +220,21 @@ void BM_MatrixFree(benchmark::State& state, const std::string& problem) {
   for (auto& m : pb.model.materials)
     m.model = smpm::MaterialModel::Linear;
   const smpm::Grid& g = pb.model.grid;
+  const int d = g.dim();
   // shift to a grid with origin 0 and unit cells, as the baseline indexes cells directly
-  for (int a = 0; a < 2; ++a)
+  for (int a = 0; a < d; ++a)
     pb.model.particles.X.col(a) =
         (pb.model.particles.X.col(a).array() - g.origin(a)) / g.cell_size(a);
-  MatrixFree mf{g.nodes(0), g.nodes(1), {}, {}, {}, {}, {}};
-  mf.step(pb.model, pb.dt); // warm-up
-  for (auto _ : state)
-    mf.step(pb.model, pb.dt);
+  const std::array<int, 3> nodes{g.nodes(0), d > 1 ? g.nodes(1) : 1, d > 2 ? g.nodes(2) : 1};
+  auto run = [&](auto mf) {
+    mf.step(pb.model, pb.dt); // warm-up
+    for (auto _ : state)
+      mf.step(pb.model, pb.dt);
+  };
+  if (d == 3)
+    run(MatrixFree<3>{nodes, {}, {}, {}});
+  else
+    run(MatrixFree<2>{nodes, {}, {}, {}});
 }
 
 void BM_Assemble(benchmark::State& state, const std::string& problem) { // S, G_d, M, m
@@ -262,7 +319,9 @@ void BM_Step(benchmark::State& state, const std::string& problem, smpm::Velocity
   for (auto _ : state)
     stepper.step(pb.model, pb.dt);
   state.counters["particles"] = double(pb.model.particles.size());
-  state.counters["threads"] = threads;
+  state.counters["ns/particle"] =
+      benchmark::Counter(1e9 * double(state.iterations()) / double(pb.model.particles.size()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   smpm::set_threads(1);
 }
 
@@ -363,6 +422,8 @@ public:
   }
 };
 
+const std::vector<int> kOrders{2, 4, 8, 16, 20, 32};
+
 void register_problem(const std::string& pb) {
   using smpm::VelocityUpdate;
   auto reg = [&](const std::string& name, auto fn) {
@@ -376,56 +437,127 @@ void register_problem(const std::string& pb) {
   reg("consistent_mass_eigen_product",
       [pb](benchmark::State& s) { BM_ConsistentMassEigen(s, pb); });
   reg("fmpm_pass", [pb](benchmark::State& s) { BM_FmpmPass(s, pb); });
-  reg("flip_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FLIP, 1); });
-  reg("fmpm4_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 4); });
-  reg("flip_step_2_threads",
-      [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FLIP, 1, 2); });
-  reg("fmpm4_step_2_threads",
-      [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 4, 2); });
-  reg("fmpm20_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, 20); });
-  reg("exact_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::Exact, 1); });
   reg("diagnostics", [pb](benchmark::State& s) { BM_Diagnostics(s, pb, true); });
   reg("diagnostics_recomputed", [pb](benchmark::State& s) { BM_Diagnostics(s, pb, false); });
+  for (int t : {1, 2}) {
+    const std::string sfx = t == 1 ? "" : "/2t";
+    reg("flip_step" + sfx,
+        [pb, t](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FLIP, 1, t); });
+    for (int k : kOrders)
+      reg("fmpm" + std::to_string(k) + "_step" + sfx,
+          [pb, k, t](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::FMPM, k, t); });
+  }
+  if (pb.rfind("block3d", 0) != 0) // CHOLMOD's factor of the 3D m̃ is the cost there, not MPM
+    reg("exact_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::Exact, 1); });
 }
+
+// The scaling table: FLIP, FMPM(4) and FMPM(16) steps of the block for N = 10⁴, 10⁵, 10⁶.
+const std::vector<std::pair<int, const char*>> kScaling{{50, "1e4"}, {158, "1e5"}, {500, "1e6"}};
+
+void register_scaling() {
+  using smpm::VelocityUpdate;
+  for (const auto& [side, label] : kScaling)
+    for (int k : {1, 4, 16})
+      for (int t : {1, 2}) {
+        const std::string pb = "scaling_" + std::to_string(side);
+        const std::string name = std::string("scaling/") + label + "/" +
+                                 (k == 1 ? std::string("flip") : "fmpm" + std::to_string(k)) + "/" +
+                                 std::to_string(t);
+        benchmark::RegisterBenchmark(name.c_str(), [pb, k, t](benchmark::State& s) {
+          BM_Step(s, pb, k == 1 ? VelocityUpdate::FLIP : VelocityUpdate::FMPM, k, t);
+        })->Unit(benchmark::kMillisecond);
+      }
+}
+
+// Bytes one FMPM pass moves at least: m̃'s values, column indices and row offsets, and per node
+// 1/m, Δv(ℓ−1) read, Δv(ℓ) written, v read and written.
+double pass_bytes(const std::string& problem) {
+  Problem pb = make_problem(problem);
+  const smpm::Operators ops = smpm::assemble(pb.model.grid, pb.model.particles, pb.shape);
+  smpm::ConsistentMass mt;
+  smpm::assemble_consistent_mass(ops, mt);
+  const double n = double(mt.matrix.rows()), nnz = double(mt.matrix.nonZeros());
+  return 12 * nnz + 4 * n + 8 * n + 4 * 8 * n * pb.model.grid.dim();
+}
+
+const char* const kProblems[] = {"block",        "plate",   "plate_cpdi",
+                                 "plate_b2cpdi", "block3d", "impact"};
 
 } // namespace
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
-  smpm::set_threads(1); // the baseline is serial; the "_2_threads" steps set their own count
-  register_problem("block");
-  register_problem("plate");
-  register_problem("impact");
+  smpm::set_threads(1); // the baseline is serial; the "/2t" steps set their own count
+  for (const char* pb : kProblems)
+    register_problem(pb);
+  register_scaling();
   RatioReporter rep;
   benchmark::RunSpecifiedBenchmarks(&rep);
-  for (const std::string pb : {"block", "plate", "impact"}) {
-    auto t = [&](const std::string& n) {
-      const auto it = rep.ms.find(pb + "/" + n);
-      return it == rep.ms.end() ? std::nan("") : it->second;
-    };
-    const double base = t("matrix_free_flip_step");
+  auto t = [&](const std::string& n) {
+    const auto it = rep.ms.find(n);
+    return it == rep.ms.end() ? std::nan("") : it->second;
+  };
+  auto spread = [&](const std::string& n) {
+    char buf[64];
+    if (!rep.lo.count(n))
+      return std::string("");
+    std::snprintf(buf, sizeof buf, "(%.3g-%.3g ms)", rep.lo[n], rep.hi[n]);
+    return std::string(buf);
+  };
+  const double triad = t("BM_StreamTriad"), triad_gbs = 240.0 / triad;
+  for (const std::string pb : kProblems) {
+    const double base = t(pb + "/matrix_free_flip_step");
     if (std::isnan(base))
       continue;
     std::printf("\n%s: ratios to the matrix-free USL FLIP step (%.3f ms)\n", pb.c_str(), base);
     for (const auto& [name, ms] : rep.ms)
       if (name.rfind(pb + "/", 0) == 0)
-        std::printf("  %-36s %10.3f ms  %8.3f   (%.3f-%.3f ms)\n", name.c_str() + pb.size() + 1, ms,
-                    ms / base, rep.lo[name], rep.hi[name]);
+        std::printf("  %-36s %10.3f ms  %8.3f   %s\n", name.c_str() + pb.size() + 1, ms, ms / base,
+                    spread(name).c_str());
+    auto r = [&](const std::string& a, const std::string& b) {
+      return t(pb + "/" + a) / t(pb + "/" + b);
+    };
+    const double pass = t(pb + "/fmpm_pass");
     std::printf("  F = fmpm_pass / matrix-free step                 %8.3f (target <= 0.05)\n",
-                t("fmpm_pass") / base);
+                pass / base);
+    if (!std::isnan(pass) && !std::isnan(triad))
+      std::printf("  FMPM pass bandwidth / STREAM triad               %8.3f (target >= 0.6)\n",
+                  pass_bytes(pb) / (pass * 1e6) / triad_gbs);
     std::printf("  assembly (S, G, m, m~) / matrix-free step        %8.3f (target <= 1.0)\n",
-                (t("assemble_S_G_m") + t("consistent_mass_stencil")) / base);
-    std::printf("  FLIP step / matrix-free step                     %8.3f (target <= 1.5)\n",
-                t("flip_step") / base);
-    std::printf("  FMPM(20) step / FLIP step                        %8.3f (target <= 1.8)\n",
-                t("fmpm20_step") / t("flip_step"));
+                (t(pb + "/assemble_S_G_m") + t(pb + "/consistent_mass_stencil")) / base);
     std::printf("  diagnostics (energies, time step) / FLIP step    %8.3f (target <= 0.05)\n",
-                t("diagnostics") / t("flip_step"));
-    std::printf("  exact step / FMPM(4) step, / FMPM(20) step       %8.3f, %.3f\n",
-                t("exact_step") / t("fmpm4_step"), t("exact_step") / t("fmpm20_step"));
+                r("diagnostics", "flip_step"));
+    for (const std::string sfx : {"", "/2t"}) {
+      std::printf("  %s:\n", sfx.empty() ? "1 thread" : "2 threads");
+      std::printf("    FLIP step / matrix-free step                   %8.3f (target <= 1.5)\n",
+                  t(pb + "/flip_step" + sfx) / base);
+      std::printf("    FMPM(20) step / FLIP step                      %8.3f (target <= 1.8)\n",
+                  r("fmpm20_step" + sfx, "flip_step" + sfx));
+      std::printf("    FMPM(k) / FLIP, k = 2 4 8 16 20 32            ");
+      for (int k : kOrders)
+        std::printf(" %.2f", r("fmpm" + std::to_string(k) + "_step" + sfx, "flip_step" + sfx));
+      std::printf("\n");
+    }
     std::printf("  2-thread speed-up: FLIP step %.3f, FMPM(4) step %.3f (target >= 1.7)\n",
-                t("flip_step") / t("flip_step_2_threads"),
-                t("fmpm4_step") / t("fmpm4_step_2_threads"));
+                r("flip_step", "flip_step/2t"), r("fmpm4_step", "fmpm4_step/2t"));
+    std::printf("  exact step / FMPM(4) step, / FMPM(20) step       %8.3f, %.3f\n",
+                r("exact_step", "fmpm4_step"), r("exact_step", "fmpm20_step"));
+  }
+  bool scaling = false;
+  for (const auto& [side, label] : kScaling)
+    scaling = scaling || !std::isnan(t(std::string("scaling/") + label + "/flip/1"));
+  if (scaling) {
+    std::printf("\nns per particle-step, 2D block, linear (1 thread / 2 threads):\n"
+                "  N      FLIP            FMPM(4)         FMPM(16)\n");
+    for (const auto& [side, label] : kScaling) {
+      const double N = 4.0 * side * side;
+      std::printf("  %-5s", label);
+      for (const char* k : {"flip", "fmpm4", "fmpm16"}) {
+        const std::string n = std::string("scaling/") + label + "/" + k + "/";
+        std::printf("  %6.0f / %-6.0f", 1e6 * t(n + "1") / N, 1e6 * t(n + "2") / N);
+      }
+      std::printf("\n");
+    }
   }
   const auto single = rep.ms.find("BM_TwoBlocks/single_material");
   for (const char* name : {"contact_AG_CP", "contact_LR"}) {
@@ -436,11 +568,9 @@ int main(int argc, char** argv) {
   }
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
-  const double N = 4.0 * (side() - 1) * (side() - 1);
-  const auto triad = rep.ms.find("BM_StreamTriad");
-  if (triad != rep.ms.end())
-    std::printf("\nSTREAM triad: %.1f GB/s (2.4e8 bytes in %.3f ms)\n", 240.0 / triad->second,
-                triad->second);
+  const double N = 4.0 * side() * side();
+  if (!std::isnan(triad))
+    std::printf("\nSTREAM triad: %.1f GB/s (2.4e8 bytes in %.3f ms)\n", triad_gbs, triad);
   std::printf("\npeak resident memory %.0f MiB: %.0f bytes per particle of the %d x %d block "
               "(target <= 700)\n",
               ru.ru_maxrss / 1024.0, ru.ru_maxrss * 1024.0 / N, side(), side());
