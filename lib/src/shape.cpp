@@ -1,5 +1,6 @@
 #include "sparsempm/shape.hpp"
 
+#include "kernels.hpp"
 #include "parallel.hpp"
 #include "shape_functions.hpp"
 
@@ -51,18 +52,24 @@ bool uses_corners(Shape s) {
   return s == Shape::CPDI || s == Shape::B2CPDI;
 }
 
-// Corner positions in cell units, xi_c[c][a], for the 2^d corners of the CPDI domain.
-void corners(const Grid& g, const Particles& P, Index p, double xi_c[8][3]) {
-  const int d = P.dim;
-  for (int c = 0; c < (1 << d); ++c)
-    for (int a = 0; a < d; ++a) {
-      double x = P.X(p, a);
-      for (int b = 0; b < d; ++b) {
-        const double s = (c >> b) & 1 ? 1.0 : -1.0;
-        x += P.F(p, a * d + b) * s * P.half_length(p, b);
-      }
+// Corner positions in cell units, xi_c[c][a], for the 2^D corners of the CPDI domain
+// X_p + F_p diag(r⁰_p) ξ, ξ ∈ {−1, 1}^D (corner c has ξ_b = +1 where bit b of c is set).
+template <int D>
+void corners_of(const Grid& g, const Particles& P, Index p, double xi_c[8][3]) {
+  const double* X = P.X.data() + p * P.X.outerStride();
+  const double* F = P.F.data() + p * P.F.outerStride();
+  const double* r = P.half_length.data() + p * P.half_length.outerStride();
+  for (int c = 0; c < (1 << D); ++c)
+    for (int a = 0; a < D; ++a) {
+      double x = X[a];
+      for (int b = 0; b < D; ++b)
+        x += F[a * D + b] * ((c >> b) & 1 ? 1.0 : -1.0) * r[b];
       xi_c[c][a] = (x - g.origin(a)) / g.cell_size(a);
     }
+}
+
+void corners(const Grid& g, const Particles& P, Index p, double xi_c[8][3]) {
+  by_dim(P.dim, [&]<int D>() { corners_of<D>(g, P, p, xi_c); });
 }
 
 ShapeSupport support_of(const Grid& g, const Particles& P, Index p, Shape shape) {
@@ -143,63 +150,63 @@ void tensor_row(const Grid& g, const Particles& P, Index p, const ShapeSupport& 
       }
 }
 
-// Values of S and ∂S/∂x_a on the box of one particle, written in box order (x fastest).
-struct BoxValues {
-  double S[kMaxBox * kMaxBox * kMaxBox];
-  double G[3][kMaxBox * kMaxBox * kMaxBox];
-};
-
-void corner_values(const Grid& g, const Particles& P, Index p, Shape shape, const ShapeSupport& s,
-                   BoxValues& out) {
-  const int d = P.dim, nc = 1 << d;
-  const bool bs = uses_bspline(shape);
+// CPDI and B2CPDI (Sadeghirad et al. 2011): S_pi = 2^{-D} Σ_c N_i(x_c) and
+// ∇S_pi = Σ_c N_i(x_c) g_c with g_c = 2^{-D} R^{-T} s_c, R = F diag(r⁰), over the 2^D corners x_c,
+// written straight into the particle's row of S and G (box order, x fastest). Each corner adds
+// only to the nodes where its N can be nonzero (2 per axis for the hat, 3 for the B-spline),
+// in corner order: the sums are those over every corner and box node, without the zero terms.
+template <int D>
+void corner_row(const Grid& g, const Particles& P, Index p, bool bspline, const ShapeSupport& s,
+                double* S, double* const G[3]) {
+  constexpr int nc = 1 << D;
   double xi_c[8][3];
-  corners(g, P, p, xi_c);
-  // n1[c][a][k] = N(ξ_c,a − node) on each axis of the box.
-  double n1[8][3][kMaxBox];
-  for (int c = 0; c < nc; ++c)
-    for (int a = 0; a < 3; ++a)
-      for (int k = 0; k < s.count[a]; ++k) {
-        if (a >= d) {
-          n1[c][a][k] = 1;
-          continue;
-        }
-        const double r = xi_c[c][a] - (s.first[a] + k);
-        n1[c][a][k] = bs ? bspline2(r) : hat(r);
-      }
-  // gc[c] = 2^{-d} R^{-T} s_c with R = F diag(r⁰): the volume average of ∇Q_c.
-  Eigen::Matrix3d Fp = Eigen::Matrix3d::Identity();
-  for (int a = 0; a < d; ++a)
-    for (int b = 0; b < d; ++b)
-      Fp(a, b) = P.F(p, a * d + b);
-  const Eigen::Matrix3d Finv_t = Fp.inverse().transpose();
+  corners_of<D>(g, P, p, xi_c);
+  Eigen::Matrix<double, D, D> Fp;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b)
+      Fp(a, b) = P.F(p, a * D + b);
+  const Eigen::Matrix<double, D, D> Finv_t = Fp.inverse().transpose();
   const double w = 1.0 / nc;
-  double gc[8][3];
+  const int c0 = s.count[0], c1 = D > 1 ? s.count[1] : 1, c2 = D > 2 ? s.count[2] : 1;
+  const int len = c0 * c1 * c2;
+  std::fill(S, S + len, 0.0);
+  for (int a = 0; a < D; ++a)
+    std::fill(G[a], G[a] + len, 0.0);
   for (int c = 0; c < nc; ++c) {
-    Eigen::Vector3d sr = Eigen::Vector3d::Zero();
-    for (int b = 0; b < d; ++b)
+    Eigen::Matrix<double, D, 1> sr;
+    for (int b = 0; b < D; ++b)
       sr[b] = ((c >> b) & 1 ? 1.0 : -1.0) / P.half_length(p, b);
-    const Eigen::Vector3d gv = w * Finv_t * sr;
-    for (int a = 0; a < 3; ++a)
-      gc[c][a] = gv[a];
-  }
-  int q = 0;
-  for (int k2 = 0; k2 < s.count[2]; ++k2)
-    for (int k1 = 0; k1 < s.count[1]; ++k1)
-      for (int k0 = 0; k0 < s.count[0]; ++k0, ++q) {
-        double Sv = 0, G0 = 0, G1 = 0, G2 = 0;
-        for (int c = 0; c < nc; ++c) {
-          const double Nc = n1[c][0][k0] * n1[c][1][k1] * n1[c][2][k2];
-          Sv += Nc;
-          G0 += Nc * gc[c][0];
-          G1 += Nc * gc[c][1];
-          G2 += Nc * gc[c][2];
-        }
-        out.S[q] = w * Sv;
-        out.G[0][q] = G0;
-        out.G[1][q] = G1;
-        out.G[2][q] = G2;
+    const Eigen::Matrix<double, D, 1> gc = w * Finv_t * sr;
+    // The corner's nodes on each axis, within the box (box-relative), and N there.
+    int lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    double n1[3][3] = {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
+    for (int a = 0; a < D; ++a) {
+      const double xi = xi_c[c][a];
+      const int start = bspline ? int(std::floor(xi + 0.5)) - 1 : int(std::floor(xi));
+      const int first = s.first[size_t(a)];
+      lo[a] = std::max(start, first) - first;
+      hi[a] = std::min(start + (bspline ? 3 : 2), first + s.count[size_t(a)]) - first;
+      for (int k = lo[a]; k < hi[a]; ++k) {
+        const double r = xi - (first + k);
+        n1[a][k - lo[a]] = bspline ? bspline2(r) : hat(r);
       }
+    }
+    for (int k2 = lo[2]; k2 < hi[2]; ++k2)
+      for (int k1 = lo[1]; k1 < hi[1]; ++k1)
+        for (int k0 = lo[0]; k0 < hi[0]; ++k0) {
+          double Nc = n1[0][k0 - lo[0]];
+          if constexpr (D > 1)
+            Nc *= n1[1][k1 - lo[1]];
+          if constexpr (D > 2)
+            Nc *= n1[2][k2 - lo[2]];
+          const int q = k0 + c0 * (k1 + c1 * k2);
+          S[q] += Nc;
+          for (int a = 0; a < D; ++a)
+            G[a][q] += Nc * gc[a];
+        }
+  }
+  for (int q = 0; q < len; ++q)
+    S[q] *= w;
 }
 
 void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
@@ -291,15 +298,14 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     });
     return changed;
   }
-  detail::parallel_for(N, [&](Index p) {
-    BoxValues box; // on the stack of the thread
-    corner_values(grid, P, p, shape, support[size_t(p)], box);
-    const int begin = outer[p], len = outer[p + 1] - begin;
-    for (int j = 0; j < len; ++j) {
-      sv[begin + j] = box.S[j];
-      for (int a = 0; a < d; ++a)
-        gv[a][begin + j] = box.G[a][j];
-    }
+  const bool bs = uses_bspline(shape);
+  by_dim(d, [&]<int D>() {
+    detail::parallel_for(N, [&](Index p) {
+      const int begin = outer[p];
+      double* const g[3] = {gv[0] + begin, D > 1 ? gv[1] + begin : nullptr,
+                            D > 2 ? gv[2] + begin : nullptr};
+      corner_row<D>(grid, P, p, bs, support[size_t(p)], sv + begin, g);
+    });
   });
   return changed;
 }

@@ -319,9 +319,6 @@ void BM_Step(benchmark::State& state, const std::string& problem, smpm::Velocity
   for (auto _ : state)
     stepper.step(pb.model, pb.dt);
   state.counters["particles"] = double(pb.model.particles.size());
-  state.counters["ns/particle"] =
-      benchmark::Counter(1e9 * double(state.iterations()) / double(pb.model.particles.size()),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   smpm::set_threads(1);
 }
 
