@@ -209,9 +209,15 @@ void corner_row(const Grid& g, const Particles& P, Index p, bool bspline, const 
     S[q] *= w;
 }
 
+// A new pattern of nnz entries: the old entries are not copied when the storage grows (Eigen's
+// resize keeps them), and 1/8 slack lets boxes grow again without reallocating.
 void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
   if (A.rows() != N || A.cols() != n)
     A.resize(N, n);
+  if (nnz > A.data().allocatedSize()) {
+    A.data().clear();
+    A.data().reserve(nnz + nnz / 8);
+  }
   A.resizeNonZeros(nnz);
 }
 
@@ -260,15 +266,18 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       pos += Index(s.count[0]) * s.count[1] * s.count[2];
     }
     outer[N] = int(pos);
+    const Index nx = grid.nodes(0), nxy = nx * grid.nodes(1);
     detail::parallel_for(N, [&](Index p) {
       const ShapeSupport& s = support[size_t(p)];
       const Index block = fields > 1 ? Index(field[p]) * ng : 0; // node i of field α: α n_g + i
+      const Index first = block + grid.node_index(s.first[0], s.first[1], s.first[2]);
       int* row = inner + outer[p];
       for (int k2 = 0; k2 < s.count[2]; ++k2)
-        for (int k1 = 0; k1 < s.count[1]; ++k1)
+        for (int k1 = 0; k1 < s.count[1]; ++k1) {
+          const Index line = first + k1 * nx + k2 * nxy;
           for (int k0 = 0; k0 < s.count[0]; ++k0)
-            *row++ =
-                int(block + grid.node_index(s.first[0] + k0, s.first[1] + k1, s.first[2] + k2));
+            *row++ = int(line + k0);
+        }
     });
     for (int a = 0; a < 3; ++a) {
       if (a >= d) {
