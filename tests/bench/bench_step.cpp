@@ -33,6 +33,7 @@
 #include <map>
 #include <string>
 #include <sys/resource.h>
+#include <thread>
 
 namespace {
 
@@ -383,19 +384,29 @@ BENCHMARK_CAPTURE(BM_TwoBlocks, contact_AG_CP, true, false)->Unit(benchmark::kMi
 BENCHMARK_CAPTURE(BM_TwoBlocks, contact_LR, true, true)->Unit(benchmark::kMillisecond);
 
 // STREAM triad a = b + s c on 3 × 10⁷ doubles: the machine's sustainable memory bandwidth, the
-// bound for passes that stream S, G or m̃ from memory.
-void BM_StreamTriad(benchmark::State& state) {
+// bound for passes that stream S, G or m̃ from memory; on `threads` threads, each a contiguous
+// share (what memory-bound kernels can gain from the second core).
+void BM_StreamTriad(benchmark::State& state, int threads) {
   const size_t n = 10'000'000;
   std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
-  for (auto _ : state) {
-    for (size_t i = 0; i < n; ++i)
+  auto part = [&](int t) {
+    for (size_t i = n * size_t(t) / size_t(threads); i < n * size_t(t + 1) / size_t(threads); ++i)
       a[i] = b[i] + 3.0 * c[i];
+  };
+  for (auto _ : state) {
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t)
+      pool.emplace_back(part, t);
+    part(0);
+    for (auto& th : pool)
+      th.join();
     benchmark::DoNotOptimize(a.data());
   }
   state.counters["GB/s"] = benchmark::Counter(3.0 * 8 * n * double(state.iterations()) / 1e9,
                                               benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_StreamTriad)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_StreamTriad, 1_thread, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_StreamTriad, 2_threads, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Collects real times so that ratios to the baseline of the same run can be printed: the
 // median over --benchmark_repetitions (the one run without), and the smallest and largest.
@@ -501,7 +512,8 @@ int main(int argc, char** argv) {
     std::snprintf(buf, sizeof buf, "(%.3g-%.3g ms)", rep.lo[n], rep.hi[n]);
     return std::string(buf);
   };
-  const double triad = t("BM_StreamTriad"), triad_gbs = 240.0 / triad;
+  const double triad = t("BM_StreamTriad/1_thread/real_time"), triad_gbs = 240.0 / triad;
+  const double triad2 = t("BM_StreamTriad/2_threads/real_time");
   for (const std::string pb : kProblems) {
     const double base = t(pb + "/matrix_free_flip_step");
     if (std::isnan(base))
@@ -567,7 +579,9 @@ int main(int argc, char** argv) {
   getrusage(RUSAGE_SELF, &ru);
   const double N = 4.0 * side() * side();
   if (!std::isnan(triad))
-    std::printf("\nSTREAM triad: %.1f GB/s (2.4e8 bytes in %.3f ms)\n", triad_gbs, triad);
+    std::printf("\nSTREAM triad: %.1f GB/s on 1 thread, %.1f GB/s on 2 (2.4e8 bytes in %.3f, "
+                "%.3f ms)\n",
+                triad_gbs, 240.0 / triad2, triad, triad2);
   std::printf("\npeak resident memory %.0f MiB: %.0f bytes per particle of the %d x %d block "
               "(target <= 700)\n",
               ru.ru_maxrss / 1024.0, ru.ru_maxrss * 1024.0 / N, side(), side());
