@@ -5,10 +5,11 @@
 //
 // Problems (SMPM_BENCH_SIDE sets the block's side, 500):
 //   block         2D block of side × side cells, 2 × 2 particles per cell, linear shape functions,
-//                 linear elastic (side 500: 996,004 particles, 251,001 nodes);
+//                 linear elastic, with two empty cells around it (side 500:
+//                 10⁶ particles, 255,025 nodes);
 //   plate         plane-strain plate of 200 × 50 cells, 2 × 2 per cell, uGIMP, linear elastic
-//                 (39,204 particles); plate_cpdi and plate_b2cpdi: the same with CPDI and B2CPDI;
-//   block3d       3D block of 40³ cells, 2 × 2 × 2 per cell, linear, linear elastic (493,039);
+//                 (40,000 particles); plate_cpdi and plate_b2cpdi: the same with CPDI and B2CPDI;
+//   block3d       3D block of 40³ cells, 2 × 2 × 2 per cell, linear, linear elastic (512,000);
 //   impact        examples/block_impact.toml (CPDI, neo-Hookean, 8000 particles).
 // For each, the baseline is a matrix-free USL FLIP step (plain loops over particles and nodes,
 // linear shape functions, linear elasticity) on the same particles. Steps: FLIP, FMPM(k) for
@@ -42,7 +43,7 @@ int side() {
   return s ? std::atoi(s) : 500;
 }
 
-// A block of cells[a] cells per axis of particles (ppc per axis 2) on a grid with one empty cell
+// A block of cells[a] cells per axis of particles (ppc per axis 2) on a grid with two empty cells
 // around it (B2CPDI reaches 1.5 cells beyond a particle), unit cells from the origin.
 smpm::Model block_model(int dim, std::array<int, 3> cells) {
   using namespace smpm;
