@@ -105,8 +105,11 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
     const bool at_stop = model.time >= stop - eps;
     if (at_stop)
       stop = next_stop(model.time);
-    if (observer)
+    if (observer) {
       observer(model, e, at_stop);
+      if (o.observer_changes_model) // new velocities or materials set the next time step
+        speed = signal_speed(model);
+    }
   }
   if (report.steps == 0)
     report.energy_end = energies(model).total;

@@ -289,23 +289,24 @@ void gather_consistent_mass(const Operators& ops, ConsistentMass& mt) {
           auto kernel = [&]<int C0, int C1, int C2>() {
             scatter_box<C0, C1, C2>(s.count, sb, ib, M, r0, r1, place);
           };
-          switch (s.count[0] * 100 + s.count[1] * 10 + s.count[2]) {
-          case 221:
+          // Box sizes up to kMaxBox = 12 per axis: one hexadecimal digit each.
+          switch ((s.count[0] << 8) | (s.count[1] << 4) | s.count[2]) {
+          case 0x221:
             kernel.template operator()<2, 2, 1>();
             break;
-          case 331:
+          case 0x331:
             kernel.template operator()<3, 3, 1>();
             break;
-          case 231:
+          case 0x231:
             kernel.template operator()<2, 3, 1>();
             break;
-          case 321:
+          case 0x321:
             kernel.template operator()<3, 2, 1>();
             break;
-          case 222:
+          case 0x222:
             kernel.template operator()<2, 2, 2>();
             break;
-          case 333:
+          case 0x333:
             kernel.template operator()<3, 3, 3>();
             break;
           default:

@@ -26,7 +26,8 @@ AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj, doubl
                                .stop_every = stop_every,
                                .land_on_stops = land_on_stops,
                                .failure = {.energy_growth = energy_growth},
-                               .energy_start = {}};
+                               .energy_start = {},
+                               .observer_changes_model = !callback.is_none()};
   if (!(stop_every >= 0) || !std::isfinite(stop_every))
     throw InputError("stop_every must be non-negative, got " + std::to_string(stop_every));
   StepObserver observer;

@@ -12,9 +12,9 @@
 //   block3d       3D block of 40³ cells, 2 × 2 × 2 per cell, linear, linear elastic (512,000);
 //   impact        examples/block_impact.toml (CPDI, neo-Hookean, 8000 particles).
 // For each, the baseline is a matrix-free USL FLIP step (plain loops over particles and nodes,
-// linear shape functions, linear elasticity) on the same particles. Steps: FLIP, FMPM(k) for
-// k = 2, 4, 8, 16, 20, 32 and the exact consistent-mass update, on 1 thread and ("/2t") on 2
-// (the same bits, threads.hpp). "scaling/<N>/<step>/<threads>": ns per particle-step of the
+// linear shape functions, linear elasticity) on the same particles. Steps: FLIP and FMPM(k) for
+// k = 2, 4, 8, 16, 20, 32 on 1 thread and ("/2t") on 2 (the same bits, threads.hpp), and the
+// exact consistent-mass update on 1 (2D). "scaling/<N>/<step>/<threads>": ns per particle-step of the
 // block for N = 10⁴, 10⁵, 10⁶. Printed after the runs: the ratios to the baseline, the targets
 // of the step's cost at 1 and 2 threads (medians over --benchmark_repetitions, with the
 // smallest and largest run), the FMPM pass's share of the STREAM triad bandwidth and the peak

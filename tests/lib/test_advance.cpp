@@ -127,3 +127,23 @@ TEST_CASE("the energies of a step equal those of its particle state", "[advance]
     CHECK(fresh.energies(other).strain == energies(other).strain);
   }
 }
+
+TEST_CASE("an observer that changes the model sets the next time step", "[advance]") {
+  // The §3.3 bar: Δt = C Δx / 2 until the observer gives a particle the speed 50 after the
+  // first step; with observer_changes_model the second step has Δt = C Δx / 50 (without it the
+  // loop takes the speed from the step's energies, before the change).
+  Model bar = vibrating_bar({});
+  Stepper stepper({.shape = Shape::CPDI});
+  std::vector<double> times;
+  advance(
+      bar, stepper,
+      {.end = 1.0, .courant = 0.5, .failure = {.energy_growth = 0}, .observer_changes_model = true},
+      [&](const Model& m, const Energies&, bool) {
+        times.push_back(m.time);
+        if (times.size() == 1)
+          bar.particles.V(3, 0) = 50;
+      });
+  REQUIRE(times.size() >= 2);
+  CHECK(times[0] == approx(0.25, 1e-15));
+  CHECK(times[1] - times[0] == approx(0.5 / 50, 1e-12));
+}

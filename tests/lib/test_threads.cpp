@@ -166,3 +166,40 @@ TEST_CASE("m~ equals S^T M S and has the same bits on 1, 2 and 3 threads", "[thr
         }
       }
 }
+
+TEST_CASE("m~ of CPDI particles stretched over many cells equals S^T M S", "[threads]") {
+  // Boxes of up to 12 nodes on an axis (a CPDI column in large tension): 2 × 12 in 2D and
+  // 2 × 2 × 11 in 3D, away from the grid's edges, beside ordinary particles; FMPM 2026 §2.1.
+  for (int dim : {2, 3}) {
+    CAPTURE(dim);
+    const int cells = dim == 3 ? 16 : 40;
+    const Grid g(dim, {0, 0, 0}, {1, 1, 1}, {cells, cells, cells});
+    Particles P = smpm::test::random_cloud(g, 40, 3u, 4.0, true);
+    const Index long_ones = 6;
+    Particles stretched;
+    stretched.resize(dim, long_ones);
+    for (Index p = 0; p < long_ones; ++p) {
+      for (int a = 0; a < dim; ++a) {
+        stretched.X(p, a) = 0.5 * cells + 0.37 * double(p) + 0.11 * a;
+        stretched.half_length(p, a) = 0.5;
+      }
+      stretched.F.row(p).setZero();
+      for (int a = 0; a < dim; ++a) // thin across, long along the last axis (9-10 cells)
+        stretched.F(p, a * dim + a) = a == dim - 1 ? (dim == 3 ? 9.2 : 9.9) : 0.2;
+      stretched.mass[p] = 1 + 0.1 * double(p);
+      stretched.volume0[p] = 1;
+    }
+    P.append(stretched);
+    const Operators ops = assemble(g, P, Shape::CPDI);
+    int longest = 0;
+    for (const ShapeSupport& s : ops.support)
+      longest = std::max(longest, s.count[size_t(dim - 1)]);
+    CHECK(longest == 12);
+    ConsistentMass mt;
+    assemble_consistent_mass(ops, mt);
+    const SparseMatrix S(ops.S);
+    const Eigen::MatrixXd ref = Eigen::MatrixXd(S.transpose() * ops.M.asDiagonal() * S);
+    CHECK((Eigen::MatrixXd(mt.matrix) - ref).cwiseAbs().maxCoeff() <=
+          1e-15 * ref.cwiseAbs().maxCoeff());
+  }
+}

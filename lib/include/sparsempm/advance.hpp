@@ -48,6 +48,9 @@ struct AdvanceOptions {
   /// The total energy the failure test compares with; unset: that of the model on entry (a
   /// restart passes the energy at t = 0).
   std::optional<double> energy_start{};
+  /// The observer may change the model (Python's callback gets it mutable): the signal speed of
+  /// the next step is then taken from the model after the observer, not from the step's energies.
+  bool observer_changes_model = false;
 };
 
 /// Called after every step with the model, its total energy and whether the step reached a stop.
