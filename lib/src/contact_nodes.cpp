@@ -1,0 +1,302 @@
+// Contact nodes (contact.hpp, find_contact_nodes): the nodes two or more velocity fields share,
+// with their normals (AG, LR, the axes), separations (CP, DF, LR), contact areas and the
+// directions their velocity conditions leave free (contact 2020 §3.1–3.4, FMPM 2026 §3.2).
+// The laws and the momentum corrections that use them are in contact.cpp.
+
+#include "sparsempm/contact.hpp"
+
+#include "contact_detail.hpp"
+
+#include "contact_lr.hpp"
+
+#include "sparsempm/boundary.hpp"
+#include "sparsempm/errors.hpp"
+#include "sparsempm/operators.hpp"
+#include "sparsempm/stages.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace smpm {
+
+using detail::row3;
+
+namespace {
+
+// h_n = √(Σ_a (n_a Δx_a)²), the cell size along n̂ that NairnMPM uses for the separation
+// and the contact area (MeshInfo::GetPerpendicularDistance: exact there for 2D grids and for
+// cubic cells; its 3D non-cubic form follows the tangent plane): h_n = Δx on square cells for
+// every n̂. A_c = V_cell / h_n only scales tractions: with the laws here it cancels from Δp
+// (S_slide A_c Δt = min(Δp(0)·t̂, −μ Δp(0)·n̂)).
+double cell_width_along(const Grid& grid, const Eigen::Vector3d& n) {
+  double h2 = 0;
+  for (int a = 0; a < grid.dim(); ++a)
+    h2 += n[a] * n[a] * grid.cell_size(a) * grid.cell_size(a);
+  return std::sqrt(h2);
+}
+
+double cell_volume(const Grid& grid) {
+  double v = 1;
+  for (int a = 0; a < grid.dim(); ++a)
+    v *= grid.cell_size(a);
+  return v;
+}
+
+// v/|v|, or 0 when v = 0 (gradients that cancel give no normal).
+Eigen::Vector3d unit_or_zero(const Eigen::Vector3d& v) {
+  const double norm = v.norm();
+  return norm > 0 ? Eigen::Vector3d(v / norm) : Eigen::Vector3d::Zero();
+}
+
+bool uses(const Contact& c, ContactNormal normal) {
+  bool any = c.has_fallback && c.fallback.normal == normal;
+  for (const ContactPair& p : c.pairs)
+    any = any || p.normal == normal;
+  return any;
+}
+bool uses(const Contact& c, ContactDetection detection) {
+  bool any = c.has_fallback && c.fallback.detection == detection;
+  for (const ContactPair& p : c.pairs)
+    any = any || p.detection == detection;
+  return any;
+}
+
+// The geometry of one contact node: side A is field a, side B field b, or every other field
+// with mass when b < 0 (the lumped virtual material of contact 2020 Eq. 50).
+struct NodeGeometry {
+  const Grid& grid;
+  const Operators& ops;
+  const ContactNodes& cn;
+  const ContactParticles& P;
+  Index node;      // grid node i
+  Index cloud = 0; // its contact index (LR clouds)
+
+  bool in_b(int f, int a, int b) const {
+    return f != a && (b >= 0 ? f == b : ops.active[f * ops.grid_node_count + node]);
+  }
+  // Σ over side B of a node field.
+  Eigen::Vector3d side_b(const Field& x, int a, int b) const {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int f = 0; f < ops.fields; ++f)
+      if (in_b(f, a, b))
+        sum += row3(x, f * ops.grid_node_count + node);
+    return sum;
+  }
+  double mass_b(int a, int b) const {
+    double m = 0;
+    for (int f = 0; f < ops.fields; ++f)
+      if (in_b(f, a, b))
+        m += ops.m[f * ops.grid_node_count + node];
+    return m;
+  }
+  // Class of cloud entry k: −1 on side A, +1 on side B, 0 otherwise.
+  double cls(Index k, int a, int b) const {
+    const int f = cn.cloud[size_t(k)].second;
+    return f == a ? -1.0 : (in_b(f, a, b) ? 1.0 : 0.0);
+  }
+  Eigen::Vector3d relative(Index k) const {
+    const int p = cn.cloud[size_t(k)].first;
+    Eigen::Vector3d x = -grid.node_position(node);
+    for (int c = 0; c < ops.dim; ++c)
+      x[c] += P.X(p, c);
+    return x;
+  }
+
+  // n̂ from A to B: specified, AG (contact 2020 Eq. 13) or LR (Eqs. 19–21).
+  Eigen::Vector3d normal(const ContactPair& pair, int a, int b) const {
+    const Index ng = ops.grid_node_count;
+    switch (pair.normal) {
+    case ContactNormal::Specified:
+      return pair.first == a ? pair.direction : Eigen::Vector3d(-pair.direction);
+    case ContactNormal::AverageGradient:
+      return unit_or_zero(row3(cn.gradient, a * ng + node) - side_b(cn.gradient, a, b));
+    case ContactNormal::LogisticRegression: {
+      const Index first = cn.cloud_offset[size_t(cloud)];
+      const Index count = cn.cloud_offset[size_t(cloud) + 1] - first;
+      return detail::logistic_fit(
+                 ops.dim, count, [&](Index k) { return relative(first + k); },
+                 [&](Index k) { return cls(first + k, a, b); }, grid.min_cell_size())
+          .normal;
+    }
+    }
+    return Eigen::Vector3d::Zero();
+  }
+
+  // CP: (x^B − x^A)·n̂ − δ_c h_n (Eq. 16); DF: (−d(−s^B) − d(s^A)) h_n, s = (x − x_i)·n̂/h_n
+  // (Eq. 15); LR: d_LR = min_B(X·n̂ − R_p) − max_A(X·n̂ + R_p) (Eqs. 22–25); −1 (touching)
+  // for the other criteria.
+  double separation(const ContactPair& pair, int a, int b, const Eigen::Vector3d& n) const {
+    const Index ng = ops.grid_node_count;
+    if (pair.detection == ContactDetection::Position ||
+        pair.detection == ContactDetection::DistanceFunction) {
+      const Eigen::Vector3d xa = row3(cn.position, a * ng + node) / ops.m[a * ng + node];
+      const Eigen::Vector3d xb = side_b(cn.position, a, b) / mass_b(a, b);
+      const double h = cell_width_along(grid, n);
+      if (pair.detection == ContactDetection::Position)
+        return (xb - xa).dot(n) - pair.critical_separation * h;
+      if (!(h > 0))
+        return 1; // no normal: no separation along it
+      const Eigen::Vector3d xi = grid.node_position(node);
+      const double sa = (xa - xi).dot(n) / h, sb = (xb - xi).dot(n) / h;
+      return -h * (distance_function_edge(-sb, pair.df_exponent, pair.df_reach) +
+                   distance_function_edge(sa, pair.df_exponent, pair.df_reach));
+    }
+    if (pair.detection != ContactDetection::LogisticRegression)
+      return -1;
+    double max_a = -std::numeric_limits<double>::infinity();
+    double min_b = std::numeric_limits<double>::infinity();
+    const int d = ops.dim;
+    for (Index k = cn.cloud_offset[size_t(cloud)]; k < cn.cloud_offset[size_t(cloud) + 1]; ++k) {
+      const double c = cls(k, a, b);
+      if (c == 0)
+        continue;
+      const int p = cn.cloud[size_t(k)].first;
+      const double s = relative(k).dot(n);
+      const double r =
+          particle_radius_along(d, P.F.data() + p * P.F.outerStride(),
+                                P.half_length.data() + p * P.half_length.outerStride(), n);
+      if (c < 0)
+        max_a = std::max(max_a, s + r);
+      else
+        min_b = std::min(min_b, s - r);
+    }
+    return min_b - max_a; // +inf if a side has no particle here: not touching
+  }
+};
+
+// The projectors onto the directions left free by the velocity conditions on each contact node
+// (find_contact_nodes): I − Σ b̂ b̂ᵀ over an orthonormal basis b̂ of the fixed directions (the
+// conditions on a node are parallel or perpendicular, boundary.hpp).
+void free_directions(const BoundaryConditions& bcs, ContactNodes& cn) {
+  cn.free.clear();
+  for (const VelocityCondition& bc : bcs.conditions)
+    for (Index i : bc.nodes) {
+      const int c = cn.slot[size_t(i)];
+      if (c < 0)
+        continue;
+      ContactNodes::Node& node = cn.nodes[size_t(c)];
+      if (node.constrained < 0) {
+        node.constrained = int(cn.free.size());
+        cn.free.push_back(Eigen::Matrix3d::Identity());
+      }
+      Eigen::Matrix3d& free = cn.free[size_t(node.constrained)];
+      // The part not fixed already; below 1e-4 the direction is one already fixed (parallel
+      // within the 4.5e-5 rad that check_superposition accepts as parallel).
+      const Eigen::Vector3d b = free * bc.direction;
+      if (b.norm() > 1e-4)
+        free -= b.normalized() * b.normalized().transpose();
+    }
+}
+
+// The particles whose shape functions reach each contact node (any field), with their fields:
+// the LR point clouds (contact 2020 §3.1), two passes over S (count, then fill).
+void build_clouds(const Operators& ops, const ParticleOperators& op, ContactNodes& cn) {
+  const Index ng = ops.grid_node_count, nc = Index(cn.nodes.size());
+  cn.cloud_offset.assign(size_t(nc) + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      for (Index c = 0; c < nc; ++c)
+        cn.cloud_offset[size_t(c) + 1] += cn.cloud_offset[size_t(c)];
+      cn.cloud.resize(size_t(cn.cloud_offset[size_t(nc)]));
+    }
+    std::vector<Index>& next = cn.cloud_offset; // pass 1 fills from the starts, then shifts back
+    for (Index p = 0; p < op.rows; ++p)
+      for (int k = op.outer[p]; k < op.outer[p + 1]; ++k) {
+        if (op.S[k] == 0)
+          continue;
+        const int col = op.inner[k], f = int(col / ng), c = cn.slot[size_t(col - f * ng)];
+        if (c < 0)
+          continue;
+        if (pass == 0)
+          ++next[size_t(c) + 1];
+        else
+          cn.cloud[size_t(next[size_t(c)]++)] = {int(p), f};
+      }
+  }
+  for (Index c = nc; c > 0; --c) // the fill advanced each start to the next one's
+    cn.cloud_offset[size_t(c)] = cn.cloud_offset[size_t(c) - 1];
+  cn.cloud_offset[0] = 0;
+}
+
+} // namespace
+
+void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
+                        const Contact& contact, const ContactParticles& P, ContactNodes& cn,
+                        const BoundaryConditions* bcs) {
+  cn.nodes.clear();
+  cn.sides.clear();
+  cn.friction_work = 0;
+  const int nf = ops.fields;
+  if (nf < 2)
+    return;
+  const Index ng = ops.grid_node_count;
+  if (uses(contact, ContactNormal::AverageGradient))
+    volume_gradient(op, P.volume, cn.gradient);
+  if (uses(contact, ContactDetection::Position) ||
+      uses(contact, ContactDetection::DistanceFunction))
+    map_momentum(op, P.X, cn.position); // Σ_{p∈α} S_pi M_p X_p
+  // The nodes seen by two or more fields.
+  for (Index i = 0; i < ng; ++i) {
+    int count = 0, a = -1, b = -1;
+    for (int f = 0; f < nf; ++f)
+      if (ops.active[f * ng + i]) {
+        ++count;
+        (a < 0 ? a : b) = f;
+      }
+    if (count < 2)
+      continue;
+    ContactNodes::Node node{};
+    node.node = i;
+    node.a = count > 2 ? -1 : a;
+    node.b = count > 2 ? -1 : b;
+    cn.nodes.push_back(node);
+  }
+  cn.slot.assign(size_t(ng), -1);
+  for (size_t c = 0; c < cn.nodes.size(); ++c)
+    cn.slot[size_t(cn.nodes[c].node)] = int(c);
+  if (bcs)
+    free_directions(*bcs, cn);
+  else
+    cn.free.clear();
+  // n̂ ← P n̂ / |P n̂| with P the node's projector onto its free directions.
+  auto constrain = [&](const ContactNodes::Node& node, const Eigen::Vector3d& n) {
+    return node.constrained < 0 ? n : unit_or_zero(cn.free[size_t(node.constrained)] * n);
+  };
+  if (uses(contact, ContactNormal::LogisticRegression) ||
+      uses(contact, ContactDetection::LogisticRegression))
+    build_clouds(ops, op, cn);
+  const double vcell = cell_volume(grid);
+  for (size_t c = 0; c < cn.nodes.size(); ++c) {
+    ContactNodes::Node& node = cn.nodes[c];
+    const NodeGeometry geo{grid, ops, cn, P, node.node, Index(c)};
+    if (node.a >= 0) {
+      node.pair = &contact.pair(node.a, node.b);
+      node.normal = constrain(node, geo.normal(*node.pair, node.a, node.b));
+      node.separation = geo.separation(*node.pair, node.a, node.b, node.normal);
+      const double h = cell_width_along(grid, node.normal);
+      node.area = h > 0 ? vcell / h : 0;
+      continue;
+    }
+    // Contact 2020 §3.4, Eq. (50): each field against the others lumped, with the law of the
+    // heaviest other field.
+    node.first_side = Index(cn.sides.size());
+    for (int f = 0; f < nf; ++f) {
+      ContactNodes::Side side;
+      if (ops.active[f * ng + node.node]) {
+        int heaviest = -1;
+        for (int o = 0; o < nf; ++o)
+          if (o != f && ops.active[o * ng + node.node] &&
+              (heaviest < 0 || ops.m[o * ng + node.node] > ops.m[heaviest * ng + node.node]))
+            heaviest = o;
+        side.pair = &contact.pair(f, heaviest);
+        side.normal = constrain(node, geo.normal(*side.pair, f, -1));
+        side.separation = geo.separation(*side.pair, f, -1, side.normal);
+      }
+      cn.sides.push_back(side);
+    }
+  }
+}
+
+} // namespace smpm
