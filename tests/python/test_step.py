@@ -55,6 +55,23 @@ def test_advance_equals_smpm_run_bit_for_bit(cli_frame):
     assert np.array_equal(model.particles.X, X) and np.array_equal(model.particles.V, V)
 
 
+def test_callback_that_changes_velocities_sets_the_next_time_step():
+    # The bar's Δt = C Δx / 2 = 0.25 until the callback gives a particle the speed 50 after the
+    # first step: the second step has Δt = C Δx / 50 = 0.01 (FMPM 2026 §3.3's Courant relation
+    # evaluated on the changed model).
+    model = smpm.Model.from_toml(str(BAR))
+    times = []
+
+    def kick(m, e, at_stop):
+        times.append(m.time)
+        if len(times) == 1:
+            m.particles.V[3, 0] = 50.0
+
+    smpm.Stepper(model.options).advance(model, 0.3, 0.5, kick, energy_growth=0.0)
+    assert times[0] == 0.25
+    assert times[1] - times[0] == pytest.approx(0.01, rel=1e-12)
+
+
 def test_callback_exception_stops_the_run():
     model = smpm.Model.from_toml(str(BAR))
 
