@@ -8,10 +8,8 @@
 
 #include <Eigen/LU>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 namespace smpm {
 
@@ -43,13 +41,8 @@ namespace {
 
 using namespace detail;
 
-constexpr int kMaxBox = 12; // nodes per axis a particle may touch
-
 bool uses_bspline(Shape s) {
   return s == Shape::BSpline2 || s == Shape::B2CPDI;
-}
-bool uses_corners(Shape s) {
-  return s == Shape::CPDI || s == Shape::B2CPDI;
 }
 
 // Corner positions in cell units, xi_c[c][a], for the 2^D corners of the CPDI domain
@@ -72,82 +65,21 @@ void corners(const Grid& g, const Particles& P, Index p, double xi_c[8][3]) {
   by_dim(P.dim, [&]<int D>() { corners_of<D>(g, P, p, xi_c); });
 }
 
-ShapeSupport support_of(const Grid& g, const Particles& P, Index p, Shape shape) {
+// CPDI and B2CPDI: the box of the corners' bounding box under the hat or the B-spline.
+ShapeSupport corner_support(const Grid& g, const Particles& P, Index p, bool bspline) {
   const int d = P.dim;
-  const bool bs = uses_bspline(shape);
+  double xi_c[8][3];
+  corners(g, P, p, xi_c);
   ShapeSupport s;
-  double lo[3], hi[3];
-  if (uses_corners(shape)) {
-    double xi_c[8][3];
-    corners(g, P, p, xi_c);
-    for (int a = 0; a < d; ++a) {
-      lo[a] = hi[a] = xi_c[0][a];
-      for (int c = 1; c < (1 << d); ++c) {
-        lo[a] = std::min(lo[a], xi_c[c][a]);
-        hi[a] = std::max(hi[a], xi_c[c][a]);
-      }
-    }
-  } else {
-    for (int a = 0; a < d; ++a) {
-      const double xi = (P.X(p, a) - g.origin(a)) / g.cell_size(a);
-      const double l = shape == Shape::GIMP ? P.half_length(p, a) / g.cell_size(a) : 0.0;
-      lo[a] = xi - l;
-      hi[a] = xi + l;
-    }
-  }
   for (int a = 0; a < d; ++a) {
-    if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]))
-      throw_outside(p, P, "has a non-finite position or domain");
-    // Only nodes with non-zero weight: |ξ − i| < R over [lo, hi] (R = 1 hat, 1.5 B-spline),
-    // with a 10⁻¹² cell tolerance so that round-off does not reach a node of zero weight.
-    const double R = bs ? 1.5 : 1.0, eps = 1e-12;
-    const int first = int(std::floor(lo[a] - R + eps)) + 1;
-    const int last = int(std::ceil(hi[a] + R - eps)) - 1;
-    if (first < 0 || last > g.cells(a))
-      throw_outside(p, P, "has left the grid (its shape-function support needs nodes outside it)");
-    if (last - first + 1 > kMaxBox)
-      throw_outside(p, P, "has a domain spanning more than 11 cells");
-    s.first[a] = first;
-    s.count[a] = last - first + 1;
+    double lo = xi_c[0][a], hi = xi_c[0][a];
+    for (int c = 1; c < (1 << d); ++c) {
+      lo = std::min(lo, xi_c[c][a]);
+      hi = std::max(hi, xi_c[c][a]);
+    }
+    interval_box(g, P, p, a, lo, hi, bspline ? 1.5 : 1.0, s.first[size_t(a)], s.count[size_t(a)]);
   }
   return s;
-}
-
-// uGIMP (the tensor-product shape without a fast point path): the 1D weights and slopes of each
-// axis, their products written straight into the particle's row of S and G (box order, x
-// fastest).
-void tensor_row(const Grid& g, const Particles& P, Index p, const ShapeSupport& s, double* S,
-                double* const G[3]) {
-  const int d = P.dim;
-  double s1[3][kMaxBox], g1[3][kMaxBox];
-  for (int a = 0; a < 3; ++a) {
-    if (a >= d) {
-      s1[a][0] = 1;
-      g1[a][0] = 0;
-      continue;
-    }
-    const double h = g.cell_size(a);
-    const double xi = (P.X(p, a) - g.origin(a)) / h;
-    const double l = P.half_length(p, a) / h;
-    for (int k = 0; k < s.count[a]; ++k) {
-      // The average of the hat over [ξ − l, ξ + l] (Buzzi Eqs. 17–18).
-      const double r = xi - (s.first[a] + k);
-      s1[a][k] = (hat_integral(r + l) - hat_integral(r - l)) / (2 * l);
-      g1[a][k] = (hat(r + l) - hat(r - l)) / (2 * l * h);
-    }
-  }
-  int q = 0;
-  for (int k2 = 0; k2 < s.count[2]; ++k2)
-    for (int k1 = 0; k1 < s.count[1]; ++k1)
-      for (int k0 = 0; k0 < s.count[0]; ++k0, ++q) {
-        const double w0 = s1[0][k0], w1 = s1[1][k1], w2 = s1[2][k2];
-        S[q] = w0 * w1 * w2;
-        G[0][q] = g1[0][k0] * w1 * w2;
-        if (d > 1)
-          G[1][q] = w0 * g1[1][k1] * w2;
-        if (d > 2)
-          G[2][q] = w0 * w1 * g1[2][k2];
-      }
 }
 
 // CPDI and B2CPDI (Sadeghirad et al. 2011): S_pi = 2^{-D} Σ_c N_i(x_c) and
@@ -231,30 +163,51 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   const int d = grid.dim();
   SMPM_VERIFY(P.dim == d, "assemble_shape: particles are " + std::to_string(P.dim) +
                               "D but the grid is " + std::to_string(d) + "D");
-  // Pass 1: the node box of every particle; the pattern is kept if no box changed.
-  bool changed = Index(support.size()) != N || S.rows() != N || S.cols() != n;
-  support.resize(N);
-  Index nnz = 0;
+  // Pass 1: the node box of every particle. The pattern is kept when no box changed; a box that
+  // moved and kept its size has its row rewritten during the pass; when a box changed size,
+  // the pattern is built anew.
   const bool point = shape == Shape::Linear || shape == Shape::BSpline2;
-  if (point) {
-    changed = detail::point_supports(grid, P, shape == Shape::BSpline2, support, nnz) || changed;
-  } else {
-    std::atomic<bool> moved{false};
-    detail::parallel_for(N, [&](Index p) {
-      const ShapeSupport s = support_of(grid, P, p, shape);
-      if (!(s == support[size_t(p)])) {
-        support[size_t(p)] = s;
-        moved.store(true, std::memory_order_relaxed);
-      }
-    });
-    changed = moved.load() || changed;
+  const bool fresh = Index(support.size()) != N || S.rows() != N || S.cols() != n ||
+                     G[0].rows() != N || G[0].nonZeros() != S.nonZeros();
+  support.resize(N);
+  BoxChanges changes;
+  BoxChanges::Rows rows;
+  rows.grid = &grid;
+  rows.nodes_per_field = ng;
+  rows.field = fields > 1 ? field : nullptr;
+  if (!fresh) {
+    rows.outer = S.outerIndexPtr();
+    rows.inner[0] = S.innerIndexPtr();
+    for (int a = 0; a < d; ++a)
+      rows.inner[size_t(a + 1)] = G[size_t(a)].innerIndexPtr();
+    rows.arrays = d + 1;
+    changes.rows = &rows;
+  }
+  try {
+    if (point) {
+      detail::point_supports(grid, P, shape == Shape::BSpline2, support, changes);
+    } else if (shape == Shape::GIMP) {
+      detail::gimp_supports(grid, P, support, changes);
+    } else {
+      const bool bs = uses_bspline(shape);
+      detail::parallel_for(N, [&](Index p) {
+        changes.record(p, support[size_t(p)], corner_support(grid, P, p, bs));
+      });
+    }
+  } catch (...) {
+    support.clear(); // boxes recorded and S not rebuilt: the next call starts afresh
+    throw;
+  }
+  const BoxChange change = fresh ? BoxChange::Resized : changes.result();
+  if (change == BoxChange::Resized) {
+    Index nnz = 0;
     for (const ShapeSupport& s : support)
       nnz += Index(s.count[0]) * s.count[1] * s.count[2];
-  }
-  if (nnz > Index(std::numeric_limits<int>::max()))
-    throw NumericalError("S would hold " + std::to_string(nnz) +
-                         " nonzeros, more than its 32-bit indices allow");
-  if (changed) {
+    if (nnz > Index(std::numeric_limits<int>::max())) {
+      support.clear();
+      throw NumericalError("S would hold " + std::to_string(nnz) +
+                           " nonzeros, more than its 32-bit indices allow");
+    }
     set_pattern(S, N, n, nnz);
     // Row offsets (an exclusive prefix sum of the box sizes), then the rows in parallel.
     int* outer = S.outerIndexPtr();
@@ -266,18 +219,9 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       pos += Index(s.count[0]) * s.count[1] * s.count[2];
     }
     outer[N] = int(pos);
-    const Index nx = grid.nodes(0), nxy = nx * grid.nodes(1);
     detail::parallel_for(N, [&](Index p) {
       const ShapeSupport& s = support[size_t(p)];
-      const Index block = fields > 1 ? Index(field[p]) * ng : 0; // node i of field α: α n_g + i
-      const Index first = block + grid.node_index(s.first[0], s.first[1], s.first[2]);
-      int* row = inner + outer[p];
-      for (int k2 = 0; k2 < s.count[2]; ++k2)
-        for (int k1 = 0; k1 < s.count[1]; ++k1) {
-          const Index line = first + k1 * nx + k2 * nxy;
-          for (int k0 = 0; k0 < s.count[0]; ++k0)
-            *row++ = int(line + k0);
-        }
+      write_box_row(grid, s, rows.first_column(p, s), inner + outer[p]);
     });
     for (int a = 0; a < 3; ++a) {
       if (a >= d) {
@@ -289,6 +233,7 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       std::copy(inner, inner + nnz, G[a].innerIndexPtr());
     }
   }
+  const bool changed = change != BoxChange::None;
   // Pass 2: values.
   double* sv = S.valuePtr();
   double* gv[3] = {G[0].valuePtr(), d > 1 ? G[1].valuePtr() : nullptr,
@@ -298,13 +243,8 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     detail::point_values(grid, P, shape == Shape::BSpline2, support, outer, sv, gv);
     return changed;
   }
-  if (!uses_corners(shape)) { // uGIMP
-    detail::parallel_for(N, [&](Index p) {
-      const int begin = outer[p];
-      double* const g[3] = {gv[0] + begin, d > 1 ? gv[1] + begin : nullptr,
-                            d > 2 ? gv[2] + begin : nullptr};
-      tensor_row(grid, P, p, support[size_t(p)], sv + begin, g);
-    });
+  if (shape == Shape::GIMP) {
+    detail::gimp_values(grid, P, support, outer, sv, gv);
     return changed;
   }
   const bool bs = uses_bspline(shape);

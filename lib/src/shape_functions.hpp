@@ -4,6 +4,9 @@
 
 #include "sparsempm/shape.hpp"
 
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <string_view>
 #include <vector>
@@ -11,19 +14,16 @@
 namespace smpm::detail {
 
 // 1D grid functions of r = (x − x_i)/h, in cell units.
+// Both branch-free: uGIMP evaluates them at the edges of particle domains, where the branch a
+// value takes is as good as random.
 inline double hat(double r) {
-  r = std::abs(r);
-  return r < 1 ? 1 - r : 0;
+  return std::max(0.0, 1 - std::abs(r));
 }
-// ∫_{−∞}^{r} hat: the antiderivative used by uGIMP.
+// ∫_{−∞}^{r} hat: the antiderivative used by uGIMP, 0 below −1, ½(1 + r)² up to 0,
+// 1 − ½(1 − r)² up to 1, then 1.
 inline double hat_integral(double r) {
-  if (r <= -1)
-    return 0;
-  if (r <= 0)
-    return 0.5 * (1 + r) * (1 + r);
-  if (r < 1)
-    return 1 - 0.5 * (1 - r) * (1 - r);
-  return 1;
+  const double a = 1 + std::max(r, -1.0), b = 1 - std::min(r, 1.0);
+  return r <= 0 ? 0.5 * a * a : 1 - 0.5 * b * b;
 }
 // Quadratic B-spline on nodes (support ±1.5 cells) and its derivative.
 inline double bspline2(double r) {
@@ -43,6 +43,85 @@ inline double bspline2_slope(double r) {
   return 0;
 }
 
+// Nodes a particle may touch along an axis.
+inline constexpr int kMaxBox = 12;
+
+/// Throws NumericalError naming particle p, its position and `why`.
+[[noreturn]] void throw_outside(Index p, const Particles& P, std::string_view why);
+
+// The box of nodes with non-zero weight along axis a of a function of radius R (1 for the hat,
+// 1.5 for the B-spline) spread over [lo, hi] (cell units): |ξ − i| < R for some ξ there, with a
+// 10⁻¹² cell tolerance so that round-off does not reach a node of zero weight. Throws naming
+// particle p when the box needs nodes outside the grid or more than kMaxBox nodes.
+inline void interval_box(const Grid& g, const Particles& P, Index p, int a, double lo, double hi,
+                         double R, int& first, int& count) {
+  if (!std::isfinite(lo) || !std::isfinite(hi))
+    throw_outside(p, P, "has a non-finite position or domain");
+  constexpr double eps = 1e-12;
+  first = int(std::floor(lo - R + eps)) + 1;
+  const int last = int(std::ceil(hi + R - eps)) - 1;
+  if (first < 0 || last > g.cells(a))
+    throw_outside(p, P, "has left the grid (its shape-function support needs nodes outside it)");
+  count = last - first + 1;
+  if (count > kMaxBox)
+    throw_outside(p, P, "has a domain spanning more than 11 cells");
+}
+
+/// How the node boxes changed since the previous assembly: none, some moved with every box
+/// keeping its size, or some box changed size (S's rows change length: a new pattern).
+enum class BoxChange { None, Moved, Resized };
+
+/// Writes row p's column indices: the nodes of box s, x fastest, from node `first` (its first
+/// node's column).
+inline void write_box_row(const Grid& g, const ShapeSupport& s, Index first, int* row) {
+  const Index nx = g.nodes(0), nxy = nx * g.nodes(1);
+  for (int k2 = 0; k2 < s.count[2]; ++k2)
+    for (int k1 = 0; k1 < s.count[1]; ++k1) {
+      const Index line = first + k1 * nx + k2 * nxy;
+      for (int k0 = 0; k0 < s.count[0]; ++k0)
+        *row++ = int(line + k0);
+    }
+}
+
+/// Records the boxes of a support pass from any number of threads. With the pattern of the
+/// previous assembly attached (`rows`), a box that moves and keeps its size has its row
+/// rewritten in S and G at once: when no box changed size, the pattern is then up to date
+/// without a pass over every row.
+struct BoxChanges {
+  struct Rows {
+    const Grid* grid = nullptr;
+    const int* outer = nullptr;
+    std::array<int*, 4> inner{}; ///< S's and G's column indices
+    int arrays = 0;
+    Index nodes_per_field = 0;
+    const int* field = nullptr; ///< particle fields (blocks of columns) or null
+    Index first_column(Index p, const ShapeSupport& s) const {
+      const Index block = field ? Index(field[p]) * nodes_per_field : 0;
+      return block + grid->node_index(s.first[0], s.first[1], s.first[2]);
+    }
+  };
+  std::atomic<bool> moved{false}, resized{false};
+  const Rows* rows = nullptr;
+  /// Stores particle p's new box s over its previous box.
+  void record(Index p, ShapeSupport& old, const ShapeSupport& s) {
+    if (s == old)
+      return; // written only when changed: the pattern is usually kept
+    moved.store(true, std::memory_order_relaxed);
+    if (s.count != old.count) {
+      resized.store(true, std::memory_order_relaxed);
+    } else if (rows) {
+      const int begin = rows->outer[p], end = rows->outer[p + 1];
+      write_box_row(*rows->grid, s, rows->first_column(p, s), rows->inner[0] + begin);
+      for (int a = 1; a < rows->arrays; ++a)
+        std::copy(rows->inner[0] + begin, rows->inner[0] + end, rows->inner[size_t(a)] + begin);
+    }
+    old = s;
+  }
+  BoxChange result() const {
+    return resized.load() ? BoxChange::Resized : moved.load() ? BoxChange::Moved : BoxChange::None;
+  }
+};
+
 // First node of the box of a point at ξ (cell units) and the box width for a point.
 inline int first_node(double xi, bool bspline) {
   return bspline ? int(std::floor(xi + 0.5)) - 1 : int(std::floor(xi));
@@ -51,16 +130,20 @@ inline int point_count(bool bspline) {
   return bspline ? 3 : 2;
 }
 
-/// Throws NumericalError naming particle p, its position and `why`.
-[[noreturn]] void throw_outside(Index p, const Particles& P, std::string_view why);
-
 /// Node boxes of the point-based families (linear hat, quadratic B-spline when `bspline`) into
-/// `support` (sized N); adds the entries to nnz and returns whether any box changed.
-bool point_supports(const Grid& g, const Particles& P, bool bspline,
-                    std::vector<ShapeSupport>& support, Index& nnz);
+/// `support` (sized N); their boxes never change size.
+void point_supports(const Grid& g, const Particles& P, bool bspline,
+                    std::vector<ShapeSupport>& support, BoxChanges& changes);
 /// Values of S and ∂S/∂x_a of the point-based families written straight into the CSR arrays.
 void point_values(const Grid& g, const Particles& P, bool bspline,
                   const std::vector<ShapeSupport>& support, const int* outer, double* sv,
                   double* const* gv);
+/// uGIMP (Buzzi Eqs. 17–18): the node boxes of the particle domains [X_p − r⁰_p, X_p + r⁰_p]
+/// into `support`.
+void gimp_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
+                   BoxChanges& changes);
+/// Values of uGIMP's S and ∂S/∂x_a written straight into the CSR arrays.
+void gimp_values(const Grid& g, const Particles& P, const std::vector<ShapeSupport>& support,
+                 const int* outer, double* sv, double* const* gv);
 
 } // namespace smpm::detail

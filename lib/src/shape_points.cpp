@@ -1,12 +1,13 @@
-// The fast path of the point-based shape families (linear hat, quadratic B-spline): dimension
-// and family known at compile time, values written straight into the CSR arrays.
+// The fast paths of the tensor-product shape families (linear hat, quadratic B-spline, uGIMP):
+// dimension and family known at compile time, values written straight into the CSR arrays.
 
+#include "kernels.hpp"
 #include "parallel.hpp"
 #include "shape_functions.hpp"
 
 #include "sparsempm/errors.hpp"
 
-#include <atomic>
+#include <array>
 #include <sstream>
 
 namespace smpm::detail {
@@ -36,12 +37,40 @@ struct CellCoordinates {
   double operator()(Index p, int a) const { return (X[p * D + a] - o[a]) * inv_h[a]; }
 };
 
+// The axes beyond the dimension: weight 1, slope 0.
+template <int D, int W>
+inline void unit_axes(double (&w)[3][W], double (&dw)[3][W]) {
+  for (int a = D; a < 3; ++a) {
+    w[a][0] = 1;
+    dw[a][0] = 0;
+  }
+}
+
+// A row of S and G from the 1D weights w[a][k] and slopes dw[a][k] along each axis: their
+// tensor product over the box of count[0] × count[1] × count[2] nodes, x fastest, written at
+// position q of sv and of each gv[a].
+template <int D, int W>
+inline void tensor_row(const std::array<int, 3>& count, const double (&w)[3][W],
+                       const double (&dw)[3][W], double* sv, double* const* gv, int q) {
+  const int c0 = count[0], c1 = D > 1 ? count[1] : 1, c2 = D > 2 ? count[2] : 1;
+  for (int k2 = 0; k2 < c2; ++k2)
+    for (int k1 = 0; k1 < c1; ++k1)
+      for (int k0 = 0; k0 < c0; ++k0, ++q) {
+        const double w0 = w[0][k0], w1 = w[1][k1], w2 = w[2][k2];
+        sv[q] = w0 * w1 * w2;
+        gv[0][q] = dw[0][k0] * w1 * w2;
+        if constexpr (D > 1)
+          gv[1][q] = w0 * dw[1][k1] * w2;
+        if constexpr (D > 2)
+          gv[2][q] = w0 * w1 * dw[2][k2];
+      }
+}
+
 template <int D, bool BS>
 void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
-                    bool& changed, Index& nnz) {
+                    BoxChanges& changes) {
   constexpr int width = BS ? 3 : 2;
   const CellCoordinates<D> xi_of(g, P);
-  std::atomic<bool> moved{false};
   parallel_for(P.size(), [&](Index p) {
     ShapeSupport s;
     for (int a = 0; a < D; ++a) {
@@ -55,13 +84,8 @@ void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>
       s.first[a] = first;
       s.count[a] = width;
     }
-    if (!(s == support[size_t(p)])) { // write only what changed: the pattern is usually kept
-      moved.store(true, std::memory_order_relaxed);
-      support[size_t(p)] = s;
-    }
+    changes.record(p, support[size_t(p)], s);
   });
-  changed = moved.load() || changed;
-  nnz += P.size() * (BS ? (D == 1 ? 3 : D == 2 ? 9 : 27) : (1 << D));
 }
 
 template <int D, bool BS>
@@ -72,12 +96,8 @@ void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupp
   parallel_for(P.size(), [&](Index p) {
     const ShapeSupport& s = support[size_t(p)];
     double w[3][width], dw[3][width];
-    for (int a = 0; a < 3; ++a) {
-      if (a >= D) {
-        w[a][0] = 1;
-        dw[a][0] = 0;
-        continue;
-      }
+    unit_axes<D>(w, dw);
+    for (int a = 0; a < D; ++a) {
       const double r0 = xi_of(p, a) - s.first[a];
       for (int k = 0; k < width; ++k) {
         const double r = r0 - k;
@@ -90,18 +110,49 @@ void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupp
         }
       }
     }
-    int q = outer[p];
-    for (int k2 = 0; k2 < (D > 2 ? width : 1); ++k2)
-      for (int k1 = 0; k1 < (D > 1 ? width : 1); ++k1)
-        for (int k0 = 0; k0 < width; ++k0, ++q) {
-          const double w0 = w[0][k0], w1 = w[1][k1], w2 = w[2][k2];
-          sv[q] = w0 * w1 * w2;
-          gv[0][q] = dw[0][k0] * w1 * w2;
-          if constexpr (D > 1)
-            gv[1][q] = w0 * dw[1][k1] * w2;
-          if constexpr (D > 2)
-            gv[2][q] = w0 * w1 * dw[2][k2];
-        }
+    tensor_row<D, width>({width, width, width}, w, dw, sv, gv, outer[p]);
+  });
+}
+
+// uGIMP: the box of [ξ − l, ξ + l] under the hat along each axis, l = r⁰/h.
+template <int D>
+void gimp_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
+                   BoxChanges& changes) {
+  const CellCoordinates<D> xi_of(g, P);
+  const double* L = P.half_length.data();
+  parallel_for(P.size(), [&](Index p) {
+    ShapeSupport s;
+    for (int a = 0; a < D; ++a) {
+      const double xi = xi_of(p, a), l = L[p * D + a] * xi_of.inv_h[a];
+      interval_box(g, P, p, a, xi - l, xi + l, 1.0, s.first[size_t(a)], s.count[size_t(a)]);
+    }
+    changes.record(p, support[size_t(p)], s);
+  });
+}
+
+// uGIMP weights: the average of the hat over the particle's domain along each axis,
+// S_i = (H(r + l) − H(r − l))/(2l) with H = ∫ hat and r = ξ − i, and its slope
+// (hat(r + l) − hat(r − l))/(2lh) (Buzzi Eqs. 17–18); the row is their tensor product.
+template <int D>
+void gimp_values(const Grid& g, const Particles& P, const std::vector<ShapeSupport>& support,
+                 const int* outer, double* sv, double* const* gv) {
+  const CellCoordinates<D> xi_of(g, P);
+  const double* L = P.half_length.data();
+  parallel_for(P.size(), [&](Index p) {
+    const ShapeSupport& s = support[size_t(p)];
+    double w[3][kMaxBox], dw[3][kMaxBox];
+    unit_axes<D>(w, dw);
+    for (int a = 0; a < D; ++a) {
+      const double l = L[p * D + a] * xi_of.inv_h[a];
+      const double inv_2l = 0.5 / l, slope = inv_2l * xi_of.inv_h[a];
+      const double r0 = xi_of(p, a) - s.first[size_t(a)];
+      for (int k = 0; k < s.count[size_t(a)]; ++k) {
+        const double r = r0 - k;
+        w[a][k] = (hat_integral(r + l) - hat_integral(r - l)) * inv_2l;
+        dw[a][k] = (hat(r + l) - hat(r - l)) * slope;
+      }
+    }
+    tensor_row<D, kMaxBox>(s.count, w, dw, sv, gv, outer[p]);
   });
 }
 
@@ -122,15 +173,13 @@ void dispatch_point(int d, auto&& f) {
 
 } // namespace
 
-bool point_supports(const Grid& g, const Particles& P, bool bspline,
-                    std::vector<ShapeSupport>& support, Index& nnz) {
-  bool changed = false;
-  auto f = [&]<int D, bool BS>() { point_supports<D, BS>(g, P, support, changed, nnz); };
+void point_supports(const Grid& g, const Particles& P, bool bspline,
+                    std::vector<ShapeSupport>& support, BoxChanges& changes) {
+  auto f = [&]<int D, bool BS>() { point_supports<D, BS>(g, P, support, changes); };
   if (bspline)
     dispatch_point<true>(P.dim, f);
   else
     dispatch_point<false>(P.dim, f);
-  return changed;
 }
 
 void point_values(const Grid& g, const Particles& P, bool bspline,
@@ -141,6 +190,16 @@ void point_values(const Grid& g, const Particles& P, bool bspline,
     dispatch_point<true>(P.dim, f);
   else
     dispatch_point<false>(P.dim, f);
+}
+
+void gimp_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
+                   BoxChanges& changes) {
+  by_dim(P.dim, [&]<int D>() { gimp_supports<D>(g, P, support, changes); });
+}
+
+void gimp_values(const Grid& g, const Particles& P, const std::vector<ShapeSupport>& support,
+                 const int* outer, double* sv, double* const* gv) {
+  by_dim(P.dim, [&]<int D>() { gimp_values<D>(g, P, support, outer, sv, gv); });
 }
 
 } // namespace smpm::detail

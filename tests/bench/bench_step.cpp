@@ -141,6 +141,23 @@ void BM_AssembleFresh(benchmark::State& state, const std::string& problem) { // 
   }
 }
 
+// Particles crossing cells: two configurations alternate, the second moving every seventh particle
+// by half a cell along x, so that each assembly moves the boxes of about one particle in fourteen
+// (those past the middle of their cell) and rebuilds the pattern.
+void BM_AssembleCrossing(benchmark::State& state, const std::string& problem) {
+  Problem pb = make_problem(problem);
+  smpm::Particles moved = pb.model.particles;
+  for (Eigen::Index p = 0; p < moved.size(); p += 7)
+    moved.X(p, 0) += 0.5 * pb.model.grid.cell_size(0);
+  smpm::Operators ops;
+  smpm::assemble(pb.model.grid, pb.model.particles, pb.shape, ops);
+  bool odd = false;
+  for (auto _ : state) {
+    odd = !odd;
+    smpm::assemble(pb.model.grid, odd ? moved : pb.model.particles, pb.shape, ops);
+  }
+}
+
 void BM_SetFromTriplets(benchmark::State& state, const std::string& problem) { // S only
   Problem pb = make_problem(problem);
   const smpm::Operators ops = smpm::assemble(pb.model.grid, pb.model.particles, pb.shape);
@@ -326,6 +343,7 @@ void register_problem(const std::string& pb) {
   reg("matrix_free_flip_step", [pb](benchmark::State& s) { BM_MatrixFree(s, pb); });
   reg("assemble_S_G_m", [pb](benchmark::State& s) { BM_Assemble(s, pb); });
   reg("assemble_S_G_m_new_pattern", [pb](benchmark::State& s) { BM_AssembleFresh(s, pb); });
+  reg("assemble_S_G_m_crossing", [pb](benchmark::State& s) { BM_AssembleCrossing(s, pb); });
   reg("S_by_setFromTriplets", [pb](benchmark::State& s) { BM_SetFromTriplets(s, pb); });
   reg("consistent_mass_stencil", [pb](benchmark::State& s) { BM_ConsistentMass(s, pb); });
   reg("consistent_mass_eigen_product",

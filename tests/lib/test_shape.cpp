@@ -4,6 +4,7 @@
 #include "support.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 
 using namespace smpm;
 using smpm::test::approx;
@@ -134,6 +135,56 @@ TEST_CASE("the sparsity pattern is reused while no particle changes its node box
   // Same values as a fresh assembly: exact.
   CHECK((Eigen::MatrixXd(ops.S) - Eigen::MatrixXd(fresh.S)).cwiseAbs().maxCoeff() == 0.0);
   CHECK((Eigen::MatrixXd(ops.G[1]) - Eigen::MatrixXd(fresh.G[1])).cwiseAbs().maxCoeff() == 0.0);
+}
+
+namespace {
+// Pattern and values equal (==): outer and inner indices and values of S and G, m and the
+// column index.
+void check_same_operators(const Operators& a, const Operators& b, int dim) {
+  auto same = [](const SparseRowMatrix& x, const SparseRowMatrix& y) {
+    REQUIRE(x.nonZeros() == y.nonZeros());
+    REQUIRE(x.rows() == y.rows());
+    CHECK(std::equal(x.outerIndexPtr(), x.outerIndexPtr() + x.rows() + 1, y.outerIndexPtr()));
+    CHECK(std::equal(x.innerIndexPtr(), x.innerIndexPtr() + x.nonZeros(), y.innerIndexPtr()));
+    CHECK(std::equal(x.valuePtr(), x.valuePtr() + x.nonZeros(), y.valuePtr()));
+  };
+  same(a.S, b.S);
+  for (int k = 0; k < dim; ++k)
+    same(a.G[size_t(k)], b.G[size_t(k)]);
+  CHECK(a.m == b.m);
+  CHECK(a.columns.entry == b.columns.entry);
+  CHECK(a.columns.row == b.columns.row);
+}
+} // namespace
+
+TEST_CASE("boxes that move are rewritten in place and equal a fresh assembly", "[shape]") {
+  // Every third particle moves by exactly one cell along x (boxes keep their sizes: S's rows
+  // are rewritten in place), then every fifth by 0.37 cells (uGIMP and CPDI boxes change size:
+  // a new pattern). After each move, the operators equal those assembled afresh.
+  for (int dim = 1; dim <= 3; ++dim)
+    for (Shape shape : kAllShapes)
+      for (int fields : {1, 2}) {
+        CAPTURE(dim, to_string(shape), fields);
+        const Grid g = smpm::test::test_grid(dim, 10);
+        Particles P = smpm::test::random_cloud(g, 40, 29u + dim, 3.0, true);
+        Eigen::VectorXi field(P.size());
+        for (Index p = 0; p < P.size(); ++p)
+          field[p] = int(p % fields);
+        const Eigen::VectorXi* f = fields > 1 ? &field : nullptr;
+        Operators ops;
+        assemble(g, P, shape, ops, fields, f);
+        for (double shift : {1.0, 0.37}) {
+          CAPTURE(shift);
+          const long version = ops.pattern_version;
+          for (Index p = 0; p < P.size(); p += shift == 1.0 ? 3 : 5)
+            P.X(p, 0) += shift * g.cell_size(0);
+          assemble(g, P, shape, ops, fields, f);
+          CHECK(ops.pattern_version != version);
+          Operators fresh;
+          assemble(g, P, shape, fresh, fields, f);
+          check_same_operators(ops, fresh, dim);
+        }
+      }
 }
 
 TEST_CASE("a particle whose support leaves the grid is reported by index", "[shape]") {
