@@ -65,10 +65,18 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
   SMPM_VERIFY(double(fields) * double(grid.num_nodes()) < double(std::numeric_limits<int>::max()),
               "assemble: " + std::to_string(fields) + " fields of " +
                   std::to_string(grid.num_nodes()) + " nodes exceed 32-bit node indices");
+  // The pattern of S is kept or updated only on the same grid with the same particle fields.
+  const std::array<int, 3> nodes{grid.nodes(0), grid.nodes(1), grid.nodes(2)};
+  if (ops.dim != grid.dim() || ops.grid_nodes != nodes || ops.fields != fields ||
+      (fields > 1 && (ops.field.size() != field->size() || ops.field != *field))) {
+    ops.support.clear();
+    if (fields > 1)
+      ops.field = *field;
+  }
   ops.dim = grid.dim();
   ops.fields = fields;
   ops.grid_node_count = grid.num_nodes();
-  ops.grid_nodes = {grid.nodes(0), grid.nodes(1), grid.nodes(2)};
+  ops.grid_nodes = nodes;
   static std::atomic<long> versions{0}; // unique across all Operators objects
   if (assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support, fields,
                      fields > 1 ? field->data() : nullptr) ||

@@ -167,8 +167,9 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   // moved and kept its size has its row rewritten during the pass; when a box changed size,
   // the pattern is built anew.
   const bool point = shape == Shape::Linear || shape == Shape::BSpline2;
-  const bool fresh = Index(support.size()) != N || S.rows() != N || S.cols() != n ||
-                     G[0].rows() != N || G[0].nonZeros() != S.nonZeros();
+  bool fresh = Index(support.size()) != N || S.rows() != N || S.cols() != n;
+  for (int a = 0; a < d; ++a)
+    fresh = fresh || G[size_t(a)].rows() != N || G[size_t(a)].nonZeros() != S.nonZeros();
   support.resize(N);
   BoxChanges changes;
   BoxChanges::Rows rows;
@@ -195,7 +196,12 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       });
     }
   } catch (...) {
-    support.clear(); // boxes recorded and S not rebuilt: the next call starts afresh
+    // Some boxes are recorded and some rows rewritten: empty the pattern so that nothing
+    // stale is read, and the next call starts afresh.
+    support.clear();
+    S.resize(0, 0);
+    for (SparseRowMatrix& Ga : G)
+      Ga.resize(0, 0);
     throw;
   }
   const BoxChange change = fresh ? BoxChange::Resized : changes.result();
@@ -205,6 +211,9 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       nnz += Index(s.count[0]) * s.count[1] * s.count[2];
     if (nnz > Index(std::numeric_limits<int>::max())) {
       support.clear();
+      S.resize(0, 0);
+      for (SparseRowMatrix& Ga : G)
+        Ga.resize(0, 0);
       throw NumericalError("S would hold " + std::to_string(nnz) +
                            " nonzeros, more than its 32-bit indices allow");
     }

@@ -142,8 +142,8 @@ void BM_AssembleFresh(benchmark::State& state, const std::string& problem) { // 
 }
 
 // Particles crossing cells: two configurations alternate, the second moving every seventh particle
-// by half a cell along x, so that each assembly moves the boxes of about one particle in fourteen
-// (those past the middle of their cell) and rebuilds the pattern.
+// by half a cell along x, so that each assembly changes the pattern of S: the boxes of about
+// one particle in fourteen move (linear: those past the middle of their cell).
 void BM_AssembleCrossing(benchmark::State& state, const std::string& problem) {
   Problem pb = make_problem(problem);
   smpm::Particles moved = pb.model.particles;

@@ -187,6 +187,52 @@ TEST_CASE("boxes that move are rewritten in place and equal a fresh assembly", "
       }
 }
 
+TEST_CASE("the pattern follows a new grid, new fields and a failed assembly", "[shape]") {
+  // Boxes unchanged in node coordinates but columns changed: a grid of 5 × 10 nodes, then one of
+  // 10 × 5 (the same number of nodes); then the particle fields swapped. And an assembly that
+  // throws (a particle leaves the grid) after other particles' rows moved leaves S and G empty;
+  // the next one equals a fresh assembly. Operators equal (==) fresh ones after each.
+  const Grid g1(2, {0, 0, 0}, {1, 1, 1}, {4, 9, 1}), g2(2, {0, 0, 0}, {1, 1, 1}, {9, 4, 1});
+  Particles P;
+  P.resize(2, 3000); // above the threshold of the parallel loops: rows rewritten on threads
+  for (Index p = 0; p < P.size(); ++p) {
+    P.X(p, 0) = 1.2 + 1.6 * double(p % 7) / 7;
+    P.X(p, 1) = 1.3 + 1.4 * double(p % 11) / 11;
+  }
+  P.half_length.setConstant(0.25);
+  P.mass.setOnes();
+  Eigen::VectorXi field(P.size());
+  for (Index p = 0; p < P.size(); ++p)
+    field[p] = int(p % 2);
+  for (Shape shape : {Shape::Linear, Shape::GIMP, Shape::CPDI}) {
+    CAPTURE(to_string(shape));
+    Operators ops;
+    assemble(g1, P, shape, ops, 2, &field);
+    assemble(g2, P, shape, ops, 2, &field);
+    Operators fresh;
+    assemble(g2, P, shape, fresh, 2, &field);
+    check_same_operators(ops, fresh, 2);
+    Eigen::VectorXi swapped = 1 - field.array();
+    assemble(g2, P, shape, ops, 2, &swapped);
+    Operators fresh_swapped;
+    assemble(g2, P, shape, fresh_swapped, 2, &swapped);
+    check_same_operators(ops, fresh_swapped, 2);
+
+    Particles Q = P;
+    for (Index p = 0; p < Q.size(); p += 3)
+      Q.X(p, 0) += 1.0; // boxes move one cell
+    Q.X(Q.size() - 1, 0) = 50;
+    CHECK_THROWS_WITH(assemble(g2, Q, shape, ops, 2, &field), Catch::Contains("particle 2999"));
+    CHECK(ops.S.nonZeros() == 0);
+    CHECK(ops.support.empty());
+    Q.X(Q.size() - 1, 0) = 2.5;
+    assemble(g2, Q, shape, ops, 2, &field);
+    Operators fresh_q;
+    assemble(g2, Q, shape, fresh_q, 2, &field);
+    check_same_operators(ops, fresh_q, 2);
+  }
+}
+
 TEST_CASE("a particle whose support leaves the grid is reported by index", "[shape]") {
   const Grid g(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
   Particles P;

@@ -51,6 +51,7 @@ struct Operators {
   Eigen::Array<bool, Eigen::Dynamic, 1> active;
   Eigen::VectorXd m_inv;                  ///< n: 1/m_i on active nodes, 0 elsewhere
   std::vector<ShapeSupport> support;      ///< workspace: the pattern of S and G
+  Eigen::VectorXi field;                  ///< the particle fields of the pattern (fields > 1)
   ColumnIndex columns;                    ///< S's pattern by columns
   std::array<int, 3> grid_nodes{1, 1, 1}; ///< nodes per axis of the grid
   long pattern_version = 0; ///< a new process-unique number whenever S's pattern changes

@@ -43,11 +43,14 @@ struct ShapeSupport {
 ///     S_pi = 2^{-d} Σ_c N_i(x_c),    G_pi = 2^{-d} R^{-T} Σ_c s_c N_i(x_c).
 /// In 1D: S_pi = ½(N_i(a) + N_i(b)), G_pi = (N_i(b) − N_i(a))/(b − a).
 ///
-/// Each row holds the tensor box of nodes that can be non-zero (structural zeros allowed);
-/// when every particle's box is unchanged since the previous call the index arrays are kept
-/// and only values are written (no allocation). `support` is the workspace that records the
-/// boxes. Returns true when the pattern was rebuilt. Throws NumericalError naming the particle
-/// when a support leaves the grid.
+/// Each row holds the tensor box of nodes that can be non-zero (structural zeros allowed).
+/// `support` is the workspace that records the boxes of the previous call, whose S and G must
+/// be on the same grid with the same fields (an empty `support` starts afresh): when every box
+/// is unchanged the index arrays are kept and only values are written (no allocation); the
+/// rows of boxes that moved and kept their size are rewritten in place; when a box changed
+/// size the pattern is built anew. Returns true when the pattern changed. Throws
+/// NumericalError naming the particle when a support leaves the grid, and then leaves S, G
+/// and `support` empty.
 ///
 /// With `fields` > 1 velocity fields (multimaterial MPM, contact.hpp) S is N × (fields · n):
 /// particle p's entries sit in the block of columns of its field, node i of field α being
