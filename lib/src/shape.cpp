@@ -48,7 +48,7 @@ bool uses_bspline(Shape s) {
 // Corner positions in cell units, xi_c[c][a], for the 2^D corners of the CPDI domain
 // X_p + F_p diag(r⁰_p) ξ, ξ ∈ {−1, 1}^D (corner c has ξ_b = +1 where bit b of c is set).
 template <int D>
-void corners_of(const Grid& g, const Particles& P, Index p, double xi_c[8][3]) {
+void corners_of(const CellCoordinates<D>& f, const Particles& P, Index p, double xi_c[8][3]) {
   const double* X = P.X.data() + p * P.X.outerStride();
   const double* F = P.F.data() + p * P.F.outerStride();
   const double* r = P.half_length.data() + p * P.half_length.outerStride();
@@ -57,23 +57,20 @@ void corners_of(const Grid& g, const Particles& P, Index p, double xi_c[8][3]) {
       double x = X[a];
       for (int b = 0; b < D; ++b)
         x += F[a * D + b] * ((c >> b) & 1 ? 1.0 : -1.0) * r[b];
-      xi_c[c][a] = (x - g.origin(a)) / g.cell_size(a);
+      xi_c[c][a] = (x - f.o[a]) * f.inv_h[a];
     }
 }
 
-void corners(const Grid& g, const Particles& P, Index p, double xi_c[8][3]) {
-  by_dim(P.dim, [&]<int D>() { corners_of<D>(g, P, p, xi_c); });
-}
-
 // CPDI and B2CPDI: the box of the corners' bounding box under the hat or the B-spline.
-ShapeSupport corner_support(const Grid& g, const Particles& P, Index p, bool bspline) {
-  const int d = P.dim;
+template <int D>
+ShapeSupport corner_support(const Grid& g, const CellCoordinates<D>& f, const Particles& P, Index p,
+                            bool bspline) {
   double xi_c[8][3];
-  corners(g, P, p, xi_c);
+  corners_of<D>(f, P, p, xi_c);
   ShapeSupport s;
-  for (int a = 0; a < d; ++a) {
+  for (int a = 0; a < D; ++a) {
     double lo = xi_c[0][a], hi = xi_c[0][a];
-    for (int c = 1; c < (1 << d); ++c) {
+    for (int c = 1; c < (1 << D); ++c) {
       lo = std::min(lo, xi_c[c][a]);
       hi = std::max(hi, xi_c[c][a]);
     }
@@ -88,11 +85,11 @@ ShapeSupport corner_support(const Grid& g, const Particles& P, Index p, bool bsp
 // only to the nodes where its N can be nonzero (2 per axis for the hat, 3 for the B-spline),
 // in corner order: the sums are those over every corner and box node, without the zero terms.
 template <int D>
-void corner_row(const Grid& g, const Particles& P, Index p, bool bspline, const ShapeSupport& s,
-                double* S, double* const G[3]) {
+void corner_row(const CellCoordinates<D>& f, const Particles& P, Index p, bool bspline,
+                const ShapeSupport& s, double* S, double* const G[3]) {
   constexpr int nc = 1 << D;
   double xi_c[8][3];
-  corners_of<D>(g, P, p, xi_c);
+  corners_of<D>(f, P, p, xi_c);
   Eigen::Matrix<double, D, D> Fp;
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b)
@@ -104,10 +101,13 @@ void corner_row(const Grid& g, const Particles& P, Index p, bool bspline, const 
   std::fill(S, S + len, 0.0);
   for (int a = 0; a < D; ++a)
     std::fill(G[a], G[a] + len, 0.0);
+  double inv_r[D]; // ±1/r as ±(1/r): the same bits, one division per axis
+  for (int b = 0; b < D; ++b)
+    inv_r[b] = 1.0 / P.half_length(p, b);
   for (int c = 0; c < nc; ++c) {
     Eigen::Matrix<double, D, 1> sr;
     for (int b = 0; b < D; ++b)
-      sr[b] = ((c >> b) & 1 ? 1.0 : -1.0) / P.half_length(p, b);
+      sr[b] = (c >> b) & 1 ? inv_r[b] : -inv_r[b];
     const Eigen::Matrix<double, D, 1> gc = w * Finv_t * sr;
     // The corner's nodes on each axis, within the box (box-relative), and N there.
     int lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
@@ -191,8 +191,11 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       detail::gimp_supports(grid, P, support, changes);
     } else {
       const bool bs = uses_bspline(shape);
-      detail::parallel_for(N, [&](Index p) {
-        changes.record(p, support[size_t(p)], corner_support(grid, P, p, bs));
+      by_dim(d, [&]<int D>() {
+        const CellCoordinates<D> f(grid, P);
+        detail::parallel_for(N, [&](Index p) {
+          changes.record(p, support[size_t(p)], corner_support<D>(grid, f, P, p, bs));
+        });
       });
     }
   } catch (...) {
@@ -258,11 +261,12 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   }
   const bool bs = uses_bspline(shape);
   by_dim(d, [&]<int D>() {
+    const CellCoordinates<D> f(grid, P);
     detail::parallel_for(N, [&](Index p) {
       const int begin = outer[p];
       double* const g[3] = {gv[0] + begin, D > 1 ? gv[1] + begin : nullptr,
                             D > 2 ? gv[2] + begin : nullptr};
-      corner_row<D>(grid, P, p, bs, support[size_t(p)], sv + begin, g);
+      corner_row<D>(f, P, p, bs, support[size_t(p)], sv + begin, g);
     });
   });
   return changed;

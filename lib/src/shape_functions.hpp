@@ -43,6 +43,20 @@ inline double bspline2_slope(double r) {
   return 0;
 }
 
+// ξ = (X_p − origin)/h along each axis, in cell units (the reciprocal of h computed once).
+template <int D>
+struct CellCoordinates {
+  double o[3], inv_h[3];
+  const double* X;
+  CellCoordinates(const Grid& g, const Particles& P) : X(P.X.data()) {
+    for (int a = 0; a < D; ++a) {
+      o[a] = g.origin(a);
+      inv_h[a] = 1.0 / g.cell_size(a);
+    }
+  }
+  double operator()(Index p, int a) const { return (X[p * D + a] - o[a]) * inv_h[a]; }
+};
+
 // Nodes a particle may touch along an axis.
 inline constexpr int kMaxBox = 12;
 

@@ -23,20 +23,6 @@ void throw_outside(Index p, const Particles& P, std::string_view why) {
 
 namespace {
 
-// ξ = (X_p − origin)/h along each axis, in cell units.
-template <int D>
-struct CellCoordinates {
-  double o[3], inv_h[3];
-  const double* X;
-  CellCoordinates(const Grid& g, const Particles& P) : X(P.X.data()) {
-    for (int a = 0; a < D; ++a) {
-      o[a] = g.origin(a);
-      inv_h[a] = 1.0 / g.cell_size(a);
-    }
-  }
-  double operator()(Index p, int a) const { return (X[p * D + a] - o[a]) * inv_h[a]; }
-};
-
 // The axes beyond the dimension: weight 1, slope 0.
 template <int D, int W>
 inline void unit_axes(double (&w)[3][W], double (&dw)[3][W]) {
