@@ -19,6 +19,8 @@ from example_runs import check_refused, run_example
 SMPM = os.environ.get("SMPM", "smpm")
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
 EXAMPLE = SOURCE / "examples" / "two_block_compression.toml"
+# Sanitized builds leave out the FMPM(4) runs (ten times slower there; tests/CMakeLists.txt).
+SANITIZED = os.environ.get("SMPM_SANITIZED") == "1"
 SN = ["contact.0.normal=specified", "contact.0.direction=[0.0, 1.0]"]
 LR = ["contact.0.normal=LR", "contact.0.detection=LR"]
 FMPM4 = ["scheme.velocity=FMPM", "scheme.order=4", "time.courant=0.2"]
@@ -45,9 +47,10 @@ class TwoBlocks(unittest.TestCase):
             "ag_df": ["contact.0.detection=DF"],
             "df_sn": ["contact.0.detection=DF"] + SN,
             "lr": LR,
-            "fmpm_single": FMPM4 + ["contact.0.law=single-field"],
-            "fmpm_net": FMPM4 + LR + ["contact.0.fmpm_method=net"],
         }
+        if not SANITIZED:
+            cases["fmpm_single"] = FMPM4 + ["contact.0.law=single-field"]
+            cases["fmpm_net"] = FMPM4 + LR + ["contact.0.fmpm_method=net"]
         with concurrent.futures.ThreadPoolExecutor(2) as pool:
             futures = {k: pool.submit(mean_axial_stress, cls.tmp.name, k, *v)
                        for k, v in cases.items()}
@@ -77,6 +80,7 @@ class TwoBlocks(unittest.TestCase):
         # material mode up to 20% strain (paper: < 1%); measured at most 3.7e-5 %.
         self.assertLess(self.error("lr").max(), 1.0)
 
+    @unittest.skipIf(SANITIZED, "FMPM(4) runs are left out under the sanitizers")
     def test_fmpm_net_reverts_to_single_material_mode(self):
         # FMPM 2026 §3.2: contact on every increment of the FMPM(k) loop by the Net method;
         # FMPM(4) with LR contact stays within 0.036% of single-material FMPM(4) (asserted 0.5%),
