@@ -184,6 +184,14 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     rows.arrays = d + 1;
     changes.rows = &rows;
   }
+  // On a failure some boxes are recorded and some rows rewritten: the pattern is emptied so
+  // that nothing stale is read, and the next call starts afresh.
+  auto discard_pattern = [&] {
+    support.clear();
+    S.resize(0, 0);
+    for (SparseRowMatrix& Ga : G)
+      Ga.resize(0, 0);
+  };
   try {
     if (point) {
       detail::point_supports(grid, P, shape == Shape::BSpline2, support, changes);
@@ -199,12 +207,7 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       });
     }
   } catch (...) {
-    // Some boxes are recorded and some rows rewritten: empty the pattern so that nothing
-    // stale is read, and the next call starts afresh.
-    support.clear();
-    S.resize(0, 0);
-    for (SparseRowMatrix& Ga : G)
-      Ga.resize(0, 0);
+    discard_pattern();
     throw;
   }
   const BoxChange change = fresh ? BoxChange::Resized : changes.result();
@@ -213,10 +216,7 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     for (const ShapeSupport& s : support)
       nnz += Index(s.count[0]) * s.count[1] * s.count[2];
     if (nnz > Index(std::numeric_limits<int>::max())) {
-      support.clear();
-      S.resize(0, 0);
-      for (SparseRowMatrix& Ga : G)
-        Ga.resize(0, 0);
+      discard_pattern();
       throw NumericalError("S would hold " + std::to_string(nnz) +
                            " nonzeros, more than its 32-bit indices allow");
     }
