@@ -2,6 +2,7 @@
 
 #include "sparsempm/errors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -31,11 +32,14 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
   SMPM_VERIFY(ng > 0 && x.rows() % ng == 0, "velocity BCs: a node field of " +
                                                 std::to_string(x.rows()) + " rows on a grid of " +
                                                 std::to_string(ng) + " nodes");
+  // The conditions name nodes of the whole grid; a window of it (Grid::window) holds some.
+  const bool window = grid.is_window();
+  auto node = [&](Index whole) { return window ? grid.node_of_whole(whole) : whole; };
   for (Index block = 0; block < x.rows(); block += ng) {
     for (const auto& c : conditions)
-      for (Index i : c.nodes) {
-        const Index r = block + i;
-        if (active && !(*active)[r])
+      for (Index g : c.nodes) {
+        const Index i = node(g), r = block + i;
+        if (i < 0 || (active && !(*active)[r]))
           continue;
         const auto n = c.direction.head(d);
         auto xi = x.row(r);
@@ -46,9 +50,9 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
     for (const auto& c : conditions) {
       if (!c.value)
         continue;
-      for (Index i : c.nodes) {
-        const Index r = block + i;
-        if (active && !(*active)[r])
+      for (Index g : c.nodes) {
+        const Index i = node(g), r = block + i;
+        if (i < 0 || (active && !(*active)[r]))
           continue;
         const double w = weight(r);
         if (w == 0)
@@ -123,41 +127,34 @@ void BoundaryConditions::select_wall_nodes(const Grid& grid, const Mask& active,
       for (Index r = i; r < active.size() && !mass; r += ng)
         mass = active[r];
       if (mass && w.selects(t, grid.node_position(i), tol))
-        c.nodes.push_back(i);
+        c.nodes.push_back(grid.whole_node(i));
     }
   }
-  check_superposition(grid);
+  check_superposition();
 }
 
-void BoundaryConditions::check_superposition(const Grid& grid) const {
-  // The first condition on each node, then every later one against it; the buffer is reset
-  // on the constrained nodes only.
-  first_.resize(size_t(grid.num_nodes()), -1);
-  const std::string* bad[2] = {nullptr, nullptr};
-  Index bad_node = -1;
-  for (size_t b = 0; b < conditions.size() && !bad[0]; ++b)
-    for (Index i : conditions[b].nodes) {
-      int& f = first_[size_t(i)];
-      if (f < 0) {
-        f = int(b);
-        continue;
-      }
-      const double cosine = std::abs(conditions[size_t(f)].direction.dot(conditions[b].direction));
-      if (cosine > 1e-9 && std::abs(cosine - 1) > 1e-9) {
-        bad[0] = &conditions[size_t(f)].label;
-        bad[1] = &conditions[b].label;
-        bad_node = i;
-        break;
-      }
+void BoundaryConditions::check_superposition() const {
+  // The (node, condition) pairs sorted by node, then by condition: every condition on a node
+  // against the node's first (storage proportional to the constrained nodes, not the grid).
+  pairs_.clear();
+  for (size_t b = 0; b < conditions.size(); ++b)
+    for (Index i : conditions[b].nodes)
+      pairs_.emplace_back(i, Index(b));
+  std::sort(pairs_.begin(), pairs_.end());
+  for (size_t k = 1, first = 0; k < pairs_.size(); ++k) {
+    if (pairs_[k].first != pairs_[first].first) {
+      first = k;
+      continue;
     }
-  for (const auto& c : conditions)
-    for (Index i : c.nodes)
-      first_[size_t(i)] = -1;
-  if (bad[0])
-    throw InputError("node " + std::to_string(bad_node) + " has velocity conditions '" + *bad[0] +
-                     "' and '" + *bad[1] +
-                     "' at an angle: superposed BCs must be parallel or perpendicular "
-                     "(FMPM 2026 Table 2)");
+    const VelocityCondition &a = conditions[size_t(pairs_[first].second)],
+                            &b = conditions[size_t(pairs_[k].second)];
+    const double cosine = std::abs(a.direction.dot(b.direction));
+    if (cosine > 1e-9 && std::abs(cosine - 1) > 1e-9)
+      throw InputError("node " + std::to_string(pairs_[k].first) + " has velocity conditions '" +
+                       a.label + "' and '" + b.label +
+                       "' at an angle: superposed BCs must be parallel or perpendicular "
+                       "(FMPM 2026 Table 2)");
+  }
 }
 
 bool BoundaryConditions::driven() const {

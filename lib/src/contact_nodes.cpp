@@ -169,11 +169,12 @@ struct NodeGeometry {
 // The projectors onto the directions left free by the velocity conditions on each contact node
 // (find_contact_nodes): I − Σ b̂ b̂ᵀ over an orthonormal basis b̂ of the fixed directions (the
 // conditions on a node are parallel or perpendicular, boundary.hpp).
-void free_directions(const BoundaryConditions& bcs, ContactNodes& cn) {
+void free_directions(const Grid& grid, const BoundaryConditions& bcs, ContactNodes& cn) {
   cn.free.clear();
   for (const VelocityCondition& bc : bcs.conditions)
-    for (Index i : bc.nodes) {
-      const int c = cn.slot[size_t(i)];
+    for (Index whole : bc.nodes) {
+      const Index i = grid.node_of_whole(whole); // the conditions name nodes of the whole grid
+      const int c = i < 0 ? -1 : cn.slot[size_t(i)];
       if (c < 0)
         continue;
       ContactNodes::Node& node = cn.nodes[size_t(c)];
@@ -257,7 +258,7 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
   for (size_t c = 0; c < cn.nodes.size(); ++c)
     cn.slot[size_t(cn.nodes[c].node)] = int(c);
   if (bcs)
-    free_directions(*bcs, cn);
+    free_directions(grid, *bcs, cn);
   else
     cn.free.clear();
   // n̂ ← P n̂ / |P n̂| with P the node's projector onto its free directions.

@@ -24,7 +24,47 @@ Grid::Grid(int dim, const std::array<double, 3>& origin, const std::array<double
     origin_[a] = origin[a];
     h_[a] = cell_size[a];
     cells_[a] = cells[a];
+    count_[a] = cells[a] + 1;
   }
+}
+
+Grid Grid::window(const std::array<int, 3>& first, const std::array<int, 3>& count) const {
+  Grid w = *this;
+  for (int a = 0; a < dim_; ++a) {
+    if (first[a] < 0 || count[a] < 1 || first[a] + count[a] > cells_[a] + 1)
+      throw InputError("grid window: nodes " + std::to_string(first[a]) + " to " +
+                       std::to_string(first[a] + count[a] - 1) + " along axis " +
+                       std::to_string(a) + " are not inside the grid's 0 to " +
+                       std::to_string(cells_[a]));
+    w.first_[a] = first[a];
+    w.count_[a] = count[a];
+  }
+  return w;
+}
+
+bool Grid::same_whole_grid(const Grid& g) const {
+  return dim_ == g.dim_ && origin_ == g.origin_ && h_ == g.h_ && cells_ == g.cells_;
+}
+
+bool Grid::is_window() const {
+  for (int a = 0; a < dim_; ++a)
+    if (first_[a] != 0 || count_[a] != cells_[a] + 1)
+      return true;
+  return false;
+}
+
+Index Grid::node_of_whole(Index whole) const {
+  Index node = 0, stride = 1;
+  for (int a = 0; a < dim_; ++a) {
+    const Index n = cells_[a] + 1;
+    const Index i = whole % n - first_[a];
+    whole /= n;
+    if (i < 0 || i >= count_[a])
+      return -1;
+    node += i * stride;
+    stride *= count_[a];
+  }
+  return whole == 0 ? node : -1;
 }
 
 double Grid::min_cell_size() const {
@@ -35,8 +75,9 @@ double Grid::min_cell_size() const {
 }
 
 std::array<int, 3> Grid::node_ijk(Index node) const {
-  const Index nx = nodes(0), ny = nodes(1);
-  return {int(node % nx), int((node / nx) % ny), int(node / (nx * ny))};
+  const Index nx = count_[0], ny = count_[1];
+  return {int(node % nx) + first_[0], int((node / nx) % ny) + first_[1],
+          int(node / (nx * ny)) + first_[2]};
 }
 
 Field Grid::node_positions() const {

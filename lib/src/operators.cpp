@@ -65,25 +65,31 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
   SMPM_VERIFY(double(fields) * double(grid.num_nodes()) < double(std::numeric_limits<int>::max()),
               "assemble: " + std::to_string(fields) + " fields of " +
                   std::to_string(grid.num_nodes()) + " nodes exceed 32-bit node indices");
-  // The pattern of S is kept or updated only on the same grid with the same particle fields.
-  const std::array<int, 3> nodes{grid.nodes(0), grid.nodes(1), grid.nodes(2)};
-  if (ops.dim != grid.dim() || ops.grid_nodes != nodes || ops.fields != fields ||
+  const bool window = ops.node_range == NodeRange::Particles;
+  // The pattern of S is kept or updated only on the same grid with the same particle fields
+  // (a particle window of the same grid numbers the nodes as the last call did; the whole grid
+  // is one such window).
+  if (!ops.grid.same_whole_grid(grid) || (ops.grid.is_window() && !window) ||
+      ops.fields != fields ||
       (fields > 1 && (ops.field.size() != field->size() || ops.field != *field))) {
     ops.support.clear();
+    ops.grid = grid;
     if (fields > 1)
       ops.field = *field;
   }
+  if (!window)
+    ops.grid = grid;
   ops.dim = grid.dim();
   ops.fields = fields;
-  ops.grid_node_count = grid.num_nodes();
-  ops.grid_nodes = nodes;
   static std::atomic<long> versions{0}; // unique across all Operators objects
   if (assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support, fields,
-                     fields > 1 ? field->data() : nullptr) ||
+                     fields > 1 ? field->data() : nullptr, window ? &ops.grid : nullptr) ||
       ops.columns.entry.size() != size_t(ops.S.nonZeros())) {
     ops.pattern_version = ++versions;
     build_column_index(ops.S, ops.columns);
   }
+  ops.grid_node_count = ops.grid.num_nodes();
+  ops.grid_nodes = {ops.grid.nodes(0), ops.grid.nodes(1), ops.grid.nodes(2)};
   ops.M = particles.mass;
   // m = Sᵀ M (FMPM 2026 §2.1), gathered node by node in particle order.
   const Index n = ops.num_nodes();
@@ -257,6 +263,7 @@ void gather_consistent_mass(const Operators& ops, ConsistentMass& mt) {
   const double* sv = ops.S.valuePtr();
   const Index n = ops.num_nodes(), N = ops.S.rows();
   const int full[3] = {2 * w[0] + 1, 2 * w[1] + 1, 2 * w[2] + 1};
+  const int origin[3] = {ops.grid.first_node(0), ops.grid.first_node(1), ops.grid.first_node(2)};
   const Index parts = std::max<Index>(1, std::min<Index>(threads(), n));
   detail::parallel_for(
       parts,
@@ -270,21 +277,23 @@ void gather_consistent_mass(const Operators& ops, ConsistentMass& mt) {
           const ShapeSupport& s = ops.support[size_t(p)];
           const double *sb = sv + begin, M = ops.M[p];
           const int* ib = inner + begin;
+          // The box's first node in the numbering of ops.grid (a window starts at `origin`).
+          const int first[3] = {s.first[0] - origin[0], s.first[1] - origin[1],
+                                s.first[2] - origin[2]};
           bool interior = true;
           for (size_t d = 0; d < 3; ++d)
-            interior =
-                interior && s.first[d] >= w[d] && s.first[d] + s.count[d] - 1 + w[d] < nodes[d];
+            interior = interior && first[d] >= w[d] && first[d] + s.count[d] - 1 + w[d] < nodes[d];
           if (!interior) { // near the grid's edges: each row's stencil is clipped to the grid
             scatter_box<0, 0, 0>(
                 s.count, sb, ib, M, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
-                  const int ijk[3] = {s.first[0] + a0, s.first[1] + a1, s.first[2] + a2};
+                  const int ijk[3] = {first[0] + a0, first[1] + a1, first[2] + a2};
                   int lo[3], c[3];
                   for (int d = 0; d < 3; ++d)
                     stencil(ijk[d], w[size_t(d)], nodes[size_t(d)], lo[d], c[d]);
                   stride[0] = c[0];
                   stride[1] = c[0] * c[1];
-                  return val + ro[i] + ((s.first[2] - lo[2]) * c[1] + (s.first[1] - lo[1])) * c[0] +
-                         (s.first[0] - lo[0]);
+                  return val + ro[i] + ((first[2] - lo[2]) * c[1] + (first[1] - lo[1])) * c[0] +
+                         (first[0] - lo[0]);
                 });
             continue;
           }

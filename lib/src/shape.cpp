@@ -141,6 +141,43 @@ void corner_row(const CellCoordinates<D>& f, const Particles& P, Index p, bool b
     S[q] *= w;
 }
 
+// The window of the nodes in some particle's box (assemble_shape): their bounding box widened
+// to multiples of kWindowBlock nodes, clipped to the grid.
+Grid particle_window(const Grid& grid, const std::vector<ShapeSupport>& support) {
+  const int d = grid.dim();
+  double bound[6]; // −(smallest first node), largest last node, per axis
+  detail::ordered_reduce(
+      Index(support.size()), 2 * d, -std::numeric_limits<double>::infinity(), bound,
+      [&](Index p, double* acc) {
+        const ShapeSupport& s = support[size_t(p)];
+        for (int a = 0; a < d; ++a) {
+          acc[2 * a] = std::max(acc[2 * a], -double(s.first[size_t(a)]));
+          acc[2 * a + 1] =
+              std::max(acc[2 * a + 1], double(s.first[size_t(a)] + s.count[size_t(a)] - 1));
+        }
+      },
+      [](double a, double b) { return std::max(a, b); });
+  std::array<int, 3> first{0, 0, 0}, count{1, 1, 1};
+  for (int a = 0; a < d; ++a) {
+    if (support.empty()) { // no particle: one node
+      count[size_t(a)] = 1;
+      continue;
+    }
+    const int lo = int(-bound[2 * a]), hi = int(bound[2 * a + 1]);
+    first[size_t(a)] = lo / kWindowBlock * kWindowBlock;
+    const int end = std::min(grid.cells(a) + 1, (hi / kWindowBlock + 1) * kWindowBlock);
+    count[size_t(a)] = end - first[size_t(a)];
+  }
+  return grid.window(first, count);
+}
+
+bool same_window(const Grid& a, const Grid& b) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (a.first_node(axis) != b.first_node(axis) || a.nodes(axis) != b.nodes(axis))
+      return false;
+  return true;
+}
+
 // A new pattern of nnz entries: the old entries are not copied when the storage grows (Eigen's
 // resize keeps them), and 1/8 slack lets boxes grow again without reallocating.
 void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
@@ -157,24 +194,29 @@ void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
 
 bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRowMatrix& S,
                     std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support,
-                    int fields, const int* field) {
-  const Index N = P.size(), ng = grid.num_nodes(), n = ng * fields;
+                    int fields, const int* field, Grid* window) {
+  const Index N = P.size();
   SMPM_VERIFY(fields == 1 || field, "assemble_shape: several fields need the particle fields");
   const int d = grid.dim();
   SMPM_VERIFY(P.dim == d, "assemble_shape: particles are " + std::to_string(P.dim) +
                               "D but the grid is " + std::to_string(d) + "D");
+  // The nodes the columns number: the grid, or the window of the previous call (that of the
+  // pattern kept), updated after the boxes are known.
+  const bool same_grid = !window || (window->same_whole_grid(grid) && !grid.is_window());
+  const Grid& numbering = window ? *window : grid;
   // Pass 1: the node box of every particle. The pattern is kept when no box changed; a box that
   // moved and kept its size has its row rewritten during the pass; when a box changed size,
   // the pattern is built anew.
   const bool point = shape == Shape::Linear || shape == Shape::BSpline2;
-  bool fresh = Index(support.size()) != N || S.rows() != N || S.cols() != n;
+  bool fresh = !same_grid || Index(support.size()) != N || S.rows() != N ||
+               S.cols() != numbering.num_nodes() * fields;
   for (int a = 0; a < d; ++a)
     fresh = fresh || G[size_t(a)].rows() != N || G[size_t(a)].nonZeros() != S.nonZeros();
   support.resize(N);
   BoxChanges changes;
   BoxChanges::Rows rows;
-  rows.grid = &grid;
-  rows.nodes_per_field = ng;
+  rows.grid = &numbering;
+  rows.nodes_per_field = numbering.num_nodes();
   rows.field = fields > 1 ? field : nullptr;
   if (!fresh) {
     rows.outer = S.outerIndexPtr();
@@ -210,7 +252,16 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     discard_pattern();
     throw;
   }
-  const BoxChange change = fresh ? BoxChange::Resized : changes.result();
+  BoxChange change = fresh ? BoxChange::Resized : changes.result();
+  if (window && change != BoxChange::None) {
+    const Grid next = particle_window(grid, support);
+    if (fresh || !same_window(next, *window)) {
+      *window = next; // a new numbering: the pattern is built anew
+      change = BoxChange::Resized;
+    }
+  }
+  const Index n = numbering.num_nodes() * fields;
+  rows.nodes_per_field = numbering.num_nodes();
   if (change == BoxChange::Resized) {
     Index nnz = 0;
     for (const ShapeSupport& s : support)
@@ -233,7 +284,7 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     outer[N] = int(pos);
     detail::parallel_for(N, [&](Index p) {
       const ShapeSupport& s = support[size_t(p)];
-      write_box_row(grid, s, rows.first_column(p, s), inner + outer[p]);
+      write_box_row(numbering, s, rows.first_column(p, s), inner + outer[p]);
     });
     for (int a = 0; a < 3; ++a) {
       if (a >= d) {

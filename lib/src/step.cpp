@@ -97,6 +97,7 @@ struct Stepper::Buffers {
 
 Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_unique<Buffers>()) {
   validate(opt_);
+  ops_.node_range = opt_.nodes;
   if (opt_.velocity == VelocityUpdate::Exact)
     solver_ = opt_.exact_solver();
 }
@@ -130,13 +131,15 @@ void Stepper::step(Model& model, double dt) {
     } else {
       assemble(model.grid, P, opt_.shape, ops_);
     }
-    model.bcs.select_wall_nodes(model.grid, ops_.active, model.time); // walls move (§3.1)
+    // The nodes of the step: the particles' window of the grid or the grid (ops_.grid).
+    const Grid& grid = ops_.grid;
+    model.bcs.select_wall_nodes(grid, ops_.active, model.time); // walls move (§3.1)
     if (nf > 1) {
       P.jacobian(buf_->volume);
       buf_->volume.array() *= P.volume0.array();
       const ContactParticles cp{P.X, P.F, P.half_length, buf_->volume};
-      find_contact_nodes(model.grid, ops_, particle_operators(ops_), model.contact, cp,
-                         buf_->contact, &model.bcs);
+      find_contact_nodes(grid, ops_, particle_operators(ops_), model.contact, cp, buf_->contact,
+                         &model.bcs);
     }
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.
@@ -153,7 +156,7 @@ void Stepper::step(Model& model, double dt) {
                               .ops = &ops_,
                               .mt = &mt_.matrix,
                               .solver = solver_.get(),
-                              .grid = &model.grid,
+                              .grid = &grid,
                               .bcs = &model.bcs,
                               .body_force = model.body_force,
                               .contact_nodes = nf > 1 ? &buf_->contact : nullptr,

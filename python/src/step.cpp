@@ -70,7 +70,20 @@ void bind_step(py::module_& m) {
       .def_property_readonly(
           "grid_velocity",
           [](const Stepper& s) { return from_field(s.grid_state().v_plus, false); },
-          "v⁺ of the last step (n × d), the velocity of its particle update")
+          "v⁺ of the last step (n × d), the velocity of its particle update, on the nodes of "
+          "the step (grid_nodes)")
+      .def_property_readonly(
+          "grid_nodes",
+          [](const Stepper& s) {
+            const Operators& ops = s.operators();
+            py::array_t<long> nodes(ops.num_nodes());
+            auto out = nodes.mutable_unchecked<1>();
+            for (Index c = 0; c < ops.num_nodes(); ++c)
+              out(c) = long(ops.whole_node(c));
+            return nodes;
+          },
+          "the grid index of each row of grid_velocity: a step works on the window of the grid "
+          "that its particles reach (α n_g + i for node i of velocity field α)")
       .def_property_readonly(
           "fmpm_order", [](const Stepper& s) { return s.last_fmpm().order; },
           "the FMPM order reached by the last step's loop")

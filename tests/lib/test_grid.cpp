@@ -70,3 +70,39 @@ TEST_CASE("parallel velocity conditions add their values (FMPM 2026 Table 2)", "
   CHECK(v(4, 1) == approx(-0.5, 1e-15));
   CHECK(v(3, 0) == 7.0); // other nodes untouched
 }
+
+TEST_CASE("a window numbers a box of the grid's nodes and keeps their positions",
+          "[grid][window]") {
+  // Grid::window: the nodes first ≤ (i, j, k) < first + count, numbered x fastest from the first;
+  // (i, j, k), coordinates and positions are those of the whole grid, bit for bit.
+  const Grid g(3, {-1.0, 0.25, 3.0}, {0.1, 0.3, 0.7}, {20, 9, 7});
+  const Grid w = g.window({3, 2, 1}, {5, 4, 6});
+  CHECK(w.is_window());
+  CHECK_FALSE(g.is_window());
+  CHECK(w.num_nodes() == 5 * 4 * 6);
+  CHECK(w.whole_num_nodes() == g.num_nodes());
+  CHECK(w.same_whole_grid(g));
+  for (Index i = 0; i < w.num_nodes(); ++i) {
+    const Index whole = w.whole_node(i);
+    CHECK(g.node_ijk(whole) == w.node_ijk(i));
+    CHECK(g.node_position(whole) == w.node_position(i)); // == : the same arithmetic
+    CHECK(w.node_of_whole(whole) == i);
+    const auto ijk = w.node_ijk(i);
+    CHECK(w.node_index(ijk[0], ijk[1], ijk[2]) == i);
+  }
+  CHECK(w.whole_node(0) == g.node_index(3, 2, 1));
+  CHECK(w.whole_node(1) == g.node_index(4, 2, 1)); // x fastest
+  CHECK(w.whole_node(5) == g.node_index(3, 3, 1));
+  Index outside = 0;
+  for (Index n = 0; n < g.num_nodes(); ++n)
+    outside += w.node_of_whole(n) < 0;
+  CHECK(outside == g.num_nodes() - w.num_nodes());
+  CHECK(w.node_of_whole(-1) == -1);
+  CHECK(w.node_of_whole(g.num_nodes()) == -1);
+  // A window of the whole grid is the grid; a window must lie inside it.
+  CHECK_FALSE(g.window({0, 0, 0}, {21, 10, 8}).is_window());
+  CHECK_THROWS_WITH(g.window({18, 0, 0}, {4, 1, 1}),
+                    "grid window: nodes 18 to 21 along axis 0 are not inside the grid's 0 to 20");
+  CHECK_THROWS_AS(g.window({0, -1, 0}, {1, 1, 1}), InputError);
+  CHECK_THROWS_AS(g.window({0, 0, 0}, {1, 0, 1}), InputError);
+}

@@ -259,3 +259,89 @@ TEST_CASE("domains reaching the grid's edge need no node of zero weight", "[shap
               .maxCoeff() < 1e-14);
   }
 }
+
+TEST_CASE("operators on the particles' window equal those on the whole grid", "[shape][window]") {
+  // NodeRange::Particles numbers the nodes of a window of the grid (Grid::window): S, G, m and m̃
+  // must be those of the whole grid with the columns renumbered, value for value (the shape
+  // functions are computed in the grid's own cell coordinates: the same bits). A cloud in a
+  // corner of a 40-cell grid, moved by 0.3 cells (boxes move, the window stays) and then by 9
+  // cells (the window moves: a new numbering), in 1D–3D, every shape, one and two fields.
+  for (int dim = 1; dim <= 3; ++dim)
+    for (Shape shape : kAllShapes)
+      for (int fields : {1, 2}) {
+        CAPTURE(dim, to_string(shape), fields);
+        const Grid g = smpm::test::test_grid(dim, dim == 3 ? 24 : 40);
+        const Grid corner = g.window({0, 0, 0}, {12, dim > 1 ? 12 : 1, dim > 2 ? 12 : 1});
+        Particles P = smpm::test::random_cloud(
+            Grid(dim, {g.origin(0), g.origin(1), g.origin(2)},
+                 {g.cell_size(0), g.cell_size(1), g.cell_size(2)}, {11, 11, 11}),
+            dim == 3 ? 60 : 40, 7u + unsigned(dim), 3.0, true);
+        Eigen::VectorXi field(P.size());
+        for (Index p = 0; p < P.size(); ++p)
+          field[p] = int(p % fields);
+        const Eigen::VectorXi* f = fields > 1 ? &field : nullptr;
+        Operators win;
+        win.node_range = NodeRange::Particles;
+        ConsistentMass mt_win;
+        for (double shift : {0.0, 0.3, 9.0}) {
+          CAPTURE(shift);
+          for (Index p = 0; p < P.size(); ++p)
+            for (int a = 0; a < dim; ++a)
+              P.X(p, a) += shift * g.cell_size(a);
+          assemble(g, P, shape, win, fields, f);
+          Operators whole;
+          assemble(g, P, shape, whole, fields, f);
+          const Grid& w = win.grid;
+          REQUIRE(w.is_window());
+          CHECK(win.grid_node_count == w.num_nodes());
+          CHECK(win.S.cols() == fields * w.num_nodes());
+          for (int a = 0; a < dim; ++a) // the window follows the particles: two blocks at most
+            CHECK(w.nodes(a) <= 2 * kWindowBlock);
+          if (shift == 0.0)
+            CHECK(w.first_node(0) == corner.first_node(0));
+          else if (shift == 9.0)
+            CHECK(w.first_node(0) == 8); // one block (kWindowBlock nodes) on
+          // Column c of field α on the window is column α n_g + whole_node(c) on the grid.
+          auto whole_column = [&](Index c) {
+            return (c / w.num_nodes()) * g.num_nodes() + w.whole_node(c % w.num_nodes());
+          };
+          CHECK(win.whole_node(win.S.cols() - 1) == whole_column(win.S.cols() - 1));
+          for (int k = 0; k <= dim; ++k) {
+            const SparseRowMatrix& A = k == 0 ? win.S : win.G[size_t(k - 1)];
+            const SparseRowMatrix& B = k == 0 ? whole.S : whole.G[size_t(k - 1)];
+            REQUIRE(A.nonZeros() == B.nonZeros());
+            CHECK(
+                std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.rows() + 1, B.outerIndexPtr()));
+            CHECK(std::equal(A.valuePtr(), A.valuePtr() + A.nonZeros(), B.valuePtr()));
+            bool columns = true;
+            for (Index e = 0; e < A.nonZeros(); ++e)
+              columns = columns && whole_column(A.innerIndexPtr()[e]) == B.innerIndexPtr()[e];
+            CHECK(columns);
+          }
+          bool m_same = true, active_same = true;
+          for (Index c = 0; c < win.m.size(); ++c) {
+            m_same = m_same && win.m[c] == whole.m[whole_column(c)];
+            active_same = active_same && win.active[c] == whole.active[whole_column(c)];
+          }
+          CHECK(m_same);
+          CHECK(active_same);
+          CHECK(win.m.sum() == Approx(whole.m.sum()).epsilon(1e-14)); // no mass left outside
+          // m̃ in its stencil pattern, entry by entry.
+          ConsistentMass mt_whole;
+          assemble_consistent_mass(win, mt_win);
+          assemble_consistent_mass(whole, mt_whole);
+          bool mt_same = true;
+          Index entries = 0;
+          for (Index r = 0; r < mt_win.matrix.rows(); ++r)
+            for (SparseRowMatrix::InnerIterator it(mt_win.matrix, r); it; ++it) {
+              mt_same = mt_same && it.value() == mt_whole.matrix.coeff(whole_column(r),
+                                                                       whole_column(it.col()));
+              entries += it.value() != 0;
+            }
+          CHECK(mt_same);
+          const double* v = mt_whole.matrix.valuePtr();
+          CHECK(entries ==
+                std::count_if(v, v + mt_whole.matrix.nonZeros(), [](double x) { return x != 0; }));
+        }
+      }
+}

@@ -126,7 +126,9 @@ Model shifted(const Model& model, const std::array<double, 3>& shift) {
   Model m = model;
   for (int a = 0; a < m.grid.dim(); ++a)
     m.particles.X.col(a).array() += shift[size_t(a)] * m.grid.cell_size(a);
-  (void)assemble(m.grid, m.particles, Shape::Linear); // throws if a particle left the grid
+  Operators ops; // throws if a particle left the grid
+  ops.node_range = NodeRange::Particles;
+  assemble(m.grid, m.particles, Shape::Linear, ops);
   return m;
 }
 

@@ -84,10 +84,11 @@ int axis_of(const VelocityCondition& c, int d) {
   std::ostringstream os;
   os << "the consistent mass matrix is not positive definite on the active nodes: CHOLMOD found "
         "a non-positive pivot at node "
-     << (minor >= 0 && minor < long(f.free.size()) ? f.free[size_t(minor)] : -1)
+     << (minor >= 0 && minor < long(f.free.size()) ? ops.whole_node(f.free[size_t(minor)]) : -1)
      << "; smallest lumped masses: ";
   for (size_t k = 0; k < std::min<size_t>(3, order.size()); ++k)
-    os << (k ? ", " : "") << "node " << order[k] << " (m = " << ops.m[order[k]] << ")";
+    os << (k ? ", " : "") << "node " << ops.whole_node(order[k]) << " (m = " << ops.m[order[k]]
+       << ")";
   os << " (set scheme.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
         "scheme.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
   throw NumericalError(os.str());
@@ -108,8 +109,9 @@ Field prescribed_components(const Operators& ops, const LoopConstraints& bc, con
       const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
       // Node i of every velocity field (block columns, operators.hpp): rows α n_g + i.
       for (Index block = 0; block < ops.num_nodes(); block += ops.grid_node_count)
-        for (Index i : cond.nodes)
-          if (const Index r = block + i; ops.active[r]) {
+        for (Index whole : cond.nodes) // nodes of the whole grid; bc.grid may be a window
+          if (const Index i = bc.grid->node_of_whole(whole); i >= 0 && ops.active[block + i]) {
+            const Index r = block + i;
             const double value = sign * cond.value_at(bc.time, bc.grid->node_position(i));
             prescribed(r, a) = std::isnan(prescribed(r, a)) ? value : prescribed(r, a) + value;
           }

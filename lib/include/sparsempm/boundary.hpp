@@ -13,6 +13,7 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace smpm {
@@ -58,7 +59,7 @@ struct BoundaryConditions {
   void select_wall_nodes(const Grid& grid, const Eigen::Array<bool, Eigen::Dynamic, 1>& active,
                          double t);
   /// Throws InputError unless the conditions sharing a node are parallel or perpendicular.
-  void check_superposition(const Grid& grid) const;
+  void check_superposition() const;
   /// Whether any condition prescribes a non-zero velocity (a value function or a wall): the
   /// BCs then do work on the particles.
   bool driven() const;
@@ -82,10 +83,12 @@ struct BoundaryConditions {
   /// v_i ← v_i − (v_i · n̂) n̂: zero the constrained directions (FMPM 2026 Table 2, bottom).
   void zero_directions(const Grid& grid, Field& v) const;
   // Every function taking a node field accepts one of several velocity fields too (n_f · n_g
-  // rows, operators.hpp): a condition on node i acts on node i of every field.
+  // rows, operators.hpp): a condition on node i acts on node i of every field. The nodes of the
+  // conditions are those of the whole grid; given a window of it (Grid::window) and fields on
+  // its nodes, a function acts on the nodes the window holds.
 
 private:
-  mutable std::vector<int> first_; // check_superposition's per-node buffer (all −1 between calls)
+  mutable std::vector<std::pair<Index, Index>> pairs_; // check_superposition's (node, condition)
 };
 
 /// Nodes whose coordinate along `axis` equals `at` (within 10⁻⁹ of a cell). Throws

@@ -31,6 +31,13 @@ struct ColumnIndex {
 /// Builds the column index of S (rows: particles, columns: nodes).
 void build_column_index(const SparseRowMatrix& S, ColumnIndex& columns);
 
+/// The nodes the columns of S number.
+enum class NodeRange {
+  Grid,     ///< every node of the grid
+  Particles ///< the window of the grid around the particles' boxes (assemble_shape), so that
+            ///< the nodal fields and their storage follow the particles, not the grid
+};
+
 /// Everything a time step needs from the particle configuration, assembled once per step.
 ///
 /// Multimaterial MPM (contact.hpp) keeps one S with the velocity fields as blocks of columns:
@@ -38,10 +45,16 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& columns);
 /// only in its field's block. Then p, m, m_inv, active and m̃ hold every field (m̃ block
 /// diagonal: m̃ = Σ_α m̃^α, FMPM 2026 Eq. 15) and each kernel of the step serves all fields in
 /// one pass; with one field n = n_g and nothing changes.
+///
+/// With NodeRange::Particles the nodes are those of `grid`, a window of the model's grid
+/// (Grid::window): node i of the operators is node grid.whole_node(i) of the model's grid, and
+/// every function given node fields takes `grid` with them.
 struct Operators {
+  NodeRange node_range = NodeRange::Grid; ///< chosen by the caller before assembling
+  Grid grid;                              ///< the grid whose nodes the columns are
   int dim = 1;
   int fields = 1;                   ///< velocity fields (blocks of columns)
-  Index grid_node_count{};          ///< n_g, nodes of the grid
+  Index grid_node_count{};          ///< n_g, nodes of `grid`
   SparseRowMatrix S;                ///< N × n shape-function weights S_pi
   std::array<SparseRowMatrix, 3> G; ///< G[a]: N × n gradient weights ∂S_pi/∂x_a (a < d)
   Eigen::VectorXd M;                ///< N particle masses (the diagonal of 𝗠)
@@ -53,15 +66,21 @@ struct Operators {
   std::vector<ShapeSupport> support;      ///< workspace: the pattern of S and G
   Eigen::VectorXi field;                  ///< the particle fields of the pattern (fields > 1)
   ColumnIndex columns;                    ///< S's pattern by columns
-  std::array<int, 3> grid_nodes{1, 1, 1}; ///< nodes per axis of the grid
+  std::array<int, 3> grid_nodes{1, 1, 1}; ///< nodes per axis of `grid`
   long pattern_version = 0; ///< a new process-unique number whenever S's pattern changes
   Index num_particles() const { return S.rows(); }
   Index num_nodes() const { return S.cols(); }
+  /// The index of column c in the numbering of the whole grid (α n_g + i for node i of field α,
+  /// n_g the grid's nodes): what files and messages name.
+  Index whole_node(Index c) const {
+    return (c / grid_node_count) * grid.whole_num_nodes() + grid.whole_node(c % grid_node_count);
+  }
 };
 
 /// Assembles S, G, M, m and the active set for the current configuration, reusing the
 /// sparsity pattern (and all storage) when no particle changed its node box. With `field`
-/// (one entry per particle, values in [0, fields)) the fields are blocks of columns.
+/// (one entry per particle, values in [0, fields)) the fields are blocks of columns. The
+/// columns are the nodes of `grid` or of the particles' window of it (ops.node_range).
 void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops,
               int fields = 1, const Eigen::VectorXi* field = nullptr);
 /// Convenience form returning fresh operators.

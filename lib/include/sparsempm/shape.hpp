@@ -55,8 +55,17 @@ struct ShapeSupport {
 /// With `fields` > 1 velocity fields (multimaterial MPM, contact.hpp) S is N × (fields · n):
 /// particle p's entries sit in the block of columns of its field, node i of field α being
 /// column α·n + i (`field[p]` gives p's field; its values never change between calls).
+///
+/// With `window`, the columns are the nodes of a window of `grid` (Grid::window) that holds
+/// every particle's box: their bounding box widened to multiples of kWindowBlock nodes from the
+/// grid's first node (so that it changes only when the particles cross such a line, and is the
+/// same for the same configuration), clipped to the grid. *window gives the window of the
+/// previous call (the numbering of the kept pattern) and receives the new one.
 bool assemble_shape(const Grid& grid, const Particles& particles, Shape shape, SparseRowMatrix& S,
                     std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support,
-                    int fields = 1, const int* field = nullptr);
+                    int fields = 1, const int* field = nullptr, Grid* window = nullptr);
+
+/// Nodes per block of a particle window along each axis (assemble_shape).
+inline constexpr int kWindowBlock = 8;
 
 } // namespace smpm

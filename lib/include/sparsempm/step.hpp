@@ -78,6 +78,10 @@ struct StepOptions {
   /// Eq. (37); false gives the "uncorrected XPIC" of its Fig. 7 (for comparison only).
   bool xpic_contact_term = true;
   MassSolverFactory exact_solver{}; ///< required by VelocityUpdate::Exact
+  /// The nodes of a step: the particles' window of the grid (storage and time proportional to
+  /// the particles and the nodes they reach) or every node of the grid. The results are the same
+  /// bits either way; only the numbering of the grid fields differs (Stepper::operators()).
+  NodeRange nodes = NodeRange::Particles;
 };
 
 /// α of Eqs. (8)–(9) when the options leave it unset: 1 for FLIP (the usual choice, FMPM 2026
@@ -117,9 +121,12 @@ public:
   Energies energies(const Model& model) const;
 
   const StepOptions& options() const { return opt_; }
-  /// The operators assembled for the last step (configuration at its start).
+  /// The operators assembled for the last step (configuration at its start). Their nodes are
+  /// those of the particles' window of the model's grid, operators().grid (NodeRange::Particles):
+  /// node i is node operators().grid.whole_node(i) of the grid.
   const Operators& operators() const { return ops_; }
-  /// The grid fields of the last step; v_plus is the velocity used by the particle update.
+  /// The grid fields of the last step, on the nodes of operators().grid; v_plus is the velocity
+  /// used by the particle update.
   const GridState& grid_state() const;
   /// m̃ of the last step (assembled only when the step used it).
   const ConsistentMass& consistent_mass_storage() const { return mt_; }

@@ -288,9 +288,12 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
 
   cfg.output = read_output(r, root, source, cfg.time.end);
 
-  // The shape functions of every particle must fit in the grid.
+  // The shape functions of every particle must fit in the grid (checked on the particles'
+  // window: storage proportional to the particles, not the grid).
   try {
-    (void)assemble(grid, cfg.model.particles, cfg.step.shape);
+    Operators ops;
+    ops.node_range = NodeRange::Particles;
+    assemble(grid, cfg.model.particles, cfg.step.shape, ops);
   } catch (const NumericalError& e) {
     throw InputError(source + ": particles outside the grid for scheme.shape = \"" +
                      std::string(to_string(cfg.step.shape)) + "\": " + e.what());

@@ -315,7 +315,7 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
     }
   }
   try {
-    bcs.check_superposition(g); // static conditions; walls are checked every step
+    bcs.check_superposition(); // static conditions; walls are checked every step
   } catch (const InputError& e) {
     throw InputError(r.source_ + ": [[bc]]: " + e.what());
   }

@@ -169,17 +169,20 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
   // extrapolation of contact 2020 Eq. (5) before contact.
   const int fields = model.contact.fields();
   Operators ops;
+  // On the particles' window of the grid (storage and time follow the particles), or on the
+  // whole grid when the matrices are written (their columns are the grid's nodes).
+  ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
   Eigen::VectorXi field;
   if (fields > 1)
     model.contact.particle_fields(P.material, field);
   assemble(model.grid, P, shape, ops, fields, fields > 1 ? &field : nullptr);
   {
-    // The nodes with mass only (active_nodes), with their indices: a frame of a few particles on
-    // a large grid stays small.
+    // The nodes with mass only (active_nodes), with their indices in the grid (node α n_g + i
+    // of field α): a frame of a few particles on a large grid stays small.
     Field p, v;
     map_momentum(particle_operators(ops), P.V, p);
     lumped_solve(ops.m_inv, p, v);
-    const Eigen::VectorXi nodes = active_nodes(ops);
+    Eigen::VectorXi nodes = active_nodes(ops);
     const Index na = nodes.size();
     Eigen::VectorXd m(na);
     Field pa(na, P.dim), va(na, P.dim);
@@ -187,6 +190,7 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
       m[k] = ops.m[nodes[k]];
       pa.row(k) = p.row(nodes[k]);
       va.row(k) = v.row(nodes[k]);
+      nodes[k] = int(ops.whole_node(nodes[k]));
     }
     h5::Id grid = h5::open_group(file, "grid");
     h5::Id g = h5::create_group(grid.get(), name);
@@ -195,7 +199,7 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
     h5::write_doubles(g.get(), "m", m.data(), n, 0);
     h5::write_doubles(g.get(), "p", pa.data(), n, d);
     h5::write_doubles(g.get(), "v", va.data(), n, d);
-    h5::set_attribute(g.get(), "grid_nodes", long(ops.grid_node_count));
+    h5::set_attribute(g.get(), "grid_nodes", long(model.grid.num_nodes()));
     h5::set_attribute(g.get(), "velocity_fields", long(fields));
     if (fields > 1)
       detail::write_contact_nodes(g.get(), model, ops, p);

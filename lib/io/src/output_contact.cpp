@@ -22,8 +22,8 @@ void write_contact_nodes(hid_t g, const Model& model, const Operators& ops, cons
   volume.array() *= P.volume0.array();
   ContactNodes cn;
   BoundaryConditions bcs = model.bcs; // the walls' nodes at the frame's time, as a step selects
-  bcs.select_wall_nodes(model.grid, ops.active, model.time);
-  find_contact_nodes(model.grid, ops, particle_operators(ops), model.contact,
+  bcs.select_wall_nodes(ops.grid, ops.active, model.time);
+  find_contact_nodes(ops.grid, ops, particle_operators(ops), model.contact,
                      ContactParticles{P.X, P.F, P.half_length, volume}, cn, &bcs);
   const Index nc = Index(cn.nodes.size()), ng = ops.grid_node_count;
   const int d = P.dim;
@@ -33,7 +33,7 @@ void write_contact_nodes(hid_t g, const Model& model, const Operators& ops, cons
   Eigen::VectorXd separation = Eigen::VectorXd::Constant(nc, -1);
   for (Index c = 0; c < nc; ++c) {
     const ContactNodes::Node& n = cn.nodes[size_t(c)];
-    node[size_t(c)] = int(n.node);
+    node[size_t(c)] = int(ops.grid.whole_node(n.node)); // the node's index in the grid
     pair[size_t(2 * c)] = n.a;
     pair[size_t(2 * c + 1)] = n.b;
     if (n.a < 0)
