@@ -10,7 +10,9 @@
 //   plate         plane-strain plate of 200 × 50 cells, 2 × 2 per cell, uGIMP, linear elastic
 //                 (40,000 particles); plate_cpdi and plate_b2cpdi: the same with CPDI and B2CPDI;
 //   block3d       3D block of 40³ cells, 2 × 2 × 2 per cell, linear, linear elastic (512,000);
-//   impact        examples/block_impact.toml (CPDI, neo-Hookean, 8000 particles).
+//   impact        examples/block_impact.toml (CPDI, neo-Hookean, 8000 particles);
+//   small_body    a 40 × 40-cell block (uGIMP, 6400 particles) on a grid of 1000 × 1000 cells:
+//                 FLIP and FMPM(4) steps on the particles' window and on the whole grid.
 // For each, the baseline is a matrix-free USL FLIP step (plain loops over particles and nodes,
 // linear shape functions, linear elasticity) on the same particles. Steps: FLIP and FMPM(k) for
 // k = 2, 4, 8, 16, 20, 32 on 1 thread and ("/2t") on 2 (the same bits, threads.hpp), and the
@@ -87,6 +89,11 @@ Problem make_problem(const std::string& name) {
             Shape::Linear, 1e-4};
   if (name == "block3d")
     return {name, block_model(3, {40, 40, 40}), Shape::Linear, 1e-4};
+  if (name == "small_body") { // a 40 × 40-cell block (6400 particles) on 1000 × 1000 cells
+    Problem pb{name, block_model(2, {40, 40, 1}), Shape::GIMP, 1e-4};
+    pb.model.grid = smpm::Grid(2, {0, 0, 0}, {1, 1, 1}, {1000, 1000, 1});
+    return pb;
+  }
   if (name.rfind("plate", 0) == 0) {
     const Shape shape = name == "plate_cpdi"     ? Shape::CPDI
                         : name == "plate_b2cpdi" ? Shape::B2CPDI
@@ -212,10 +219,10 @@ void BM_FmpmPass(benchmark::State& state, const std::string& problem) { // one �
 }
 
 void BM_Step(benchmark::State& state, const std::string& problem, smpm::VelocityUpdate vel, int k,
-             int threads = 1) {
+             int threads = 1, smpm::NodeRange nodes = smpm::NodeRange::Particles) {
   smpm::set_threads(threads);
   Problem pb = make_problem(problem);
-  smpm::StepOptions opt{.shape = pb.shape, .velocity = vel, .fmpm = {.order = k}};
+  smpm::StepOptions opt{.shape = pb.shape, .velocity = vel, .fmpm = {.order = k}, .nodes = nodes};
   if (vel == smpm::VelocityUpdate::Exact)
     opt.exact_solver = smpm::cholmod_solver_factory();
   smpm::Stepper stepper(opt);
@@ -363,6 +370,21 @@ void register_problem(const std::string& pb) {
     reg("exact_step", [pb](benchmark::State& s) { BM_Step(s, pb, VelocityUpdate::Exact, 1); });
 }
 
+// A small body on a large grid: FLIP and FMPM(4) steps on the particles' window of the grid
+// (StepOptions::nodes, the default) and on every node of it.
+void register_small_body() {
+  using smpm::NodeRange;
+  using smpm::VelocityUpdate;
+  for (NodeRange nodes : {NodeRange::Particles, NodeRange::Grid})
+    for (int k : {1, 4}) {
+      const std::string name = std::string("small_body/") + (k == 1 ? "flip" : "fmpm4") +
+                               (nodes == NodeRange::Grid ? "_step_grid" : "_step_window");
+      benchmark::RegisterBenchmark(name.c_str(), [k, nodes](benchmark::State& s) {
+        BM_Step(s, "small_body", k == 1 ? VelocityUpdate::FLIP : VelocityUpdate::FMPM, k, 1, nodes);
+      })->Unit(benchmark::kMillisecond);
+    }
+}
+
 // The scaling table: FLIP, FMPM(4) and FMPM(16) steps of the block for N = 10⁴, 10⁵, 10⁶.
 const std::vector<std::pair<int, const char*>> kScaling{{50, "1e4"}, {158, "1e5"}, {500, "1e6"}};
 
@@ -403,6 +425,7 @@ int main(int argc, char** argv) {
   for (const char* pb : kProblems)
     register_problem(pb);
   register_scaling();
+  register_small_body();
   RatioReporter rep;
   benchmark::RunSpecifiedBenchmarks(&rep);
   auto t = [&](const std::string& n) {
@@ -456,6 +479,11 @@ int main(int argc, char** argv) {
     std::printf("  exact step / FMPM(4) step, / FMPM(20) step       %8.3f, %.3f\n",
                 r("exact_step", "fmpm4_step"), r("exact_step", "fmpm20_step"));
   }
+  if (!std::isnan(t("small_body/flip_step_window")))
+    std::printf("\nsmall body (6400 particles, uGIMP) on 1000 x 1000 cells: step on the whole grid "
+                "/ on the particles' window: FLIP %.1f, FMPM(4) %.1f\n",
+                t("small_body/flip_step_grid") / t("small_body/flip_step_window"),
+                t("small_body/fmpm4_step_grid") / t("small_body/fmpm4_step_window"));
   bool scaling = false;
   for (const auto& [side, label] : kScaling)
     scaling = scaling || !std::isnan(t(std::string("scaling/") + label + "/flip/1"));
