@@ -154,7 +154,8 @@ inline void stencil(int i, int w, int nodes, int& lo, int& count) {
 
 namespace {
 // Whether m̃'s stencil pattern can be kept: the same operators with the same pattern of S, or
-// the same stencil half-width and touched nodes. Records the new width and touched set.
+// the same stencil half-width, nodes per axis and touched nodes. Records the new width and touched
+// set.
 bool keep_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
   const Index n = ops.num_nodes();
   if (mt.source == &ops && mt.source_version == ops.pattern_version && mt.matrix.rows() == n)
@@ -167,8 +168,11 @@ bool keep_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
   const int* inner = ops.S.innerIndexPtr();
   for (Index k = 0; k < ops.S.nonZeros(); ++k)
     touched[size_t(inner[k])] = 1;
-  const bool keep = w == mt.half_width && touched == mt.touched && mt.matrix.rows() == n;
+  // The same numbers of rows can be a window of another shape (8 × 16 and 16 × 8 nodes).
+  const bool keep = w == mt.half_width && ops.grid_nodes == mt.grid_nodes &&
+                    touched == mt.touched && mt.matrix.rows() == n;
   mt.half_width = w;
+  mt.grid_nodes = ops.grid_nodes;
   mt.touched.swap(touched);
   mt.source = &ops;
   mt.source_version = ops.pattern_version;

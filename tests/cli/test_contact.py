@@ -125,6 +125,30 @@ class TwoBlocks(unittest.TestCase):
                 np.testing.assert_allclose(np.linalg.norm(g["contact_normal"][:], axis=1), 1,
                                            atol=1e-12)
 
+    def test_contact_nodes_are_numbered_in_the_grid(self):
+        # A step works on the window of the grid around the particles; the files number nodes in
+        # the grid. The same blocks on a grid with 8 more cells on each side (origin (-50, -50),
+        # 28 x 40 cells, 29 nodes a row): the first frame's contact nodes are the 9 nodes of
+        # y = 50 mm from x = 0 (row 20, from node 10), and its nodes with mass are those of the
+        # run above shifted by 8 cells along both axes.
+        with tempfile.TemporaryDirectory() as tmp:
+            out = pathlib.Path(tmp) / "wide.h5"
+            args = [SMPM, "run", str(EXAMPLE), "-o", str(out), "-q", "--set", "time.end=0.5"]
+            for s in LR + ["grid.origin=[-50.0, -50.0]", "grid.cells=[28, 40]"]:
+                args += ["--set", s]
+            r = subprocess.run(args, capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with h5py.File(out, "r") as f, \
+                    h5py.File(pathlib.Path(self.tmp.name) / "lr.h5", "r") as ref:
+                g = sorted(f["grid"].values(), key=lambda g: g.name)[0]
+                np.testing.assert_array_equal(g["contact_nodes"][:], 20 * 29 + 10 + np.arange(9))
+                g0 = sorted(ref["grid"].values(), key=lambda g: g.name)[0]
+                ng0, ng = 13 * 25, 29 * 41  # nodes of the grids; field a's node i is a n_g + i
+                field0, node0 = np.divmod(g0["nodes"][:], ng0)
+                shifted = field0 * ng + (node0 // 13 + 8) * 29 + node0 % 13 + 8
+                np.testing.assert_array_equal(g["nodes"][:], shifted)
+                np.testing.assert_allclose(g["m"][:], g0["m"][:], rtol=1e-12)
+
     def test_per_material_series(self):
         # Each block: 40 x 50 mm at 0.001 g/mm^3 = 2 g for every step; centres of mass start at
         # (20, 25) and (20, 75) mm and stay on x = 20 (the problem is symmetric) to 1e-4 mm.

@@ -345,3 +345,43 @@ TEST_CASE("operators on the particles' window equal those on the whole grid", "[
         }
       }
 }
+
+TEST_CASE("m~'s stencil pattern follows a window of another shape", "[shape][window]") {
+  // Two windows of 128 nodes, 8 × 16 then 16 × 8, every node touched: the same number of rows
+  // and the same touched rows, but another stencil layout. m̃ must equal a fresh assembly and
+  // its rows sum to m (FMPM 2026 §2.1), to round-off.
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {32, 32, 1});
+  auto cells = [&](int nx, int ny) { // one particle at the centre of each cell x < nx, y < ny
+    Particles P;
+    P.resize(2, Index(nx) * ny);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Index p = Index(j) * nx + i;
+        P.X(p, 0) = i + 0.5;
+        P.X(p, 1) = j + 0.5;
+        P.mass[p] = 1 + 0.01 * double(p % 7);
+      }
+    P.volume0.setOnes();
+    P.half_length.setConstant(0.25);
+    return P;
+  };
+  Operators ops;
+  ops.node_range = NodeRange::Particles;
+  ConsistentMass mt;
+  for (const auto& [nx, ny] : {std::pair{7, 15}, std::pair{15, 7}}) {
+    CAPTURE(nx, ny);
+    const Particles P = cells(nx, ny);
+    assemble(g, P, Shape::Linear, ops);
+    REQUIRE(ops.num_nodes() == 128);
+    CHECK(ops.grid_nodes == std::array<int, 3>{nx + 1, ny + 1, 1});
+    assemble_consistent_mass(ops, mt);
+    Operators fresh_ops;
+    fresh_ops.node_range = NodeRange::Particles;
+    assemble(g, P, Shape::Linear, fresh_ops);
+    ConsistentMass fresh;
+    assemble_consistent_mass(fresh_ops, fresh);
+    CHECK(Eigen::MatrixXd(mt.matrix) == Eigen::MatrixXd(fresh.matrix));
+    const Eigen::VectorXd rows = mt.matrix * Eigen::VectorXd::Ones(128);
+    CHECK((rows - ops.m).cwiseAbs().maxCoeff() < 1e-14 * ops.m.maxCoeff());
+  }
+}

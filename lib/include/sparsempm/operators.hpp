@@ -99,6 +99,7 @@ SparseMatrix consistent_mass(const Operators& ops);
 struct ConsistentMass {
   SparseRowMatrix matrix;                    ///< n × n, symmetric
   std::array<int, 3> half_width{-1, -1, -1}; ///< stencil half-width of the pattern
+  std::array<int, 3> grid_nodes{0, 0, 0};    ///< nodes per axis of the pattern's grid
   std::vector<char> touched;                 ///< n: node in some particle's box
   bool pattern_reused = false;               ///< the last assembly kept the pattern
   const Operators* source = nullptr;         ///< the operators of the last assembly ...
