@@ -73,12 +73,10 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
       ops.fields != fields ||
       (fields > 1 && (ops.field.size() != field->size() || ops.field != *field))) {
     ops.support.clear();
-    ops.grid = grid;
+    ops.grid = grid; // the whole grid until a window is chosen
     if (fields > 1)
       ops.field = *field;
   }
-  if (!window)
-    ops.grid = grid;
   ops.dim = grid.dim();
   ops.fields = fields;
   static std::atomic<long> versions{0}; // unique across all Operators objects

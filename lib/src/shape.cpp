@@ -145,6 +145,9 @@ void corner_row(const CellCoordinates<D>& f, const Particles& P, Index p, bool b
 // to multiples of kWindowBlock nodes, clipped to the grid.
 Grid particle_window(const Grid& grid, const std::vector<ShapeSupport>& support) {
   const int d = grid.dim();
+  std::array<int, 3> first{0, 0, 0}, count{1, 1, 1};
+  if (support.empty()) // no particle: one node
+    return grid.window(first, count);
   double bound[6]; // −(smallest first node), largest last node, per axis
   detail::ordered_reduce(
       Index(support.size()), 2 * d, -std::numeric_limits<double>::infinity(), bound,
@@ -157,25 +160,13 @@ Grid particle_window(const Grid& grid, const std::vector<ShapeSupport>& support)
         }
       },
       [](double a, double b) { return std::max(a, b); });
-  std::array<int, 3> first{0, 0, 0}, count{1, 1, 1};
   for (int a = 0; a < d; ++a) {
-    if (support.empty()) { // no particle: one node
-      count[size_t(a)] = 1;
-      continue;
-    }
     const int lo = int(-bound[2 * a]), hi = int(bound[2 * a + 1]);
     first[size_t(a)] = lo / kWindowBlock * kWindowBlock;
     const int end = std::min(grid.cells(a) + 1, (hi / kWindowBlock + 1) * kWindowBlock);
     count[size_t(a)] = end - first[size_t(a)];
   }
   return grid.window(first, count);
-}
-
-bool same_window(const Grid& a, const Grid& b) {
-  for (int axis = 0; axis < 3; ++axis)
-    if (a.first_node(axis) != b.first_node(axis) || a.nodes(axis) != b.nodes(axis))
-      return false;
-  return true;
 }
 
 // A new pattern of nnz entries: the old entries are not copied when the storage grows (Eigen's
@@ -255,7 +246,7 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   BoxChange change = fresh ? BoxChange::Resized : changes.result();
   if (window && change != BoxChange::None) {
     const Grid next = particle_window(grid, support);
-    if (fresh || !same_window(next, *window)) {
+    if (fresh || next != *window) {
       *window = next; // a new numbering: the pattern is built anew
       change = BoxChange::Resized;
     }

@@ -54,6 +54,8 @@ public:
   }
   /// Whether `other` is the same whole grid (dimension, origin, cell sizes and cells).
   bool same_whole_grid(const Grid& other) const;
+  /// The same whole grid and the same window of it.
+  bool operator==(const Grid&) const = default;
   /// Index in the whole grid of this grid's node `node`.
   Index whole_node(Index node) const {
     const auto ijk = node_ijk(node);
