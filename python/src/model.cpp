@@ -208,6 +208,19 @@ void enum_property(py::class_<StepOptions>& c, const char* name, Member member,
       [member, parse](StepOptions& o, const std::string& s) { o.*member = parse(s); });
 }
 
+// StepOptions::nodes as the Python keyword: "particles" (the window of the grid the particles
+// reach) or "grid" (every node).
+std::string_view node_range_name(NodeRange r) {
+  return r == NodeRange::Grid ? "grid" : "particles";
+}
+NodeRange node_range_from_string(std::string_view name) {
+  if (name == "particles")
+    return NodeRange::Particles;
+  if (name == "grid")
+    return NodeRange::Grid;
+  throw InputError("unknown node range '" + clip(name) + "' (expected particles | grid)");
+}
+
 // The regularization and mass cutoff of the exact solver the options make.
 std::pair<double, double> exact_settings(const StepOptions& o) {
   if (!o.exact_solver)
@@ -225,7 +238,7 @@ void bind_step_options(py::module_& m) {
                     const std::string& velocity, int order, double blend_alpha, int blend_every,
                     std::optional<double> position_alpha, const std::string& bc_method,
                     double periodic_cx, const std::string& deformation, double exact_regularization,
-                    double exact_mass_cutoff) {
+                    double exact_mass_cutoff, const std::string& nodes) {
           StepOptions o;
           o.shape = shape_from_string(shape);
           o.scheme = update_scheme_from_string(update);
@@ -238,6 +251,7 @@ void bind_step_options(py::module_& m) {
           o.periodic_cx = periodic_cx;
           o.deformation = deformation_update_from_string(deformation);
           o.exact_solver = cholmod_solver_factory(exact_regularization, exact_mass_cutoff);
+          o.nodes = node_range_from_string(nodes);
           validate(o);
           return o;
         }),
@@ -245,7 +259,8 @@ void bind_step_options(py::module_& m) {
         py::arg("order") = 1, py::arg("blend_alpha") = 1.0, py::arg("blend_every") = 1,
         py::arg("position_alpha") = py::none(), py::arg("bc_method") = "incremental",
         py::arg("periodic_cx") = 0.0, py::arg("deformation") = "linear",
-        py::arg("exact_regularization") = 0.0, py::arg("exact_mass_cutoff") = 0.0);
+        py::arg("exact_regularization") = 0.0, py::arg("exact_mass_cutoff") = 0.0,
+        py::arg("nodes") = "particles");
   enum_property(c, "shape", &StepOptions::shape, &shape_from_string);
   enum_property(c, "update", &StepOptions::scheme, &update_scheme_from_string);
   enum_property(c, "velocity", &StepOptions::velocity, &velocity_update_from_string);
@@ -283,6 +298,11 @@ void bind_step_options(py::module_& m) {
       [](StepOptions& o, double tau) {
         o.exact_solver = cholmod_solver_factory(exact_settings(o).first, tau);
       });
+  c.def_property(
+      "nodes", [](const StepOptions& o) { return std::string(node_range_name(o.nodes)); },
+      [](StepOptions& o, const std::string& s) { o.nodes = node_range_from_string(s); },
+      "the nodes of a step: 'particles', the window of the grid its particles reach (memory and "
+      "time follow the particles), or 'grid', every node; the results are the same");
   c.def(
       "validate", [](const StepOptions& o) { validate(o); },
       "Raises InputError for values outside their ranges.");

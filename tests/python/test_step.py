@@ -229,3 +229,34 @@ def test_grid_velocity_rows_are_the_grid_nodes_of_the_step():
     np.testing.assert_array_equal(stepper.grid_velocity[free], v[nodes[free]])
     assert np.abs(v[nodes[free]]).max() > 0.1  # the bar moves
     assert stepper.grid_velocity[~free, 0] == 0.0
+
+
+def test_a_step_on_every_grid_node_equals_the_step_on_the_window():
+    # StepOptions.nodes = "grid" puts a step on all 301 nodes of the grid above instead of the
+    # window of 48: grid_nodes is then 0 ... 300, and after five FLIP steps the rows at the
+    # window's nodes and the particles equal the window's run bit for bit (the window renumbers
+    # the nodes monotonically, so every nodal sum adds the same terms in the same order), while
+    # the nodes outside the window carry no velocity.
+    runs = {}
+    for nodes in ("particles", "grid"):
+        model = smpm.Model.from_toml(str(BAR), {"grid.cells": [300], "grid.origin": [-100.0]})
+        options = model.options.copy()
+        options.nodes = nodes
+        assert options.nodes == nodes
+        stepper = smpm.Stepper(options)
+        for _ in range(5):
+            stepper.step(model, 0.25)
+        runs[nodes] = (stepper.grid_nodes, stepper.grid_velocity.copy(), model.particles.X.copy(),
+                       model.particles.V.copy())
+    window, v_window, X_window, V_window = runs["particles"]
+    every, v_every, X_every, V_every = runs["grid"]
+    np.testing.assert_array_equal(every, np.arange(301))
+    assert len(window) == 48
+    np.testing.assert_array_equal(v_every[window], v_window)
+    outside = np.setdiff1d(every, window)
+    assert not v_every[outside].any()
+    np.testing.assert_array_equal(X_every, X_window)
+    np.testing.assert_array_equal(V_every, V_window)
+    assert smpm.StepOptions(nodes="grid").nodes == "grid"
+    with pytest.raises(smpm.InputError, match="unknown node range 'all' .expected particles . grid."):
+        smpm.StepOptions(nodes="all")
