@@ -135,6 +135,11 @@ std::string cell(double v, int precision = 4) {
   return os.str();
 }
 
+// A value as a message shows it (a table cell leaves NaN empty).
+std::string shown(double v) {
+  return std::isnan(v) ? std::string("nan") : cell(v, 6);
+}
+
 // Writes `text` to `path` through a temporary file in the same directory, so that a table
 // appears whole or not at all; a failed write or move is an error (exit 1), the temporary
 // file removed.
@@ -307,7 +312,7 @@ void check_int(const std::string& option, int value, int lo, int hi) {
 }
 void check_fraction(const std::string& option, double value) {
   if (!(value >= 0 && value <= 1))
-    throw InputError(option + " " + cell(value) + ": must lie in [0, 1]");
+    throw InputError(option + " " + shown(value) + ": must lie in [0, 1]");
 }
 template <class T>
 void check_list(const std::string& option, const std::vector<T>& values) {
@@ -333,8 +338,8 @@ void validate(const StabilityArgs& a) {
   if (!std::isnan(a.position_alpha))
     check_fraction("--position-alpha", a.position_alpha);
   if (!(a.max_energy_change > 0))
-    throw InputError("--max-energy-change " + cell(a.max_energy_change) + ": must be positive");
-  check_table_output(a.output, a.input, "-o");
+    throw InputError("--max-energy-change " + shown(a.max_energy_change) + ": must be positive");
+  check_table_output(a.output, {a.input, a.frames}, "-o");
   check_regular_file(a.input, kMaxInputBytes, "input file");
   if (!a.frames.empty())
     check_regular_file(a.frames, kMaxRunFileBytes, "run file");
@@ -351,8 +356,8 @@ void validate(const SpectrumArgs& a) {
   for (int m : a.every)
     check_int("--every", m, 1, kMaxOrder);
   if (!(a.courant >= 0) || !std::isfinite(a.courant))
-    throw InputError("--courant " + cell(a.courant) + ": must be positive (or 0: no rho(T))");
-  check_table_output(a.output, a.input, "-o");
+    throw InputError("--courant " + shown(a.courant) + ": must be positive (or 0: no rho(T))");
+  check_table_output(a.output, {a.input}, "-o");
   check_regular_file(a.input, kMaxInputBytes, "input file");
 }
 } // namespace

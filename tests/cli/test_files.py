@@ -408,6 +408,13 @@ class Inputs(Base):
         long_value = "x" * 2000
         line = one_line(self, smpm("run", BAR, "-o", self.dir / "l.h5", "--set", "scheme.shape=" + long_value), 2)
         self.assertLess(len(line), 400)
+        # Numbers in messages are short (before: 300 digits twice), and a cap is stated.
+        line = one_line(self, smpm("run", BAR, "-o", self.dir / "l.h5", "--set", "time.end=1e300"), 2)
+        self.assertIn("frames up to time.end = 1e+300, more than the 100000 accepted", line)
+        self.assertLess(len(line), 300)
+        for key in ("scheme.order", "scheme.blend_every"):
+            line = one_line(self, smpm("run", BAR, "-o", self.dir / "l.h5", "--set", key + "=1000000"), 2)
+            self.assertIn("must be an integer from 1 to 100000", line)
 
 
 class Options(Base):
@@ -424,6 +431,7 @@ class Options(Base):
             with self.subTest(cmd=cmd, opt=opt, value=value):
                 line = one_line(self, smpm(cmd, BAR, opt, value, "-o", self.dir / "t.csv", timeout=30), 2)
                 self.assertIn(opt, line)
+                self.assertIn(opt + " " + value, line)  # the value as given (nan was shown empty)
         self.assertFalse((self.dir / "t.csv").exists())
 
     def test_bad_output_found_before_the_work(self):
@@ -462,6 +470,191 @@ class DiskFull(Base):
                     self.assertTrue(np.all(np.isfinite(g["X"][:])))
         finally:
             subprocess.run(["umount", str(mnt)])
+
+
+CONFLICT = """
+[grid]
+dim = 2
+origin = [0.0, 0.0]
+cell_size = [1.0, 1.0]
+cells = [20, 20]
+[[material]]
+name = "a"
+density = 1.0
+youngs = 100.0
+[[body]]
+material = "a"
+min = [4.0, 4.0]
+max = [10.0, 10.0]
+ppc = [2, 2]
+velocity = ["2", "0"]
+[[bc]]
+plane = { axis = "y", at = 4.0 }
+fixed = ["y"]
+[[bc]]
+wall = { normal = [1.0, 1.0], position = "14 - 2*t", velocity = -2.0, gradient = 0.0, depth_cells = 1.0 }
+[time]
+end = 3.0
+[output]
+every = 0.2
+"""
+
+
+class SecondLook(Base):
+    """The same kind of probing on paths and files no item names: tables aimed at run files,
+    lock-file names, links and damaged files where the partial file goes, a killed run's restart
+    point, a restart file without a frame, and a condition that fails only at a later step."""
+
+    def run_in_background(self, out, *sets):
+        p = subprocess.Popen([SMPM, "run", EXAMPLES / "block_impact.toml", "-o", out, "-q", *sets],
+                             stderr=subprocess.PIPE, text=True)
+        partial = pathlib.Path(str(out).replace(".h5", ".partial.h5"))
+        deadline = time.time() + 120
+        while time.time() < deadline and not partial.exists() and p.poll() is None:
+            time.sleep(0.01)
+        return p
+
+    def test_tables_never_replace_run_files(self):
+        run = self.completed()
+        xmf = run.with_suffix(".xmf")
+        before = digest(run), digest(xmf)
+        for cmd, extra in (("spectrum", ["--k", "1"]), ("stability", ["--k", "1", "--no-exact", "--shifts", "1", "--method", "spectral"])):
+            for o, why in ((run, "run file"), (xmf, "run file or its sidecar")):
+                with self.subTest(cmd=cmd, o=o.name):
+                    self.assertIn(why, one_line(self, smpm(cmd, BAR, *extra, "-o", o), 2))
+        # stability's --frames run file is an input of the table.
+        line = one_line(self, smpm("stability", BAR, "--k", "1", "--no-exact", "--shifts", "1", "--method", "spectral",
+                                   "--frames", run, "-o", run), 2)
+        self.assertIn("not overwritten", line)
+        self.assertEqual((digest(run), digest(xmf)), before)
+        # A live run: neither its partial file nor its path takes a table, and the run completes
+        # with its own result (before, the table was renamed over the partial file and the run
+        # then moved the table to live.h5 and exited 0).
+        live = self.dir / "live.h5"
+        p = self.run_in_background(live, "--set", "time.end=0.2")  # about 1.5 s
+        self.assertIn("run file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "live.partial.h5"), 2))
+        self.assertIn("a run is writing this path", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", live), 2))
+        _, err = p.communicate(timeout=600)
+        self.assertEqual(p.returncode, 0, err)
+        with h5py.File(live, "r") as f:
+            self.assertEqual(f.attrs["status"], "completed")
+        # A path under a file, named as such.
+        self.assertIn("is a file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", run / "t.csv"), 2))
+
+    def test_table_directory_is_checked_before_the_work(self):
+        if os.geteuid() != 0:
+            self.skipTest("mounting a read-only tmpfs needs root")
+        mnt = self.dir / "ro"
+        mnt.mkdir()
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k,ro", "tmpfs", str(mnt)]).returncode:
+            self.skipTest("cannot mount a tmpfs here")
+        try:
+            # Before, the stability sweep ran (3 s) and then could not write its table (exit 1).
+            r = smpm("stability", BAR, "--k", "1,2,4", "--method", "spectral", "-q", "-o", mnt / "t.csv")
+            self.assertIn("cannot write in the directory", one_line(self, r, 2))
+            self.assertIn("Read-only file system", r.stderr)
+        finally:
+            subprocess.run(["umount", str(mnt)])
+
+    def test_lock_file_names(self):
+        line = one_line(self, smpm("run", BAR, "-o", self.dir / "a.h5.lock", "-q"), 2)
+        self.assertIn("lock file", line)
+        self.assertFalse((self.dir / "a.h5.lock").exists())
+        # Somebody's file at a lock file's name is neither taken as a lock nor removed with it.
+        mine = self.dir / "b.h5.lock"
+        mine.write_bytes(b"precious")
+        self.assertIn("not an empty lock file", one_line(self, smpm("run", BAR, "-o", self.dir / "b.h5", "-q"), 2))
+        self.assertEqual(mine.read_bytes(), b"precious")
+        self.assertFalse((self.dir / "b.partial.h5").exists())
+        (self.dir / "c.h5.lock").symlink_to(mine)
+        self.assertIn("is a link", one_line(self, smpm("run", BAR, "-o", self.dir / "c.h5", "-q"), 2))
+        self.assertEqual(mine.read_bytes(), b"precious")
+        # A stale lock of a killed run (empty, unlocked) is taken over and removed.
+        (self.dir / "d.h5.lock").touch()
+        self.completed("d.h5")
+        self.assertFalse((self.dir / "d.h5.lock").exists())
+
+    def test_links_at_the_partial_name_are_not_written_through(self):
+        precious = self.completed("precious.h5")
+        backup = self.dir / "backup.h5"
+        os.link(precious, backup)
+        before = digest(precious)
+        (self.dir / "x.partial.h5").symlink_to(precious)
+        os.link(precious, self.dir / "y.partial.h5")
+        for out in ("x.h5", "y.h5"):
+            with self.subTest(out=out):
+                r = smpm("run", BAR, "-o", self.dir / out, "-q", "--set", "time.end=80", "--set", "time.courant=1.5")
+                self.assertEqual(r.returncode, 3, r.stderr)  # unstable: fails after some frames
+                self.assertEqual(digest(precious), before)
+                self.assertEqual(digest(backup), before)
+                with h5py.File(self.dir / out.replace(".h5", ".partial.h5"), "r") as f:
+                    self.assertIn("failed", f.attrs["status"])
+        self.assertTrue(precious.exists() and not (self.dir / "x.partial.h5").is_symlink())
+
+    def test_a_rerun_keeps_a_killed_runs_restart_point(self):
+        full = self.completed()
+        for status in ("running", "interrupted: interrupted by SIGINT after step 99"):
+            with self.subTest(status=status):
+                partial = self.dir / "k.partial.h5"
+                Restart.cut(full, partial, 3)
+                with h5py.File(partial, "r+") as f:
+                    f.attrs["status"] = status
+                before = digest(partial)
+                line = one_line(self, smpm("run", BAR, "-o", self.dir / "k.h5", "-q", "--set", "time.end=80"), 2)
+                self.assertIn("--restart", line)
+                self.assertEqual(digest(partial), before)
+        # It is the restart point: continued in place, into k.h5.
+        r = smpm("run", "--restart", self.dir / "k.partial.h5", "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(self.dir / "k.h5", "r") as f:
+            self.assertEqual(f.attrs["status"], "completed")
+        # A failed run's partial file is replaced by the rerun (test_failed_rerun_keeps_the_result).
+        Restart.cut(full, self.dir / "f.partial.h5", 3)
+        with h5py.File(self.dir / "f.partial.h5", "r+") as f:
+            f.attrs["status"] = "failed: at step 5"
+        self.completed("f.h5")
+
+    def test_damaged_files_are_named_as_such(self):
+        full = self.completed()
+        damaged = self.dir / "damaged.h5"
+        damaged.write_bytes(full.read_bytes()[:300_000])
+        for args in (("info", damaged), ("run", "--restart", damaged, "-o", self.dir / "rr.h5", "-q")):
+            with self.subTest(args=args[0]):
+                line = one_line(self, smpm(*args), 2)
+                self.assertIn("damaged", line)
+                self.assertNotIn("another process", line)
+        self.assertFalse((self.dir / "rr.partial.h5").exists())
+        (self.dir / "z.partial.h5").write_bytes(damaged.read_bytes())
+        line = one_line(self, smpm("run", BAR, "-o", self.dir / "z.h5", "-q"), 2)
+        self.assertIn("z.partial.h5 exists and is a damaged HDF5 file", line)
+
+    def test_restart_without_a_complete_frame_writes_nothing(self):
+        full = self.completed()
+        empty = self.dir / "e.partial.h5"
+        Restart.cut(full, empty, 0)
+        with h5py.File(empty, "r+") as f:
+            del f["particles"]["000000"].attrs["complete"]
+        before = digest(empty)
+        line = one_line(self, smpm("run", "--restart", empty, "-o", self.dir / "e2.h5", "-q"), 2)
+        self.assertIn(str(empty) + ": no complete frame to restart from", line)
+        self.assertFalse((self.dir / "e2.partial.h5").exists())
+        self.assertFalse((self.dir / "e2.h5").exists())
+        one_line(self, smpm("run", "--restart", empty, "-q"), 2)  # in place: not rewritten
+        self.assertEqual(digest(empty), before)
+
+    def test_a_condition_failing_at_a_later_step_is_a_failed_run(self):
+        # A fixed-y plane and a wall with normal (1, 1) moving onto the block: they first meet
+        # on a node at step 18 (t = 0.85). The input was valid; the run fails at that step
+        # (exit 1, not the bad-input 2) and keeps its frames.
+        src = self.dir / "conflict.toml"
+        src.write_text(CONFLICT)
+        r = smpm("run", src, "-o", self.dir / "c.h5", "-q")
+        line = one_line(self, r, 1)
+        self.assertIn("step 18 (from t = 0.85", line)
+        self.assertIn("at an angle", line)
+        with h5py.File(self.dir / "c.partial.h5", "r") as f:
+            self.assertIn("failed: step 18", f.attrs["status"])
+            self.assertEqual(len([n for n in f["particles"] if "complete" in f["particles"][n].attrs]), 5)
 
 
 if __name__ == "__main__":

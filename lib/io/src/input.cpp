@@ -128,7 +128,7 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
   if (on) {
     const auto k = on->value<int64_t>();
     if (!k || !on->is_integer() || *k < 1 || *k > 100000)
-      r.fail(on, "scheme.order", "must be an integer of at least 1");
+      r.fail(on, "scheme.order", "must be an integer from 1 to 100000");
     f.order = int(*k);
   } else if (step.velocity == VelocityUpdate::FMPM || step.velocity == VelocityUpdate::XPIC) {
     r.fail(nullptr, "scheme.order", "missing required key (the order k of FMPM or m of XPIC)");
@@ -139,7 +139,7 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
   if (const toml::node* mn = scheme.get("blend_every")) {
     const auto m = mn->value<int64_t>();
     if (!m || !mn->is_integer() || *m < 1 || *m > 100000)
-      r.fail(mn, "scheme.blend_every", "must be an integer of at least 1");
+      r.fail(mn, "scheme.blend_every", "must be an integer from 1 to 100000");
     f.blend_every = int(*m);
   }
   step.periodic_cx = r.number(scheme, "periodic_cx", "scheme.periodic_cx", 0.0);
@@ -227,10 +227,12 @@ OutputSettings read_output(const Reader& r, const toml::table& root, const std::
   const std::string stem = std::filesystem::path(source).stem().string();
   out.file = r.string(*output, "file", "output.file", (stem.empty() ? "run" : stem) + ".h5");
   out.every = r.positive(*output, "every", "output.every", end / 10);
-  if (end / out.every > double(kMaxFrames))
-    r.fail(output->get("every"), "output.every",
-           "gives " + std::to_string(std::ceil(end / out.every)) + " frames up to time.end = " +
-               std::to_string(end) + ", more than the " + std::to_string(kMaxFrames) + " accepted");
+  if (end / out.every > double(kMaxFrames)) {
+    std::ostringstream why;
+    why << "gives " << std::ceil(end / out.every) << " frames up to time.end = " << end
+        << ", more than the " << kMaxFrames << " accepted";
+    r.fail(output->get("every"), "output.every", why.str());
+  }
   out.matrices = r.boolean(*output, "matrices", "output.matrices", false);
   return out;
 }

@@ -24,9 +24,12 @@ hid_t open_for_reading(const std::string& path) {
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f >= 0)
     return f;
-  if (H5Fis_hdf5(path.c_str()) > 0)
+  if (H5Fis_hdf5(path.c_str()) > 0 && held_by_writer(path))
     throw InputError(path + ": an HDF5 file that cannot be opened now (another process is "
                             "writing it and holds its lock); try again when that run ends");
+  if (H5Fis_hdf5(path.c_str()) > 0)
+    throw InputError(path + ": a damaged HDF5 file (cut short or overwritten); it cannot be "
+                            "opened");
   throw InputError(path + ": not an HDF5 run file");
 }
 

@@ -21,13 +21,25 @@ const char* signal_name(int s) {
 // complete frame (the restart file itself is never written). Sets next_frame and e0.
 OutputFile open_partial(RunConfig& cfg, const RunOptions& options, const std::string& partial,
                         int& next_frame, std::optional<double>& e0) {
-  if (options.restart_from.empty())
-    return OutputFile(partial, cfg);
-  const StoredRun stored = read_stored_run(options.restart_from);
-  if (!stored.series.empty())
-    e0 = stored.series.front().e.total;
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (!std::filesystem::equivalent(options.restart_from, partial, ec)) {
+  const bool in_place =
+      !options.restart_from.empty() && fs::equivalent(options.restart_from, partial, ec);
+  std::optional<StoredRun> stored;
+  if (!options.restart_from.empty()) {
+    stored = read_stored_run(options.restart_from);
+    if (stored->frame_times.empty())
+      throw InputError(options.restart_from + ": no complete frame to restart from");
+    if (!stored->series.empty())
+      e0 = stored->series.front().e.total;
+  }
+  // A partial file that check_run_output let through (a failed run's) is replaced, never
+  // written through: a link at its name leaves the file it points to as it was.
+  if (!in_place)
+    fs::remove(partial, ec);
+  if (!stored)
+    return OutputFile(partial, cfg);
+  if (!in_place) {
     std::filesystem::copy_file(options.restart_from, partial,
                                std::filesystem::copy_options::overwrite_existing, ec);
     if (ec)
@@ -51,7 +63,7 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
                                                      : cfg.output.file;
   if (restart)
     check_regular_file(options.restart_from, kMaxRunFileBytes, "run file");
-  check_run_output(target, restart ? std::string() : cfg.source, "-o");
+  check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from);
   const OutputLock lock(target); // a second run on this path stops here, before any write
   const std::string partial = partial_path(target);
   Model& model = cfg.model;
@@ -140,6 +152,15 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   } catch (const Interrupted& e) {
     out.set_status(std::string("interrupted: ") + e.what());
     throw;
+  } catch (const InputError& e) {
+    // A condition of the input that fails only at a later step (a moving wall reaching a
+    // fixed plane at an angle): the run has started and its frames are kept, so it is a
+    // failure of that step, not a refused input.
+    const std::string what = "step " + std::to_string(model.step + 1) +
+                             " (from t = " + std::to_string(model.time) + "): " + e.what() +
+                             "; the frames so far are in " + partial;
+    out.set_status("failed: " + what);
+    throw std::runtime_error(what);
   } catch (const std::exception& e) {
     out.set_status(std::string("failed: ") + e.what());
     throw;

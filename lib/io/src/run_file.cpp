@@ -1,5 +1,7 @@
 #include "sparsempm/run_file.hpp"
 
+#include "hdf5_util.hpp"
+#include "output_format.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/output.hpp"
 
@@ -13,6 +15,7 @@
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <vector>
 
 namespace smpm {
 
@@ -28,20 +31,47 @@ bool same_file(const std::string& a, const std::string& b) {
   return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
-// What an existing file is: a sparsempm run, an HDF5 file another process holds locked (a live
-// run writing it), or something else.
-enum class FileKind { Run, Locked, Other };
-FileKind file_kind(const std::string& path) {
+// What an existing file is: a sparsempm run (with its status and whether it holds a complete
+// frame), an HDF5 file a live run holds locked, a damaged HDF5 file, or something else.
+enum class FileKind { Run, Locked, Damaged, Other };
+struct ExistingFile {
+  FileKind kind = FileKind::Other;
+  std::string status;
+  bool has_frame = false;
+};
+ExistingFile existing_file(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   if (H5Fis_hdf5(path.c_str()) <= 0)
-    return FileKind::Other;
+    return {};
+  if (held_by_writer(path))
+    return ExistingFile{FileKind::Locked, {}, false};
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0)
-    return FileKind::Locked;
-  const bool ours =
-      H5Aexists(f, "version") > 0 && H5Aexists(f, "status") > 0 && H5Aexists(f, "input") > 0;
-  H5Fclose(f);
-  return ours ? FileKind::Run : FileKind::Other;
+    return ExistingFile{FileKind::Damaged, {}, false};
+  const h5::Id file(f, H5Fclose);
+  if (H5Aexists(f, "version") <= 0 || H5Aexists(f, "status") <= 0 || H5Aexists(f, "input") <= 0)
+    return {};
+  ExistingFile e{FileKind::Run, {}, false};
+  try {
+    e.status = h5::get_string_attribute(f, "status");
+    e.has_frame = h5::exists(f, "particles") && !detail::complete_frames(f).empty();
+  } catch (const std::exception&) {
+    return ExistingFile{FileKind::Damaged, {}, false};
+  }
+  return e;
+}
+
+// Whether a file starts with the HDF5 signature or holds an XDMF sidecar: files of runs, which a
+// table never replaces.
+bool is_hdf5_or_sidecar(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  if (H5Fis_hdf5(path.c_str()) > 0)
+    return true;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(in.gcount()));
+  return head.find("<Xdmf") != std::string::npos;
 }
 
 // Whether an existing .xmf names `h5_name` as its data file (a sidecar of that run).
@@ -54,6 +84,17 @@ bool is_sidecar_of(const std::string& xmf, const std::string& h5_name) {
          head.find(">" + h5_name + ":/particles/") != std::string::npos;
 }
 } // namespace
+
+// Whether another process holds the HDF5 file lock of `path` (a live run writing it): HDF5
+// takes flock(LOCK_EX) on a file it writes, so a shared claim fails while that run lives.
+bool held_by_writer(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    return false;
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held;
+}
 
 bool is_partial_path(const std::string& path) {
   return fs::path(path).stem().string().ends_with(kPartial) ||
@@ -96,8 +137,8 @@ void check_regular_file(const std::string& path, long long max_bytes, const std:
                      " bytes, more than the " + std::to_string(max_bytes) + " accepted");
 }
 
-void check_run_output(const std::string& path, const std::string& input,
-                      const std::string& option) {
+void check_run_output(const std::string& path, const std::string& input, const std::string& option,
+                      const std::string& restart) {
   const std::string who = option + " " + path + ": ";
   if (path.empty())
     throw InputError(option + ": the output path is empty");
@@ -107,6 +148,8 @@ void check_run_output(const std::string& path, const std::string& input,
   if (fs::path(path).extension().empty())
     throw InputError(who + "has no extension; give a name such as run.h5 (its partial file and "
                            "sidecars are named from it)");
+  if (fs::path(path).extension() == ".lock")
+    throw InputError(who + "is the name of a run's lock file; give a name such as run.h5");
   if (fs::path(path).extension() == ".xmf")
     throw InputError(who + "is the name of a ParaView sidecar; give the .h5 name");
   if (is_partial_path(path))
@@ -120,13 +163,23 @@ void check_run_output(const std::string& path, const std::string& input,
       throw InputError(who + "its partial file " + p + " is a directory");
     if (!fs::exists(p, ec))
       continue;
-    const FileKind kind = file_kind(p);
-    if (kind == FileKind::Locked)
+    const ExistingFile e = existing_file(p);
+    if (e.kind == FileKind::Locked)
       throw InputError(path + ": another run is writing this file (" + p +
                        " is locked); wait for it or choose another -o");
-    if (kind == FileKind::Other)
+    if (e.kind == FileKind::Damaged)
+      throw InputError(who + (p == path ? "exists" : "its partial file " + p + " exists") +
+                       " and is a damaged HDF5 file (it cannot be opened); not overwritten");
+    if (e.kind == FileKind::Other)
       throw InputError(who + (p == path ? "exists" : "its partial file " + p + " exists") +
                        " and is not a sparsempm run file; not overwritten");
+    // A run that was killed or interrupted: its partial file is the point to restart from.
+    if (p != path && e.has_frame &&
+        (e.status == "running" || e.status.starts_with("interrupted")) &&
+        !(!restart.empty() && same_file(p, restart)))
+      throw InputError(who + "its partial file " + p + " holds a run that " +
+                       (e.status == "running" ? "was stopped" : "was interrupted") +
+                       "; continue it with --restart " + p + ", or move it away to start again");
   }
   for (const std::string& p : {path, partial_path(path)}) {
     const std::string xmf = xdmf_path(p);
@@ -141,7 +194,7 @@ void check_run_output(const std::string& path, const std::string& input,
     throw InputError(who + "the directory " + dir.string() + " does not exist");
 }
 
-void check_table_output(const std::string& path, const std::string& input,
+void check_table_output(const std::string& path, const std::vector<std::string>& inputs,
                         const std::string& option) {
   const std::string who = option + " " + path + ": ";
   std::error_code ec;
@@ -149,21 +202,48 @@ void check_table_output(const std::string& path, const std::string& input,
     throw InputError(option + ": the output path is empty");
   if (fs::is_directory(path, ec))
     throw InputError(who + "is a directory; give a file name such as table.csv");
-  if (!input.empty() && same_file(path, input))
-    throw InputError(who + "is the input file; not overwritten");
+  for (const std::string& input : inputs)
+    if (!input.empty() && same_file(path, input))
+      throw InputError(who + "is the input file " + input + "; not overwritten");
+  if (fs::exists(path, ec) && is_hdf5_or_sidecar(path))
+    throw InputError(who + "exists and is a run file or its sidecar; not overwritten");
+  if (fs::path(path).extension() == ".lock")
+    throw InputError(who + "is the name of a run's lock file; give a name such as table.csv");
+  if (fs::exists(path + ".lock", ec))
+    throw InputError(who + "a run is writing this path (" + path +
+                     ".lock exists); not overwritten");
   const fs::path dir = fs::path(path).parent_path();
   if (!dir.empty() && !fs::is_directory(dir, ec))
-    throw InputError(who + "the directory " + dir.string() + " does not exist");
+    throw InputError(who + (fs::exists(dir, ec)
+                                ? "the directory " + dir.string() + " is a file"
+                                : "the directory " + dir.string() + " does not exist"));
+  // The table is written through a temporary file in its directory: found here, before the
+  // work, rather than after it.
+  const std::string in_dir = dir.empty() ? std::string(".") : dir.string();
+  if (::access(in_dir.c_str(), W_OK) != 0)
+    throw InputError(who + "cannot write in the directory " + in_dir + " (" + std::strerror(errno) +
+                     ")");
 }
 
 OutputLock::OutputLock(const std::string& path) : lock_path_(path + ".lock") {
   // Lock the file at the path, then check that the path still names it: a run that finished
   // meanwhile unlinks its lock file before releasing it.
   for (int attempt = 0; attempt < 100; ++attempt) {
-    fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // Not through a link; and a lock file is empty: anything else at its name is somebody's
+    // file, which the claim would remove when it ends.
+    fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd_ < 0 && errno == ELOOP)
+      throw InputError(path + ": " + lock_path_ + " is a link, not a lock file; not touched");
     if (fd_ < 0)
       throw InputError(path + ": cannot create the lock file " + lock_path_ + " (" +
                        std::strerror(errno) + "; is the directory writable?)");
+    struct stat own {};
+    if (::fstat(fd_, &own) != 0 || !S_ISREG(own.st_mode) || own.st_size != 0 || own.st_nlink != 1) {
+      ::close(fd_);
+      fd_ = -1;
+      throw InputError(path + ": " + lock_path_ +
+                       " exists and is not an empty lock file; not touched (move it away)");
+    }
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       ::close(fd_);
       fd_ = -1;

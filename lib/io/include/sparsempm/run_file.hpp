@@ -7,6 +7,7 @@
 /// at the path.
 
 #include <string>
+#include <vector>
 
 namespace smpm {
 
@@ -20,13 +21,23 @@ bool is_partial_path(const std::string& path);
 
 /// Throws InputError (one line naming the option, the path and the reason) unless `path` may
 /// receive a run's output: not a directory, not the input file, not an .xmf name, not an
-/// existing file other than a sparsempm run, and with a sidecar that is neither the input
-/// nor an XDMF file of another run. `option` names the option in messages ("-o").
-void check_run_output(const std::string& path, const std::string& input, const std::string& option);
+/// existing file other than a sparsempm run, not a lock file's name, with a partial file that
+/// is not a damaged file or the restart point of a killed or interrupted run, and with a
+/// sidecar that is neither the input nor an XDMF file of another run. `option` names the
+/// option in messages ("-o"); `restart` is the run file a restart continues (its own partial
+/// file is the one it continues into).
+void check_run_output(const std::string& path, const std::string& input, const std::string& option,
+                      const std::string& restart = {});
 /// Throws InputError unless `path` may receive a table (CSV) of `smpm stability` or `smpm
-/// spectrum`: not a directory, not the input file, in a directory that exists.
-void check_table_output(const std::string& path, const std::string& input,
+/// spectrum`: not a directory, none of `inputs` (the input file, a run file read), not an
+/// existing HDF5 file or XDMF sidecar, not a lock file or a path a run holds, in a writable
+/// directory that exists.
+void check_table_output(const std::string& path, const std::vector<std::string>& inputs,
                         const std::string& option);
+
+/// Whether another process holds the HDF5 file lock of `path`: a live run writing it (as
+/// opposed to a damaged file, which HDF5 cannot open either).
+bool held_by_writer(const std::string& path);
 
 /// Largest run file read (any size HDF5 holds; the check is that it is a regular file).
 inline constexpr long long kMaxRunFileBytes = 1LL << 50;
