@@ -17,13 +17,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
+#include <fcntl.h>
 #include <functional>
 #include <limits>
 #include <mutex>
 #include <optional>
 #include <sstream>
 #include <thread>
+#include <unistd.h>
 
 namespace smpm::app {
 
@@ -140,27 +141,46 @@ std::string shown(double v) {
   return std::isnan(v) ? std::string("nan") : cell(v, 6);
 }
 
-// Writes `text` to `path` through a temporary file in the same directory, so that a table
-// appears whole or not at all; a failed write or move is an error (exit 1), the temporary
-// file removed.
-void write_text_file(const std::string& path, const std::string& text) {
+// Writes `text` to `path` through the temporary file `path`.tmp, so that a table appears whole
+// or not at all. The temporary name is unlinked and created anew (O_EXCL | O_NOFOLLOW): a file
+// or link found there, left by a killed command, is never written through. The output is
+// checked again just before the move (a run may have claimed the path during the work); a
+// failed write or move is an error (exit 1) and removes the temporary file.
+void write_text_file(const std::string& path, const std::string& text,
+                     const std::vector<std::string>& inputs) {
   const std::string tmp = path + ".tmp";
-  bool ok = false;
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    ok = bool(out.flush());
+  ::unlink(tmp.c_str());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  int why = fd < 0 ? errno : 0;
+  for (size_t done = 0; !why && done < text.size();) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n <= 0)
+      why = n < 0 ? errno : EIO;
+    else
+      done += size_t(n);
   }
-  if (ok)
-    ok = std::rename(tmp.c_str(), path.c_str()) == 0;
-  if (!ok) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("-o " + path + ": cannot write the table (" + std::strerror(errno) +
+  if (fd >= 0 && ::close(fd) != 0 && !why)
+    why = errno;
+  if (!why) {
+    try {
+      check_table_output(path, inputs, "-o");
+    } catch (const InputError&) {
+      ::unlink(tmp.c_str());
+      throw;
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      why = errno;
+  }
+  if (why) {
+    if (fd >= 0)
+      ::unlink(tmp.c_str());
+    throw std::runtime_error("-o " + path + ": cannot write the table (" + std::strerror(why) +
                              ")");
   }
 }
 
-void write_table(const std::vector<Row>& rows, const std::string& path) {
+void write_table(const std::vector<Row>& rows, const std::string& path,
+                 const std::vector<std::string>& inputs) {
   std::ostringstream out;
   out << "scheme,k,alpha,blend_every,periodic_cx,position_alpha,c_spectral,config_spectral,"
          "spectral_status,c_simulation,energy_change\n";
@@ -171,7 +191,7 @@ void write_table(const std::vector<Row>& rows, const std::string& path) {
         << "," << cell(position_alpha(r.opt)) << "," << cell(r.c_spectral) << "," << r.config << ","
         << r.spectral_status << "," << cell(r.c_simulation) << "," << cell(r.energy_change) << "\n";
   }
-  write_text_file(path, out.str());
+  write_text_file(path, out.str(), inputs);
 }
 
 void print_table(const std::vector<Row>& rows) {
@@ -379,7 +399,7 @@ int stability_command(const StabilityArgs& a) {
   }
   const auto start = std::chrono::steady_clock::now();
   compute_rows(rows, cfg, a, frames, frame_names);
-  write_table(rows, a.output);
+  write_table(rows, a.output, {a.input, a.frames});
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   print_table(rows);
@@ -428,7 +448,7 @@ int spectrum_command(const SpectrumArgs& a) {
             << (a.courant > 0 ? std::to_string(a.courant) : "") << "," << cell(rho, 10) << "\n";
         std::printf("%4d %6.3g %6d %16.6e %10s\n", k, alpha, m, err, cell(rho, 8).c_str());
       }
-  write_text_file(a.output, out.str());
+  write_text_file(a.output, out.str(), {a.input});
   std::printf("table in %s\n", a.output.c_str());
   return 0;
 }

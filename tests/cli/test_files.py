@@ -142,10 +142,17 @@ class OutputNames(Base):
         self.assertEqual(inp.read_text(), BAR.read_text())
 
     def test_table_write_failure_is_an_error(self):
-        (self.dir / "t.csv.tmp").symlink_to("/dev/full")
-        r = smpm("spectrum", BAR, "--k", "1,2", "--alpha", "1", "--every", "1", "-o", self.dir / "t.csv")
-        self.assertIn("cannot write the table", one_line(self, r, 1))
+        # A file size limit of 100 bytes (the table has about 250) makes the write fail
+        # (EFBIG; SIGXFSZ ignored), as a full disk would.
+        def limit():
+            import resource
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (100, 100))
+        r = smpm("spectrum", BAR, "--k", "1,2", "--alpha", "1", "--every", "1", "-o", self.dir / "t.csv",
+                 preexec_fn=limit)
+        self.assertIn("cannot write the table (File too large)", one_line(self, r, 1))
         self.assertFalse((self.dir / "t.csv").exists())
+        self.assertFalse((self.dir / "t.csv.tmp").exists())
 
 
 class Restart(Base):
@@ -532,7 +539,7 @@ class SecondLook(Base):
         # then moved the table to live.h5 and exited 0).
         live = self.dir / "live.h5"
         p = self.run_in_background(live, "--set", "time.end=0.2")  # about 1.5 s
-        self.assertIn("run file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "live.partial.h5"), 2))
+        self.assertIn("partial file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "live.partial.h5"), 2))
         self.assertIn("a run is writing this path", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", live), 2))
         _, err = p.communicate(timeout=600)
         self.assertEqual(p.returncode, 0, err)
@@ -540,6 +547,17 @@ class SecondLook(Base):
             self.assertEqual(f.attrs["status"], "completed")
         # A path under a file, named as such.
         self.assertIn("is a file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", run / "t.csv"), 2))
+        # A link at the table's temporary name is replaced, not written through; a FIFO as the
+        # table is refused at once (it would block); a stale lock file does not block a table.
+        (self.dir / "t.csv.tmp").symlink_to(run)
+        r = smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "t.csv")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(digest(run), before[0])
+        self.assertTrue((self.dir / "t.csv").read_text().startswith("#"))
+        os.mkfifo(self.dir / "f.csv")
+        self.assertIn("not a regular file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "f.csv", timeout=30), 2))
+        (self.dir / "s.csv.lock").touch()
+        self.assertEqual(smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "s.csv").returncode, 0)
 
     def test_table_directory_is_checked_before_the_work(self):
         if os.geteuid() != 0:
@@ -590,6 +608,18 @@ class SecondLook(Base):
                 with h5py.File(self.dir / out.replace(".h5", ".partial.h5"), "r") as f:
                     self.assertIn("failed", f.attrs["status"])
         self.assertTrue(precious.exists() and not (self.dir / "x.partial.h5").is_symlink())
+        # A restart of the completed run whose partial name is a link to it: the link is
+        # replaced by a copy, the file it named (and its other names) stay as they were.
+        for make in (os.symlink, os.link):
+            with self.subTest(link=make.__name__):
+                (self.dir / "precious.partial.h5").unlink(missing_ok=True)
+                make(precious, self.dir / "precious.partial.h5")
+                r = smpm("run", "--restart", precious, "-q")
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertFalse(precious.is_symlink())
+                self.assertEqual(digest(backup), before)
+                with h5py.File(precious, "r") as f:
+                    self.assertEqual(f.attrs["status"], "completed")
 
     def test_a_rerun_keeps_a_killed_runs_restart_point(self):
         full = self.completed()

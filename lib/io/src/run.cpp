@@ -9,6 +9,7 @@
 #include <csignal>
 #include <filesystem>
 #include <optional>
+#include <sys/stat.h>
 
 namespace smpm {
 
@@ -23,8 +24,12 @@ OutputFile open_partial(RunConfig& cfg, const RunOptions& options, const std::st
                         int& next_frame, std::optional<double>& e0) {
   namespace fs = std::filesystem;
   std::error_code ec;
+  // In place only when the partial name is the restart file itself, not a link to it (a
+  // symbolic or a second hard link to a completed run, which must stay as it is).
+  struct stat named {};
   const bool in_place =
-      !options.restart_from.empty() && fs::equivalent(options.restart_from, partial, ec);
+      !options.restart_from.empty() && fs::equivalent(options.restart_from, partial, ec) &&
+      ::lstat(partial.c_str(), &named) == 0 && S_ISREG(named.st_mode) && named.st_nlink == 1;
   std::optional<StoredRun> stored;
   if (!options.restart_from.empty()) {
     stored = read_stored_run(options.restart_from);

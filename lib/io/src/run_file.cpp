@@ -31,6 +31,17 @@ bool same_file(const std::string& a, const std::string& b) {
   return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
+// Whether a live run holds the lock file `lock` (OutputLock's flock): a stale one, left by a
+// killed run, is not held.
+bool lock_held(const std::string& lock) {
+  const int fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd < 0)
+    return false;
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held;
+}
+
 // What an existing file is: a sparsempm run (with its status and whether it holds a complete
 // frame), an HDF5 file a live run holds locked, a damaged HDF5 file, or something else.
 enum class FileKind { Run, Locked, Damaged, Other };
@@ -155,6 +166,11 @@ void check_run_output(const std::string& path, const std::string& input, const s
   if (is_partial_path(path))
     throw InputError(who + "names a partial file; give the result's name " + final_path(path) +
                      " (a run writes " + path + " itself and moves it there when it completes)");
+  // A live run on this path (also where HDF5's own file locks are off) is named as such
+  // before its files are judged.
+  if (lock_held(path + ".lock"))
+    throw InputError(path + ": another run is writing this file (" + path +
+                     ".lock is locked); wait for it or choose another -o");
   for (const std::string& p : {path, partial_path(path)}) {
     if (!input.empty() && same_file(p, input))
       throw InputError(who + (p == path ? "is" : "its partial file " + p + " is") +
@@ -168,8 +184,9 @@ void check_run_output(const std::string& path, const std::string& input, const s
       throw InputError(path + ": another run is writing this file (" + p +
                        " is locked); wait for it or choose another -o");
     if (e.kind == FileKind::Damaged)
-      throw InputError(who + (p == path ? "exists" : "its partial file " + p + " exists") +
-                       " and is a damaged HDF5 file (it cannot be opened); not overwritten");
+      throw InputError(
+          who + (p == path ? "exists" : "its partial file " + p + " exists") +
+          " and is a damaged HDF5 file (it cannot be opened); not overwritten (move it away)");
     if (e.kind == FileKind::Other)
       throw InputError(who + (p == path ? "exists" : "its partial file " + p + " exists") +
                        " and is not a sparsempm run file; not overwritten");
@@ -200,18 +217,26 @@ void check_table_output(const std::string& path, const std::vector<std::string>&
   std::error_code ec;
   if (path.empty())
     throw InputError(option + ": the output path is empty");
-  if (fs::is_directory(path, ec))
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_directory(st))
     throw InputError(who + "is a directory; give a file name such as table.csv");
-  for (const std::string& input : inputs)
-    if (!input.empty() && same_file(path, input))
-      throw InputError(who + "is the input file " + input + "; not overwritten");
-  if (fs::exists(path, ec) && is_hdf5_or_sidecar(path))
-    throw InputError(who + "exists and is a run file or its sidecar; not overwritten");
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw InputError(who + "is not a regular file (a device, FIFO or socket)");
+  for (size_t k = 0; k < inputs.size(); ++k)
+    if (!inputs[k].empty() && same_file(path, inputs[k]))
+      throw InputError(who +
+                       (k == 0 ? std::string("is the input file")
+                               : "is " + inputs[k] + ", a run file this command reads") +
+                       "; not overwritten");
+  if (is_partial_path(path))
+    throw InputError(who + "names a run's partial file; give a name such as table.csv");
   if (fs::path(path).extension() == ".lock")
     throw InputError(who + "is the name of a run's lock file; give a name such as table.csv");
-  if (fs::exists(path + ".lock", ec))
-    throw InputError(who + "a run is writing this path (" + path +
-                     ".lock exists); not overwritten");
+  if (fs::exists(st) && is_hdf5_or_sidecar(path))
+    throw InputError(who + "exists and is a run file or its sidecar; not overwritten");
+  if (lock_held(path + ".lock"))
+    throw InputError(who + "a run is writing this path (it holds " + path +
+                     ".lock); not overwritten");
   const fs::path dir = fs::path(path).parent_path();
   if (!dir.empty() && !fs::is_directory(dir, ec))
     throw InputError(who + (fs::exists(dir, ec)

@@ -29,7 +29,7 @@ bool is_partial_path(const std::string& path);
 void check_run_output(const std::string& path, const std::string& input, const std::string& option,
                       const std::string& restart = {});
 /// Throws InputError unless `path` may receive a table (CSV) of `smpm stability` or `smpm
-/// spectrum`: not a directory, none of `inputs` (the input file, a run file read), not an
+/// spectrum`: not a directory, none of `inputs` (the input file first, then run files read), not an
 /// existing HDF5 file or XDMF sidecar, not a lock file or a path a run holds, in a writable
 /// directory that exists.
 void check_table_output(const std::string& path, const std::vector<std::string>& inputs,
