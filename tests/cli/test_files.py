@@ -111,7 +111,7 @@ class OutputNames(Base):
         (self.dir / "other.xmf").write_text("<Xdmf>somebody else's</Xdmf>")
         for o, why in ((self.dir / "run.xmf", "sidecar"), (src, "input file"),
                        (foreign, "not a sparsempm run file"), (xmf_owner, "sidecar"),
-                       (self.dir, "directory")):
+                       (self.dir, "directory"), (src / "x.h5", "bar.toml is a file")):
             with self.subTest(o=o):
                 line = one_line(self, smpm("run", src, "-o", o, "-q"), 2)
                 self.assertIn(why, line)
@@ -475,6 +475,24 @@ class DiskFull(Base):
                 self.assertIn("frames:   %d" % len(frames), info.stdout)
                 for g in frames:
                     self.assertTrue(np.all(np.isfinite(g["X"][:])))
+        finally:
+            subprocess.run(["umount", str(mnt)])
+
+    def test_disk_full_before_the_first_frame(self):
+        # 8 kB: room for the lock file, not for the run file's first flush. Before, the message
+        # was "HDF5: flush" (no file named) and a frameless partial file was left.
+        if os.geteuid() != 0:
+            self.skipTest("mounting a small tmpfs needs root")
+        mnt = self.dir / "tiny"
+        mnt.mkdir()
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=8k", "tmpfs", str(mnt)]).returncode:
+            self.skipTest("cannot mount a tmpfs here")
+        try:
+            r = smpm("run", BAR, "-o", mnt / "x.h5", "-q")
+            line = one_line(self, r, 1)
+            self.assertIn("x.partial.h5: cannot start the run file", line)
+            self.assertIn("is the disk full?", line)
+            self.assertEqual(sorted(p.name for p in mnt.iterdir()), [])
         finally:
             subprocess.run(["umount", str(mnt)])
 

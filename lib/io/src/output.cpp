@@ -97,10 +97,12 @@ OutputFile::OutputFile(const std::string& path, const RunConfig& cfg)
                      "writable?)");
   try {
     initialize(cfg);
-  } catch (...) {
+  } catch (const std::exception& e) {
     H5Fclose(file_); // the destructor does not run for a throwing constructor
     file_ = -1;
-    throw;
+    std::remove(path.c_str()); // no frame yet: nothing to keep, and no file that looks valid
+    throw std::runtime_error(path + ": cannot start the run file (" + e.what() +
+                             "; is the disk full?)");
   }
 }
 

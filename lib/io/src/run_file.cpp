@@ -208,7 +208,8 @@ void check_run_output(const std::string& path, const std::string& input, const s
   }
   const fs::path dir = fs::path(path).parent_path();
   if (!dir.empty() && !fs::is_directory(dir, ec))
-    throw InputError(who + "the directory " + dir.string() + " does not exist");
+    throw InputError(who + "the directory " + dir.string() +
+                     (fs::exists(dir, ec) ? " is a file" : " does not exist"));
 }
 
 void check_table_output(const std::string& path, const std::vector<std::string>& inputs,
