@@ -18,19 +18,20 @@ using namespace detail;
 
 namespace detail {
 
-// Opens a run file read-only; InputError saying why not (not HDF5, or locked by a writer).
+// Opens a run file read-only; InputError saying why not (not HDF5, locked by a writer, or
+// damaged).
 hid_t open_for_reading(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f >= 0)
     return f;
-  if (H5Fis_hdf5(path.c_str()) > 0 && held_by_writer(path))
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw InputError(path + ": not an HDF5 run file");
+  if (held_by_writer(path))
     throw InputError(path + ": an HDF5 file that cannot be opened now (another process is "
                             "writing it and holds its lock); try again when that run ends");
-  if (H5Fis_hdf5(path.c_str()) > 0)
-    throw InputError(path + ": a damaged HDF5 file (cut short or overwritten); it cannot be "
-                            "opened");
-  throw InputError(path + ": not an HDF5 run file");
+  throw InputError(path + ": a damaged HDF5 file (cut short or overwritten); it cannot be "
+                          "opened");
 }
 
 // Complete frames of a file, ascending.

@@ -31,17 +31,6 @@ bool same_file(const std::string& a, const std::string& b) {
   return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
-// Whether a live run holds the lock file `lock` (OutputLock's flock): a stale one, left by a
-// killed run, is not held.
-bool lock_held(const std::string& lock) {
-  const int fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
-  if (fd < 0)
-    return false;
-  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
-  ::close(fd);
-  return held;
-}
-
 // What an existing file is: a sparsempm run (with its status and whether it holds a complete
 // frame), an HDF5 file a live run holds locked, a damaged HDF5 file, or something else.
 enum class FileKind { Run, Locked, Damaged, Other };
@@ -72,34 +61,35 @@ ExistingFile existing_file(const std::string& path) {
   return e;
 }
 
-// Whether a file starts with the HDF5 signature or holds an XDMF sidecar: files of runs, which a
-// table never replaces.
-bool is_hdf5_or_sidecar(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  if (H5Fis_hdf5(path.c_str()) > 0)
-    return true;
+// The first 4 kB of a file (where an XDMF sidecar names itself and its data file).
+std::string file_head(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string head(4096, '\0');
   in.read(head.data(), std::streamsize(head.size()));
   head.resize(size_t(in.gcount()));
-  return head.find("<Xdmf") != std::string::npos;
+  return head;
+}
+
+// Whether a file starts with the HDF5 signature or holds an XDMF sidecar: files of runs, which a
+// table never replaces.
+bool is_hdf5_or_sidecar(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  return H5Fis_hdf5(path.c_str()) > 0 || file_head(path).find("<Xdmf") != std::string::npos;
 }
 
 // Whether an existing .xmf names `h5_name` as its data file (a sidecar of that run).
 bool is_sidecar_of(const std::string& xmf, const std::string& h5_name) {
-  std::ifstream in(xmf, std::ios::binary);
-  std::string head(4096, '\0');
-  in.read(head.data(), std::streamsize(head.size()));
-  head.resize(size_t(in.gcount()));
+  const std::string head = file_head(xmf);
   return head.find("<Xdmf") != std::string::npos &&
          head.find(">" + h5_name + ":/particles/") != std::string::npos;
 }
 } // namespace
 
-// Whether another process holds the HDF5 file lock of `path` (a live run writing it): HDF5
-// takes flock(LOCK_EX) on a file it writes, so a shared claim fails while that run lives.
+// Whether a live run holds `path` with flock(LOCK_EX): its HDF5 file (HDF5 locks a file it
+// writes) or its lock file (OutputLock). A shared claim fails while that run lives; a stale
+// lock file left by a killed run is not held.
 bool held_by_writer(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0)
     return false;
   const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
@@ -168,7 +158,7 @@ void check_run_output(const std::string& path, const std::string& input, const s
                      " (a run writes " + path + " itself and moves it there when it completes)");
   // A live run on this path (also where HDF5's own file locks are off) is named as such
   // before its files are judged.
-  if (lock_held(path + ".lock"))
+  if (held_by_writer(path + ".lock"))
     throw InputError(path + ": another run is writing this file (" + path +
                      ".lock is locked); wait for it or choose another -o");
   for (const std::string& p : {path, partial_path(path)}) {
@@ -235,7 +225,7 @@ void check_table_output(const std::string& path, const std::vector<std::string>&
     throw InputError(who + "is the name of a run's lock file; give a name such as table.csv");
   if (fs::exists(st) && is_hdf5_or_sidecar(path))
     throw InputError(who + "exists and is a run file or its sidecar; not overwritten");
-  if (lock_held(path + ".lock"))
+  if (held_by_writer(path + ".lock"))
     throw InputError(who + "a run is writing this path (it holds " + path +
                      ".lock); not overwritten");
   const fs::path dir = fs::path(path).parent_path();

@@ -35,8 +35,8 @@ void check_run_output(const std::string& path, const std::string& input, const s
 void check_table_output(const std::string& path, const std::vector<std::string>& inputs,
                         const std::string& option);
 
-/// Whether another process holds the HDF5 file lock of `path`: a live run writing it (as
-/// opposed to a damaged file, which HDF5 cannot open either).
+/// Whether a live run holds `path` locked: its HDF5 file (as opposed to a damaged file, which
+/// HDF5 cannot open either) or its lock file "<output>.lock" (as opposed to a stale one).
 bool held_by_writer(const std::string& path);
 
 /// Largest run file read (any size HDF5 holds; the check is that it is a regular file).
