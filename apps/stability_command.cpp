@@ -321,7 +321,7 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
   });
 }
 
-constexpr int kMaxOrder = 10000; // FMPM orders, blend periods
+constexpr int kMaxOrder = kMaxFmpmOrder; // FMPM orders, blend periods (fmpm.hpp)
 constexpr int kMaxShifts = 1000;
 constexpr size_t kMaxList = 1000; // entries of a list option
 
@@ -417,7 +417,8 @@ int spectrum_command(const SpectrumArgs& a) {
   const MassSpectrum ms = mass_spectrum(ops, mt.matrix);
   Field p, exact;
   map_momentum(particle_operators(ops), model.particles.V, p);
-  cfg.step.exact_solver()->solve(ops, mt.matrix, {}, p, exact); // the input's exact_* options
+  cfg.step.exact_solver(cfg.step.exact)
+      ->solve(ops, mt.matrix, {}, p, exact); // the input's exact_* options
   std::printf("active nodes %ld: rho(A) = %.8f, min eig(m^-1 m~) = %.3e, cond(m~) = %.4g\n",
               long(ms.active), ms.rho_A, ms.min_eig_minv_mt, ms.cond_mt);
   std::ostringstream out;
@@ -439,7 +440,7 @@ int spectrum_command(const SpectrumArgs& a) {
           opt.velocity = VelocityUpdate::FMPM;
           opt.fmpm = f;
           opt.periodic_cx = 0;
-          const LinearizedStep T(model, opt, a.courant / courant_of(model, 1.0));
+          const LinearizedStep T(model, opt, stable_time_step(model, a.courant));
           const SpectralRadius r = spectral_radius(T);
           rho = r.status == SpectralStatus::NonFinite ? std::numeric_limits<double>::infinity()
                                                       : r.rho;

@@ -1,6 +1,5 @@
 #include "sparsempm/advance.hpp"
 
-#include "parallel.hpp"
 #include "sparsempm/errors.hpp"
 
 #include <algorithm>
@@ -10,40 +9,6 @@
 #include <string>
 
 namespace smpm {
-
-namespace {
-// max_p |V_p|, as energies() finds it.
-double max_particle_speed(const Particles& P) {
-  double v2 = 0;
-  detail::ordered_reduce(
-      P.size(), 1, 0.0, &v2,
-      [&](Index p, double* acc) { acc[0] = std::max(acc[0], speed_squared(P, p)); },
-      [](double a, double b) { return std::max(a, b); });
-  return std::sqrt(v2);
-}
-
-// Δt = C Δx_min / speed.
-double time_step(const Model& model, double courant, double speed) {
-  if (!(courant > 0) || !std::isfinite(courant))
-    throw InputError("courant number must be positive, got " + std::to_string(courant));
-  if (!(speed > 0))
-    throw InputError("cannot choose a time step: no wave speed and no particle velocity");
-  return courant * model.grid.min_cell_size() / speed;
-}
-} // namespace
-
-double signal_speed(const Model& model) {
-  return std::max(max_wave_speed(model.materials, model.particles),
-                  max_particle_speed(model.particles));
-}
-
-double stable_time_step(const Model& model, double courant) {
-  return time_step(model, courant, signal_speed(model));
-}
-
-double courant_of(const Model& model, double dt) {
-  return dt * signal_speed(model) / model.grid.min_cell_size();
-}
 
 void check_energy(const Model& model, double e, double e0, const FailureTest& test) {
   if (!std::isfinite(e))
@@ -93,7 +58,7 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   const double wave = shock ? 0 : max_wave_speed(model.materials, model.particles);
   double speed = signal_speed(model);
   while (model.time < o.end - eps) {
-    double dt = time_step(model, o.courant, speed);
+    double dt = stable_time_step(model, o.courant, speed);
     if (o.land_on_stops)
       dt = std::min(dt, stop - model.time);
     stepper.step(model, dt);

@@ -3,18 +3,18 @@
 #include "kernels.hpp"
 #include "parallel.hpp"
 
+#include "sparsempm/errors.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace smpm {
 
-Energies energies(const Model& model, const Eigen::VectorXd* density) {
-  const Particles& P = model.particles;
-  const int d = P.dim;
-  Energies e;
-  // Σ_p M_p |V_p|², Σ_p M_p V_p and max_p |V_p|² in one pass, in the fixed order of
-  // ordered_reduce_blocks; each block sums in registers, the dimension a compile-time constant.
-  double sums[5];
+namespace {
+// Σ_p M_p |V_p|², max_p |V_p|² and Σ_p M_p V_p (d entries) in one pass, in the fixed order of
+// ordered_reduce_blocks; each block sums in registers, the dimension a compile-time constant.
+void velocity_sums(const Particles& P, double sums[5]) {
   auto pass = [&]<int D>() {
     detail::ordered_reduce_blocks(
         P.size(), 2 + D, 0.0, sums,
@@ -25,7 +25,7 @@ Energies energies(const Model& model, const Eigen::VectorXd* density) {
             const double M = P.mass[p];
             double v2 = 0;
             for (int a = 0; a < D; ++a)
-              v2 += V[a] * V[a]; // as speed_squared
+              v2 += V[a] * V[a];
             for (int a = 0; a < D; ++a)
               mom[a] += M * V[a];
             kin += M * v2;
@@ -38,14 +38,49 @@ Energies energies(const Model& model, const Eigen::VectorXd* density) {
         },
         [](int c, double a, double b) { return c == 1 ? std::max(a, b) : a + b; });
   };
-  detail::by_dim(d, pass);
+  detail::by_dim(P.dim, pass);
+}
+} // namespace
+
+Energies energies(const Model& model, const Eigen::VectorXd* density) {
+  const Particles& P = model.particles;
+  double sums[5];
+  velocity_sums(P, sums);
+  Energies e;
   e.kinetic = 0.5 * sums[0];
   e.max_speed = std::sqrt(sums[1]);
   e.strain = strain_energy(model.materials, P, density);
   e.total = e.kinetic + e.strain;
-  for (int a = 0; a < d; ++a)
+  for (int a = 0; a < P.dim; ++a)
     e.momentum[a] = sums[2 + a];
   return e;
+}
+
+double max_particle_speed(const Particles& particles) {
+  double sums[5];
+  velocity_sums(particles, sums);
+  return std::sqrt(sums[1]);
+}
+
+double signal_speed(const Model& model) {
+  return std::max(max_wave_speed(model.materials, model.particles),
+                  max_particle_speed(model.particles));
+}
+
+double stable_time_step(const Model& model, double courant, double speed) {
+  if (!(courant > 0) || !std::isfinite(courant))
+    throw InputError("courant number must be positive, got " + std::to_string(courant));
+  if (!(speed > 0))
+    throw InputError("cannot choose a time step: no wave speed and no particle velocity");
+  return courant * model.grid.min_cell_size() / speed;
+}
+
+double stable_time_step(const Model& model, double courant) {
+  return stable_time_step(model, courant, signal_speed(model));
+}
+
+double courant_of(const Model& model, double dt) {
+  return dt * signal_speed(model) / model.grid.min_cell_size();
 }
 
 void material_sums(const Model& model, std::vector<double>& out) {

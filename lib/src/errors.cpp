@@ -2,8 +2,13 @@
 
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 namespace smpm {
+
+OptionError::OptionError(std::string key, const std::string& value, std::string reason)
+    : InputError(key + " = " + value + ": " + reason), key_(std::move(key)),
+      reason_(std::move(reason)) {}
 
 NumericalError::NumericalError(const std::string& what, long step)
     : std::runtime_error(what), step_(step) {}
@@ -26,6 +31,12 @@ std::string clip(std::string_view text, size_t max) {
   if (text.size() > max)
     out += "... (" + std::to_string(text.size()) + " characters)";
   return out;
+}
+
+std::string number_text(double value) {
+  std::ostringstream os;
+  os << value;
+  return os.str();
 }
 
 NumericalError at_step(const NumericalError& e, long step, double time) {

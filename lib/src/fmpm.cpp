@@ -1,5 +1,6 @@
 #include "sparsempm/fmpm.hpp"
 
+#include "enum_names.hpp"
 #include "kernels.hpp"
 #include "parallel.hpp"
 #include "sparsempm/errors.hpp"
@@ -9,56 +10,41 @@
 
 namespace smpm {
 
+namespace {
+constexpr detail::EnumNames<BCMethod, 4> kBCMethods{{{BCMethod::Incremental, "incremental"},
+                                                     {BCMethod::Lumped, "lumped"},
+                                                     {BCMethod::Velocity, "velocity"},
+                                                     {BCMethod::Combined, "combined"}}};
+constexpr detail::EnumNames<ConvergenceMetric, 3> kMetrics{
+    {{ConvergenceMetric::None, "none"},
+     {ConvergenceMetric::Means, "means"},
+     {ConvergenceMetric::Changes, "changes"}}};
+} // namespace
+
 std::string_view to_string(BCMethod m) {
-  switch (m) {
-  case BCMethod::Incremental:
-    return "incremental";
-  case BCMethod::Lumped:
-    return "lumped";
-  case BCMethod::Velocity:
-    return "velocity";
-  case BCMethod::Combined:
-    return "combined";
-  }
-  return "?";
+  return detail::enum_name(m, kBCMethods);
 }
-
 BCMethod bc_method_from_string(std::string_view name) {
-  for (auto m : {BCMethod::Incremental, BCMethod::Lumped, BCMethod::Velocity, BCMethod::Combined})
-    if (to_string(m) == name)
-      return m;
-  throw InputError("unknown BC method '" + clip(name) +
-                   "' (expected incremental | lumped | velocity | combined)");
+  return detail::parse_enum(name, kBCMethods, "BC method");
 }
-
 std::string_view to_string(ConvergenceMetric m) {
-  switch (m) {
-  case ConvergenceMetric::None:
-    return "none";
-  case ConvergenceMetric::Means:
-    return "means";
-  case ConvergenceMetric::Changes:
-    return "changes";
-  }
-  return "?";
+  return detail::enum_name(m, kMetrics);
 }
-
 ConvergenceMetric convergence_metric_from_string(std::string_view name) {
-  for (auto m : {ConvergenceMetric::None, ConvergenceMetric::Means, ConvergenceMetric::Changes})
-    if (to_string(m) == name)
-      return m;
-  throw InputError("unknown convergence metric \'" + clip(name) + "' (expected means | changes)");
+  return detail::parse_enum(name, kMetrics, "convergence metric");
 }
 
 void validate(const FmpmOptions& opt) {
-  if (opt.order < 1)
-    throw InputError("FMPM order must be at least 1, got " + std::to_string(opt.order));
+  const std::string range = "must be an integer from 1 to " + std::to_string(kMaxFmpmOrder);
+  if (opt.order < 1 || opt.order > kMaxFmpmOrder)
+    throw OptionError("order", std::to_string(opt.order), range);
   if (!(opt.blend_alpha >= 0 && opt.blend_alpha <= 1))
-    throw InputError("blend_alpha must lie in [0, 1], got " + std::to_string(opt.blend_alpha));
-  if (opt.blend_every < 1)
-    throw InputError("blend_every must be at least 1, got " + std::to_string(opt.blend_every));
-  if (!(opt.dynamic_limit >= 0))
-    throw InputError("dynamic_limit must be non-negative");
+    throw OptionError("blend_alpha", number_text(opt.blend_alpha), "must lie in [0, 1]");
+  if (opt.blend_every < 1 || opt.blend_every > kMaxFmpmOrder)
+    throw OptionError("blend_every", std::to_string(opt.blend_every), range);
+  if (!(opt.dynamic_limit >= 0) || !std::isfinite(opt.dynamic_limit))
+    throw OptionError("dynamic_limit", number_text(opt.dynamic_limit),
+                      "must be non-negative and finite");
 }
 
 double blend_factor(const FmpmOptions& opt, int ell) {

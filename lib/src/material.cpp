@@ -1,5 +1,6 @@
 #include "sparsempm/material.hpp"
 
+#include "enum_names.hpp"
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
@@ -9,27 +10,19 @@
 
 namespace smpm {
 
-std::string_view to_string(MaterialModel m) {
-  switch (m) {
-  case MaterialModel::Linear:
-    return "linear";
-  case MaterialModel::NeoHookean:
-    return "neo-hookean";
-  case MaterialModel::Hyperelastic:
-    return "hyperelastic";
-  case MaterialModel::MieGruneisen:
-    return "mie-gruneisen";
-  }
-  return "?";
-}
+namespace {
+constexpr detail::EnumNames<MaterialModel, 4> kModels{
+    {{MaterialModel::Linear, "linear"},
+     {MaterialModel::NeoHookean, "neo-hookean"},
+     {MaterialModel::Hyperelastic, "hyperelastic"},
+     {MaterialModel::MieGruneisen, "mie-gruneisen"}}};
+} // namespace
 
+std::string_view to_string(MaterialModel m) {
+  return detail::enum_name(m, kModels);
+}
 MaterialModel material_model_from_string(std::string_view name) {
-  for (auto m : {MaterialModel::Linear, MaterialModel::NeoHookean, MaterialModel::Hyperelastic,
-                 MaterialModel::MieGruneisen})
-    if (to_string(m) == name)
-      return m;
-  throw InputError("unknown material model \'" + clip(name) +
-                   "' (expected linear | neo-hookean | hyperelastic | mie-gruneisen)");
+  return detail::parse_enum(name, kModels, "material model");
 }
 
 double Material::wave_speed(int dim) const {

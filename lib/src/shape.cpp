@@ -1,5 +1,6 @@
 #include "sparsempm/shape.hpp"
 
+#include "enum_names.hpp"
 #include "kernels.hpp"
 #include "parallel.hpp"
 #include "shape_functions.hpp"
@@ -13,28 +14,19 @@
 
 namespace smpm {
 
-std::string_view to_string(Shape s) {
-  switch (s) {
-  case Shape::Linear:
-    return "linear";
-  case Shape::GIMP:
-    return "gimp";
-  case Shape::BSpline2:
-    return "bspline2";
-  case Shape::CPDI:
-    return "cpdi";
-  case Shape::B2CPDI:
-    return "b2cpdi";
-  }
-  return "?";
-}
+namespace {
+constexpr detail::EnumNames<Shape, 5> kShapes{{{Shape::Linear, "linear"},
+                                               {Shape::GIMP, "gimp"},
+                                               {Shape::BSpline2, "bspline2"},
+                                               {Shape::CPDI, "cpdi"},
+                                               {Shape::B2CPDI, "b2cpdi"}}};
+} // namespace
 
+std::string_view to_string(Shape s) {
+  return detail::enum_name(s, kShapes);
+}
 Shape shape_from_string(std::string_view name) {
-  for (Shape s : {Shape::Linear, Shape::GIMP, Shape::BSpline2, Shape::CPDI, Shape::B2CPDI})
-    if (to_string(s) == name)
-      return s;
-  throw InputError("unknown shape function \'" + clip(name) +
-                   "' (expected linear | gimp | cpdi | bspline2 | b2cpdi)");
+  return detail::parse_enum(name, kShapes, "shape function");
 }
 
 namespace {

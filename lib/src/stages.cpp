@@ -1,5 +1,6 @@
 #include "sparsempm/stages.hpp"
 
+#include "enum_names.hpp"
 #include "kernels.hpp"
 #include "parallel.hpp"
 
@@ -247,16 +248,16 @@ void velocity_gradient(const ParticleOperators& op, const Field& v, FieldRef L) 
   });
 }
 
-std::string_view to_string(DeformationUpdate u) {
-  return u == DeformationUpdate::Linear ? "linear" : "exponential";
-}
+namespace {
+constexpr detail::EnumNames<DeformationUpdate, 2> kDeformations{
+    {{DeformationUpdate::Linear, "linear"}, {DeformationUpdate::Exponential, "exponential"}}};
+} // namespace
 
+std::string_view to_string(DeformationUpdate u) {
+  return detail::enum_name(u, kDeformations);
+}
 DeformationUpdate deformation_update_from_string(std::string_view name) {
-  for (auto u : {DeformationUpdate::Linear, DeformationUpdate::Exponential})
-    if (to_string(u) == name)
-      return u;
-  throw InputError("unknown deformation update \'" + clip(name) +
-                   "' (expected linear | exponential)");
+  return detail::parse_enum(name, kDeformations, "deformation update");
 }
 
 namespace {

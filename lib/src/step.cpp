@@ -11,81 +11,6 @@
 
 namespace smpm {
 
-namespace {
-constexpr std::array<std::pair<UpdateScheme, std::string_view>, 5> kSchemes{
-    {{UpdateScheme::USL, "USL"},
-     {UpdateScheme::USF, "USF"},
-     {UpdateScheme::USLPlus, "USL+"},
-     {UpdateScheme::USAVG, "USAVG"},
-     {UpdateScheme::USAVGPlus, "USAVG+"}}};
-constexpr std::array<std::pair<VelocityUpdate, std::string_view>, 5> kVelocities{
-    {{VelocityUpdate::FLIP, "FLIP"},
-     {VelocityUpdate::PIC, "PIC"},
-     {VelocityUpdate::FMPM, "FMPM"},
-     {VelocityUpdate::XPIC, "XPIC"},
-     {VelocityUpdate::Exact, "exact"}}};
-} // namespace
-
-std::string_view to_string(UpdateScheme s) {
-  for (const auto& [v, name] : kSchemes)
-    if (v == s)
-      return name;
-  return "?";
-}
-std::string_view to_string(VelocityUpdate u) {
-  for (const auto& [v, name] : kVelocities)
-    if (v == u)
-      return name;
-  return "?";
-}
-
-UpdateScheme update_scheme_from_string(std::string_view name) {
-  for (const auto& [v, n] : kSchemes)
-    if (n == name)
-      return v;
-  throw InputError("unknown update scheme \'" + clip(name) +
-                   "' (expected USL | USF | USL+ | USAVG | USAVG+)");
-}
-
-VelocityUpdate velocity_update_from_string(std::string_view name) {
-  for (const auto& [v, n] : kVelocities)
-    if (n == name)
-      return v;
-  throw InputError("unknown velocity update \'" + clip(name) +
-                   "' (expected FLIP | PIC | FMPM | XPIC | exact)");
-}
-
-double default_position_alpha(VelocityUpdate velocity) {
-  return velocity == VelocityUpdate::FLIP ? 1.0 : 0.5;
-}
-
-double position_alpha(const StepOptions& options) {
-  return options.position_alpha.value_or(default_position_alpha(options.velocity));
-}
-
-void validate(const StepOptions& opt) {
-  validate(opt.fmpm);
-  if (!(opt.periodic_cx >= 0) || !std::isfinite(opt.periodic_cx))
-    throw InputError("periodic_cx must be non-negative, got " + std::to_string(opt.periodic_cx));
-  const double alpha = position_alpha(opt);
-  if (!(alpha >= 0 && alpha <= 1))
-    throw InputError("position_alpha must lie in [0, 1], got " + std::to_string(alpha));
-  SMPM_VERIFY(opt.velocity != VelocityUpdate::Exact || opt.exact_solver,
-              "the exact velocity update needs StepOptions::exact_solver (see exact.hpp)");
-}
-
-bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {
-  if (!grid_update)
-    return false;
-  const bool series = opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::XPIC;
-  return opt.velocity == VelocityUpdate::Exact || (series && opt.fmpm.order > 1);
-}
-
-void MassSolver::solve_again(const Field&, Field&) {
-  throw InputError("this mass solver cannot solve again with its last matrix (needed by the "
-                   "exact update with contact)");
-}
-
 struct Stepper::Buffers {
   StepBuffers step;
   Eigen::VectorXi field;  ///< velocity field of each particle (multimaterial mode)
@@ -99,7 +24,7 @@ Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_uni
   validate(opt_);
   ops_.node_range = opt_.nodes;
   if (opt_.velocity == VelocityUpdate::Exact)
-    solver_ = opt_.exact_solver();
+    solver_ = opt_.exact_solver(opt_.exact);
 }
 
 Stepper::~Stepper() = default;
@@ -144,12 +69,8 @@ void Stepper::step(Model& model, double dt) {
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.
     grid_update_ = opt_.velocity != VelocityUpdate::FLIP;
-    if (grid_update_ && opt_.periodic_cx > 0) {
-      courant_budget_ += courant_of(model, dt);
-      grid_update_ = courant_budget_ >= opt_.periodic_cx * (1 - 1e-12);
-      if (grid_update_)
-        courant_budget_ = 0;
-    }
+    if (grid_update_ && opt_.periodic_cx > 0)
+      grid_update_ = periodic_fmpm_step(opt_.periodic_cx, courant_of(model, dt), courant_budget_);
     if (uses_consistent_mass(opt_, grid_update_))
       assemble_consistent_mass(ops_, mt_);
     const StepContext context{.options = &opt_,

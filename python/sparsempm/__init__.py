@@ -96,7 +96,7 @@ class LinearizedStepOperator(_LinearOperator):
 def linearized_step(model, options=None, courant=0.5, dense_limit=1500):
     """One step linearised at the model's frozen configuration, T(C), as a LinearOperator.
 
-    options default to model.options; dt = courant / courant_of(model, 1). Below
+    options default to model.options; dt = stable_time_step(model, courant). Below
     `dense_limit` rows the dense T is formed once and used for the products.
     """
     return LinearizedStepOperator(LinearizedStep(model, options, courant), dense_limit)

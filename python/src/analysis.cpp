@@ -21,11 +21,10 @@ namespace smpm::python {
 
 namespace {
 
-// T at Courant number C: Δt = C / courant_of(model, 1), as `smpm spectrum --courant` takes it.
+// T at Courant number C: the time step of the Courant relation, as `smpm spectrum --courant`
+// takes it.
 LinearizedStep linearized(const PyModel& pm, const StepOptions& options, double courant) {
-  if (!(courant > 0) || !std::isfinite(courant))
-    throw InputError("courant number must be positive, got " + std::to_string(courant));
-  return LinearizedStep(pm.model, options, courant / courant_of(pm.model, 1.0));
+  return LinearizedStep(pm.model, options, stable_time_step(pm.model, courant));
 }
 
 const StepOptions& options_or(const PyModel& pm, const std::optional<StepOptions>& options) {

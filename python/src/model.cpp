@@ -221,15 +221,6 @@ NodeRange node_range_from_string(std::string_view name) {
   throw InputError("unknown node range '" + clip(name) + "' (expected particles | grid)");
 }
 
-// The regularization and mass cutoff of the exact solver the options make.
-std::pair<double, double> exact_settings(const StepOptions& o) {
-  if (!o.exact_solver)
-    return {0.0, 0.0};
-  const auto solver = o.exact_solver();
-  const auto* c = dynamic_cast<const CholmodSolver*>(solver.get());
-  return c ? std::pair{c->regularization(), c->mass_cutoff()} : std::pair{0.0, 0.0};
-}
-
 void bind_step_options(py::module_& m) {
   py::class_<StepOptions> c(m, "StepOptions",
                             "The options of a time step (step.hpp); keys and values as in the "
@@ -250,7 +241,8 @@ void bind_step_options(py::module_& m) {
           o.position_alpha = position_alpha;
           o.periodic_cx = periodic_cx;
           o.deformation = deformation_update_from_string(deformation);
-          o.exact_solver = cholmod_solver_factory(exact_regularization, exact_mass_cutoff);
+          o.exact = {.regularization = exact_regularization, .mass_cutoff = exact_mass_cutoff};
+          o.exact_solver = cholmod_solver_factory();
           o.nodes = node_range_from_string(nodes);
           validate(o);
           return o;
@@ -289,15 +281,11 @@ void bind_step_options(py::module_& m) {
                   "α of FMPM 2026 Eqs. (8)-(9); None: 1 for FLIP, 1/2 otherwise");
   c.def_readwrite("periodic_cx", &StepOptions::periodic_cx);
   c.def_property(
-      "exact_regularization", [](const StepOptions& o) { return exact_settings(o).first; },
-      [](StepOptions& o, double eps) {
-        o.exact_solver = cholmod_solver_factory(eps, exact_settings(o).second);
-      });
+      "exact_regularization", [](const StepOptions& o) { return o.exact.regularization; },
+      [](StepOptions& o, double eps) { o.exact.regularization = eps; });
   c.def_property(
-      "exact_mass_cutoff", [](const StepOptions& o) { return exact_settings(o).second; },
-      [](StepOptions& o, double tau) {
-        o.exact_solver = cholmod_solver_factory(exact_settings(o).first, tau);
-      });
+      "exact_mass_cutoff", [](const StepOptions& o) { return o.exact.mass_cutoff; },
+      [](StepOptions& o, double tau) { o.exact.mass_cutoff = tau; });
   c.def_property(
       "nodes", [](const StepOptions& o) { return std::string(node_range_name(o.nodes)); },
       [](StepOptions& o, const std::string& s) { o.nodes = node_range_from_string(s); },

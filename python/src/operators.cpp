@@ -61,7 +61,7 @@ py::array exact_grid_velocity(PyOperators& o, const DoubleArray& p_in,
                               double mass_cutoff) {
   const Field p = momentum(o, p_in);
   const SparseRowMatrix& mt = o.stencil_mass();
-  CholmodSolver solver(regularization, mass_cutoff);
+  CholmodSolver solver({.regularization = regularization, .mass_cutoff = mass_cutoff});
   Field v;
   {
     py::gil_scoped_release release;

@@ -113,7 +113,7 @@ TEST_CASE("a singular consistent mass is reported with its nodes", "[exact]") {
                     Catch::Contains("not positive definite") && Catch::Contains("at node") &&
                         Catch::Contains("smallest lumped masses: node"));
   // The documented regularisation (1 − ε) m̃ + ε m makes it solvable.
-  CholmodSolver regularized(1e-6);
+  CholmodSolver regularized({.regularization = 1e-6});
   CHECK_NOTHROW(regularized.solve(ops, mt.matrix, {}, p, v));
 }
 
@@ -125,7 +125,7 @@ TEST_CASE("the regularised exact solve is the blended inverse and keeps a unifor
   const Setup s = setup();
   const double eps = 0.2;
   Field regularized;
-  CholmodSolver(eps).solve(s.ops, s.mt.matrix, {}, s.p, regularized);
+  CholmodSolver({.regularization = eps}).solve(s.ops, s.mt.matrix, {}, s.p, regularized);
   Field v;
   lumped_solve(s.ops.m_inv, s.p, v);
   FmpmWorkspace w;
@@ -134,7 +134,7 @@ TEST_CASE("the regularised exact solve is the blended inverse and keeps a unifor
   Field uniform(s.ops.num_nodes(), 2), u;
   for (Index i = 0; i < s.ops.num_nodes(); ++i)
     uniform.row(i) = s.ops.m[i] * Eigen::RowVector2d(0.3, -0.2);
-  CholmodSolver(eps).solve(s.ops, s.mt.matrix, {}, uniform, u);
+  CholmodSolver({.regularization = eps}).solve(s.ops, s.mt.matrix, {}, uniform, u);
   for (Index i = 0; i < s.ops.num_nodes(); ++i)
     if (s.ops.active[i]) {
       CHECK(u(i, 0) == smpm::test::approx(0.3, 1e-14));
@@ -154,7 +154,7 @@ TEST_CASE("light nodes take their lumped velocity with a mass cutoff", "[exact]"
   assemble_consistent_mass(ops, mt);
   Field p, v, plain;
   map_momentum(particle_operators(ops), bar.particles.V, p);
-  CholmodSolver(0, 0.05).solve(ops, mt.matrix, {}, p, v);
+  CholmodSolver({.mass_cutoff = 0.05}).solve(ops, mt.matrix, {}, p, v);
   CholmodSolver().solve(ops, mt.matrix, {}, p, plain);
   std::vector<int> light, free;
   for (Index i = 0; i < ops.num_nodes(); ++i)
@@ -199,7 +199,8 @@ TEST_CASE("the exact update in multimaterial mode: each field's m~, contact at t
   using smpm::test::pair_law;
   const StepOptions opt{.shape = Shape::GIMP,
                         .velocity = VelocityUpdate::Exact,
-                        .exact_solver = cholmod_solver_factory(0.1)};
+                        .exact = {.regularization = 0.1},
+                        .exact_solver = cholmod_solver_factory()};
   SECTION("bonded stick reverts to single material mode") {
     // FMPM 2026 §3.2: with Δp = Δp(0) on every node of two fields, v^α = (m̃^α)⁻¹(p^α ± Δp)
     // is the centre-of-mass field m̃⁻¹ p. 20 steps: measured 7e-16 of the velocity scale.

@@ -107,6 +107,37 @@ TEST_CASE("scheme options: position alpha, deformation update, exact solver, fra
              Catch::Contains("scheme.exact_regularization = 2: must lie in [0, 1]"));
 }
 
+TEST_CASE("the step options' limits are the library's, reported at the line of the key",
+          "[input]") {
+  // validate(StepOptions) holds every limit (step_options.hpp); the reader maps the option it
+  // names to the line that set it, so a value the library refuses is refused here in its words.
+  const std::string bar = example("vibrating_bar.toml");
+  const std::string alpha = replace(bar, "position_alpha = 1.0", "position_alpha = 1.5");
+  CHECK_THAT(error_of(alpha), Catch::StartsWith(at(alpha, "position_alpha = 1.5") +
+                                                "scheme.position_alpha = 1.5: must lie in [0, 1]"));
+  for (const auto& [set, message] : std::vector<std::pair<std::string, std::string>>{
+           {"scheme.order=0", "scheme.order = 0: must be an integer from 1 to 100000"},
+           {"scheme.order=100001", "scheme.order = 100001: must be an integer from 1 to 100000"},
+           {"scheme.blend_every=0", "scheme.blend_every = 0: must be an integer from 1 to 100000"},
+           {"scheme.blend_alpha=1.5", "scheme.blend_alpha = 1.5: must lie in [0, 1]"},
+           {"scheme.periodic_cx=-1", "scheme.periodic_cx = -1: must be non-negative"},
+           {"scheme.dynamic_limit=-1", "scheme.dynamic_limit = -1: must be non-negative"}}) {
+    std::vector<std::string> sets{"scheme.velocity=FMPM", set};
+    if (set.rfind("scheme.order", 0) != 0)
+      sets.push_back("scheme.order=4");
+    CHECK_THAT(error_of(bar, sets), Catch::Contains(message));
+  }
+  // C_X = 0 is the library's "FMPM on every step", as in StepOptions.
+  CHECK(read_input(bar, "bar.toml", {"scheme.periodic_cx=0"}).step.periodic_cx == 0);
+  try {
+    validate(StepOptions{.fmpm = {.order = 0}});
+    FAIL("order 0 accepted");
+  } catch (const OptionError& e) {
+    CHECK(e.key() == "order");
+    CHECK(std::string(e.what()) == "order = 0: must be an integer from 1 to 100000");
+  }
+}
+
 TEST_CASE("each class of bad input has a one-line message with file, line and key", "[input]") {
   const std::string bar = example("vibrating_bar.toml");
   // Unknown key, with the nearest valid key suggested and the line of the entry.

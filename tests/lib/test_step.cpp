@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 using namespace smpm;
 using smpm::test::approx;
@@ -125,6 +126,20 @@ TEST_CASE("BC ordering: only the correct method keeps the fixed node's momentum 
       CHECK(max_fixed == 0.0);
     else
       CHECK(max_fixed > 1e-3 * max_any);
+  }
+}
+
+TEST_CASE("periodic FMPM: one grid-velocity step per Courant budget, ceil(C_X / C) steps apart",
+          "[step]") {
+  // FMPM 2026 §3.3: the FMPM update once the Courant numbers of the steps since the last one
+  // reach C_X. At constant C the period is ⌈C_X / C⌉ steps; where C_X / C is an integer the
+  // accumulated budget reaches C_X within round-off (the relative allowance 1e-12).
+  for (const auto& [cx, C, steps] : std::vector<std::tuple<double, double, int>>{
+           {2.0, 0.5, 4}, {2.0, 0.1, 20}, {2.0, 0.3, 7}, {2.0, 3.0, 1}, {1.0, 1.0 / 3, 3}}) {
+    CHECK(periodic_fmpm_period(cx, C) == steps);
+    double budget = 0;
+    for (int s = 1; s < 3 * steps; ++s) // the schedule repeats with that period
+      CHECK(periodic_fmpm_step(cx, C, budget) == (s % steps == 0));
   }
 }
 

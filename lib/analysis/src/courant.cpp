@@ -19,11 +19,10 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
               "critical_courant: c_max must be positive and finite and resolution at least "
               "1e-12 c_max");
   hint = std::isfinite(hint) ? std::min(hint, c_max) : 0.0;
-  const double dt_per_c = 1.0 / courant_of(model, 1.0); // Δt for C = 1
-  LinearizedStep T(model, options, 0.05 * dt_per_c);
+  LinearizedStep T(model, options, stable_time_step(model, 0.05));
   CriticalCourant out;
   auto stable = [&](double C, double& rho) {
-    T.set_dt(C * dt_per_c);
+    T.set_dt(stable_time_step(model, C));
     const SpectralRadius r = spectral_radius(T);
     ++out.evaluations;
     out.not_converged += r.status == SpectralStatus::NotConverged;

@@ -97,7 +97,7 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
   I.model = model;
   I.opt = options;
   if (options.velocity == VelocityUpdate::Exact)
-    I.solver = options.exact_solver();
+    I.solver = options.exact_solver(options.exact);
   I.d = model.grid.dim();
   I.N = model.particles.size();
   assemble(model.grid, model.particles, options.shape, I.ops);
@@ -124,11 +124,9 @@ void LinearizedStep::set_dt(double dt) {
     throw InputError("time step must be positive");
   impl_->dt = dt;
   impl_->flip_steps = 0;
-  if (impl_->opt.periodic_cx > 0 && impl_->opt.velocity != VelocityUpdate::FLIP) {
-    // The Stepper's period: ceil(C_X / C) steps.
-    const double C = courant_of(impl_->model, dt);
-    impl_->flip_steps = std::max(0, int(std::ceil(impl_->opt.periodic_cx / C * (1 - 1e-12))) - 1);
-  }
+  if (impl_->opt.periodic_cx > 0 && impl_->opt.velocity != VelocityUpdate::FLIP) // the Stepper's
+    impl_->flip_steps =
+        periodic_fmpm_period(impl_->opt.periodic_cx, courant_of(impl_->model, dt)) - 1;
 }
 
 double LinearizedStep::dt() const {

@@ -44,12 +44,9 @@ struct CholmodSolver::Impl {
   }
 };
 
-CholmodSolver::CholmodSolver(double regularization, double mass_cutoff)
-    : impl_(std::make_unique<Impl>()), regularization_(regularization), mass_cutoff_(mass_cutoff) {
-  if (!(regularization >= 0 && regularization <= 1))
-    throw InputError("exact_regularization must lie in [0, 1]");
-  if (!(mass_cutoff >= 0 && mass_cutoff < 1))
-    throw InputError("exact_mass_cutoff must lie in [0, 1)");
+CholmodSolver::CholmodSolver(const ExactOptions& options)
+    : impl_(std::make_unique<Impl>()), options_(options) {
+  validate(options_);
 }
 CholmodSolver::~CholmodSolver() = default;
 long CholmodSolver::analyses() const {
@@ -62,11 +59,8 @@ double CholmodSolver::last_rcond() const {
   return impl_->rcond;
 }
 
-MassSolverFactory cholmod_solver_factory(double regularization, double mass_cutoff) {
-  (void)CholmodSolver(regularization, mass_cutoff); // validates both now
-  return [regularization, mass_cutoff] {
-    return std::make_unique<CholmodSolver>(regularization, mass_cutoff);
-  };
+MassSolverFactory cholmod_solver_factory() {
+  return [](const ExactOptions& options) { return std::make_unique<CholmodSolver>(options); };
 }
 
 namespace {
@@ -261,7 +255,7 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
   const Index n = ops.num_nodes();
   const int d = int(p.cols());
   cholmod_common& c = impl_->c;
-  const Field prescribed = prescribed_components(ops, bc, p, mass_cutoff_);
+  const Field prescribed = prescribed_components(ops, bc, p, options_.mass_cutoff);
   v.setZero(n, d);
   size_t slot = 0;
   for (const auto& [F, comps] : free_groups(ops, prescribed)) {
@@ -271,7 +265,7 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
     std::vector<int> local(static_cast<size_t>(n), -1);
     for (size_t k = 0; k < F.size(); ++k)
       local[size_t(F[k])] = int(k);
-    const bool same_pattern = restrict_matrix(ops, mt, regularization_, local, f, F);
+    const bool same_pattern = restrict_matrix(ops, mt, options_.regularization, local, f, F);
     f.comps = comps;
     if (F.empty())
       continue;
@@ -290,7 +284,7 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
       not_positive_definite(ops, f, long(f.L->minor));
     impl_->rcond = cholmod_rcond(f.L, &c);
     Eigen::MatrixXd B =
-        right_hand_sides(ops, mt, 1 - regularization_, p, prescribed, F, local, comps, v);
+        right_hand_sides(ops, mt, 1 - options_.regularization, p, prescribed, F, local, comps, v);
     solve_factor(c, f, B, v);
   }
   impl_->used = slot;

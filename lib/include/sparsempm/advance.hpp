@@ -1,8 +1,8 @@
 #pragma once
 /// \file advance.hpp
-/// The run loop and its criteria: the time step of the Courant relation, the failure test and
-/// advance(), which steps a Model to an end time. `smpm run`, the simulation C* of the
-/// stability study, the examples and the tests all run through advance().
+/// The run loop and its criteria: the failure test and advance(), which steps a Model to an end
+/// time with the time step of the Courant relation (diagnostics.hpp). `smpm run`, the simulation
+/// C* of the stability study, the examples and the tests all run through advance().
 
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/step.hpp"
@@ -11,14 +11,6 @@
 #include <optional>
 
 namespace smpm {
-
-/// max(c_wave, max_p |V_p|): the speed of the Courant relation (FMPM 2026 §3.3).
-double signal_speed(const Model& model);
-/// Δt = C Δx_min / max(c_wave, max_p |V_p|) (FMPM 2026 §3.3). Throws InputError for C ≤ 0 or
-/// when there is no wave speed and no particle velocity.
-double stable_time_step(const Model& model, double courant);
-/// C = Δt max(c_wave, max_p |V_p|) / Δx_min: the Courant number of a time step.
-double courant_of(const Model& model, double dt);
 
 /// When a run has failed, besides the NumericalError the stages throw (NaN, det F ≤ 0, a
 /// particle leaving the grid).

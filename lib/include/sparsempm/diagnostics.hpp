@@ -1,6 +1,7 @@
 #pragma once
 /// \file diagnostics.hpp
-/// Energies and momentum of the particle state.
+/// Energies and momentum of the particle state, and the Courant relation of the time step
+/// (FMPM 2026 §3.3), whose particle speed is the energies' max_speed.
 
 #include "sparsempm/model.hpp"
 
@@ -20,13 +21,19 @@ struct Energies {
 /// The energies, momentum and largest speed of the particles, in one pass over V and one over
 /// the strain energy (strain_energy, with the densities W(F_p) of `density` when given).
 Energies energies(const Model& model, const Eigen::VectorXd* density = nullptr);
-/// |V_p|² summed over the axes in order (energies and signal_speed).
-inline double speed_squared(const Particles& P, Index p) {
-  double v2 = 0;
-  for (int a = 0; a < P.dim; ++a)
-    v2 += P.V(p, a) * P.V(p, a);
-  return v2;
-}
+/// max_p |V_p|: Energies::max_speed alone (the same pass over V).
+double max_particle_speed(const Particles& particles);
+
+/// max(c_wave, max_p |V_p|): the speed of the Courant relation (FMPM 2026 §3.3).
+double signal_speed(const Model& model);
+/// Δt = C Δx_min / speed (FMPM 2026 §3.3) for a known signal speed. Throws InputError for C ≤ 0
+/// or a speed that is not positive (no wave speed and no particle velocity).
+double stable_time_step(const Model& model, double courant, double speed);
+/// Δt = C Δx_min / max(c_wave, max_p |V_p|): the time step of Courant number C, the one
+/// relation between C and Δt of runs and analyses alike.
+double stable_time_step(const Model& model, double courant);
+/// C = Δt max(c_wave, max_p |V_p|) / Δx_min: the Courant number of a time step.
+double courant_of(const Model& model, double dt);
 
 /// Mass, momentum and centre of mass of each material's particles (one body per material in
 /// multimaterial runs), one pass: for material k, out[k(1 + 2d) + 0] = Σ M_p,

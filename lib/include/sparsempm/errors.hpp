@@ -15,6 +15,20 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// An InputError about one option of the library's option structs (StepOptions, FmpmOptions,
+/// ExactOptions): key() names it as the input files and Python do ("order", "blend_alpha",
+/// "periodic_cx", ...) and reason() says what is wrong with its value, so that an input reader
+/// can point at the line that set it. what() is "<key> = <value>: <reason>".
+class OptionError : public InputError {
+public:
+  OptionError(std::string key, const std::string& value, std::string reason);
+  const std::string& key() const { return key_; }
+  const std::string& reason() const { return reason_; }
+
+private:
+  std::string key_, reason_;
+};
+
 /// Thrown when a computation fails numerically (NaN, det F ≤ 0, a particle leaving
 /// the grid). The message names the particle or node; `step` is the time step
 /// number when known (−1 otherwise).
@@ -30,6 +44,9 @@ private:
 /// `text` as quoted in a one-line message: control characters written as \n, \t or \xNN and at
 /// most `max` characters, followed by the full length when cut.
 std::string clip(std::string_view text, size_t max = 80);
+
+/// A number as a message shows it (ostream's default format: 6 significant digits).
+std::string number_text(double value);
 
 /// Prefixes a NumericalError's message with the step and time at which it happened.
 NumericalError at_step(const NumericalError& e, long step, double time);

@@ -35,6 +35,9 @@ BCMethod bc_method_from_string(std::string_view name);
 std::string_view to_string(ConvergenceMetric m);
 ConvergenceMetric convergence_metric_from_string(std::string_view name);
 
+/// Largest order k of FMPM(k) (m of XPIC(m)) and blending period accepted by validate.
+inline constexpr int kMaxFmpmOrder = 100000;
+
 struct FmpmOptions {
   int order = 1;            ///< k, the number of terms (the maximum order when dynamic)
   double blend_alpha = 1.0; ///< α of the blended recursion (FMPM 2026 §3.3); 1: no blending
@@ -44,7 +47,8 @@ struct FmpmOptions {
   double dynamic_limit = 0; ///< stop at the first ℓ whose metric is below this
 };
 
-/// Throws InputError unless order ≥ 1, 0 ≤ α ≤ 1, m ≥ 1 and the dynamic limit is ≥ 0.
+/// Throws OptionError (an InputError naming the option) unless 1 ≤ order ≤ kMaxFmpmOrder,
+/// 0 ≤ α ≤ 1, 1 ≤ m ≤ kMaxFmpmOrder and the dynamic limit is ≥ 0 and finite.
 void validate(const FmpmOptions& opt);
 
 /// Scale factor of pass ℓ ≥ 2: α if m = 1 or ℓ mod m = 1, else 1 (FMPM 2026 §3.3).

@@ -6,8 +6,10 @@
 /// it on the live state with freshly assembled operators, the linearised update operator T
 /// (stability.hpp) on frozen operators with homogeneous velocity BCs.
 
+#include "sparsempm/boundary.hpp"
 #include "sparsempm/contact.hpp"
-#include "sparsempm/step.hpp"
+#include "sparsempm/material.hpp"
+#include "sparsempm/step_options.hpp"
 
 #include <array>
 

@@ -15,8 +15,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -121,30 +123,30 @@ std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
   return mats;
 }
 
+// An integer key (its range is checked by the library's validate).
+std::optional<int> integer(const Reader& r, const toml::table& t, const char* key,
+                           const std::string& name) {
+  const toml::node* n = t.get(key);
+  if (!n)
+    return std::nullopt;
+  const auto v = n->value<int64_t>();
+  if (!v || !n->is_integer())
+    r.fail(n, name, "expected an integer");
+  return int(
+      std::clamp<int64_t>(*v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+}
+
 // FMPM(k), XPIC(m), blending, periodic and dynamic FMPM, BC method, exact solver options.
 void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
   FmpmOptions& f = step.fmpm;
-  const toml::node* on = scheme.get("order");
-  if (on) {
-    const auto k = on->value<int64_t>();
-    if (!k || !on->is_integer() || *k < 1 || *k > 100000)
-      r.fail(on, "scheme.order", "must be an integer from 1 to 100000");
-    f.order = int(*k);
-  } else if (step.velocity == VelocityUpdate::FMPM || step.velocity == VelocityUpdate::XPIC) {
+  if (const auto k = integer(r, scheme, "order", "scheme.order"))
+    f.order = *k;
+  else if (step.velocity == VelocityUpdate::FMPM || step.velocity == VelocityUpdate::XPIC)
     r.fail(nullptr, "scheme.order", "missing required key (the order k of FMPM or m of XPIC)");
-  }
   f.blend_alpha = r.number(scheme, "blend_alpha", "scheme.blend_alpha", 1.0);
-  if (!(f.blend_alpha >= 0 && f.blend_alpha <= 1))
-    r.fail(scheme.get("blend_alpha"), "scheme.blend_alpha", "must lie in [0, 1]");
-  if (const toml::node* mn = scheme.get("blend_every")) {
-    const auto m = mn->value<int64_t>();
-    if (!m || !mn->is_integer() || *m < 1 || *m > 100000)
-      r.fail(mn, "scheme.blend_every", "must be an integer from 1 to 100000");
-    f.blend_every = int(*m);
-  }
+  if (const auto m = integer(r, scheme, "blend_every", "scheme.blend_every"))
+    f.blend_every = *m;
   step.periodic_cx = r.number(scheme, "periodic_cx", "scheme.periodic_cx", 0.0);
-  if (scheme.get("periodic_cx") && !(step.periodic_cx > 0))
-    r.fail(scheme.get("periodic_cx"), "scheme.periodic_cx", "must be positive");
   try {
     f.metric = convergence_metric_from_string(
         r.string(scheme, "dynamic_metric", "scheme.dynamic_metric", "none"));
@@ -152,8 +154,6 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
     r.fail(scheme.get("dynamic_metric"), "scheme.dynamic_metric", e.what());
   }
   f.dynamic_limit = r.number(scheme, "dynamic_limit", "scheme.dynamic_limit", 0.0);
-  if (!(f.dynamic_limit >= 0))
-    r.fail(scheme.get("dynamic_limit"), "scheme.dynamic_limit", "must be non-negative");
   if (f.metric != ConvergenceMetric::None && !scheme.get("dynamic_limit"))
     r.fail(scheme.get("dynamic_metric"), "scheme.dynamic_metric",
            "needs scheme.dynamic_limit (the convergence limit)");
@@ -163,14 +163,11 @@ void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
   } catch (const InputError& e) {
     r.fail(scheme.get("bc_method"), "scheme.bc_method", e.what());
   }
-  const double reg = r.number(scheme, "exact_regularization", "scheme.exact_regularization", 0.0);
-  if (!(reg >= 0 && reg <= 1))
-    r.fail(scheme.get("exact_regularization"), "scheme.exact_regularization", "must lie in [0, 1]");
-  const double cutoff = r.number(scheme, "exact_mass_cutoff", "scheme.exact_mass_cutoff", 0.0);
-  if (!(cutoff >= 0 && cutoff < 1))
-    r.fail(scheme.get("exact_mass_cutoff"), "scheme.exact_mass_cutoff", "must lie in [0, 1)");
+  step.exact.regularization =
+      r.number(scheme, "exact_regularization", "scheme.exact_regularization", 0.0);
+  step.exact.mass_cutoff = r.number(scheme, "exact_mass_cutoff", "scheme.exact_mass_cutoff", 0.0);
   // Always set, so that analyses adding an exact row (smpm stability) use these options.
-  step.exact_solver = cholmod_solver_factory(reg, cutoff);
+  step.exact_solver = cholmod_solver_factory();
 }
 
 // [scheme]: update scheme, velocity update, shape functions, α, F update and the FMPM family.
@@ -197,12 +194,8 @@ void read_scheme(const Reader& r, const toml::table& root, StepOptions& step) {
     r.fail(scheme->get("shape"), "scheme.shape", e.what());
   }
   // α of Eqs. (8)–(9); unset: default_position_alpha (1 for FLIP, ½ otherwise).
-  if (const toml::node* an = scheme->get("position_alpha")) {
-    const double alpha = r.number(*scheme, "position_alpha", "scheme.position_alpha", 0.0);
-    if (!(alpha >= 0 && alpha <= 1))
-      r.fail(an, "scheme.position_alpha", "must lie in [0, 1]");
-    step.position_alpha = alpha;
-  }
+  if (scheme->get("position_alpha"))
+    step.position_alpha = r.number(*scheme, "position_alpha", "scheme.position_alpha", 0.0);
   try {
     step.deformation = deformation_update_from_string(
         r.string(*scheme, "deformation", "scheme.deformation", "linear"));
@@ -212,6 +205,12 @@ void read_scheme(const Reader& r, const toml::table& root, StepOptions& step) {
   step.xpic_contact_term =
       r.boolean(*scheme, "xpic_contact_term", "scheme.xpic_contact_term", true);
   read_fmpm(r, *scheme, step);
+  // The library's limits (validate of step_options.hpp), at the line of the key they name.
+  try {
+    validate(step);
+  } catch (const OptionError& e) {
+    r.fail(scheme->get(e.key()), "scheme." + e.key(), e.reason());
+  }
 }
 
 // [output]: file (default: the input's name with .h5), frame interval (default end/10), CSR

@@ -3,7 +3,7 @@
 /// The exact consistent-mass inverse v = m̃⁻¹ p ("FMPM(∞)") with a CHOLMOD Cholesky factor
 /// of m̃ restricted to the active, unconstrained nodes.
 
-#include "sparsempm/step.hpp"
+#include "sparsempm/step_options.hpp"
 
 #include <memory>
 
@@ -17,14 +17,15 @@ namespace smpm {
 ///
 /// When m̃_FF is not positive definite a NumericalError names the node where CHOLMOD found a
 /// non-positive pivot and the nodes of smallest lumped mass. Two documented departures from
-/// m̃⁻¹ remedy it (README, "The exact inverse"): with regularization ε ∈ (0, 1] the solver
-/// factors the blended mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 (rows still sum to m, so a uniform
-/// translation keeps its velocity; the k → ∞ limit of FMPM(k) blended with α = 1 − ε, m = 1);
-/// with mass_cutoff τ > 0 nodes lighter than τ max m take their lumped velocity p_i/m_i and
+/// m̃⁻¹ remedy it (ExactOptions; README, "The exact inverse"): with regularization ε ∈ (0, 1] the
+/// solver factors the blended mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 (rows still sum to m, so a
+/// uniform translation keeps its velocity; the k → ∞ limit of FMPM(k) blended with α = 1 − ε, m =
+/// 1); with mass_cutoff τ > 0 nodes lighter than τ max m take their lumped velocity p_i/m_i and
 /// enter the equations of the others as known values (like velocity BCs).
 class CholmodSolver final : public MassSolver {
 public:
-  explicit CholmodSolver(double regularization = 0, double mass_cutoff = 0);
+  /// Throws OptionError for settings outside their ranges (validate of step_options.hpp).
+  explicit CholmodSolver(const ExactOptions& options = {});
   ~CholmodSolver() override;
   CholmodSolver(const CholmodSolver&) = delete;
   CholmodSolver& operator=(const CholmodSolver&) = delete;
@@ -34,8 +35,7 @@ public:
   /// m̃_FF x_F = r_F with the factors of the last solve, x = 0 off F (no refactorisation).
   void solve_again(const Field& r, Field& v) override;
 
-  double regularization() const { return regularization_; }
-  double mass_cutoff() const { return mass_cutoff_; }
+  const ExactOptions& options() const { return options_; }
   /// Number of symbolic analyses and numeric factorisations so far.
   long analyses() const;
   long factorizations() const;
@@ -45,12 +45,11 @@ public:
 private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  double regularization_;
-  double mass_cutoff_;
+  ExactOptions options_;
 };
 
-/// A factory of CholmodSolvers with this regularization, for StepOptions::exact_solver: every
-/// Stepper (and every copy of the options it runs with) gets a solver of its own.
-MassSolverFactory cholmod_solver_factory(double regularization = 0, double mass_cutoff = 0);
+/// The factory of CholmodSolvers for StepOptions::exact_solver: every Stepper (and every copy of
+/// the options it runs with) gets a solver of its own, with the settings StepOptions::exact.
+MassSolverFactory cholmod_solver_factory();
 
 } // namespace smpm

@@ -1,0 +1,124 @@
+#pragma once
+/// \file step_options.hpp
+/// The options of an explicit MPM time step, read by the Stepper (step.hpp), the stages
+/// (scheme.hpp), the linearised step (stability.hpp) and the exact solver (exact.hpp): the
+/// update scheme, the velocity update with its FMPM family, the exact-solver settings, the one
+/// validate() that holds every limit, and the schedule of periodic FMPM (FMPM 2026 §3.3).
+
+#include "sparsempm/fmpm.hpp"
+#include "sparsempm/operators.hpp"
+#include "sparsempm/shape.hpp"
+#include "sparsempm/stages.hpp"
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+namespace smpm {
+
+/// When the particle stress is updated (Buzzi Figs. 2–3 and 5–7; FMPM 2026 §2.1, Fig. 1).
+enum class UpdateScheme {
+  USL,      ///< update stress last, from v⁺ (task 5; the recommended method)
+  USF,      ///< update stress first, from v = m̃_k⁻¹ p before the forces (task 1.c)
+  USLPlus,  ///< USL from velocities re-extrapolated after the particle update (task 4.c)
+  USAVG,    ///< half Δt first (task 1.c) and half Δt last from v⁺ (task 3.b)
+  USAVGPlus ///< half Δt first (task 1.c) and half Δt last, re-extrapolated (task 4.c)
+};
+/// How particle velocities are updated from the grid.
+enum class VelocityUpdate {
+  FLIP, ///< increment by the extrapolated lumped acceleration (FMPM 2026 Eq. 8)
+  PIC,  ///< V = S v⁺(1), i.e. FMPM(1) (FMPM 2026 Eq. 9)
+  FMPM, ///< V = S v⁺(k) with the FMPM loop of Table 1 (FMPM 2026 Eq. 9)
+  XPIC, ///< V = S m(v − v*) + S a Δt (contact 2020 Eqs. 35, 41–43)
+  Exact ///< V = S m̃⁻¹ p⁺, the consistent-mass inverse ("FMPM(∞)")
+};
+/// Where zero-velocity conditions are imposed (Buzzi §5.5).
+enum class BCOrdering {
+  Correct, ///< zero the fixed momentum after P2G (BC1) and its rate before the update (BC2)
+  Improper ///< BC2 and zero velocity only in the strain update (BC3), without BC1 (Fig. 22)
+};
+
+/// Names of the input files: USL | USF | USL+ | USAVG | USAVG+ and FLIP | PIC | FMPM | XPIC |
+/// exact; the parsers throw InputError naming the valid choices.
+std::string_view to_string(UpdateScheme s);
+std::string_view to_string(VelocityUpdate v);
+UpdateScheme update_scheme_from_string(std::string_view name);
+VelocityUpdate velocity_update_from_string(std::string_view name);
+
+/// The settings of the exact consistent-mass inverse (VelocityUpdate::Exact; exact.hpp and the
+/// README, "The exact inverse"): data, read by the solver a MassSolverFactory makes and by
+/// anyone who inspects the options.
+struct ExactOptions {
+  /// ε ∈ [0, 1]: factor the blended mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 instead of m̃
+  double regularization = 0;
+  /// τ ∈ [0, 1): active nodes lighter than τ max m take their lumped velocity p_i/m_i
+  double mass_cutoff = 0;
+};
+
+/// Solves the consistent-mass system m̃ v = p on the active nodes, with the velocity BCs of
+/// `bc` imposed (the limit k → ∞ of the incremental method). Implemented with CHOLMOD in
+/// sparsempm::exact (exact.hpp). A solver keeps state (its factorisation): each Stepper and
+/// each linearised step makes its own from StepOptions::exact_solver.
+class MassSolver {
+public:
+  virtual ~MassSolver() = default;
+  virtual void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
+                     const Field& p, Field& v) = 0;
+  /// The response v = m̃⁻¹ r to a momentum change r with the matrix of the last solve and
+  /// homogeneous conditions (zero on the components that solve prescribed): what the contact
+  /// of the exact update in multimaterial mode needs. The default throws InputError.
+  virtual void solve_again(const Field& r, Field& v);
+};
+/// Makes a new MassSolver with the given settings (e.g. cholmod_solver_factory() of exact.hpp,
+/// which the input reader and the Python module choose).
+using MassSolverFactory = std::function<std::unique_ptr<MassSolver>(const ExactOptions&)>;
+
+struct StepOptions {
+  Shape shape = Shape::Linear;
+  UpdateScheme scheme = UpdateScheme::USL;
+  VelocityUpdate velocity = VelocityUpdate::FLIP;
+  /// α of FMPM 2026 Eqs. (8)–(9); unset: default_position_alpha(velocity).
+  std::optional<double> position_alpha{};
+  BCOrdering bc_ordering = BCOrdering::Correct;
+  FmpmOptions fmpm{};     ///< order k (FMPM) or m (XPIC), blending, BC method, dynamic
+  double periodic_cx = 0; ///< C_X of periodic FMPM (§3.3); 0: FMPM on every step
+  DeformationUpdate deformation = DeformationUpdate::Linear; ///< F ← (I + LΔt)F or exp(LΔt)F
+  /// Multimaterial XPIC(m): add the contact term (I − S S^{+α})^{m−1} S Δv^α of contact 2020
+  /// Eq. (37); false gives the "uncorrected XPIC" of its Fig. 7 (for comparison only).
+  bool xpic_contact_term = true;
+  ExactOptions exact{};             ///< settings of the exact inverse
+  MassSolverFactory exact_solver{}; ///< required by VelocityUpdate::Exact
+  /// The nodes of a step: the particles' window of the grid (storage and time proportional to
+  /// the particles and the nodes they reach) or every node of the grid. The results are the same
+  /// bits either way; only the numbering of the grid fields differs (Stepper::operators()).
+  NodeRange nodes = NodeRange::Particles;
+};
+
+/// α of Eqs. (8)–(9) when the options leave it unset: 1 for FLIP (the usual choice, FMPM 2026
+/// footnote to Eq. 8), ½ for grid-velocity updates (Eq. 9's consistent choice, §2.3).
+double default_position_alpha(VelocityUpdate velocity);
+/// The α a step with these options uses.
+double position_alpha(const StepOptions& options);
+
+/// Throws OptionError (an InputError naming the option) unless ε ∈ [0, 1] and τ ∈ [0, 1).
+void validate(const ExactOptions& options);
+/// Throws OptionError for option values outside their ranges (validate of FmpmOptions and of
+/// ExactOptions, α ∈ [0, 1], C_X ≥ 0 and finite) and UsageError for Exact without a solver
+/// factory. The one check of StepOptions, and so the one set of limits: the Stepper, the
+/// linearised step, the input reader, the command line and the Python module call it.
+void validate(const StepOptions& options);
+
+/// Whether a step assembles m̃ (FMPM 2026 §2.2): on steps that update particles from grid
+/// velocities (`grid_update`) with the exact inverse, or with FMPM(k) or XPIC(m) of order > 1.
+bool uses_consistent_mass(const StepOptions& options, bool grid_update);
+
+/// Periodic FMPM (FMPM 2026 §3.3): the grid-velocity update once per Courant budget C_X, FLIP on
+/// the steps between. Adds the Courant number C of a step to the budget accumulated since the
+/// last grid-velocity step; true (and the budget emptied) on the step that reaches C_X.
+bool periodic_fmpm_step(double periodic_cx, double courant, double& budget);
+/// The steps of one period at a constant Courant number C, the last of them the grid-velocity
+/// step: the schedule of periodic_fmpm_step from an empty budget (⌈C_X / C⌉ up to round-off).
+int periodic_fmpm_period(double periodic_cx, double courant);
+
+} // namespace smpm

@@ -1,0 +1,96 @@
+#include "sparsempm/step_options.hpp"
+
+#include "enum_names.hpp"
+#include "sparsempm/errors.hpp"
+
+#include <cmath>
+
+namespace smpm {
+
+namespace {
+constexpr detail::EnumNames<UpdateScheme, 5> kSchemes{{{UpdateScheme::USL, "USL"},
+                                                       {UpdateScheme::USF, "USF"},
+                                                       {UpdateScheme::USLPlus, "USL+"},
+                                                       {UpdateScheme::USAVG, "USAVG"},
+                                                       {UpdateScheme::USAVGPlus, "USAVG+"}}};
+constexpr detail::EnumNames<VelocityUpdate, 5> kVelocities{{{VelocityUpdate::FLIP, "FLIP"},
+                                                            {VelocityUpdate::PIC, "PIC"},
+                                                            {VelocityUpdate::FMPM, "FMPM"},
+                                                            {VelocityUpdate::XPIC, "XPIC"},
+                                                            {VelocityUpdate::Exact, "exact"}}};
+} // namespace
+
+std::string_view to_string(UpdateScheme s) {
+  return detail::enum_name(s, kSchemes);
+}
+std::string_view to_string(VelocityUpdate v) {
+  return detail::enum_name(v, kVelocities);
+}
+UpdateScheme update_scheme_from_string(std::string_view name) {
+  return detail::parse_enum(name, kSchemes, "update scheme");
+}
+VelocityUpdate velocity_update_from_string(std::string_view name) {
+  return detail::parse_enum(name, kVelocities, "velocity update");
+}
+
+double default_position_alpha(VelocityUpdate velocity) {
+  return velocity == VelocityUpdate::FLIP ? 1.0 : 0.5;
+}
+
+double position_alpha(const StepOptions& options) {
+  return options.position_alpha.value_or(default_position_alpha(options.velocity));
+}
+
+void validate(const ExactOptions& o) {
+  if (!(o.regularization >= 0 && o.regularization <= 1))
+    throw OptionError("exact_regularization", number_text(o.regularization), "must lie in [0, 1]");
+  if (!(o.mass_cutoff >= 0 && o.mass_cutoff < 1))
+    throw OptionError("exact_mass_cutoff", number_text(o.mass_cutoff), "must lie in [0, 1)");
+}
+
+void validate(const StepOptions& opt) {
+  validate(opt.fmpm);
+  validate(opt.exact);
+  if (!(opt.periodic_cx >= 0) || !std::isfinite(opt.periodic_cx))
+    throw OptionError("periodic_cx", number_text(opt.periodic_cx),
+                      "must be non-negative and finite (0: FMPM on every step)");
+  if (const double alpha = position_alpha(opt); !(alpha >= 0 && alpha <= 1))
+    throw OptionError("position_alpha", number_text(alpha), "must lie in [0, 1]");
+  SMPM_VERIFY(opt.velocity != VelocityUpdate::Exact || opt.exact_solver,
+              "the exact velocity update needs StepOptions::exact_solver (see exact.hpp)");
+}
+
+bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {
+  if (!grid_update)
+    return false;
+  const bool series = opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::XPIC;
+  return opt.velocity == VelocityUpdate::Exact || (series && opt.fmpm.order > 1);
+}
+
+bool periodic_fmpm_step(double periodic_cx, double courant, double& budget) {
+  budget += courant;
+  const bool due = budget >= periodic_cx * (1 - 1e-12); // round-off of the accumulated budget
+  if (due)
+    budget = 0;
+  return due;
+}
+
+int periodic_fmpm_period(double periodic_cx, double courant) {
+  SMPM_VERIFY(courant > 0 && periodic_cx >= 0,
+              "periodic_fmpm_period: needs a positive Courant number and C_X >= 0");
+  if (periodic_cx / courant > 1e8)
+    throw InputError("periodic FMPM: C_X / C = " + number_text(periodic_cx / courant) +
+                     " steps in a period, more than 1e8");
+  double budget = 0;
+  int steps = 1;
+  while (!periodic_fmpm_step(periodic_cx, courant, budget))
+    ++steps;
+  return steps;
+}
+
+void MassSolver::solve_again(const Field&, Field&) {
+  throw InputError("this mass solver cannot solve again with its last matrix (needed by the "
+                   "exact update with contact)");
+}
+
+} // namespace smpm
