@@ -161,9 +161,9 @@ void bind_analysis(py::module_& m) {
   m.def(
       "mass_spectrum",
       [](PyOperators& o, Index dense_limit) {
-        const SparseRowMatrix& mt = o.stencil_mass();
+        const SparseRowMatrix& mt = o.prep.consistent_mass();
         py::gil_scoped_release release;
-        return mass_spectrum(o.ops, mt, dense_limit);
+        return mass_spectrum(o.ops(), mt, dense_limit);
       },
       py::arg("ops"), py::arg("dense_limit") = 2000,
       "ρ(A), λ_min(m⁻¹m̃) and cond(m̃) on the active nodes (spectrum.hpp)");

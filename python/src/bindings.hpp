@@ -7,6 +7,7 @@
 #include <sparsempm/model.hpp>
 #include <sparsempm/operators.hpp>
 #include <sparsempm/step.hpp>
+#include <sparsempm/step_preparation.hpp>
 
 #include <pybind11/pybind11.h>
 
@@ -27,18 +28,15 @@ struct PyModel {
   std::string source; ///< input file, or "<arrays>"
 };
 
-/// sparsempm.Operators: the operators of one configuration, with the grid they were assembled
-/// on; m̃ in its stencil storage is assembled on first use (FMPM passes, exact solve, spectra).
-/// A multimaterial model's velocity fields are blocks of columns of S, as in Stepper::step.
+/// sparsempm.Operators: the preparation of a step from one configuration (prepare_step, as the
+/// Stepper makes it) on the whole grid: the operators, the velocity BCs with the walls' nodes at
+/// the model's time, the contact nodes; m̃ in its stencil storage on first use (FMPM passes,
+/// exact solve, spectra). A multimaterial model's velocity fields are blocks of columns of S.
 struct PyOperators {
-  Grid grid;
   Shape shape = Shape::Linear;
-  Operators ops;
-  Eigen::VectorXi field; ///< velocity field of each particle (empty: one field)
-  const SparseRowMatrix& stencil_mass();
-
-private:
-  std::unique_ptr<ConsistentMass> mt_;
+  StepPreparation prep;
+  const Operators& ops() const { return prep.ops; }
+  const Grid& grid() const { return prep.ops.grid; }
 };
 
 /// Parses a name of the input files' vocabulary into a shape etc.; InputError on a bad name.

@@ -16,21 +16,13 @@
 
 namespace smpm::python {
 
-const SparseRowMatrix& PyOperators::stencil_mass() {
-  if (!mt_) {
-    mt_ = std::make_unique<ConsistentMass>();
-    assemble_consistent_mass(ops, *mt_);
-  }
-  return mt_->matrix;
-}
-
 namespace {
 
 using DoubleArray = py::array_t<double, py::array::forcecast>;
 
 // The grid momentum p (n or n × d) as a field with one row per node.
 Field momentum(const PyOperators& o, const DoubleArray& p) {
-  return to_field(p, o.ops.num_nodes(), "p");
+  return to_field(p, o.ops().num_nodes(), "p");
 }
 
 // v⁺(k) of FMPM 2026 Eqs. (5)–(6): v⁺(1) = m⁻¹ p (with the lumped BCs of Table 2 unless the
@@ -42,15 +34,15 @@ py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int k, dou
   opt.bc_method = bc_method_from_string(bc_method);
   validate(opt);
   const Field p = momentum(o, p_in);
-  const SparseRowMatrix& mt = o.stencil_mass();
+  const SparseRowMatrix& mt = o.prep.consistent_mass();
   Field v;
   {
     py::gil_scoped_release release;
-    lumped_solve(o.ops.m_inv, p, v);
+    lumped_solve(o.ops().m_inv, p, v);
     if (bcs && opt.bc_method != BCMethod::Velocity)
-      bcs->constrain_velocity(o.grid, time, v, &o.ops.active);
+      bcs->constrain_velocity(o.grid(), time, v, &o.ops().active);
     FmpmWorkspace w;
-    fmpm_velocity(o.ops, mt, opt, LoopConstraints{&o.grid, bcs, time}, v, w);
+    fmpm_velocity(o.ops(), mt, opt, LoopConstraints{&o.grid(), bcs, time}, v, w);
   }
   return from_field(std::move(v), p_in.ndim() == 1);
 }
@@ -60,12 +52,12 @@ py::array exact_grid_velocity(PyOperators& o, const DoubleArray& p_in,
                               const BoundaryConditions* bcs, double time, double regularization,
                               double mass_cutoff) {
   const Field p = momentum(o, p_in);
-  const SparseRowMatrix& mt = o.stencil_mass();
+  const SparseRowMatrix& mt = o.prep.consistent_mass();
   CholmodSolver solver({.regularization = regularization, .mass_cutoff = mass_cutoff});
   Field v;
   {
     py::gil_scoped_release release;
-    solver.solve(o.ops, mt, LoopConstraints{&o.grid, bcs, time}, p, v);
+    solver.solve(o.ops(), mt, LoopConstraints{&o.grid(), bcs, time}, p, v);
   }
   return from_field(std::move(v), p_in.ndim() == 1);
 }
@@ -79,37 +71,41 @@ void bind_operators(py::module_& m) {
                           "on request. Matrices are scipy.sparse.csr_matrix; S, G, M, m and "
                           "active share the library's storage (read-only).")
       .def_property_readonly(
-          "S", [](py::object self) { return csr_view(self.cast<PyOperators&>().ops.S, self); },
+          "S", [](py::object self) { return csr_view(self.cast<PyOperators&>().prep.ops.S, self); },
           "N × n shape-function weights S_pi")
       .def_property_readonly(
           "G",
           [](py::object self) {
             PyOperators& o = self.cast<PyOperators&>();
             py::list G;
-            for (int a = 0; a < o.ops.dim; ++a)
-              G.append(csr_view(o.ops.G[size_t(a)], self));
+            for (int a = 0; a < o.ops().dim; ++a)
+              G.append(csr_view(o.prep.ops.G[size_t(a)], self));
             return G;
           },
           "[G_x, ...]: N × n gradient weights ∂S_pi/∂x_a, one per axis")
       .def_property_readonly(
           "M",
-          [](py::object self) { return vector_view(self.cast<PyOperators&>().ops.M, self, false); },
+          [](py::object self) {
+            return vector_view(self.cast<PyOperators&>().prep.ops.M, self, false);
+          },
           "N particle masses")
       .def_property_readonly(
           "m",
-          [](py::object self) { return vector_view(self.cast<PyOperators&>().ops.m, self, false); },
+          [](py::object self) {
+            return vector_view(self.cast<PyOperators&>().prep.ops.m, self, false);
+          },
           "n lumped nodal masses m = Sᵀ M")
       .def_property_readonly(
           "m_inv",
           [](py::object self) {
-            return vector_view(self.cast<PyOperators&>().ops.m_inv, self, false);
+            return vector_view(self.cast<PyOperators&>().prep.ops.m_inv, self, false);
           },
           "n: 1/m_i on active nodes, 0 elsewhere")
       .def_property_readonly(
           "active",
           [](const PyOperators& o) {
-            py::array_t<bool> a(o.ops.active.size());
-            std::copy(o.ops.active.data(), o.ops.active.data() + o.ops.active.size(),
+            py::array_t<bool> a(o.ops().active.size());
+            std::copy(o.ops().active.data(), o.ops().active.data() + o.ops().active.size(),
                       a.mutable_data());
             return a;
           },
@@ -117,51 +113,59 @@ void bind_operators(py::module_& m) {
       .def_property_readonly(
           "active_nodes",
           [](const PyOperators& o) {
-            Eigen::VectorXi a = active_nodes(o.ops);
+            Eigen::VectorXi a = active_nodes(o.ops());
             return py::array_t<int>(a.size(), a.data());
           },
           "indices of the active nodes, ascending")
-      .def_property_readonly("dim", [](const PyOperators& o) { return o.ops.dim; })
+      .def_property_readonly("dim", [](const PyOperators& o) { return o.ops().dim; })
       .def_property_readonly(
-          "fields", [](const PyOperators& o) { return o.ops.fields; },
+          "fields", [](const PyOperators& o) { return o.ops().fields; },
           "velocity fields n_f: blocks of n_g columns of S (1 unless the model has [[contact]] "
           "fields); node i of field α is column α n_g + i")
       .def_property_readonly(
-          "grid_node_count", [](const PyOperators& o) { return o.ops.grid_node_count; },
+          "grid_node_count", [](const PyOperators& o) { return o.ops().grid_node_count; },
           "n_g, nodes of the grid (num_nodes = fields · n_g)")
       .def_property_readonly(
           "particle_field",
           [](const PyOperators& o) {
-            py::array_t<int> a(o.ops.num_particles());
-            if (o.field.size() == 0)
+            py::array_t<int> a(o.ops().num_particles());
+            if (o.prep.field.size() == 0)
               std::fill_n(a.mutable_data(), a.size(), 0);
             else
-              std::copy_n(o.field.data(), o.field.size(), a.mutable_data());
+              std::copy_n(o.prep.field.data(), o.prep.field.size(), a.mutable_data());
             return a;
           },
           "N ints: the velocity field of each particle (the block of its row of S)")
-      .def_property_readonly("num_nodes", [](const PyOperators& o) { return o.ops.num_nodes(); })
+      .def_property_readonly("num_nodes", [](const PyOperators& o) { return o.ops().num_nodes(); })
       .def_property_readonly("num_particles",
-                             [](const PyOperators& o) { return o.ops.num_particles(); })
+                             [](const PyOperators& o) { return o.ops().num_particles(); })
       .def_property_readonly("shape",
                              [](const PyOperators& o) { return std::string(to_string(o.shape)); })
-      .def_property_readonly("grid", [](const PyOperators& o) { return o.grid; })
+      .def_property_readonly("grid", [](const PyOperators& o) { return o.grid(); })
+      .def_property_readonly(
+          "bcs", [](PyOperators& o) -> const BoundaryConditions& { return o.prep.bcs; },
+          py::return_value_policy::reference_internal,
+          "the model's velocity BCs with the walls' nodes at the model's time: those of a step "
+          "from this configuration (pass them to fmpm_velocity and exact_velocity)")
       .def(
           "consistent_mass",
-          [](const PyOperators& o) { return csr_owned(SparseRowMatrix(consistent_mass(o.ops))); },
+          [](const PyOperators& o) { return csr_owned(SparseRowMatrix(consistent_mass(o.ops()))); },
           "m̃ = Sᵀ diag(M) S, n × n (rows sum to m)")
       .def(
-          "S_plus", [](const PyOperators& o) { return csr_owned(SparseRowMatrix(S_plus(o.ops))); },
+          "S_plus",
+          [](const PyOperators& o) { return csr_owned(SparseRowMatrix(S_plus(o.ops()))); },
           "S⁺ = m⁻¹ Sᵀ M, n × N (rows of inactive nodes zero)")
       .def(
           "expansion_matrix",
-          [](const PyOperators& o) { return csr_owned(SparseRowMatrix(expansion_matrix(o.ops))); },
+          [](const PyOperators& o) {
+            return csr_owned(SparseRowMatrix(expansion_matrix(o.ops())));
+          },
           "A = I − m⁻¹ m̃ = I − S⁺ S (FMPM 2026 Eq. 1), zero on inactive nodes")
       .def(
           "momentum",
           [](const PyOperators& o, const DoubleArray& V) {
             Field p;
-            map_momentum(particle_operators(o.ops), to_field(V, o.ops.num_particles(), "V"), p);
+            map_momentum(particle_operators(o.ops()), to_field(V, o.ops().num_particles(), "V"), p);
             return from_field(std::move(p), V.ndim() == 1);
           },
           py::arg("V"), "p = Sᵀ (M ∘ V), one row per node");
@@ -170,16 +174,8 @@ void bind_operators(py::module_& m) {
       "assemble",
       [](const PyModel& model, const py::object& shape) {
         PyOperators o;
-        o.grid = model.model.grid;
         o.shape = shape_arg(shape, &model);
-        const Model& mdl = model.model;
-        const int nf = mdl.contact.fields();
-        if (nf > 1) { // the velocity fields as blocks of columns of S, as Stepper::step does
-          mdl.contact.particle_fields(mdl.particles.material, o.field);
-          assemble(o.grid, mdl.particles, o.shape, o.ops, nf, &o.field);
-        } else {
-          assemble(o.grid, mdl.particles, o.shape, o.ops);
-        }
+        prepare_step(model.model, o.shape, o.prep); // the Stepper's preparation, whole grid
         return o;
       },
       py::arg("model"), py::arg("shape") = py::none(),

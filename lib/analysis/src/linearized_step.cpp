@@ -69,9 +69,8 @@ struct LinearizedStep::Impl {
   StepOptions opt;
   std::unique_ptr<MassSolver> solver;
   BoundaryConditions homogeneous; // the BC directions with zero values
-  Operators ops;
-  ConsistentMass mt;
-  Field K; // material tangents
+  StepPreparation prep;           // the frozen configuration's operators (and m̃ when used)
+  Field K;                        // material tangents
   double dt = 0;
   int flip_steps = 0; // periodic FMPM: FLIP steps before each FMPM step
   int d = 1;
@@ -100,17 +99,15 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
     I.solver = options.exact_solver(options.exact);
   I.d = model.grid.dim();
   I.N = model.particles.size();
-  assemble(model.grid, model.particles, options.shape, I.ops);
+  prepare_step(model, options.shape, I.prep); // on the whole grid (NodeRange::Grid)
   // The BC directions with zero values: walls frozen on the nodes they select now.
-  BoundaryConditions frozen = model.bcs;
-  frozen.select_wall_nodes(model.grid, I.ops.active, model.time);
-  for (VelocityCondition c : frozen.conditions) {
+  for (VelocityCondition c : I.prep.bcs.conditions) {
     c.value = nullptr;
     c.wall = -1;
     I.homogeneous.conditions.push_back(std::move(c));
   }
   if (uses_consistent_mass(options, true))
-    assemble_consistent_mass(I.ops, I.mt);
+    (void)I.prep.consistent_mass();
   I.K = material_tangents(model);
   I.F = model.particles.F;
   set_dt(dt);
@@ -139,7 +136,7 @@ Index LinearizedStep::rows() const {
   return impl_->N * (impl_->d + impl_->d * impl_->d);
 }
 const Operators& LinearizedStep::operators() const {
-  return impl_->ops;
+  return impl_->prep.ops;
 }
 
 // One linearised step on (V, sig) in place: the Stepper's scheme_step on the frozen operators,
@@ -147,8 +144,8 @@ const Operators& LinearizedStep::operators() const {
 void LinearizedStep::Impl::step(bool grid_update) const {
   X = model.particles.X;
   const StepContext context{.options = &opt,
-                            .ops = &ops,
-                            .mt = &mt.matrix,
+                            .ops = &prep.ops,
+                            .mt = &prep.consistent_mass_storage().matrix,
                             .solver = solver.get(),
                             .grid = &model.grid,
                             .bcs = &homogeneous,

@@ -8,6 +8,7 @@
 #include "sparsempm/model.hpp"
 #include "sparsempm/operators.hpp"
 #include "sparsempm/step_options.hpp"
+#include "sparsempm/step_preparation.hpp"
 
 #include <memory>
 #include <vector>
@@ -26,10 +27,18 @@ public:
   Stepper(Stepper&&) noexcept;
   Stepper& operator=(Stepper&&) noexcept;
 
-  /// One step of length dt: assembles S, G, m (and m̃ when used) at the current configuration
-  /// and runs scheme_step. Throws NumericalError naming the step, time and particle when the
-  /// state becomes invalid (a particle leaves the grid, NaN, det F ≤ 0).
+  /// One step of length dt: prepares the step at the current configuration (prepare_step:
+  /// S, G, m, the walls' nodes, the contact nodes; m̃ when used) unless prepare() did, and runs
+  /// scheme_step. Throws NumericalError naming the step, time and particle when the state
+  /// becomes invalid (a particle leaves the grid, NaN, det F ≤ 0).
   void step(Model& model, double dt);
+
+  /// Prepares the next step from the model's configuration now and returns the preparation (a
+  /// frame writer reads the operators and contact nodes of the frame there): the next step() of
+  /// this model, at this step and time, uses it instead of preparing again. The particles'
+  /// positions, deformation, domains and materials must not change in between. A failure (a
+  /// particle's support off the grid) is a NumericalError of the next step.
+  const StepPreparation& prepare(const Model& model);
 
   /// energies(model) after a step, with the strain energy densities W(F_p) its stress update
   /// stored: the same bits without evaluating W again. The particles must be as the last step
@@ -41,12 +50,14 @@ public:
   /// The operators assembled for the last step (configuration at its start). Their nodes are
   /// those of the particles' window of the model's grid, operators().grid (NodeRange::Particles):
   /// node i is node operators().grid.whole_node(i) of the grid.
-  const Operators& operators() const { return ops_; }
+  const Operators& operators() const { return prep_.ops; }
+  /// The preparation of the last step (or of the next one, after prepare()).
+  const StepPreparation& preparation() const { return prep_; }
   /// The grid fields of the last step, on the nodes of operators().grid; v_plus is the velocity
   /// used by the particle update.
   const GridState& grid_state() const;
   /// m̃ of the last step (assembled only when the step used it).
-  const ConsistentMass& consistent_mass_storage() const { return mt_; }
+  const ConsistentMass& consistent_mass_storage() const { return prep_.consistent_mass_storage(); }
   /// Whether the last step updated particles from grid velocities (PIC, FMPM, XPIC, exact)
   /// rather than FLIP (false on the FLIP steps of periodic FMPM).
   bool last_step_was_fmpm() const { return grid_update_; }
@@ -76,8 +87,10 @@ private:
   struct Buffers;
   StepOptions opt_;
   std::unique_ptr<MassSolver> solver_;
-  Operators ops_;
-  ConsistentMass mt_;
+  StepPreparation prep_;
+  const Model* prepared_model_ = nullptr; // prepare(): the model, step and time prepared
+  long prepared_step_ = -1;
+  double prepared_time_ = 0;
   std::unique_ptr<Buffers> buf_;
   double courant_budget_ = 0;
   double friction_work_ = 0, viscous_work_ = 0;

@@ -163,21 +163,24 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
   h5::set_attribute(g.get(), "step", model.step);
 }
 
-// /grid/<name> (m, p = SᵀMV, v = m⁻¹p) and, when asked, /matrices/<name> (S, G_a, m̃ in CSR).
-void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape,
-                bool matrices) {
+// /grid/<name> (m, p = SᵀMV, v = m⁻¹p) and, when asked, /matrices/<name> (S, G_a, m̃ in CSR),
+// from the preparation of the step that starts at the frame (`prepared`, the Stepper's), or from
+// the frame's own when there is none or when the matrices need the whole grid's numbering.
+void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape, bool matrices,
+                const StepPreparation* prepared) {
   const Particles& P = model.particles;
+  StepPreparation own;
+  if (!prepared || (matrices && prepared->ops.node_range != NodeRange::Grid)) {
+    // On the particles' window of the grid (storage and time follow the particles), or on the
+    // whole grid when the matrices are written (their columns are the grid's nodes).
+    own.ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
+    prepare_step(model, shape, own);
+    prepared = &own;
+  }
   // Multimaterial: each velocity field's nodal fields (node i of field α is α n_g + i), the
   // extrapolation of contact 2020 Eq. (5) before contact.
-  const int fields = model.contact.fields();
-  Operators ops;
-  // On the particles' window of the grid (storage and time follow the particles), or on the
-  // whole grid when the matrices are written (their columns are the grid's nodes).
-  ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
-  Eigen::VectorXi field;
-  if (fields > 1)
-    model.contact.particle_fields(P.material, field);
-  assemble(model.grid, P, shape, ops, fields, fields > 1 ? &field : nullptr);
+  const Operators& ops = prepared->ops;
+  const int fields = ops.fields;
   {
     // The nodes with mass only (active_nodes), with their indices in the grid (node α n_g + i
     // of field α): a frame of a few particles on a large grid stays small.
@@ -204,7 +207,7 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
     h5::set_attribute(g.get(), "grid_nodes", long(model.grid.num_nodes()));
     h5::set_attribute(g.get(), "velocity_fields", long(fields));
     if (fields > 1)
-      detail::write_contact_nodes(g.get(), model, ops, p);
+      detail::write_contact_nodes(g.get(), *prepared, p);
   }
   if (!matrices)
     return;
@@ -264,10 +267,11 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
 }
 } // namespace
 
-void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool matrices) {
+void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool matrices,
+                             const StepPreparation* prepared) {
   const std::string name = frame_name(frame);
   write_particles(file_, name, model);
-  write_grid(file_, name, model, shape, matrices);
+  write_grid(file_, name, model, shape, matrices, prepared);
   append_series_rows(file_, pending_, dim_); // the rows accumulated since the last frame
   pending_.clear();
   {

@@ -3,7 +3,6 @@
 #include "output_format.hpp"
 
 #include "sparsempm/contact.hpp"
-#include "sparsempm/stages.hpp"
 
 #include <vector>
 
@@ -15,18 +14,11 @@ namespace smpm::detail {
 // whether the fields approach there, Δp(0)·n̂ < 0 with Δp(0) from the frame's momenta before
 // contact. The frame's state: a step from it corrects the approaching nodes whose end-of-step
 // gap δ + Δt Δp(0)·n̂/m_red is negative.
-void write_contact_nodes(hid_t g, const Model& model, const Operators& ops, const Field& p) {
-  const Particles& P = model.particles;
-  Eigen::VectorXd volume;
-  P.jacobian(volume);
-  volume.array() *= P.volume0.array();
-  ContactNodes cn;
-  BoundaryConditions bcs = model.bcs; // the walls' nodes at the frame's time, as a step selects
-  bcs.select_wall_nodes(ops.grid, ops.active, model.time);
-  find_contact_nodes(ops.grid, ops, particle_operators(ops), model.contact,
-                     ContactParticles{P.X, P.F, P.half_length, volume}, cn, &bcs);
+void write_contact_nodes(hid_t g, const StepPreparation& prep, const Field& p) {
+  const Operators& ops = prep.ops;
+  const ContactNodes& cn = prep.contact;
   const Index nc = Index(cn.nodes.size()), ng = ops.grid_node_count;
-  const int d = P.dim;
+  const int d = ops.dim;
   std::vector<int> node(static_cast<size_t>(nc)), pair(static_cast<size_t>(2 * nc)),
       approaching(static_cast<size_t>(nc), 0);
   Field normal = Field::Zero(nc, d);

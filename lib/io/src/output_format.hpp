@@ -5,6 +5,7 @@
 #include "hdf5_util.hpp"
 #include "sparsempm/model.hpp"
 #include "sparsempm/operators.hpp"
+#include "sparsempm/step_preparation.hpp"
 
 #include <string>
 #include <vector>
@@ -31,8 +32,8 @@ hid_t open_for_reading(const std::string& path);
 std::vector<int> complete_frames(hid_t file);
 /// Writes the contact nodes of a multimaterial frame into its /grid group `g` (contact_nodes,
 /// contact_fields, contact_normal, contact_separation, contact_approaching) from the frame's
-/// operators and momenta p = SᵀMV (output_contact.cpp).
-void write_contact_nodes(hid_t g, const Model& model, const Operators& ops, const Field& p);
+/// preparation (prepare_step) and momenta p = SᵀMV (output_contact.cpp).
+void write_contact_nodes(hid_t g, const StepPreparation& prep, const Field& p);
 /// Loads one frame's particle state and clock into `model`.
 void load_frame_from(hid_t file, int frame, Model& model);
 

@@ -113,11 +113,14 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
                        : 0;
     return r;
   };
-  // A frame, with the step it belongs to named when the write fails (a full disk).
+  // A frame, with the step it belongs to named when the write fails (a full disk). Its grid
+  // fields come from the preparation of the step that starts there (which that step then
+  // uses); a failure to prepare it (a particle's support off the grid) is that step's.
   auto frame = [&](const Model& m) {
+    const StepPreparation& next = stepper.prepare(m);
     out.set_stepper_state(stepper.courant_budget());
     try {
-      out.write_frame(next_frame++, m, cfg.step.shape, cfg.output.matrices);
+      out.write_frame(next_frame++, m, cfg.step.shape, cfg.output.matrices, &next);
     } catch (const std::runtime_error& w) {
       throw std::runtime_error(partial + ": writing the frame of step " + std::to_string(m.step) +
                                " (t = " + std::to_string(m.time) + ") failed: " + w.what() +

@@ -22,6 +22,7 @@
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/input.hpp"
 #include "sparsempm/operators.hpp"
+#include "sparsempm/step_preparation.hpp"
 
 #include <string>
 #include <vector>
@@ -60,8 +61,11 @@ public:
   /// Buffers one row of the series (written with the next frame).
   void add_series(const SeriesRow& row) { pending_.push_back(row); }
   /// Writes frame `frame` of the model (and its matrices when cfg.output.matrices), the
-  /// buffered series rows, and flushes the file.
-  void write_frame(int frame, const Model& model, Shape shape, bool matrices);
+  /// buffered series rows, and flushes the file. The grid fields and contact nodes come from
+  /// `prepared`, the preparation of the step that starts at this frame (Stepper::prepare), when
+  /// given; otherwise (and for the matrices on the whole grid) from prepare_step on the frame.
+  void write_frame(int frame, const Model& model, Shape shape, bool matrices,
+                   const StepPreparation* prepared = nullptr);
   /// Records the run's end (the failure or interruption) with the series rows buffered since
   /// the last frame, and flushes. Writes what it can and does not throw: it is called while
   /// another failure is being reported.
