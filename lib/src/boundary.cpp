@@ -17,6 +17,8 @@ Index BoundaryConditions::num_constrained() const {
 
 namespace {
 using Mask = Eigen::Array<bool, Eigen::Dynamic, 1>;
+/// A change of one row of a node field (d ≤ 3 entries, on the stack).
+using RowChange = Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, 3>;
 
 // FMPM 2026 Table 2 (top block) on every constrained node: first zero each constrained
 // direction, x_i ← x_i − (x_i · n̂_b) n̂_b, then add the values, x_i ← x_i + w_i v_b(t, x_i) n̂_b
@@ -43,7 +45,7 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
           continue;
         const auto n = c.direction.head(d);
         auto xi = x.row(r);
-        const Eigen::RowVectorXd delta = -xi.dot(n) * n.transpose();
+        const RowChange delta = -xi.dot(n) * n.transpose();
         xi += delta;
         changed(r, delta);
       }
@@ -57,7 +59,7 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
         const double w = weight(r);
         if (w == 0)
           continue;
-        const Eigen::RowVectorXd delta =
+        const RowChange delta =
             (w * c.value_at(t, grid.node_position(i))) * c.direction.head(d).transpose();
         x.row(r) += delta;
         changed(r, delta);

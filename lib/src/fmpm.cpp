@@ -4,6 +4,7 @@
 #include "kernels.hpp"
 #include "parallel.hpp"
 #include "sparsempm/errors.hpp"
+#include "sparsempm/stages.hpp"
 
 #include <cmath>
 #include <string>
@@ -200,6 +201,24 @@ FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const 
   if (bc.bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
     bc.bcs->constrain_velocity(*bc.grid, bc.time, v, &ops.active);
   return report;
+}
+
+FmpmReport updated_velocity(const Operators& ops, const SparseRowMatrix* mt, const FmpmOptions& opt,
+                            const LoopConstraints& bc, bool lumped_bcs, double dt, Field& p_plus,
+                            Field* reaction, Field& v, FmpmWorkspace& w,
+                            const std::function<void(int, Field&, const Field&)>& contact) {
+  const bool loop = opt.order > 1;
+  if (lumped_bcs && bc.bcs && !(loop && opt.bc_method == BCMethod::Velocity)) {
+    if (reaction) // task 2.a: p⁺ takes the BC velocity and f the reaction Δp/Δt
+      bc.bcs->constrain_update(*bc.grid, ops.m, bc.time, dt, p_plus, *reaction);
+    else
+      bc.bcs->constrain_momentum(*bc.grid, ops.m, bc.time, p_plus);
+  }
+  lumped_solve(ops.m_inv, p_plus, v); // v⁺(1) = m⁻¹ p⁺
+  if (!loop)
+    return FmpmReport{};
+  SMPM_VERIFY(mt, "updated_velocity: FMPM(k > 1) needs m~");
+  return fmpm_velocity(ops, *mt, opt, bc, v, w, contact);
 }
 
 void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, const Field& v,

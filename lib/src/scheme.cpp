@@ -59,11 +59,25 @@ struct Stages {
       apply_contact(*c.ops, *c.contact_nodes, c.dt, p, force);
   }
 
-  // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1); `heat` on the
-  // call after the momentum update, whose contact corrections do frictional work.
-  void grid_velocity(const Field& p, Field& v, bool heat = false) {
+  // The FMPM options of this step's grid-velocity solve: the order k on the full-mass steps of
+  // FMPM(k), the lumped inverse (k = 1) on every other step.
+  FmpmOptions solve_options() const {
+    FmpmOptions f = opt.fmpm;
+    if (!(full_mass && opt.velocity == VelocityUpdate::FMPM))
+      f.order = 1;
+    return f;
+  }
+
+  // v = m̃_k⁻¹ p with this step's mass inverse (tasks 1.c, 3.b, 4.c of Fig. 1). `lumped_bcs`
+  // and `reaction` on the momentum update (task 3.b), whose lumped BCs (task 2.a, by the BC
+  // method of §3.1) are applied here (updated_velocity) and whose contact corrections do
+  // frictional work; the other momenta carry BC1 already.
+  void grid_velocity(Field& p, Field& v, bool lumped_bcs = false, Field* reaction = nullptr) {
     const LoopConstraints bc{c.grid, c.bcs, c.time};
+    const bool heat = reaction != nullptr;
     if (full_mass && opt.velocity == VelocityUpdate::Exact) {
+      if (lumped_bcs) // task 2.a; the solve imposes the BC values itself
+        c.bcs->constrain_update(*c.grid, c.ops->m, c.time, c.dt, p, *reaction);
       c.solver->solve(*c.ops, *c.mt, bc, p, v);
       if (c.contact_nodes) { // each field's m̃^α with contact at the Net limit (§3.2)
         b.p_contact = p;
@@ -74,17 +88,18 @@ struct Stages {
       }
       return;
     }
-    lumped_solve(c.ops->m_inv, p, v); // v⁺(1) = m⁻¹ p
-    if (full_mass && opt.velocity == VelocityUpdate::FMPM && opt.fmpm.order > 1) {
-      // Multimaterial: one loop over the block-diagonal m̃ runs every field's loop, and contact
-      // corrects each increment (FMPM 2026 §3.2), from the state of the lumped correction of p.
-      std::function<void(int, Field&, const Field&)> hook;
-      if (c.contact_nodes)
-        hook = [this, heat](int, Field& dv, const Field&) {
-          contact_increment(*c.ops, *c.contact_nodes, c.dt, dv, heat);
-        };
-      b.report = fmpm_velocity(*c.ops, *c.mt, opt.fmpm, bc, v, b.fmpm, hook);
-    }
+    // Multimaterial: one loop over the block-diagonal m̃ runs every field's loop, and contact
+    // corrects each increment (FMPM 2026 §3.2), from the state of the lumped correction of p.
+    std::function<void(int, Field&, const Field&)> hook;
+    if (c.contact_nodes)
+      hook = [this, heat](int, Field& dv, const Field&) {
+        contact_increment(*c.ops, *c.contact_nodes, c.dt, dv, heat);
+      };
+    const FmpmOptions f = solve_options();
+    const FmpmReport report =
+        updated_velocity(*c.ops, c.mt, f, bc, lumped_bcs, c.dt, p, reaction, v, b.fmpm, hook);
+    if (f.order > 1)
+      b.report = report;
   }
 
   // Velocity gradient, F and stress from grid velocities v (Buzzi Fig. 7; FMPM 2026 task 5).
@@ -124,25 +139,14 @@ struct Stages {
     GridState& g = b.g;
     internal_force(op, fields.volume0, fields.F, fields.stress, g.f);
     add_body_force(c.ops->m, c.body_force, g.f);
-    if (!correct_bcs()) {
+    if (!correct_bcs())
       c.bcs->zero_directions(*c.grid, g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
-      g.p_plus.noalias() = g.p + c.dt * g.f;
-      contact(g.p_plus, &g.f);
-    } else {
-      g.p_plus.noalias() = g.p + c.dt * g.f;
-      contact(g.p_plus, &g.f);
-      // Task 2.a: p⁺ takes the BC velocity and f the reaction f^(BC) = Δp/Δt; the velocity
-      // method of §3.1 skips it on full-mass steps and corrects v⁺(k) afterwards.
-      const bool skip = full_mass && opt.velocity == VelocityUpdate::FMPM &&
-                        opt.fmpm.bc_method == BCMethod::Velocity;
-      if (!skip)
-        c.bcs->constrain_update(*c.grid, c.ops->m, c.time, c.dt, g.p_plus, g.f);
-    }
+    g.p_plus.noalias() = g.p + c.dt * g.f;
+    contact(g.p_plus, &g.f);
+    // Task 2.a (correct ordering): p⁺ takes the BC velocity and f the reaction f^(BC) = Δp/Δt,
+    // by the BC method of §3.1; then v⁺ (task 3.b).
+    grid_velocity(g.p_plus, g.v_plus, correct_bcs(), &g.f);
     lumped_solve(c.ops->m_inv, g.f, g.a);
-    if (opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::Exact)
-      grid_velocity(g.p_plus, g.v_plus, true);
-    else
-      lumped_solve(c.ops->m_inv, g.p_plus, g.v_plus);
   }
 
   // Task 4: Eq. (8) on FLIP steps, Eq. (9) for PIC, FMPM(k) and exact, contact 2020 Eq. (35)

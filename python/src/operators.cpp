@@ -25,24 +25,23 @@ Field momentum(const PyOperators& o, const DoubleArray& p) {
   return to_field(p, o.ops().num_nodes(), "p");
 }
 
-// v⁺(k) of FMPM 2026 Eqs. (5)–(6): v⁺(1) = m⁻¹ p (with the lumped BCs of Table 2 unless the
-// method is "velocity"), then the loop of Table 1 (fmpm_velocity of fmpm.hpp).
+// v⁺(k) of FMPM 2026 Eqs. (5)–(6) from an updated momentum p⁺, by the step's own sequence
+// (updated_velocity of fmpm.hpp): the lumped BCs of Table 2 on p⁺ by the BC method, v⁺(1) = m⁻¹ p⁺,
+// then the loop of Table 1.
 py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int k, double alpha,
                              int every, const BoundaryConditions* bcs, double time,
                              const std::string& bc_method) {
   FmpmOptions opt{.order = k, .blend_alpha = alpha, .blend_every = every};
   opt.bc_method = bc_method_from_string(bc_method);
   validate(opt);
-  const Field p = momentum(o, p_in);
-  const SparseRowMatrix& mt = o.prep.consistent_mass();
+  Field p = momentum(o, p_in);
+  const SparseRowMatrix* mt = k > 1 ? &o.prep.consistent_mass() : nullptr;
   Field v;
   {
     py::gil_scoped_release release;
-    lumped_solve(o.ops().m_inv, p, v);
-    if (bcs && opt.bc_method != BCMethod::Velocity)
-      bcs->constrain_velocity(o.grid(), time, v, &o.ops().active);
     FmpmWorkspace w;
-    fmpm_velocity(o.ops(), mt, opt, LoopConstraints{&o.grid(), bcs, time}, v, w);
+    updated_velocity(o.ops(), mt, opt, LoopConstraints{&o.grid(), bcs, time}, true, 0, p, nullptr,
+                     v, w);
   }
   return from_field(std::move(v), p_in.ndim() == 1);
 }
@@ -188,8 +187,10 @@ void bind_operators(py::module_& m) {
         py::arg("time") = 0.0, py::arg("bc_method") = "incremental",
         "v⁺(k) = m̃_k⁻¹ p = Σ_{ℓ=1}^{k} Δv(ℓ), Δv(1) = m⁻¹ p, Δv(ℓ) = c_ℓ A Δv(ℓ−1) (FMPM 2026 "
         "Eqs. 5-6, Table 1; c_ℓ = alpha on every `every`-th pass, §3.3): without blending "
-        "Σ_{j<k} Aʲ m⁻¹ p. With bcs (model.bcs) the velocity BCs of bc_method (§3.1). p: n or "
-        "n × d; the result has its shape.");
+        "Σ_{j<k} Aʲ m⁻¹ p. With bcs (ops.bcs: the model's, walls included) the velocity BCs "
+        "of bc_method (§3.1) as a step applies them to its updated momentum: Table 2 on p in "
+        "momentum form (unless 'velocity'), then the loop. p: n or n × d; the result has its "
+        "shape.");
   m.def("exact_velocity", &exact_grid_velocity, py::arg("ops"), py::arg("p"),
         py::arg("bcs") = nullptr, py::arg("time") = 0.0, py::arg("regularization") = 0.0,
         py::arg("mass_cutoff") = 0.0,

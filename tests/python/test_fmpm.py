@@ -81,3 +81,20 @@ def test_exact_velocity_with_the_fixed_end(bar, bar_state):
     # The fixed node keeps v = 0 and the free ones solve m̃_FF v_F = p_F (exact.hpp).
     assert v[fixed[0], 0] == 0
     assert np.abs(v[free, 0] - ref).max() < 1e-10
+
+
+@pytest.mark.parametrize("k", [1, 2, 4, 8])
+def test_fmpm_velocity_holds_the_fixed_end_by_each_bc_method(bar, bar_state, k):
+    # FMPM 2026 §3.1, Table 2: the incremental method (lumped BCs on v⁺(1), the BC direction of
+    # every increment zeroed), the velocity method (BCs set on v⁺(k)) and the combined one keep
+    # the fixed node at v = 0 for every k; the lumped method (BCs on v⁺(1) only) lets the
+    # increments move it once k > 1. ops.bcs are the BCs a step from this configuration uses.
+    ops, p = bar_state
+    fixed = np.flatnonzero(np.isclose(ops.grid.node_positions()[:, 0], 0.0))[0]
+    for method in ("incremental", "velocity", "combined"):
+        v = smpm.fmpm_velocity(ops, p, k, bcs=ops.bcs, bc_method=method)
+        assert v[fixed, 0] == 0, method
+    lumped_only = smpm.fmpm_velocity(ops, p, k, bcs=ops.bcs, bc_method="lumped")
+    assert (abs(lumped_only[fixed, 0]) > 1e-6) == (k > 1)
+    # Without BCs the fixed node moves with its neighbours.
+    assert abs(smpm.fmpm_velocity(ops, p, k)[fixed, 0]) > 1e-6

@@ -90,29 +90,30 @@ int axis_of(const VelocityCondition& c, int d) {
 } // namespace
 
 namespace {
-// The prescribed velocity of every (active node, axis) with a condition, NaN where free.
-// Parallel conditions add their values (FMPM 2026 Table 2). Nodes lighter than
-// cutoff · max m take their lumped velocity p_i / m_i in the components left free.
+// The prescribed velocity of every (active node, axis) with a condition, NaN where free: the
+// superposition rule of FMPM 2026 Table 2 (boundary.hpp; parallel conditions add their values)
+// read off the BCs themselves, as the values constrain_velocity sets on a zero field in the
+// components zero_directions clears. Nodes lighter than cutoff · max m take their lumped
+// velocity p_i / m_i in the components left free.
 Field prescribed_components(const Operators& ops, const LoopConstraints& bc, const Field& p,
                             double cutoff) {
+  const Index n = ops.num_nodes();
   const int d = int(p.cols());
-  Field prescribed = Field::Constant(ops.num_nodes(), d, std::numeric_limits<double>::quiet_NaN());
-  if (bc.bcs)
-    for (const VelocityCondition& cond : bc.bcs->conditions) {
-      const int a = axis_of(cond, d);
-      const double sign = cond.direction[a] > 0 ? 1.0 : -1.0;
-      // Node i of every velocity field (block columns, operators.hpp): rows α n_g + i.
-      for (Index block = 0; block < ops.num_nodes(); block += ops.grid_node_count)
-        for (Index whole : cond.nodes) // nodes of the whole grid; bc.grid may be a window
-          if (const Index i = bc.grid->node_of_whole(whole); i >= 0 && ops.active[block + i]) {
-            const Index r = block + i;
-            const double value = sign * cond.value_at(bc.time, bc.grid->node_position(i));
-            prescribed(r, a) = std::isnan(prescribed(r, a)) ? value : prescribed(r, a) + value;
-          }
-    }
+  Field prescribed = Field::Constant(n, d, std::numeric_limits<double>::quiet_NaN());
+  if (bc.bcs && !bc.bcs->conditions.empty()) {
+    for (const VelocityCondition& cond : bc.bcs->conditions)
+      (void)axis_of(cond, d); // conditions along axes only
+    Field values = Field::Zero(n, d), fixed = Field::Ones(n, d);
+    bc.bcs->constrain_velocity(*bc.grid, bc.time, values, &ops.active);
+    bc.bcs->zero_directions(*bc.grid, fixed);
+    for (Index i = 0; i < n; ++i)
+      for (int a = 0; a < d; ++a)
+        if (ops.active[i] && fixed(i, a) == 0)
+          prescribed(i, a) = values(i, a);
+  }
   if (cutoff > 0) {
     const double light = cutoff * ops.m.maxCoeff();
-    for (Index i = 0; i < ops.num_nodes(); ++i)
+    for (Index i = 0; i < n; ++i)
       if (ops.active[i] && ops.m[i] < light)
         for (int a = 0; a < d; ++a)
           if (std::isnan(prescribed(i, a)))

@@ -119,6 +119,22 @@ fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions
               const LoopConstraints& bc, Field& v, FmpmWorkspace& w,
               const std::function<void(int ell, Field& dv, const Field& v)>& contact = {});
 
+/// Tasks 2.a and 3.b of FMPM 2026 Fig. 1 with the BC method of §3.1: the grid velocity
+/// v⁺ = m̃_k⁻¹ p⁺ from the updated momentum, the one sequence of the step (scheme.hpp) and of
+/// Python's fmpm_velocity:
+///   1. with `lumped_bcs`, Table 2's top block in momentum form on p⁺ (constrain_momentum; with
+///      `reaction`, constrain_update, which adds f^(BC) = Δp/Δt to *reaction), except for the
+///      Velocity method of a solve with k > 1, which sets v⁺(k) instead (§3.1);
+///   2. v⁺(1) = m⁻¹ p⁺;
+///   3. for k > 1, the loop of Table 1 with the method's BCs (fmpm_velocity; `contact` is its
+///      line 2), for which `mt` is required.
+/// With k = 1 this is the lumped update of FLIP, PIC and XPIC.
+FmpmReport
+updated_velocity(const Operators& ops, const SparseRowMatrix* mt, const FmpmOptions& opt,
+                 const LoopConstraints& bc, bool lumped_bcs, double dt, Field& p_plus,
+                 Field* reaction, Field& v, FmpmWorkspace& w,
+                 const std::function<void(int ell, Field& dv, const Field& v)>& contact = {});
+
 /// The convergence metric of FMPM 2026 §3.4 for an increment dv and the evolving v⁺(ℓ).
 double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
                           const Operators& ops);
