@@ -68,7 +68,8 @@ void Stepper::step(Model& model, double dt) {
     // on the others.
     grid_update_ = opt_.velocity != VelocityUpdate::FLIP;
     if (grid_update_ && opt_.periodic_cx > 0)
-      grid_update_ = periodic_fmpm_step(opt_.periodic_cx, courant_of(model, dt), courant_budget_);
+      grid_update_ =
+          periodic_fmpm_step(opt_.periodic_cx, courant_of(model, dt), state_.courant_budget);
     const bool contact = prep_.has_contact();
     const StepContext context{
         .options = &opt_,
@@ -96,9 +97,9 @@ void Stepper::step(Model& model, double dt) {
                                 shock ? &buf_->shock : nullptr, &buf_->density);
     scheme_step(context, fields, strain, buf_->step);
     if (contact)
-      friction_work_ += prep_.contact.friction_work;
+      state_.friction_work += prep_.contact.friction_work;
     if (shock)
-      viscous_work_ += buf_->shock.viscous_work;
+      state_.viscous_work += buf_->shock.viscous_work;
   } catch (const NumericalError& e) {
     throw at_step(e, model.step + 1, model.time + dt);
   }

@@ -61,3 +61,85 @@ TEST_CASE("CSR matrices read back from HDF5 equal the in-memory ones", "[output]
   std::filesystem::remove(path);
   std::filesystem::remove(xdmf_path(path));
 }
+
+TEST_CASE("a run file moved to another OutputFile keeps its state, frames and sidecar",
+          "[output]") {
+  // OutputFile's move is member-wise (the file handle left closed behind): the moved-to object
+  // writes the restart state given before the move, the per-material series of every material,
+  // and appends to the sidecar it started.
+  RunConfig cfg = read_input(example_text("two_disks.toml"), "two_disks.toml");
+  const std::string path = (std::filesystem::temp_directory_path() / "smpm_move_test.h5").string();
+  const RunState state{
+      .stepper = {.courant_budget = 0.75, .friction_work = 2.5, .viscous_work = 0.125},
+      .velocity_change_sum = 3.0};
+  {
+    OutputFile first(path, cfg);
+    first.set_run_state(state);
+    first.write_frame(0, cfg.model, cfg.step.shape, false);
+    SeriesRow row;
+    row.step = 1;
+    row.t = 0.5;
+    row.materials.assign(5, 1.0); // material_sums of the one 2D material: 1 + 2d
+    first.add_series(row);
+    OutputFile out(std::move(first));
+    cfg.model.time = 0.5;
+    cfg.model.step = 1;
+    out.write_frame(1, cfg.model, cfg.step.shape, false);
+    out.finish(path);
+  }
+  const RunState back = read_run_state(path, 1);
+  CHECK(back.stepper.courant_budget == 0.75);
+  CHECK(back.stepper.friction_work == 2.5);
+  CHECK(back.stepper.viscous_work == 0.125);
+  CHECK(back.velocity_change_sum == 3.0);
+  CHECK(run_frames(path) == std::vector<int>{0, 1});
+  {
+    h5::Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    REQUIRE(file);
+    h5::Id series = h5::open_group(file.get(), "series");
+    CHECK(h5::read_doubles(series.get(), "material_centre").cols() == 2); // one material, 2D
+  }
+  std::ifstream xmf(xdmf_path(path));
+  std::stringstream text;
+  text << xmf.rdbuf();
+  CHECK(text.str().find("frame 000000") != std::string::npos);
+  CHECK(text.str().find("frame 000001") != std::string::npos);
+  std::filesystem::remove(path);
+  std::filesystem::remove(xdmf_path(path));
+}
+
+TEST_CASE("the restart state of a file without /state comes from its frame and series",
+          "[output]") {
+  // Files of earlier versions stored periodic FMPM's budget on the frame and the running sums
+  // only in the series: read_run_state takes the series row of the frame's step.
+  RunConfig cfg = read_input(example_text("two_disks.toml"), "two_disks.toml");
+  const std::string path = (std::filesystem::temp_directory_path() / "smpm_old_state.h5").string();
+  {
+    OutputFile out(path, cfg);
+    for (long step = 0; step <= 2; ++step) {
+      SeriesRow row;
+      row.step = step;
+      row.friction = 10.0 * double(step);
+      row.viscous = 0.5 * double(step);
+      row.velocity_change_sum = 0.25 * double(step);
+      row.materials.assign(5, 1.0);
+      out.add_series(row);
+    }
+    cfg.model.step = 1; // the frame of step 1, written after the rows of steps 0-2
+    out.write_frame(0, cfg.model, cfg.step.shape, false);
+  }
+  {
+    h5::Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    REQUIRE(file);
+    REQUIRE(H5Ldelete(file.get(), "state", H5P_DEFAULT) >= 0);
+    h5::Id frame = h5::open_group(file.get(), "particles/000000");
+    h5::set_attribute(frame.get(), "courant_budget", 1.5);
+  }
+  const RunState back = read_run_state(path, 0);
+  CHECK(back.stepper.courant_budget == 1.5);
+  CHECK(back.stepper.friction_work == 10.0);
+  CHECK(back.stepper.viscous_work == 0.5);
+  CHECK(back.velocity_change_sum == 0.25);
+  std::filesystem::remove(path);
+  std::filesystem::remove(xdmf_path(path));
+}

@@ -17,6 +17,19 @@ namespace smpm {
 
 struct GridState; // scheme.hpp
 
+/// What a Stepper accumulates over a run besides the model: the state a restart sets back
+/// (Stepper::restore) to continue bit for bit.
+struct StepperState {
+  /// Periodic FMPM: the Courant number accumulated since the last grid-velocity step (§3.3).
+  double courant_budget = 0;
+  /// Work dissipated since the start of the run by Coulomb friction at contact nodes
+  /// (contact_friction_work, the momentum-update correction) ...
+  double friction_work = 0;
+  /// ... and by the artificial viscosity of Mie–Grüneisen materials (part of their internal
+  /// energy U).
+  double viscous_work = 0;
+};
+
 /// Advances a Model by one time step; owns the operators, m̃ and the grid fields and reuses
 /// their storage from step to step.
 class Stepper {
@@ -69,19 +82,11 @@ public:
   /// re-extrapolated velocities (task 4.c). With dynamic_limit = 0 the loop runs to the order k
   /// and this is the whole curve.
   const std::vector<double>& last_fmpm_metrics() const;
-  /// Periodic FMPM: the Courant number accumulated since the last FMPM step (§3.3). Part of
-  /// the stepper's state: a restart sets it back with set_courant_budget.
-  double courant_budget() const { return courant_budget_; }
-  void set_courant_budget(double budget) { courant_budget_ = budget; }
-  /// Work dissipated since the start of the run (or the last set_dissipation): by Coulomb
-  /// friction at contact nodes (contact_friction_work, the momentum-update correction) and by
-  /// the artificial viscosity of Mie–Grüneisen materials (part of their internal energy U).
-  double friction_work() const { return friction_work_; }
-  double viscous_work() const { return viscous_work_; }
-  void set_dissipation(double friction, double viscous) {
-    friction_work_ = friction;
-    viscous_work_ = viscous;
-  }
+  /// The state accumulated since the start of the run (or the last restore).
+  const StepperState& state() const { return state_; }
+  void restore(const StepperState& state) { state_ = state; }
+  double friction_work() const { return state_.friction_work; }
+  double viscous_work() const { return state_.viscous_work; }
 
 private:
   struct Buffers;
@@ -92,8 +97,7 @@ private:
   long prepared_step_ = -1;
   double prepared_time_ = 0;
   std::unique_ptr<Buffers> buf_;
-  double courant_budget_ = 0;
-  double friction_work_ = 0, viscous_work_ = 0;
+  StepperState state_;
   bool grid_update_ = false;
 };
 

@@ -1,10 +1,12 @@
 #pragma once
-// The layout of a run file shared by its writer (output.cpp) and reader (output_read.cpp):
-// frame names, series names, the file access properties (internal to sparsempm_io).
+// The layout of a run file shared by its writer (output.cpp, output_frame.cpp,
+// output_xdmf.cpp) and reader (output_read.cpp): frame names, series names, the file access
+// properties (internal to sparsempm_io).
 
 #include "hdf5_util.hpp"
 #include "sparsempm/model.hpp"
 #include "sparsempm/operators.hpp"
+#include "sparsempm/output.hpp"
 #include "sparsempm/step_preparation.hpp"
 
 #include <string>
@@ -34,6 +36,14 @@ std::vector<int> complete_frames(hid_t file);
 /// contact_fields, contact_normal, contact_separation, contact_approaching) from the frame's
 /// preparation (prepare_step) and momenta p = SᵀMV (output_contact.cpp).
 void write_contact_nodes(hid_t g, const StepPreparation& prep, const Field& p);
+/// The parts of a frame (output_frame.cpp): /particles/<name>, /grid/<name> (and
+/// /matrices/<name>) from the step preparation `prepared` or the frame's own, the series rows
+/// buffered since the last frame, /state/<name>.
+void write_particles(hid_t file, const std::string& name, const Model& model);
+void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape, bool matrices,
+                const StepPreparation* prepared);
+void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim);
+void write_run_state(hid_t file, const std::string& name, const RunState& state);
 /// Loads one frame's particle state and clock into `model`.
 void load_frame_from(hid_t file, int frame, Model& model);
 

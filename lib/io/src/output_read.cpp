@@ -8,6 +8,7 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/run_file.hpp"
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -171,15 +172,38 @@ std::vector<int> run_frames(const std::string& path) {
   return complete_frames(f);
 }
 
-double stored_courant_budget(const std::string& path, int frame) {
+RunState read_run_state(const std::string& path, int frame) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
-  h5::Id parts = h5::open_group(f, "particles");
-  h5::Id g = h5::open_group(parts.get(), frame_name(frame));
-  return h5::has_attribute(g.get(), "courant_budget")
-             ? h5::get_double_attribute(g.get(), "courant_budget")
-             : 0.0;
+  RunState state;
+  long step = 0;
+  {
+    const hid_t f = open_for_reading(path);
+    h5::Id file(f, H5Fclose);
+    const std::string name = frame_name(frame);
+    if (h5::exists(f, "state") && h5::exists(f, "state/" + name)) {
+      h5::Id g = h5::open_group(f, "state/" + name);
+      state.stepper.courant_budget = h5::get_double_attribute(g.get(), "courant_budget");
+      state.stepper.friction_work = h5::get_double_attribute(g.get(), "friction_work");
+      state.stepper.viscous_work = h5::get_double_attribute(g.get(), "viscous_work");
+      state.velocity_change_sum = h5::get_double_attribute(g.get(), "velocity_change_sum");
+      return state;
+    }
+    // A file of an earlier version: the budget on the frame, the sums in its step's series row.
+    h5::Id g = h5::open_group(f, "particles/" + name);
+    if (h5::has_attribute(g.get(), "courant_budget"))
+      state.stepper.courant_budget = h5::get_double_attribute(g.get(), "courant_budget");
+    step = h5::get_long_attribute(g.get(), "step");
+  }
+  const SeriesRow* last = nullptr;
+  const StoredRun run = read_stored_run(path);
+  for (const SeriesRow& row : run.series)
+    if (row.step <= step)
+      last = &row;
+  if (last && std::isfinite(last->velocity_change_sum))
+    state.velocity_change_sum = last->velocity_change_sum;
+  if (last && std::isfinite(last->friction) && std::isfinite(last->viscous))
+    state.stepper = {state.stepper.courant_budget, last->friction, last->viscous};
+  return state;
 }
 
 void load_frame(const std::string& path, int frame, Model& model) {

@@ -9,7 +9,9 @@
 #include <csignal>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <sys/stat.h>
+#include <utility>
 
 namespace smpm {
 
@@ -61,6 +63,119 @@ RunConfig stored_config(const std::string& path) {
   return read_input(stored.input, path + " (stored input)", stored.overrides);
 }
 
+namespace {
+
+// One invocation of `smpm run`: the partial file, the Stepper, the series rows and frames, and
+// the restart state they carry.
+class Run {
+public:
+  Run(RunConfig& cfg, const RunOptions& options, std::string partial)
+      : cfg_(cfg), options_(options), partial_(std::move(partial)),
+        out_(open_partial(cfg, options, partial_, next_frame_, e0_)), stepper_(cfg.step),
+        V0_(cfg.model.particles.V) {
+    if (restarting())
+      restore();
+  }
+
+  bool restarting() const { return !options_.restart_from.empty(); }
+
+  // The time loop (advance) with a series row after every step and a frame at every stop.
+  AdvanceReport advance_to_end(const ProgressFn& progress) {
+    if (!restarting()) {
+      out_.add_series(row(cfg_.model, energies(cfg_.model)));
+      frame(cfg_.model);
+    }
+    const AdvanceOptions adv{.end = cfg_.time.end,
+                             .courant = cfg_.time.courant,
+                             .stop_every = cfg_.output.every,
+                             .land_on_stops = cfg_.time.land_on_frames,
+                             .failure = {},
+                             .energy_start = e0_};
+    return advance(cfg_.model, stepper_, adv, [&](const Model& m, const Energies& e, bool at_stop) {
+      out_.add_series(row(m, e));
+      if (at_stop)
+        frame(m);
+      if (progress)
+        progress(m, cfg_.time.end);
+      check_interrupt(m);
+    });
+  }
+
+  OutputFile& out() { return out_; }
+  int frames() const { return next_frame_; }
+
+private:
+  // The state of the frame restarted from (RunState), and the velocities at t = 0 of frame 0.
+  void restore() {
+    const RunState state = read_run_state(partial_, next_frame_ - 1);
+    stepper_.restore(state.stepper);
+    change_sum_ = state.velocity_change_sum;
+    Model first = cfg_.model;
+    load_frame(partial_, 0, first);
+    V0_ = first.particles.V;
+  }
+
+  // The series row of the model after a step: energies, the velocity error of FMPM 2026 §3.1
+  // against the velocities at t = 0 and its running sum, dissipation, the FMPM order reached.
+  SeriesRow row(const Model& m, const Energies& e) {
+    SeriesRow r;
+    r.step = m.step;
+    r.t = m.time;
+    r.e = e;
+    material_sums(m, r.materials);
+    const Index N = m.particles.size();
+    r.velocity_change = N && V0_.rows() == N
+                            ? std::sqrt((m.particles.V - V0_).rowwise().squaredNorm().sum() / N)
+                            : 0.0;
+    if (m.step > 0)
+      change_sum_ += r.velocity_change;
+    r.velocity_change_sum = change_sum_;
+    r.friction = stepper_.friction_work();
+    r.viscous = stepper_.viscous_work();
+    r.fmpm_order = m.step > 0 && stepper_.last_step_was_fmpm() &&
+                           stepper_.options().velocity == VelocityUpdate::FMPM
+                       ? stepper_.last_fmpm().order
+                       : 0;
+    return r;
+  }
+
+  // A frame, with the step it belongs to named when the write fails (a full disk). Its grid
+  // fields come from the preparation of the step that starts there (which that step then
+  // uses); a failure to prepare it (a particle's support off the grid) is that step's.
+  void frame(const Model& m) {
+    const StepPreparation& next = stepper_.prepare(m);
+    out_.set_run_state({.stepper = stepper_.state(), .velocity_change_sum = change_sum_});
+    try {
+      out_.write_frame(next_frame_++, m, cfg_.step.shape, cfg_.output.matrices, &next);
+    } catch (const std::runtime_error& w) {
+      throw std::runtime_error(partial_ + ": writing the frame of step " + std::to_string(m.step) +
+                               " (t = " + std::to_string(m.time) + ") failed: " + w.what() +
+                               " (is the disk full?)");
+    }
+  }
+
+  void check_interrupt(const Model& m) const {
+    if (!options_.interrupt || options_.interrupt->load() == 0)
+      return;
+    const int s = options_.interrupt->load();
+    throw Interrupted(s, std::string("interrupted by ") + signal_name(s) + " after step " +
+                             std::to_string(m.step) + " (t = " + std::to_string(m.time) +
+                             "); the frames so far are in " + partial_);
+  }
+
+  RunConfig& cfg_;
+  const RunOptions& options_;
+  std::string partial_;
+  int next_frame_ = 0;
+  std::optional<double> e0_;
+  OutputFile out_;
+  Stepper stepper_;
+  Field V0_;
+  double change_sum_ = 0;
+};
+
+} // namespace
+
 RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progress) {
   const bool restart = !options.restart_from.empty();
   const std::string target = !options.output.empty() ? options.output
@@ -71,110 +186,32 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from);
   const OutputLock lock(target); // a second run on this path stops here, before any write
   const std::string partial = partial_path(target);
-  Model& model = cfg.model;
-  int next_frame = 0;
-  std::optional<double> e0;
-  OutputFile out = open_partial(cfg, options, partial, next_frame, e0);
-  Stepper stepper(cfg.step);
-  // The velocity error of FMPM 2026 §3.1 against the velocities at t = 0 (frame 0), with its
-  // running sum continued across a restart.
-  Field V0 = model.particles.V;
-  double change_sum = 0;
-  if (restart) {
-    stepper.set_courant_budget(stored_courant_budget(partial, next_frame - 1));
-    Model first = model;
-    load_frame(partial, 0, first);
-    V0 = first.particles.V;
-    const StoredRun kept = read_stored_run(partial);
-    if (!kept.series.empty() && std::isfinite(kept.series.back().velocity_change_sum))
-      change_sum = kept.series.back().velocity_change_sum;
-    if (!kept.series.empty() && std::isfinite(kept.series.back().friction) &&
-        std::isfinite(kept.series.back().viscous))
-      stepper.set_dissipation(kept.series.back().friction, kept.series.back().viscous);
-  }
-  auto row = [&](const Model& m, const Energies& e) {
-    SeriesRow r;
-    r.step = m.step;
-    r.t = m.time;
-    r.e = e;
-    material_sums(m, r.materials);
-    const Index N = m.particles.size();
-    r.velocity_change = N && V0.rows() == N
-                            ? std::sqrt((m.particles.V - V0).rowwise().squaredNorm().sum() / N)
-                            : 0.0;
-    if (m.step > 0)
-      change_sum += r.velocity_change;
-    r.velocity_change_sum = change_sum;
-    r.friction = stepper.friction_work();
-    r.viscous = stepper.viscous_work();
-    r.fmpm_order = m.step > 0 && stepper.last_step_was_fmpm() &&
-                           stepper.options().velocity == VelocityUpdate::FMPM
-                       ? stepper.last_fmpm().order
-                       : 0;
-    return r;
-  };
-  // A frame, with the step it belongs to named when the write fails (a full disk). Its grid
-  // fields come from the preparation of the step that starts there (which that step then
-  // uses); a failure to prepare it (a particle's support off the grid) is that step's.
-  auto frame = [&](const Model& m) {
-    const StepPreparation& next = stepper.prepare(m);
-    out.set_stepper_state(stepper.courant_budget());
-    try {
-      out.write_frame(next_frame++, m, cfg.step.shape, cfg.output.matrices, &next);
-    } catch (const std::runtime_error& w) {
-      throw std::runtime_error(partial + ": writing the frame of step " + std::to_string(m.step) +
-                               " (t = " + std::to_string(m.time) + ") failed: " + w.what() +
-                               " (is the disk full?)");
-    }
-  };
-  const AdvanceOptions adv{.end = cfg.time.end,
-                           .courant = cfg.time.courant,
-                           .stop_every = cfg.output.every,
-                           .land_on_stops = cfg.time.land_on_frames,
-                           .failure = {},
-                           .energy_start = e0};
+  Run r(cfg, options, partial);
   RunReport report;
   try {
-    if (!restart) {
-      out.add_series(row(model, energies(model)));
-      frame(model);
-    }
-    const AdvanceReport r =
-        advance(model, stepper, adv, [&](const Model& m, const Energies& e, bool at_stop) {
-          out.add_series(row(m, e));
-          if (at_stop)
-            frame(m);
-          if (progress)
-            progress(m, cfg.time.end);
-          if (options.interrupt && options.interrupt->load() != 0) {
-            const int s = options.interrupt->load();
-            throw Interrupted(s, std::string("interrupted by ") + signal_name(s) + " after step " +
-                                     std::to_string(m.step) + " (t = " + std::to_string(m.time) +
-                                     "); the frames so far are in " + partial);
-          }
-        });
-    report.steps = r.steps;
-    report.wall_seconds = r.wall_seconds;
-    report.energy_start = r.energy_start;
-    report.energy_end = r.energy_end;
+    const AdvanceReport a = r.advance_to_end(progress);
+    report.steps = a.steps;
+    report.wall_seconds = a.wall_seconds;
+    report.energy_start = a.energy_start;
+    report.energy_end = a.energy_end;
   } catch (const Interrupted& e) {
-    out.set_status(std::string("interrupted: ") + e.what());
+    r.out().set_status(std::string("interrupted: ") + e.what());
     throw;
   } catch (const InputError& e) {
     // A condition of the input that fails only at a later step (a moving wall reaching a
     // fixed plane at an angle): the run has started and its frames are kept, so it is a
     // failure of that step, not a refused input.
-    const std::string what = "step " + std::to_string(model.step + 1) +
-                             " (from t = " + std::to_string(model.time) + "): " + e.what() +
+    const std::string what = "step " + std::to_string(cfg.model.step + 1) +
+                             " (from t = " + std::to_string(cfg.model.time) + "): " + e.what() +
                              "; the frames so far are in " + partial;
-    out.set_status("failed: " + what);
+    r.out().set_status("failed: " + what);
     throw std::runtime_error(what);
   } catch (const std::exception& e) {
-    out.set_status(std::string("failed: ") + e.what());
+    r.out().set_status(std::string("failed: ") + e.what());
     throw;
   }
   try {
-    out.finish(target);
+    r.out().finish(target);
   } catch (const std::exception& e) {
     throw std::runtime_error(partial +
                              ": the run completed but its file could not be closed and "
@@ -182,7 +219,7 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
                              target + ": " + e.what());
   }
   report.output = target;
-  report.frames = next_frame;
+  report.frames = r.frames();
   return report;
 }
 

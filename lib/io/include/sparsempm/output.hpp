@@ -15,6 +15,8 @@
 ///            velocity_change_sum, friction, viscous, fmpm_order}  one row per step
 ///   /series/{material_mass, material_momentum, material_centre}  per material (one body per
 ///            material in multimaterial runs): n_mat, n_mat × d, n_mat × d columns a row
+///   /state/<frame>               attributes courant_budget, friction_work, viscous_work,
+///                                velocity_change_sum: what a restart continues (RunState)
 ///   root attributes: input (the input text), overrides, version, status
 /// Every frame is flushed when written; the HDF5 metadata cache keeps evictions off, so a run
 /// killed between two flushes leaves a file that opens with every completed frame.
@@ -22,6 +24,7 @@
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/input.hpp"
 #include "sparsempm/operators.hpp"
+#include "sparsempm/step.hpp"
 #include "sparsempm/step_preparation.hpp"
 
 #include <string>
@@ -44,6 +47,14 @@ struct SeriesRow {
   std::vector<double> materials;  ///< material_sums: mass, momentum, centre of each material
 };
 
+/// What a restart continues besides the particles and clock of a frame: the Stepper's state
+/// and the running sum of the velocity change (SeriesRow::velocity_change_sum). Stored with
+/// every frame (/state/<frame>).
+struct RunState {
+  StepperState stepper;
+  double velocity_change_sum = 0;
+};
+
 class OutputFile {
 public:
   /// Creates `path` (truncating it) for the run `cfg`. Throws InputError naming the path when
@@ -56,7 +67,7 @@ public:
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
-  OutputFile(OutputFile&&) noexcept;
+  OutputFile(OutputFile&&) noexcept = default;
 
   /// Buffers one row of the series (written with the next frame).
   void add_series(const SeriesRow& row) { pending_.push_back(row); }
@@ -73,21 +84,37 @@ public:
   /// Marks the run completed, closes the file and moves it (with a fresh sidecar) to `target`,
   /// replacing what was there; the partial sidecar is removed.
   void finish(const std::string& target);
-  /// The attribute of the stepper state a restart needs (periodic FMPM's Courant budget),
-  /// stored with each frame.
-  void set_stepper_state(double courant_budget) { courant_budget_ = courant_budget; }
+  /// The state a restart needs, stored with the frames written from now on.
+  void set_run_state(const RunState& state) { state_ = state; }
   const std::string& path() const { return path_; }
 
 private:
+  /// The open HDF5 file: closed by the destructor, left closed (−1) by a move.
+  class File {
+  public:
+    File() = default;
+    explicit File(long id) : id_(id) {}
+    File(File&& o) noexcept : id_(o.id_) { o.id_ = -1; }
+    File& operator=(File&& o) noexcept;
+    ~File() { close(); }
+    long get() const { return id_; }
+    bool is_open() const { return id_ >= 0; }
+    /// Closes the file; returns the status of H5Fclose (0 when it was not open).
+    long close();
+
+  private:
+    long id_ = -1;
+  };
+
   OutputFile() = default;
   void initialize(const RunConfig& cfg);
   void write_xdmf_frame(size_t k);
   void write_xdmf_whole(const std::string& h5_path, const std::string& xmf_path) const;
   std::string path_;
-  long file_ = -1;
+  File file_;
   int dim_ = 1;
   int materials_ = 0; // columns of the per-material series
-  double courant_budget_ = 0;
+  RunState state_;
   std::vector<std::pair<int, double>> frames_; // (frame, time) written so far
   std::vector<Index> frame_particles_;
   std::vector<SeriesRow> pending_;
@@ -111,8 +138,9 @@ std::vector<int> run_frames(const std::string& path);
 /// materials must be those of the run, e.g. from stored_config). Throws InputError when the
 /// frame's arrays disagree in length or width with each other or with the grid's dimension.
 void load_frame(const std::string& path, int frame, Model& model);
-/// The stepper state stored with a frame (periodic FMPM's Courant budget; 0 when absent).
-double stored_courant_budget(const std::string& path, int frame);
+/// The state stored with a frame (RunState). A file of an earlier version, without /state: the
+/// frame's courant_budget attribute and the series row of the frame's step.
+RunState read_run_state(const std::string& path, int frame);
 
 /// Name of the XDMF sidecar of an HDF5 path: "run.h5" → "run.xmf".
 std::string xdmf_path(const std::string& h5_path);

@@ -1,0 +1,161 @@
+// What a frame of a run file holds (output.hpp): the particle fields, the grid fields of the
+// frame's step preparation, the matrices when asked, the series rows and the restart state.
+
+#include "output_format.hpp"
+
+#include "sparsempm/stages.hpp"
+
+#include <string>
+#include <vector>
+
+namespace smpm::detail {
+
+void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) {
+  h5::Id g = h5::create_group(parent, name);
+  h5::write_doubles(g.get(), "data", A.valuePtr(), hsize_t(A.nonZeros()), 0);
+  h5::write_ints(g.get(), "indices", A.innerIndexPtr(), hsize_t(A.nonZeros()));
+  h5::write_ints(g.get(), "indptr", A.outerIndexPtr(), hsize_t(A.rows() + 1));
+  const int shape[2] = {int(A.rows()), int(A.cols())};
+  h5::write_ints(g.get(), "shape", shape, 2);
+}
+
+// /particles/<name>: the particle fields of a frame.
+void write_particles(hid_t file, const std::string& name, const Model& model) {
+  const Particles& P = model.particles;
+  h5::Id parts = h5::open_group(file, "particles");
+  h5::Id g = h5::create_group(parts.get(), name);
+  const hsize_t N = hsize_t(P.size()), d = hsize_t(P.dim);
+  h5::write_doubles(g.get(), "X", P.X.data(), N, d);
+  h5::write_doubles(g.get(), "V", P.V.data(), N, d);
+  h5::write_doubles(g.get(), "stress", P.stress.data(), N, d * d);
+  h5::write_doubles(g.get(), "F", P.F.data(), N, d * d);
+  h5::write_doubles(g.get(), "mass", P.mass.data(), N, 0);
+  const Eigen::VectorXd vol = P.volume();
+  h5::write_doubles(g.get(), "volume", vol.data(), N, 0);
+  h5::write_doubles(g.get(), "volume0", P.volume0.data(), N, 0);
+  h5::write_doubles(g.get(), "half_length", P.half_length.data(), N, d);
+  h5::write_ints(g.get(), "material", P.material.data(), N);
+  if (P.energy.size() == P.size()) // internal energy per unit mass (Mie–Grüneisen)
+    h5::write_doubles(g.get(), "energy", P.energy.data(), N, 0);
+  if (P.dim == 1) { // ParaView needs three coordinates
+    Field xyz = Field::Zero(P.size(), 3);
+    xyz.col(0) = P.X.col(0);
+    h5::write_doubles(g.get(), "xyz", xyz.data(), N, 3);
+  }
+  h5::set_attribute(g.get(), "time", model.time);
+  h5::set_attribute(g.get(), "step", model.step);
+}
+
+// /grid/<name> (m, p = SᵀMV, v = m⁻¹p) and, when asked, /matrices/<name> (S, G_a, m̃ in CSR),
+// from the preparation of the step that starts at the frame (`prepared`, the Stepper's), or from
+// the frame's own when there is none or when the matrices need the whole grid's numbering.
+void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape, bool matrices,
+                const StepPreparation* prepared) {
+  const Particles& P = model.particles;
+  StepPreparation own;
+  if (!prepared || (matrices && prepared->ops.node_range != NodeRange::Grid)) {
+    // On the particles' window of the grid (storage and time follow the particles), or on the
+    // whole grid when the matrices are written (their columns are the grid's nodes).
+    own.ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
+    prepare_step(model, shape, own);
+    prepared = &own;
+  }
+  // Multimaterial: each velocity field's nodal fields (node i of field α is α n_g + i), the
+  // extrapolation of contact 2020 Eq. (5) before contact.
+  const Operators& ops = prepared->ops;
+  const int fields = ops.fields;
+  {
+    // The nodes with mass only (active_nodes), with their indices in the grid (node α n_g + i
+    // of field α): a frame of a few particles on a large grid stays small.
+    Field p, v;
+    map_momentum(particle_operators(ops), P.V, p);
+    lumped_solve(ops.m_inv, p, v);
+    Eigen::VectorXi nodes = active_nodes(ops);
+    const Index na = nodes.size();
+    Eigen::VectorXd m(na);
+    Field pa(na, P.dim), va(na, P.dim);
+    for (Index k = 0; k < na; ++k) {
+      m[k] = ops.m[nodes[k]];
+      pa.row(k) = p.row(nodes[k]);
+      va.row(k) = v.row(nodes[k]);
+      nodes[k] = int(ops.whole_node(nodes[k]));
+    }
+    h5::Id grid = h5::open_group(file, "grid");
+    h5::Id g = h5::create_group(grid.get(), name);
+    const hsize_t n = hsize_t(na), d = hsize_t(P.dim);
+    h5::write_ints(g.get(), "nodes", nodes.data(), n);
+    h5::write_doubles(g.get(), "m", m.data(), n, 0);
+    h5::write_doubles(g.get(), "p", pa.data(), n, d);
+    h5::write_doubles(g.get(), "v", va.data(), n, d);
+    h5::set_attribute(g.get(), "grid_nodes", long(model.grid.num_nodes()));
+    h5::set_attribute(g.get(), "velocity_fields", long(fields));
+    if (fields > 1)
+      detail::write_contact_nodes(g.get(), *prepared, p);
+  }
+  if (!matrices)
+    return;
+  if (!h5::exists(file, "matrices"))
+    h5::create_group(file, "matrices");
+  h5::Id mats = h5::open_group(file, "matrices");
+  h5::Id g = h5::create_group(mats.get(), name);
+  write_csr(g.get(), "S", ops.S);
+  for (int a = 0; a < P.dim; ++a)
+    write_csr(g.get(), "G" + std::to_string(a), ops.G[size_t(a)]);
+  write_csr(g.get(), "consistent_mass", SparseRowMatrix(consistent_mass(ops)));
+}
+
+// Appends the buffered rows to /series.
+void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim) {
+  h5::Id series = h5::open_group(file, "series");
+  const size_t k = rows.size();
+  std::vector<double> col(k), mom(k * size_t(dim));
+  for (int s = 0; s < kNumSeries; ++s) {
+    for (size_t r = 0; r < k; ++r) {
+      const SeriesRow& row = rows[r];
+      const double vals[kNumSeries] = {double(row.step),
+                                       row.t,
+                                       row.e.kinetic,
+                                       row.e.strain,
+                                       row.e.total,
+                                       row.velocity_change,
+                                       row.velocity_change_sum,
+                                       row.friction,
+                                       row.viscous,
+                                       row.fmpm_order};
+      col[r] = vals[s];
+    }
+    h5::append_series(series.get(), kSeries[s], col.data(), k, 0);
+  }
+  for (size_t r = 0; r < k; ++r)
+    for (int a = 0; a < dim; ++a)
+      mom[r * size_t(dim) + size_t(a)] = rows[r].e.momentum[a];
+  h5::append_series(series.get(), "momentum", mom.data(), k, hsize_t(dim));
+  // Per material: material_sums lays out (mass, momentum d, centre d) per material.
+  if (k == 0 || rows[0].materials.empty())
+    return;
+  const size_t nm = rows[0].materials.size() / size_t(1 + 2 * dim);
+  for (int s = 0; s < 3; ++s) {
+    const size_t w = size_t(material_width(s, int(nm), dim)), per = w / nm;
+    std::vector<double> data(k * w);
+    for (size_t r = 0; r < k; ++r)
+      for (size_t m = 0; m < nm; ++m)
+        for (size_t a = 0; a < per; ++a)
+          data[r * w + m * per + a] = rows[r].materials[m * size_t(1 + 2 * dim) +
+                                                        (s == 0   ? 0
+                                                         : s == 1 ? 1
+                                                                  : 1 + size_t(dim)) +
+                                                        a];
+    h5::append_series(series.get(), kMaterialSeries[s], data.data(), k, hsize_t(w));
+  }
+}
+// /state/<name>: what a restart continues (RunState).
+void write_run_state(hid_t file, const std::string& name, const RunState& state) {
+  h5::Id states = h5::open_group(file, "state");
+  h5::Id g = h5::create_group(states.get(), name);
+  h5::set_attribute(g.get(), "courant_budget", state.stepper.courant_budget);
+  h5::set_attribute(g.get(), "friction_work", state.stepper.friction_work);
+  h5::set_attribute(g.get(), "viscous_work", state.stepper.viscous_work);
+  h5::set_attribute(g.get(), "velocity_change_sum", state.velocity_change_sum);
+}
+
+} // namespace smpm::detail
