@@ -96,7 +96,7 @@ def input_text(objects):
               f'wall = {{ normal = [0.0, 1.0], position = "{BOX} - {SPEED}*t", velocity = {-SPEED}, '
               'gradient = 0.0, depth_cells = 1.0 }', "",
               "[time]", "courant = 0.4", f"end = {end}", "",
-              "[scheme]", 'update = "USL"', 'velocity = "FLIP"', 'shape = "gimp"', "",
+              "[step]", 'scheme = "USL"', 'velocity = "FLIP"', 'shape = "gimp"', "",
               "[output]", f"every = {end / 6}", ""]
     return "\n".join(lines)
 

@@ -22,8 +22,8 @@ def grid(cell):
 def velocity(name):
     """Overrides for "FLIP" or "FMPM(k)"."""
     if name == "FLIP":
-        return ["scheme.velocity=FLIP"]
-    return ["scheme.velocity=FMPM", f"scheme.order={int(name[5:-1])}"]
+        return ["step.velocity=FLIP"]
+    return ["step.velocity=FMPM", f"step.order={int(name[5:-1])}"]
 
 
 def run(smpm, out, sets):

@@ -54,7 +54,7 @@ def main():
     for cell in cells:
         for name, sets in UPDATES.items():
             for update in ("USL", "USL+"):
-                todo[("A", cell, name, update)] = sets + grid(cell) + [f"scheme.update={update}"]
+                todo[("A", cell, name, update)] = sets + grid(cell) + [f"step.scheme={update}"]
     for c in courants:
         for name, sets in UPDATES.items():
             todo[("B", c, name, "USL")] = sets + [f"time.courant={c}"]

@@ -27,8 +27,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 def settings(args, alpha):
     """The input entries of the run at α (output.every: one stop, at the end)."""
-    return {"scheme.velocity": "FMPM", "scheme.order": 4, "scheme.blend_alpha": alpha,
-            "scheme.blend_every": 1, "time.courant": args.courant, "output.every": 400.0}
+    return {"step.velocity": "FMPM", "step.order": 4, "step.blend_alpha": alpha,
+            "step.blend_every": 1, "time.courant": args.courant, "output.every": 400.0}
 
 
 def loss_module(smpm, args, alpha):

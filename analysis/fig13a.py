@@ -33,7 +33,7 @@ PROBLEMS = {"block impact": ("block_impact.toml", {}),
 def metric_curves(smpm, problem, order):
     """{metric: [metric at ℓ = 2 … order]} on the step after half the end time."""
     src, sets = PROBLEMS[problem]
-    overrides = dict(sets, **{"scheme.velocity": "FMPM", "scheme.order": order})
+    overrides = dict(sets, **{"step.velocity": "FMPM", "step.order": order})
     model = smpm.Model.from_toml(str(ROOT / "examples" / src), overrides)
     stepper = smpm.Stepper(model.options)
     stepper.advance(model, 0.5 * model.end, model.courant)

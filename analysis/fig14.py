@@ -35,8 +35,8 @@ def mean_order(smpm, work, tag, problem, metric, limit):
     src, sets = PROBLEMS[problem]
     out = pathlib.Path(work) / (tag + ".h5")
     args = [smpm, "run", str(ROOT / "examples" / src), "-o", str(out), "-q"]
-    for s in sets + ["scheme.velocity=FMPM", "scheme.order=20", f"scheme.dynamic_metric={metric}",
-                     f"scheme.dynamic_limit={limit}"]:
+    for s in sets + ["step.velocity=FMPM", "step.order=20", f"step.dynamic_metric={metric}",
+                     f"step.dynamic_limit={limit}"]:
         args += ["--set", s]
     r = subprocess.run(args, capture_output=True, text=True)
     if r.returncode != 0:

@@ -57,15 +57,15 @@ def cases(quick):
 def run(smpm, workdir, case):
     shape, d, method, k = case
     out = pathlib.Path(workdir) / f"{shape}_{d}_{method}_{k}.h5"
-    sets = [f"scheme.shape={shape}", "output.every=66.66666666666667",
+    sets = [f"step.shape={shape}", "output.every=66.66666666666667",
             f"bc.0.wall.depth_cells={d}", f"bc.1.wall.depth_cells={d}"]
     if method == "FLIP":
-        sets += ["scheme.velocity=FLIP"]
+        sets += ["step.velocity=FLIP"]
     elif method == "exact":  # m~ + light nodes is singular to round-off late in the run (README)
-        sets += ["scheme.velocity=exact", "scheme.exact_regularization=1e-4"]
+        sets += ["step.velocity=exact", "step.exact_regularization=1e-4"]
     else:
-        sets += ["scheme.velocity=FMPM", f"scheme.order={k}",
-                 "scheme.bc_method=" + ("incremental" if method == "new" else "combined")]
+        sets += ["step.velocity=FMPM", f"step.order={k}",
+                 "step.bc_method=" + ("incremental" if method == "new" else "combined")]
     args = [smpm, "run", ROOT / "examples" / "moving_wall_mms.toml", "-o", out, "-q"]
     for s in sets:
         args += ["--set", s]

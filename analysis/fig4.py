@@ -38,29 +38,29 @@ from figures import run_smpm, save_figure  # noqa: E402
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "shock_split_bar.toml"
 RH = 8.87e-3 * (np.sqrt(188000 / 8.87e-3) + 1.44 * 1840) * 1840 / 1000  # GPa
-FMPM = ["scheme.velocity=FMPM"]
+FMPM = ["step.velocity=FMPM"]
 SINGLE = ["contact.0.law=single-field"]
 FRICTION = ["contact.0.law=coulomb", "contact.0.friction=0.3", "contact.0.detection=LR",
             "contact.0.normal=LR"]
 # The paper's discussion of Fig. 5 says it "used the frictionless contact law".
 FRICTIONLESS = ["contact.0.law=frictionless", "contact.0.detection=LR", "contact.0.normal=LR"]
 EVOLVING = ["contact.0.fmpm_method=evolving"]
-XPIC5 = ["scheme.velocity=XPIC", "scheme.order=5"]
+XPIC5 = ["step.velocity=XPIC", "step.order=5"]
 
 
 def fmpm(k):
-    return FMPM + [f"scheme.order={k}"]
+    return FMPM + [f"step.order={k}"]
 
 
 # name: (figure, --set overrides, name of the single material reference)
 CASES = {
-    "single FLIP": (0, ["scheme.velocity=FLIP"] + SINGLE, None),
+    "single FLIP": (0, ["step.velocity=FLIP"] + SINGLE, None),
     "single FMPM(1)": (0, fmpm(1) + SINGLE, None),
     "single FMPM(2)": (0, fmpm(2) + SINGLE, None),
     "single FMPM(4)": (0, fmpm(4) + SINGLE, None),
     "single FMPM(8)": (0, fmpm(8) + SINGLE, None),
     "single FMPM(16)": (0, fmpm(16) + SINGLE, None),
-    "stick FLIP": (4, ["scheme.velocity=FLIP"], "single FLIP"),
+    "stick FLIP": (4, ["step.velocity=FLIP"], "single FLIP"),
     "stick FMPM(1)": (4, fmpm(1), "single FMPM(1)"),
     "stick FMPM(2) Net": (4, fmpm(2), "single FMPM(2)"),
     "stick FMPM(2) Evolving": (4, fmpm(2) + EVOLVING, "single FMPM(2)"),
@@ -75,7 +75,7 @@ CASES = {
     "friction FMPM(8) Evolving": (5, fmpm(8) + FRICTION + EVOLVING, "single FMPM(8)"),
     "single XPIC(5)": (0, XPIC5 + SINGLE, None),
     "stick XPIC(5)": (7, XPIC5, "single XPIC(5)"),
-    "stick XPIC(5) uncorrected": (7, XPIC5 + ["scheme.xpic_contact_term=false"], "single XPIC(5)"),
+    "stick XPIC(5) uncorrected": (7, XPIC5 + ["step.xpic_contact_term=false"], "single XPIC(5)"),
 }
 BINS = np.arange(30.0, 47.0, 0.25)
 

@@ -14,6 +14,7 @@
 // 3 numerical failure (frames written so far are kept in the partial file), 130 / 143 for
 // SIGINT / SIGTERM, 1 any other error (a full disk, a closed standard output).
 
+#include "notes.hpp"
 #include "progress.hpp"
 #include "stability_command.hpp"
 
@@ -46,6 +47,7 @@ extern "C" void on_signal(int s) {
 int run_command(const std::string& input, const std::vector<std::string>& sets,
                 const std::string& output, const std::string& restart, bool quiet) {
   using namespace smpm;
+  using app::print_notes;
   RunOptions options;
   RunConfig cfg;
   if (!restart.empty()) {
@@ -58,6 +60,7 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
     if (input.empty())
       throw InputError("smpm run: give an input file (or --restart out.h5)");
     cfg = read_input_file(input, sets);
+    print_notes(cfg);
   }
   options.output = output;
   options.interrupt = &g_signal;

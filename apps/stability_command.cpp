@@ -1,5 +1,7 @@
 #include "stability_command.hpp"
 
+#include "notes.hpp"
+
 #include <sparsempm/errors.hpp>
 #include <sparsempm/exact.hpp>
 #include <sparsempm/input.hpp>
@@ -385,6 +387,7 @@ void validate(const SpectrumArgs& a) {
 int stability_command(const StabilityArgs& a) {
   validate(a);
   RunConfig cfg = read_input_file(a.input, a.sets);
+  print_notes(cfg);
   std::vector<Row> rows = make_rows(a, cfg.step);
   std::vector<Model> frames;
   std::vector<std::string> frame_names;
@@ -410,6 +413,7 @@ int stability_command(const StabilityArgs& a) {
 int spectrum_command(const SpectrumArgs& a) {
   validate(a);
   RunConfig cfg = read_input_file(a.input, a.sets);
+  print_notes(cfg);
   const Model& model = cfg.model;
   const Operators ops = assemble(model.grid, model.particles, cfg.step.shape);
   ConsistentMass mt;

@@ -1,5 +1,6 @@
 #include "sparsempm/operators.hpp"
 
+#include "enum_names.hpp"
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
@@ -10,6 +11,18 @@
 #include <string>
 
 namespace smpm {
+
+namespace {
+constexpr detail::EnumNames<NodeRange, 2> kNodeRanges{
+    {{NodeRange::Particles, "particles"}, {NodeRange::Grid, "grid"}}};
+} // namespace
+
+std::string_view to_string(NodeRange r) {
+  return detail::enum_name(r, kNodeRanges);
+}
+NodeRange node_range_from_string(std::string_view name) {
+  return detail::parse_enum(name, kNodeRanges, "node range");
+}
 
 void build_column_index(const SparseRowMatrix& S, ColumnIndex& c) {
   const Index N = S.rows(), n = S.cols(), nnz = S.nonZeros();

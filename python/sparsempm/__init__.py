@@ -5,7 +5,7 @@ the step, its linearisation and the stability analyses) with numpy arrays and sc
 matrices:
 
     import sparsempm as smpm
-    model = smpm.Model.from_toml("examples/vibrating_bar.toml", {"scheme.velocity": "FMPM"})
+    model = smpm.Model.from_toml("examples/vibrating_bar.toml", {"step.velocity": "FMPM"})
     ops = smpm.assemble(model, "cpdi")          # ops.S, ops.G, ops.M, ops.m, ops.active
     A = ops.expansion_matrix()                  # scipy.sparse.csr_matrix
     print(smpm.mass_spectrum(ops).rho_A)

@@ -20,7 +20,7 @@ namespace smpm::python {
 namespace py = pybind11;
 
 /// sparsempm.Model: the library's Model with the step options and clock settings of its input
-/// ([scheme] and [time] of a TOML file; defaults for a model built from arrays).
+/// ([step] and [time] of a TOML file; defaults for a model built from arrays).
 struct PyModel {
   Model model;
   StepOptions options;
@@ -42,6 +42,7 @@ struct PyOperators {
 /// Parses a name of the input files' vocabulary into a shape etc.; InputError on a bad name.
 Shape shape_arg(const py::object& shape, const PyModel* model);
 
+void bind_options(py::module_& m);
 void bind_model(py::module_& m);
 void bind_operators(py::module_& m);
 void bind_step(py::module_& m);

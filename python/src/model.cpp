@@ -172,139 +172,6 @@ void bind_grid(py::module_& m) {
           "n × d node positions, one row per node (node i + nx (j + ny k)).");
 }
 
-void bind_material(py::module_& m) {
-  py::class_<Material>(m, "Material", "An isotropic elastic material (material.hpp).")
-      .def(py::init([](const std::string& name, const std::string& model, double density,
-                       double youngs, double poisson) {
-             Material mat{name, material_model_from_string(model), density, youngs, poisson};
-             validate(mat);
-             return mat;
-           }),
-           py::arg("name") = "material", py::arg("model") = "linear", py::arg("density") = 1.0,
-           py::arg("youngs") = 1.0, py::arg("poisson") = 0.0)
-      .def_readwrite("name", &Material::name)
-      .def_property(
-          "model", [](const Material& mat) { return std::string(to_string(mat.model)); },
-          [](Material& mat, const std::string& s) { mat.model = material_model_from_string(s); })
-      .def_readwrite("density", &Material::density)
-      .def_readwrite("youngs", &Material::youngs)
-      .def_readwrite("poisson", &Material::poisson)
-      .def("wave_speed", &Material::wave_speed, py::arg("dim"))
-      .def("__repr__", [](const Material& mat) {
-        std::ostringstream os;
-        os << "Material(name='" << mat.name << "', model='" << to_string(mat.model)
-           << "', density=" << mat.density << ", youngs=" << mat.youngs
-           << ", poisson=" << mat.poisson << ")";
-        return os.str();
-      });
-}
-
-// A string-valued property of StepOptions over the library's to_string/from_string pair.
-template <class Enum, class Member>
-void enum_property(py::class_<StepOptions>& c, const char* name, Member member,
-                   Enum (*parse)(std::string_view)) {
-  c.def_property(
-      name, [member](const StepOptions& o) { return std::string(to_string(o.*member)); },
-      [member, parse](StepOptions& o, const std::string& s) { o.*member = parse(s); });
-}
-
-// StepOptions::nodes as the Python keyword: "particles" (the window of the grid the particles
-// reach) or "grid" (every node).
-std::string_view node_range_name(NodeRange r) {
-  return r == NodeRange::Grid ? "grid" : "particles";
-}
-NodeRange node_range_from_string(std::string_view name) {
-  if (name == "particles")
-    return NodeRange::Particles;
-  if (name == "grid")
-    return NodeRange::Grid;
-  throw InputError("unknown node range '" + clip(name) + "' (expected particles | grid)");
-}
-
-void bind_step_options(py::module_& m) {
-  py::class_<StepOptions> c(m, "StepOptions",
-                            "The options of a time step (step.hpp); keys and values as in the "
-                            "[scheme] table of the input files.");
-  c.def(py::init([](const std::string& shape, const std::string& update,
-                    const std::string& velocity, int order, double blend_alpha, int blend_every,
-                    std::optional<double> position_alpha, const std::string& bc_method,
-                    double periodic_cx, const std::string& deformation, double exact_regularization,
-                    double exact_mass_cutoff, const std::string& nodes) {
-          StepOptions o;
-          o.shape = shape_from_string(shape);
-          o.scheme = update_scheme_from_string(update);
-          o.velocity = velocity_update_from_string(velocity);
-          o.fmpm.order = order;
-          o.fmpm.blend_alpha = blend_alpha;
-          o.fmpm.blend_every = blend_every;
-          o.fmpm.bc_method = bc_method_from_string(bc_method);
-          o.position_alpha = position_alpha;
-          o.periodic_cx = periodic_cx;
-          o.deformation = deformation_update_from_string(deformation);
-          o.exact = {.regularization = exact_regularization, .mass_cutoff = exact_mass_cutoff};
-          o.exact_solver = cholmod_solver_factory();
-          o.nodes = node_range_from_string(nodes);
-          validate(o);
-          return o;
-        }),
-        py::arg("shape") = "linear", py::arg("update") = "USL", py::arg("velocity") = "FLIP",
-        py::arg("order") = 1, py::arg("blend_alpha") = 1.0, py::arg("blend_every") = 1,
-        py::arg("position_alpha") = py::none(), py::arg("bc_method") = "incremental",
-        py::arg("periodic_cx") = 0.0, py::arg("deformation") = "linear",
-        py::arg("exact_regularization") = 0.0, py::arg("exact_mass_cutoff") = 0.0,
-        py::arg("nodes") = "particles");
-  enum_property(c, "shape", &StepOptions::shape, &shape_from_string);
-  enum_property(c, "update", &StepOptions::scheme, &update_scheme_from_string);
-  enum_property(c, "velocity", &StepOptions::velocity, &velocity_update_from_string);
-  enum_property(c, "deformation", &StepOptions::deformation, &deformation_update_from_string);
-  c.def_property(
-      "order", [](const StepOptions& o) { return o.fmpm.order; },
-      [](StepOptions& o, int k) { o.fmpm.order = k; }, "k of FMPM(k), m of XPIC(m)");
-  c.def_property(
-      "blend_alpha", [](const StepOptions& o) { return o.fmpm.blend_alpha; },
-      [](StepOptions& o, double a) { o.fmpm.blend_alpha = a; });
-  c.def_property(
-      "blend_every", [](const StepOptions& o) { return o.fmpm.blend_every; },
-      [](StepOptions& o, int e) { o.fmpm.blend_every = e; });
-  c.def_property(
-      "bc_method", [](const StepOptions& o) { return std::string(to_string(o.fmpm.bc_method)); },
-      [](StepOptions& o, const std::string& s) { o.fmpm.bc_method = bc_method_from_string(s); });
-  c.def_property(
-      "dynamic_metric", [](const StepOptions& o) { return std::string(to_string(o.fmpm.metric)); },
-      [](StepOptions& o, const std::string& s) {
-        o.fmpm.metric = convergence_metric_from_string(s);
-      });
-  c.def_property(
-      "dynamic_limit", [](const StepOptions& o) { return o.fmpm.dynamic_limit; },
-      [](StepOptions& o, double v) { o.fmpm.dynamic_limit = v; });
-  c.def_readwrite("position_alpha", &StepOptions::position_alpha,
-                  "α of FMPM 2026 Eqs. (8)-(9); None: 1 for FLIP, 1/2 otherwise");
-  c.def_readwrite("periodic_cx", &StepOptions::periodic_cx);
-  c.def_property(
-      "exact_regularization", [](const StepOptions& o) { return o.exact.regularization; },
-      [](StepOptions& o, double eps) { o.exact.regularization = eps; });
-  c.def_property(
-      "exact_mass_cutoff", [](const StepOptions& o) { return o.exact.mass_cutoff; },
-      [](StepOptions& o, double tau) { o.exact.mass_cutoff = tau; });
-  c.def_property(
-      "nodes", [](const StepOptions& o) { return std::string(node_range_name(o.nodes)); },
-      [](StepOptions& o, const std::string& s) { o.nodes = node_range_from_string(s); },
-      "the nodes of a step: 'particles', the window of the grid its particles reach (memory and "
-      "time follow the particles), or 'grid', every node; the results are the same");
-  c.def(
-      "validate", [](const StepOptions& o) { validate(o); },
-      "Raises InputError for values outside their ranges.");
-  c.def("copy", [](const StepOptions& o) { return o; });
-  c.def("__repr__", [](const StepOptions& o) {
-    std::ostringstream os;
-    os << "StepOptions(shape='" << to_string(o.shape) << "', update='" << to_string(o.scheme)
-       << "', velocity='" << to_string(o.velocity) << "', order=" << o.fmpm.order
-       << ", blend_alpha=" << o.fmpm.blend_alpha << ", blend_every=" << o.fmpm.blend_every
-       << ", position_alpha=" << position_alpha(o) << ")";
-    return os.str();
-  });
-}
-
 // A field property of Particles: a numpy view of the C++ storage (read and write in place);
 // assigning an array copies into it (same shape).
 template <class Member>
@@ -349,14 +216,12 @@ void bind_particles(py::module_& m) {
 
 Shape shape_arg(const py::object& shape, const PyModel* model) {
   if (shape.is_none())
-    return model ? model->options.shape : Shape::Linear;
+    return model ? model->options.shape : StepOptions{}.shape;
   return shape_from_string(shape.cast<std::string>());
 }
 
 void bind_model(py::module_& m) {
   bind_grid(m);
-  bind_material(m);
-  bind_step_options(m);
   bind_particles(m);
   py::class_<BoundaryConditions>(m, "BoundaryConditions",
                                  "Grid velocity conditions (boundary.hpp).")
@@ -392,6 +257,9 @@ void bind_model(py::module_& m) {
             for (const auto& [key, value] : overrides)
               sets.push_back(py::str(key).cast<std::string>() + "=" + toml_value(value, false));
             RunConfig cfg = read_input_file(path, sets);
+            for (const std::string& note : cfg.notes) // the earlier names the input used
+              if (PyErr_WarnEx(PyExc_DeprecationWarning, note.c_str(), 1) != 0)
+                throw py::error_already_set();
             return PyModel{std::move(cfg.model), std::move(cfg.step), cfg.time, path};
           },
           py::arg("path"), py::arg("overrides") = py::dict(),
@@ -415,7 +283,7 @@ void bind_model(py::module_& m) {
       .def_property(
           "options", [](PyModel& pm) -> StepOptions& { return pm.options; },
           [](PyModel& pm, const StepOptions& o) { pm.options = o; },
-          py::return_value_policy::reference_internal, "The step options of the input's [scheme].")
+          py::return_value_policy::reference_internal, "The step options of the input's [step].")
       .def_property(
           "courant", [](const PyModel& pm) { return pm.time_settings.courant; },
           [](PyModel& pm, double c) { pm.time_settings.courant = c; }, "[time] courant")

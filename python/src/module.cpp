@@ -16,6 +16,7 @@ PYBIND11_MODULE(_sparsempm, m) {
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<NumericalError>(m, "NumericalError", PyExc_RuntimeError);
   py::register_exception<UsageError>(m, "UsageError", PyExc_RuntimeError);
+  bind_options(m);
   bind_model(m);
   bind_operators(m);
   bind_step(m);

@@ -8,7 +8,7 @@ SMPM = os.environ.get("SMPM", "smpm")
 
 def fmpm(k):
     """The overrides of FMPM(k)."""
-    return ["scheme.velocity=FMPM", f"scheme.order={k}"]
+    return ["step.velocity=FMPM", f"step.order={k}"]
 
 
 def one_thread_each():

@@ -94,7 +94,7 @@ class BadInput(Base):
         self.run_bad([("sin(pi*X/80)", "sin(pi*X/80")], expect=[line_of("sin(pi*X/80)"), "body.0.velocity", "cannot parse"])
 
     def test_unknown_override(self):
-        self.run_bad(extra=["--set", "scheme.shap=gimp"], expect=["scheme.shap", "did you mean 'shape'"])
+        self.run_bad(extra=["--set", "step.shap=gimp"], expect=["step.shap", "did you mean 'shape'"])
 
     def test_output_not_writable(self):
         src = self.dir / "ok.toml"
@@ -253,7 +253,7 @@ class Threads(Base):
         env = dict(os.environ, SMPM_THREADS=threads)
         r = subprocess.run([SMPM, "run", EXAMPLES / "block_impact.toml", "-o", out, "-q",
                             "--set", "time.end=0.03", "--set", "output.every=0.01",
-                            "--set", "scheme.velocity=FMPM", "--set", "scheme.order=4"],
+                            "--set", "step.velocity=FMPM", "--set", "step.order=4"],
                            capture_output=True, text=True, env=env, timeout=600)
         return r, out
 
@@ -285,12 +285,12 @@ class FmpmVariants(Base):
     def test_vibrating_bar_variants(self):
         variants = {
             "flip": [],
-            "fmpm4": ["scheme.velocity=FMPM", "scheme.order=4"],
-            "blended": ["scheme.velocity=FMPM", "scheme.order=4", "scheme.blend_alpha=0.8", "scheme.blend_every=2"],
-            "periodic": ["scheme.velocity=FMPM", "scheme.order=4", "scheme.periodic_cx=2.0"],
-            "dynamic": ["scheme.velocity=FMPM", "scheme.order=20", "scheme.dynamic_metric=means", "scheme.dynamic_limit=0.001"],
-            "xpic": ["scheme.velocity=XPIC", "scheme.order=4"],
-            "exact": ["scheme.velocity=exact", "time.courant=0.1"],
+            "fmpm4": ["step.velocity=FMPM", "step.order=4"],
+            "blended": ["step.velocity=FMPM", "step.order=4", "step.blend_alpha=0.8", "step.blend_every=2"],
+            "periodic": ["step.velocity=FMPM", "step.order=4", "step.periodic_cx=2.0"],
+            "dynamic": ["step.velocity=FMPM", "step.order=20", "step.dynamic_metric=means", "step.dynamic_limit=0.001"],
+            "xpic": ["step.velocity=XPIC", "step.order=4"],
+            "exact": ["step.velocity=exact", "time.courant=0.1"],
         }
         for name, sets in variants.items():
             with self.subTest(variant=name):
@@ -307,9 +307,9 @@ class FmpmVariants(Base):
                     self.assertLess(abs(total[-1] - total[0]) / total[0], 0.05 if name == "xpic" else 0.01)
 
     def test_missing_order_is_an_input_error(self):
-        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "-o", self.dir / "x.h5", "--set", "scheme.velocity=FMPM")
+        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "-o", self.dir / "x.h5", "--set", "step.velocity=FMPM")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("scheme.order: missing required key", r.stderr)
+        self.assertIn("step.order: missing required key", r.stderr)
 
 
 class Stability(Base):
@@ -419,7 +419,7 @@ class Examples(Base):
         flip = self.energy_change(self.run_example("block_impact"))
         self.assertAlmostEqual(flip, -1.84, delta=0.02)  # claimed: FLIP loses 1.84%
         fmpm20 = self.energy_change(self.run_example(
-            "block_impact", "scheme.velocity=FMPM", "scheme.order=20", "scheme.position_alpha=1"))
+            "block_impact", "step.velocity=FMPM", "step.order=20", "step.position_alpha=1"))
         self.assertAlmostEqual(fmpm20, -0.20, delta=0.02)  # claimed: FMPM(20) loses 0.20%
         self.assertLess(abs(fmpm20), abs(flip) / 5)  # "nearly an order of magnitude" less
 

@@ -23,7 +23,7 @@ EXAMPLE = SOURCE / "examples" / "two_block_compression.toml"
 SANITIZED = os.environ.get("SMPM_SANITIZED") == "1"
 SN = ["contact.0.normal=specified", "contact.0.direction=[0.0, 1.0]"]
 LR = ["contact.0.normal=LR", "contact.0.detection=LR"]
-FMPM4 = ["scheme.velocity=FMPM", "scheme.order=4", "time.courant=0.2"]
+FMPM4 = ["step.velocity=FMPM", "step.order=4", "time.courant=0.2"]
 
 
 def mean_axial_stress(work, name, *sets):

@@ -187,11 +187,11 @@ class Restart(Base):
 
     def test_restart_is_bit_for_bit_for_every_update(self):
         variants = {
-            "periodic": ["scheme.velocity=FMPM", "scheme.order=8", "scheme.periodic_cx=2", "time.courant=0.3"],
-            "dynamic": ["scheme.velocity=FMPM", "scheme.order=20", "scheme.dynamic_metric=means", "scheme.dynamic_limit=1e-3"],
-            "blend": ["scheme.velocity=FMPM", "scheme.order=8", "scheme.blend_alpha=0.8", "scheme.blend_every=2", "time.courant=0.3"],
-            "xpic": ["scheme.velocity=XPIC", "scheme.order=4", "time.courant=0.3"],
-            "exact": ["scheme.velocity=exact", "time.courant=0.1"],
+            "periodic": ["step.velocity=FMPM", "step.order=8", "step.periodic_cx=2", "time.courant=0.3"],
+            "dynamic": ["step.velocity=FMPM", "step.order=20", "step.dynamic_metric=means", "step.dynamic_limit=1e-3"],
+            "blend": ["step.velocity=FMPM", "step.order=8", "step.blend_alpha=0.8", "step.blend_every=2", "time.courant=0.3"],
+            "xpic": ["step.velocity=XPIC", "step.order=4", "time.courant=0.3"],
+            "exact": ["step.velocity=exact", "time.courant=0.1"],
         }
         for name, sets in variants.items():
             with self.subTest(variant=name):
@@ -413,13 +413,13 @@ class Inputs(Base):
         r = smpm("run", src, "-o", self.dir / "bom.h5", "-q", "--set", "time.end=10")
         self.assertEqual(r.returncode, 0, r.stderr)
         long_value = "x" * 2000
-        line = one_line(self, smpm("run", BAR, "-o", self.dir / "l.h5", "--set", "scheme.shape=" + long_value), 2)
+        line = one_line(self, smpm("run", BAR, "-o", self.dir / "l.h5", "--set", "step.shape=" + long_value), 2)
         self.assertLess(len(line), 400)
         # Numbers in messages are short (before: 300 digits twice), and a cap is stated.
         line = one_line(self, smpm("run", BAR, "-o", self.dir / "l.h5", "--set", "time.end=1e300"), 2)
         self.assertIn("frames up to time.end = 1e+300, more than the 100000 accepted", line)
         self.assertLess(len(line), 300)
-        for key in ("scheme.order", "scheme.blend_every"):
+        for key in ("step.order", "step.blend_every"):
             line = one_line(self, smpm("run", BAR, "-o", self.dir / "l.h5", "--set", key + "=1000000"), 2)
             self.assertIn("must be an integer from 1 to 100000", line)
 

@@ -47,15 +47,15 @@ class MovingWalls(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
-        fmpm8 = ["scheme.velocity=FMPM", "scheme.order=8"]
+        fmpm8 = ["step.velocity=FMPM", "step.order=8"]
         cases = {
-            "flip": ["scheme.velocity=FLIP"],
+            "flip": ["step.velocity=FLIP"],
             "new8": fmpm8,
-            "combined8": fmpm8 + ["scheme.bc_method=combined"],
+            "combined8": fmpm8 + ["step.bc_method=combined"],
             "new8_d2": fmpm8 + depth(2),
-            "b2_flip_d15": ["scheme.velocity=FLIP", "scheme.shape=b2cpdi"] + depth(1.5),
-            "b2_new8_d1": fmpm8 + ["scheme.shape=b2cpdi"],
-            "b2_new8_d15": fmpm8 + ["scheme.shape=b2cpdi"] + depth(1.5),
+            "b2_flip_d15": ["step.velocity=FLIP", "step.shape=b2cpdi"] + depth(1.5),
+            "b2_new8_d1": fmpm8 + ["step.shape=b2cpdi"],
+            "b2_new8_d15": fmpm8 + ["step.shape=b2cpdi"] + depth(1.5),
         }
         with concurrent.futures.ThreadPoolExecutor(2) as pool:
             futures = {k: pool.submit(run, cls.tmp.name, k, *v) for k, v in cases.items()}

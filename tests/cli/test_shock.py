@@ -29,7 +29,7 @@ SINGLE = ["contact.0.law=single-field"]
 FRICTION = ["contact.0.law=coulomb", "contact.0.friction=0.3", "contact.0.detection=LR",
             "contact.0.normal=LR"]
 EVOLVING = ["contact.0.fmpm_method=evolving"]
-XPIC5 = ["scheme.velocity=XPIC", "scheme.order=5"]
+XPIC5 = ["step.velocity=XPIC", "step.order=5"]
 BINS = np.arange(30.0, 47.0, 0.25)
 
 
@@ -73,7 +73,7 @@ class Shock(unittest.TestCase):
             "stick_fmpm8_net": fmpm(8),
             "single_xpic5": XPIC5 + SINGLE,
             "stick_xpic5": XPIC5,
-            "stick_xpic5_uncorrected": XPIC5 + ["scheme.xpic_contact_term=false"],
+            "stick_xpic5_uncorrected": XPIC5 + ["step.xpic_contact_term=false"],
         }
         with concurrent.futures.ThreadPoolExecutor(2) as pool:
             futures = {k: pool.submit(run, cls.tmp.name, k, v) for k, v in cases.items()}

@@ -70,7 +70,7 @@ TEST_CASE("overrides given with --set change scalars, named materials and absent
           "[input]") {
   const RunConfig cfg =
       read_input(example("vibrating_bar.toml"), "vibrating_bar.toml",
-                 {"time.courant=0.3", "material.bar.youngs=3", "scheme.velocity=PIC",
+                 {"time.courant=0.3", "material.bar.youngs=3", "step.velocity=PIC",
                   "output.matrices=true", "loads.gravity=[-1.0]"});
   CHECK(cfg.time.courant == 0.3);
   CHECK(cfg.model.materials[0].youngs == 3.0);
@@ -92,19 +92,19 @@ TEST_CASE("scheme options: position alpha, deformation update, exact solver, fra
   CHECK(read_input(bar, "bar.toml").step.position_alpha == 1.0);
   const RunConfig unset =
       read_input(replace(bar, "position_alpha = 1.0", ""), "bar.toml",
-                 {"scheme.velocity=FMPM", "scheme.order=4", "scheme.deformation=exponential",
-                  "scheme.exact_mass_cutoff=0.05", "time.land_on_frames=false"});
+                 {"step.velocity=FMPM", "step.order=4", "step.deformation=exponential",
+                  "step.exact_mass_cutoff=0.05", "time.land_on_frames=false"});
   CHECK(!unset.step.position_alpha);
   CHECK(position_alpha(unset.step) == 0.5);
   CHECK(unset.step.deformation == DeformationUpdate::Exponential);
   CHECK(unset.step.exact_solver); // made for every input: analyses may add an exact row
   CHECK(!unset.time.land_on_frames);
-  CHECK_THAT(error_of(bar, {"scheme.deformation=cubic"}),
-             Catch::Contains("scheme.deformation") && Catch::Contains("linear | exponential"));
-  CHECK_THAT(error_of(bar, {"scheme.exact_mass_cutoff=1.5"}),
-             Catch::Contains("scheme.exact_mass_cutoff = 1.5: must lie in [0, 1)"));
-  CHECK_THAT(error_of(bar, {"scheme.exact_regularization=2"}),
-             Catch::Contains("scheme.exact_regularization = 2: must lie in [0, 1]"));
+  CHECK_THAT(error_of(bar, {"step.deformation=cubic"}),
+             Catch::Contains("step.deformation") && Catch::Contains("linear | exponential"));
+  CHECK_THAT(error_of(bar, {"step.exact_mass_cutoff=1.5"}),
+             Catch::Contains("step.exact_mass_cutoff = 1.5: must lie in [0, 1)"));
+  CHECK_THAT(error_of(bar, {"step.exact_regularization=2"}),
+             Catch::Contains("step.exact_regularization = 2: must lie in [0, 1]"));
 }
 
 TEST_CASE("the step options' limits are the library's, reported at the line of the key",
@@ -114,21 +114,21 @@ TEST_CASE("the step options' limits are the library's, reported at the line of t
   const std::string bar = example("vibrating_bar.toml");
   const std::string alpha = replace(bar, "position_alpha = 1.0", "position_alpha = 1.5");
   CHECK_THAT(error_of(alpha), Catch::StartsWith(at(alpha, "position_alpha = 1.5") +
-                                                "scheme.position_alpha = 1.5: must lie in [0, 1]"));
+                                                "step.position_alpha = 1.5: must lie in [0, 1]"));
   for (const auto& [set, message] : std::vector<std::pair<std::string, std::string>>{
-           {"scheme.order=0", "scheme.order = 0: must be an integer from 1 to 100000"},
-           {"scheme.order=100001", "scheme.order = 100001: must be an integer from 1 to 100000"},
-           {"scheme.blend_every=0", "scheme.blend_every = 0: must be an integer from 1 to 100000"},
-           {"scheme.blend_alpha=1.5", "scheme.blend_alpha = 1.5: must lie in [0, 1]"},
-           {"scheme.periodic_cx=-1", "scheme.periodic_cx = -1: must be non-negative"},
-           {"scheme.dynamic_limit=-1", "scheme.dynamic_limit = -1: must be non-negative"}}) {
-    std::vector<std::string> sets{"scheme.velocity=FMPM", set};
-    if (set.rfind("scheme.order", 0) != 0)
-      sets.push_back("scheme.order=4");
+           {"step.order=0", "step.order = 0: must be an integer from 1 to 100000"},
+           {"step.order=100001", "step.order = 100001: must be an integer from 1 to 100000"},
+           {"step.blend_every=0", "step.blend_every = 0: must be an integer from 1 to 100000"},
+           {"step.blend_alpha=1.5", "step.blend_alpha = 1.5: must lie in [0, 1]"},
+           {"step.periodic_cx=-1", "step.periodic_cx = -1: must be non-negative"},
+           {"step.dynamic_limit=-1", "step.dynamic_limit = -1: must be non-negative"}}) {
+    std::vector<std::string> sets{"step.velocity=FMPM", set};
+    if (set.rfind("step.order", 0) != 0)
+      sets.push_back("step.order=4");
     CHECK_THAT(error_of(bar, sets), Catch::Contains(message));
   }
   // C_X = 0 is the library's "FMPM on every step", as in StepOptions.
-  CHECK(read_input(bar, "bar.toml", {"scheme.periodic_cx=0"}).step.periodic_cx == 0);
+  CHECK(read_input(bar, "bar.toml", {"step.periodic_cx=0"}).step.periodic_cx == 0);
   try {
     validate(StepOptions{.fmpm = {.order = 0}});
     FAIL("order 0 accepted");
@@ -136,6 +136,34 @@ TEST_CASE("the step options' limits are the library's, reported at the line of t
     CHECK(e.key() == "order");
     CHECK(std::string(e.what()) == "order = 0: must be an integer from 1 to 100000");
   }
+}
+
+TEST_CASE("the earlier names [scheme], update and --set scheme.* read as [step]", "[input]") {
+  // One release of aliases (README, "One vocabulary"): the same options, with a note each.
+  const std::string bar = example("vibrating_bar.toml");
+  const std::string old =
+      replace(replace(bar, "[step]", "[scheme]"), "scheme = \"USL\"", "update = \"USF\"");
+  const RunConfig earlier = read_input(old, "bar.toml", {"scheme.velocity=FMPM", "scheme.order=3"});
+  const RunConfig current = read_input(replace(bar, "scheme = \"USL\"", "scheme = \"USF\""),
+                                       "bar.toml", {"step.velocity=FMPM", "step.order=3"});
+  CHECK(earlier.step.scheme == UpdateScheme::USF);
+  CHECK(earlier.step.velocity == VelocityUpdate::FMPM);
+  CHECK(earlier.step.fmpm.order == 3);
+  CHECK(earlier.step.shape == current.step.shape);
+  CHECK(position_alpha(earlier.step) == position_alpha(current.step));
+  REQUIRE(earlier.notes.size() == 4); // [scheme], update and the two overrides
+  CHECK_THAT(earlier.notes[0], Catch::Contains("[scheme] is now [step]"));
+  CHECK_THAT(earlier.notes[1], Catch::Contains("step.update is now step.scheme"));
+  CHECK_THAT(earlier.notes[2], Catch::Contains("--set scheme.velocity is now --set step.velocity"));
+  CHECK(current.notes.empty());
+  // The lines of the renamed table stay those of the file.
+  const std::string bad = replace(old, "position_alpha = 1.0", "position_alpha = 2.0");
+  CHECK_THAT(error_of(bad), Catch::StartsWith(at(bad, "position_alpha = 2.0") +
+                                              "step.position_alpha = 2.0: must lie in [0, 1]"));
+  // Both spellings at once are refused, at the line of the earlier one.
+  const std::string both = old + "\n[step]\nvelocity = \"PIC\"\n";
+  CHECK_THAT(error_of(both),
+             Catch::StartsWith(at(both, "[scheme]") + "[scheme] is the earlier name of [step]"));
 }
 
 TEST_CASE("each class of bad input has a one-line message with file, line and key", "[input]") {
@@ -171,11 +199,11 @@ TEST_CASE("each class of bad input has a one-line message with file, line and ke
   CHECK_THAT(error_of(replace(bar, "dim = 1", "dim = = 1")), Catch::StartsWith(at(bar, "dim = 1")));
   // Unknown choices name the valid ones.
   CHECK_THAT(error_of(replace(bar, "shape = \"cpdi\"", "shape = \"cpdx\"")),
-             Catch::Contains("scheme.shape = 'cpdx'") && Catch::Contains("cpdi"));
+             Catch::Contains("step.shape = 'cpdx'") && Catch::Contains("cpdi"));
   // Non-ASCII characters are allowed in comments and strings only (TOML), and rejected with
   // their line before the parser sees them.
   CHECK(read_input(replace(bar, "file = \"vibrating_bar.h5\"", "file = \"stab_ü.h5\" # ρ, 漢字"),
-                   "bar.toml", {"scheme.shape=\"cpdi\" "})
+                   "bar.toml", {"step.shape=\"cpdi\" "})
             .output.file == "stab_ü.h5");
   CHECK_THAT(error_of(replace(bar, "density = 0.5", "density = 0.5 ρ")),
              Catch::StartsWith(at(bar, "density")) && Catch::Contains("non-ASCII"));

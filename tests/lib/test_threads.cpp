@@ -110,10 +110,10 @@ TEST_CASE("1 and 2 threads give bit-identical runs of the examples", "[threads]"
   // vibrating bar (CPDI, 80 particles) and on the block impact (CPDI, neo-Hookean, 8000 particles):
   // X, V, F and the stress after the run are equal bit for bit.
   const std::vector<std::vector<std::string>> schemes = {
-      {"scheme.velocity=FLIP"},
-      {"scheme.velocity=FMPM", "scheme.order=4"},
-      {"scheme.velocity=XPIC", "scheme.order=3"},
-      {"scheme.velocity=exact", "time.courant=0.1", "scheme.exact_mass_cutoff=1e-2"}};
+      {"step.velocity=FLIP"},
+      {"step.velocity=FMPM", "step.order=4"},
+      {"step.velocity=XPIC", "step.order=3"},
+      {"step.velocity=exact", "time.courant=0.1", "step.exact_mass_cutoff=1e-2"}};
   for (const std::string file : {"vibrating_bar.toml", "block_impact.toml"})
     for (const auto& scheme : schemes) {
       INFO(file << " " << scheme.front() << (scheme.size() > 1 ? " " + scheme[1] : ""));

@@ -50,17 +50,17 @@ TEST_CASE("steps on the particles' window equal steps on the whole grid", "[step
   // stress equal (==). The window changes only the numbering of the nodes; every node sum gathers
   // its particles in the same order.
   const std::vector<std::vector<std::string>> schemes = {
-      {"scheme.velocity=FLIP"},
-      {"scheme.velocity=FMPM", "scheme.order=4", "time.courant=0.25"},
-      {"scheme.velocity=XPIC", "scheme.order=3", "time.courant=0.25"},
-      {"scheme.velocity=exact", "time.courant=0.1", "scheme.exact_mass_cutoff=1e-2"},
-      {"scheme.velocity=FMPM", "scheme.order=8", "scheme.dynamic_metric=means",
-       "scheme.dynamic_limit=1e-4", "time.courant=0.25"}};
+      {"step.velocity=FLIP"},
+      {"step.velocity=FMPM", "step.order=4", "time.courant=0.25"},
+      {"step.velocity=XPIC", "step.order=3", "time.courant=0.25"},
+      {"step.velocity=exact", "time.courant=0.1", "step.exact_mass_cutoff=1e-2"},
+      {"step.velocity=FMPM", "step.order=8", "step.dynamic_metric=means", "step.dynamic_limit=1e-4",
+       "time.courant=0.25"}};
   int smaller = 0; // runs whose last window is smaller than the grid
   for (const std::string file : {"compaction.toml", "moving_wall_mms.toml", "two_disks.toml",
                                  "three_materials.toml", "shock_split_bar.toml"})
     for (const auto& scheme : schemes) {
-      if (file == "compaction.toml" && scheme.front() == "scheme.velocity=exact")
+      if (file == "compaction.toml" && scheme.front() == "step.velocity=exact")
         continue; // its m̃ is singular on the active nodes (a CHOLMOD pivot fails either way)
       INFO(file << " " << scheme.front() << (scheme.size() > 1 ? " " + scheme[1] : ""));
       const Run window = run_example(file, scheme, 25, NodeRange::Particles);

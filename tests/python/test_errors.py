@@ -33,12 +33,12 @@ def test_bad_input_file(tmp_path, old, new):
 
 
 def test_bad_override(tmp_path):
-    r = run_smpm("run", BAR, "-q", "-o", tmp_path / "out.h5", "--set", "scheme.order=0",
-                 "--set", "scheme.velocity=FMPM")
+    r = run_smpm("run", BAR, "-q", "-o", tmp_path / "out.h5", "--set", "step.order=0",
+                 "--set", "step.velocity=FMPM")
     assert r.returncode == 2
     expected = cli_message(r, "smpm: error: ")
     with pytest.raises(smpm.InputError) as e:
-        smpm.Model.from_toml(str(BAR), {"scheme.order": 0, "scheme.velocity": "FMPM"})
+        smpm.Model.from_toml(str(BAR), {"step.order": 0, "step.velocity": "FMPM"})
     assert str(e.value) == expected
 
 

@@ -168,7 +168,7 @@ def test_one_and_two_threads_step_the_same_bits():
             smpm.set_threads(n)
             assert smpm.threads() == n
             model = smpm.Model.from_toml(str(SOURCE / "examples" / "block_impact.toml"),
-                                         {"scheme.velocity": "FMPM", "scheme.order": 4})
+                                         {"step.velocity": "FMPM", "step.order": 4})
             stepper = smpm.Stepper(model.options)
             for _ in range(50):
                 stepper.step(model, smpm.stable_time_step(model, model.courant))
@@ -188,9 +188,9 @@ def test_fmpm_metrics_trace_the_dynamic_loop():
     # fmpm_metrics holds the metric of passes 2 … 12; with a limit between the values of
     # passes 4 and 5 the loop stops where that curve first falls below it, and its trace is the
     # curve up to there (the same doubles: same state, same passes).
-    model = smpm.Model.from_toml(str(BAR), {"scheme.velocity": "FMPM", "scheme.order": 12,
-                                            "scheme.dynamic_metric": "means",
-                                            "scheme.dynamic_limit": 1e-3})
+    model = smpm.Model.from_toml(str(BAR), {"step.velocity": "FMPM", "step.order": 12,
+                                            "step.dynamic_metric": "means",
+                                            "step.dynamic_limit": 1e-3})
     stepper = smpm.Stepper(model.options)
     for _ in range(20):
         stepper.step(model, smpm.stable_time_step(model, model.courant))
@@ -260,3 +260,19 @@ def test_a_step_on_every_grid_node_equals_the_step_on_the_window():
     assert smpm.StepOptions(nodes="grid").nodes == "grid"
     with pytest.raises(smpm.InputError, match="unknown node range 'all' .expected particles . grid."):
         smpm.StepOptions(nodes="all")
+
+
+def test_step_options_take_the_keys_of_the_step_table():
+    # One vocabulary: StepOptions(**options) takes the [step] keys of the input files, each also
+    # an attribute; the limits are the library's (validate), as in the input files.
+    o = smpm.StepOptions(scheme="USF", velocity="FMPM", order=4, blend_alpha=0.8,
+                         xpic_contact_term=False, exact_mass_cutoff=0.01)
+    assert (o.scheme, o.velocity, o.order, o.blend_alpha) == ("USF", "FMPM", 4, 0.8)
+    assert o.xpic_contact_term is False and o.exact_mass_cutoff == 0.01
+    assert smpm.StepOptions().shape == "cpdi"  # the default of the input files
+    with pytest.warns(DeprecationWarning, match="'update' is the earlier name of 'scheme'"):
+        assert smpm.StepOptions(update="USL+").scheme == "USL+"
+    with pytest.raises(smpm.InputError, match="unknown option 'oder'"):
+        smpm.StepOptions(oder=4)
+    with pytest.raises(smpm.InputError, match="order = 0: must be an integer from 1 to 100000"):
+        smpm.StepOptions(order=0)

@@ -9,6 +9,7 @@
 
 #include <Eigen/SparseCore>
 #include <array>
+#include <string_view>
 #include <vector>
 
 namespace smpm {
@@ -37,6 +38,10 @@ enum class NodeRange {
   Particles ///< the window of the grid around the particles' boxes (assemble_shape), so that
             ///< the nodal fields and their storage follow the particles, not the grid
 };
+
+/// Names of StepOptions::nodes: particles | grid.
+std::string_view to_string(NodeRange r);
+NodeRange node_range_from_string(std::string_view name);
 
 /// Everything a time step needs from the particle configuration, assembled once per step.
 ///

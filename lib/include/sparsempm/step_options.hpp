@@ -75,7 +75,7 @@ public:
 using MassSolverFactory = std::function<std::unique_ptr<MassSolver>(const ExactOptions&)>;
 
 struct StepOptions {
-  Shape shape = Shape::Linear;
+  Shape shape = Shape::CPDI; ///< the default of the input files (CPDI1, Sadeghirad et al. 2011)
   UpdateScheme scheme = UpdateScheme::USL;
   VelocityUpdate velocity = VelocityUpdate::FLIP;
   /// α of FMPM 2026 Eqs. (8)–(9); unset: default_position_alpha(velocity).

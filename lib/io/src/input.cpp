@@ -137,79 +137,50 @@ std::optional<int> integer(const Reader& r, const toml::table& t, const char* ke
 }
 
 // FMPM(k), XPIC(m), blending, periodic and dynamic FMPM, BC method, exact solver options.
-void read_fmpm(const Reader& r, const toml::table& scheme, StepOptions& step) {
+void read_fmpm(const Reader& r, const toml::table& t, StepOptions& step) {
   FmpmOptions& f = step.fmpm;
-  if (const auto k = integer(r, scheme, "order", "scheme.order"))
+  if (const auto k = integer(r, t, "order", "step.order"))
     f.order = *k;
   else if (step.velocity == VelocityUpdate::FMPM || step.velocity == VelocityUpdate::XPIC)
-    r.fail(nullptr, "scheme.order", "missing required key (the order k of FMPM or m of XPIC)");
-  f.blend_alpha = r.number(scheme, "blend_alpha", "scheme.blend_alpha", 1.0);
-  if (const auto m = integer(r, scheme, "blend_every", "scheme.blend_every"))
+    r.fail(nullptr, "step.order", "missing required key (the order k of FMPM or m of XPIC)");
+  f.blend_alpha = r.number(t, "blend_alpha", "step.blend_alpha", 1.0);
+  if (const auto m = integer(r, t, "blend_every", "step.blend_every"))
     f.blend_every = *m;
-  step.periodic_cx = r.number(scheme, "periodic_cx", "scheme.periodic_cx", 0.0);
-  try {
-    f.metric = convergence_metric_from_string(
-        r.string(scheme, "dynamic_metric", "scheme.dynamic_metric", "none"));
-  } catch (const InputError& e) {
-    r.fail(scheme.get("dynamic_metric"), "scheme.dynamic_metric", e.what());
-  }
-  f.dynamic_limit = r.number(scheme, "dynamic_limit", "scheme.dynamic_limit", 0.0);
-  if (f.metric != ConvergenceMetric::None && !scheme.get("dynamic_limit"))
-    r.fail(scheme.get("dynamic_metric"), "scheme.dynamic_metric",
-           "needs scheme.dynamic_limit (the convergence limit)");
-  try {
-    f.bc_method =
-        bc_method_from_string(r.string(scheme, "bc_method", "scheme.bc_method", "incremental"));
-  } catch (const InputError& e) {
-    r.fail(scheme.get("bc_method"), "scheme.bc_method", e.what());
-  }
-  step.exact.regularization =
-      r.number(scheme, "exact_regularization", "scheme.exact_regularization", 0.0);
-  step.exact.mass_cutoff = r.number(scheme, "exact_mass_cutoff", "scheme.exact_mass_cutoff", 0.0);
+  step.periodic_cx = r.number(t, "periodic_cx", "step.periodic_cx", 0.0);
+  f.metric =
+      r.choice(t, "dynamic_metric", "step.dynamic_metric", "none", &convergence_metric_from_string);
+  f.dynamic_limit = r.number(t, "dynamic_limit", "step.dynamic_limit", 0.0);
+  if (f.metric != ConvergenceMetric::None && !t.get("dynamic_limit"))
+    r.fail(t.get("dynamic_metric"), "step.dynamic_metric",
+           "needs step.dynamic_limit (the convergence limit)");
+  f.bc_method = r.choice(t, "bc_method", "step.bc_method", "incremental", &bc_method_from_string);
+  step.exact.regularization = r.number(t, "exact_regularization", "step.exact_regularization", 0.0);
+  step.exact.mass_cutoff = r.number(t, "exact_mass_cutoff", "step.exact_mass_cutoff", 0.0);
   // Always set, so that analyses adding an exact row (smpm stability) use these options.
   step.exact_solver = cholmod_solver_factory();
 }
 
-// [scheme]: update scheme, velocity update, shape functions, α, F update and the FMPM family.
-void read_scheme(const Reader& r, const toml::table& root, StepOptions& step) {
+// [step]: update scheme, velocity update, shape functions, α, F update and the FMPM family.
+void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
   static const toml::table empty;
-  const toml::table* scheme = r.table(root, "scheme", "[scheme]", false);
-  if (!scheme)
-    scheme = &empty;
-  r.check_keys(*scheme, "scheme");
-  try {
-    step.scheme = update_scheme_from_string(r.string(*scheme, "update", "scheme.update", "USL"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("update"), "scheme.update", e.what());
-  }
-  try {
-    step.velocity =
-        velocity_update_from_string(r.string(*scheme, "velocity", "scheme.velocity", "FLIP"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("velocity"), "scheme.velocity", e.what());
-  }
-  try {
-    step.shape = shape_from_string(r.string(*scheme, "shape", "scheme.shape", "cpdi"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("shape"), "scheme.shape", e.what());
-  }
+  const toml::table* table = r.table(root, "step", "[step]", false);
+  const toml::table& t = table ? *table : empty;
+  r.check_keys(t, "step");
+  step.scheme = r.choice(t, "scheme", "step.scheme", "USL", &update_scheme_from_string);
+  step.velocity = r.choice(t, "velocity", "step.velocity", "FLIP", &velocity_update_from_string);
+  step.shape = r.choice(t, "shape", "step.shape", "cpdi", &shape_from_string);
   // α of Eqs. (8)–(9); unset: default_position_alpha (1 for FLIP, ½ otherwise).
-  if (scheme->get("position_alpha"))
-    step.position_alpha = r.number(*scheme, "position_alpha", "scheme.position_alpha", 0.0);
-  try {
-    step.deformation = deformation_update_from_string(
-        r.string(*scheme, "deformation", "scheme.deformation", "linear"));
-  } catch (const InputError& e) {
-    r.fail(scheme->get("deformation"), "scheme.deformation", e.what());
-  }
-  step.xpic_contact_term =
-      r.boolean(*scheme, "xpic_contact_term", "scheme.xpic_contact_term", true);
-  read_fmpm(r, *scheme, step);
+  if (t.get("position_alpha"))
+    step.position_alpha = r.number(t, "position_alpha", "step.position_alpha", 0.0);
+  step.deformation =
+      r.choice(t, "deformation", "step.deformation", "linear", &deformation_update_from_string);
+  step.xpic_contact_term = r.boolean(t, "xpic_contact_term", "step.xpic_contact_term", true);
+  read_fmpm(r, t, step);
   // The library's limits (validate of step_options.hpp), at the line of the key they name.
   try {
     validate(step);
   } catch (const OptionError& e) {
-    r.fail(scheme->get(e.key()), "scheme." + e.key(), e.reason());
+    r.fail(t.get(e.key()), "step." + e.key(), e.reason());
   }
 }
 
@@ -253,11 +224,13 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
     os << source << ":" << e.source().begin.line << ": " << e.description();
     throw InputError(os.str());
   }
+  RunConfig cfg;
+  cfg.notes = detail::apply_aliases(root, source);
   for (const auto& o : overrides)
-    detail::apply_override(root, o);
+    if (std::string note = detail::apply_override(root, o); !note.empty())
+      cfg.notes.push_back(std::move(note));
   r.check_keys(root, "");
 
-  RunConfig cfg;
   cfg.source = source;
   cfg.overrides = overrides;
   cfg.text = text;
@@ -278,7 +251,7 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   cfg.time.end = r.positive(*time, "end", "time.end", std::nullopt);
   cfg.time.land_on_frames = r.boolean(*time, "land_on_frames", "time.land_on_frames", true);
 
-  read_scheme(r, root, cfg.step);
+  read_step(r, root, cfg.step);
   cfg.model.contact = detail::read_contact(r, root, cfg.model.materials, grid.dim());
 
   const toml::table* loads = r.table(root, "loads", "[loads]", false);
@@ -296,7 +269,7 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
     ops.node_range = NodeRange::Particles;
     assemble(grid, cfg.model.particles, cfg.step.shape, ops);
   } catch (const NumericalError& e) {
-    throw InputError(source + ": particles outside the grid for scheme.shape = \"" +
+    throw InputError(source + ": particles outside the grid for step.shape = \"" +
                      std::string(to_string(cfg.step.shape)) + "\": " + e.what());
   }
   return cfg;

@@ -128,6 +128,18 @@ public:
       fail(n, name, "expected true or false");
     return *n->value<bool>();
   }
+  // A name of one of the library's choices (an enum), read by its parser (`*_from_string`):
+  // its message, naming the valid choices, at the key's line.
+  template <class E>
+  E choice(const toml::table& t, const std::string& key, const std::string& name,
+           const std::string& fallback, E (*parse)(std::string_view)) const {
+    const std::string text = string(t, key, name, fallback);
+    try {
+      return parse(text);
+    } catch (const InputError& e) {
+      fail(t.get(key), name, e.what());
+    }
+  }
   // An array of exactly `count` numbers.
   std::array<double, 3> vector(const toml::table& t, const std::string& key,
                                const std::string& name, int count, bool required,

@@ -11,7 +11,7 @@ namespace smpm::detail {
 // Valid keys of every table of the schema ("" is the top level).
 const std::map<std::string, std::vector<std::string>>& schema() {
   static const std::map<std::string, std::vector<std::string>> keys = {
-      {"", {"grid", "material", "body", "bc", "contact", "time", "scheme", "output", "loads"}},
+      {"", {"grid", "material", "body", "bc", "contact", "time", "step", "output", "loads"}},
       {"contact",
        {"materials", "law", "friction", "normal", "direction", "detection", "critical_separation",
         "df_exponent", "df_reach", "fmpm_method"}},
@@ -27,8 +27,8 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"bc.box", {"min", "max"}},
       {"bc.velocity", {"direction", "value"}},
       {"time", {"courant", "end", "land_on_frames"}},
-      {"scheme",
-       {"update", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
+      {"step",
+       {"scheme", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
         "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization",
         "exact_mass_cutoff", "deformation", "xpic_contact_term"}},
       {"output", {"file", "every", "matrices"}},
@@ -146,7 +146,37 @@ void assign(toml::table& t, const std::string& key, const std::string& value) {
 
 } // namespace
 
-void apply_override(toml::table& root, const std::string& spec) {
+std::string current_key_path(const std::string& path) {
+  std::string p = path.rfind("scheme.", 0) == 0 ? "step." + path.substr(7) : path;
+  return p == "step.update" ? "step.scheme" : p;
+}
+
+std::vector<std::string> apply_aliases(toml::table& root, const std::string& source) {
+  std::vector<std::string> notes;
+  // Moves root[from] (or table[from]) to `to`, refusing both spellings at once.
+  auto rename = [&](toml::table& t, const char* from, const char* to, const std::string& old_name,
+                    const std::string& new_name) {
+    toml::node* n = t.get(from);
+    if (!n)
+      return;
+    if (t.get(to)) {
+      const auto line = n->source().begin.line;
+      throw InputError(source + ":" + std::to_string(line) + ": " + old_name +
+                       " is the earlier name of " + new_name + ": give one of them");
+    }
+    // A move keeps the source lines of the node and of everything in it (a copy would not).
+    std::move(*n).visit([&](auto&& v) { t.insert_or_assign(to, std::move(v)); });
+    t.erase(from);
+    notes.push_back(source + ": " + old_name + " is now " + new_name +
+                    " (the earlier name is accepted in this release only)");
+  };
+  rename(root, "scheme", "step", "[scheme]", "[step]");
+  if (toml::table* step = root.get_as<toml::table>("step"))
+    rename(*step, "update", "scheme", "step.update", "step.scheme");
+  return notes;
+}
+
+std::string apply_override(toml::table& root, const std::string& spec) {
   for (const char c : spec)
     if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f)
       throw InputError("--set " + clip(spec) +
@@ -154,7 +184,8 @@ void apply_override(toml::table& root, const std::string& spec) {
   const size_t eq = spec.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set " + clip(spec) + ": expected section.key=value");
-  const std::string path = spec.substr(0, eq), value = spec.substr(eq + 1);
+  const std::string given = spec.substr(0, eq), value = spec.substr(eq + 1);
+  const std::string path = current_key_path(given);
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string part; std::getline(ss, part, '.');)
@@ -163,7 +194,7 @@ void apply_override(toml::table& root, const std::string& spec) {
   if (parts.size() < 2 || parts.size() > 4 ||
       std::find(top.begin(), top.end(), parts[0]) == top.end())
     throw InputError("--set " + clip(spec) + ": expected section.key=value with a section of " +
-                     "grid, material, body, bc, contact, time, scheme, output, loads" +
+                     "grid, material, body, bc, contact, time, step, output, loads" +
                      (parts.empty() ? "" : suggest(parts[0], top)));
   toml::node* sec = root.get(parts[0]);
   const bool listed =
@@ -209,6 +240,9 @@ void apply_override(toml::table& root, const std::string& spec) {
     throw InputError("--set " + clip(spec) + ": unknown key '" + section + "." + key + "'" +
                      suggest(key, valid));
   assign(*target, key, value);
+  return path == given ? std::string()
+                       : "--set " + given + " is now --set " + path +
+                             " (the earlier name is accepted in this release only)";
 }
 
 } // namespace smpm::detail

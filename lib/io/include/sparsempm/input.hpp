@@ -34,6 +34,9 @@ struct RunConfig {
   std::string source;                 ///< input file name (for messages)
   std::string text;                   ///< full input text, with the --set overrides appended
   std::vector<std::string> overrides; ///< the --set section.key=value strings applied
+  /// One line for each name of the earlier vocabulary the input used ([scheme] for [step],
+  /// step.update for step.scheme), accepted in this release only.
+  std::vector<std::string> notes;
   Model model;
   StepOptions step;
   TimeSettings time;

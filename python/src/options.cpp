@@ -1,0 +1,222 @@
+// sparsempm.StepOptions and sparsempm.Material: the options of a step and the materials, with
+// the names of the input files ([step] and [[material]] keys). Each constructor takes its keyword
+// arguments as the object's properties, so the constructor and the attributes have one list of
+// names.
+
+#include "bindings.hpp"
+
+#include <sparsempm/errors.hpp>
+#include <sparsempm/exact.hpp>
+
+#include <pybind11/stl.h>
+
+#include <sstream>
+
+namespace smpm::python {
+
+namespace {
+
+// The property names of a bound class (its `property` attributes), in the class's order.
+std::vector<std::string> property_names(const py::handle& type) {
+  const py::object property = py::module_::import("builtins").attr("property");
+  std::vector<std::string> names;
+  for (const auto& [key, value] : type.attr("__dict__").cast<py::dict>())
+    if (py::isinstance(value, property))
+      names.push_back(key.cast<std::string>());
+  return names;
+}
+
+// A T with `defaults` and then every keyword argument set as its property: an unknown name is an
+// InputError naming the valid ones.
+template <class T>
+T from_keywords(T defaults, const py::kwargs& keywords, const char* what) {
+  py::object obj = py::cast(std::move(defaults));
+  const std::vector<std::string> names = property_names(py::type::of(obj));
+  for (const auto& [key, value] : keywords) {
+    const std::string name = py::str(key);
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      std::string valid;
+      for (const std::string& n : names)
+        valid += (valid.empty() ? "" : ", ") + n;
+      throw InputError(std::string(what) + ": unknown option '" + clip(name) +
+                       "' (options: " + valid + ")");
+    }
+    obj.attr(name.c_str()) = value;
+  }
+  return obj.cast<T>();
+}
+
+// A string-valued property over the library's to_string/from_string pair.
+template <class Class, class Get, class Set>
+void name_property(py::class_<Class>& c, const char* name, Get get, Set set, const char* doc) {
+  c.def_property(
+      name, [get](const Class& o) { return std::string(to_string(get(o))); }, set, doc);
+}
+
+// Warns once per call that `old_name` is the earlier name of `name` (accepted in this release).
+void warn_earlier_name(const char* old_name, const char* name) {
+  const std::string text = std::string("'") + old_name + "' is the earlier name of '" + name +
+                           "' (accepted in this release only)";
+  if (PyErr_WarnEx(PyExc_DeprecationWarning, text.c_str(), 2) != 0)
+    throw py::error_already_set();
+}
+
+void bind_step_choices(py::class_<StepOptions>& c) {
+  name_property(
+      c, "shape", [](const StepOptions& o) { return o.shape; },
+      [](StepOptions& o, const std::string& s) { o.shape = shape_from_string(s); },
+      "linear | gimp | bspline2 | cpdi (default) | b2cpdi");
+  name_property(
+      c, "scheme", [](const StepOptions& o) { return o.scheme; },
+      [](StepOptions& o, const std::string& s) { o.scheme = update_scheme_from_string(s); },
+      "update scheme: USL (default) | USF | USL+ | USAVG | USAVG+");
+  c.def_property(
+      "update", [](const StepOptions& o) { return std::string(to_string(o.scheme)); },
+      [](StepOptions& o, const std::string& s) {
+        warn_earlier_name("update", "scheme");
+        o.scheme = update_scheme_from_string(s);
+      },
+      "the earlier name of `scheme` (accepted in this release only)");
+  name_property(
+      c, "velocity", [](const StepOptions& o) { return o.velocity; },
+      [](StepOptions& o, const std::string& s) { o.velocity = velocity_update_from_string(s); },
+      "FLIP (default) | PIC | FMPM | XPIC | exact");
+  name_property(
+      c, "deformation", [](const StepOptions& o) { return o.deformation; },
+      [](StepOptions& o, const std::string& s) {
+        o.deformation = deformation_update_from_string(s);
+      },
+      "linear: F <- (I + L dt) F (default) | exponential: F <- exp(L dt) F");
+  name_property(
+      c, "bc_method", [](const StepOptions& o) { return o.fmpm.bc_method; },
+      [](StepOptions& o, const std::string& s) { o.fmpm.bc_method = bc_method_from_string(s); },
+      "velocity BCs of the FMPM loop (FMPM 2026 §3.1): incremental | lumped | velocity | combined");
+  name_property(
+      c, "dynamic_metric", [](const StepOptions& o) { return o.fmpm.metric; },
+      [](StepOptions& o, const std::string& s) {
+        o.fmpm.metric = convergence_metric_from_string(s);
+      },
+      "dynamic FMPM (§3.4): none | means | changes");
+  name_property(
+      c, "nodes", [](const StepOptions& o) { return o.nodes; },
+      [](StepOptions& o, const std::string& s) { o.nodes = node_range_from_string(s); },
+      "the nodes of a step: 'particles', the window of the grid its particles reach (memory and "
+      "time follow the particles), or 'grid', every node; the results are the same");
+}
+
+void bind_step_numbers(py::class_<StepOptions>& c) {
+  c.def_property(
+      "order", [](const StepOptions& o) { return o.fmpm.order; },
+      [](StepOptions& o, int k) { o.fmpm.order = k; }, "k of FMPM(k), m of XPIC(m)");
+  c.def_property(
+      "blend_alpha", [](const StepOptions& o) { return o.fmpm.blend_alpha; },
+      [](StepOptions& o, double a) { o.fmpm.blend_alpha = a; },
+      "blending fraction α of §3.3 (1: none)");
+  c.def_property(
+      "blend_every", [](const StepOptions& o) { return o.fmpm.blend_every; },
+      [](StepOptions& o, int e) { o.fmpm.blend_every = e; }, "blend every m-th pass (§3.3)");
+  c.def_property(
+      "dynamic_limit", [](const StepOptions& o) { return o.fmpm.dynamic_limit; },
+      [](StepOptions& o, double v) { o.fmpm.dynamic_limit = v; },
+      "dynamic FMPM: stop at the first pass whose metric is below this (0: run to the order)");
+  c.def_readwrite("position_alpha", &StepOptions::position_alpha,
+                  "α of FMPM 2026 Eqs. (8)-(9); None: 1 for FLIP, 1/2 otherwise");
+  c.def_readwrite("periodic_cx", &StepOptions::periodic_cx,
+                  "periodic FMPM's Courant budget C_X (§3.3; 0: FMPM on every step)");
+  c.def_readwrite("xpic_contact_term", &StepOptions::xpic_contact_term,
+                  "multimaterial XPIC(m): add contact 2020 Eq. (37)'s contact term");
+  c.def_property(
+      "exact_regularization", [](const StepOptions& o) { return o.exact.regularization; },
+      [](StepOptions& o, double eps) { o.exact.regularization = eps; },
+      "exact: factor (1 - eps) m~ + eps m");
+  c.def_property(
+      "exact_mass_cutoff", [](const StepOptions& o) { return o.exact.mass_cutoff; },
+      [](StepOptions& o, double tau) { o.exact.mass_cutoff = tau; },
+      "exact: nodes below tau max m take p_i / m_i");
+}
+
+std::string repr(const StepOptions& o) {
+  std::ostringstream os;
+  os << "StepOptions(shape='" << to_string(o.shape) << "', scheme='" << to_string(o.scheme)
+     << "', velocity='" << to_string(o.velocity) << "', order=" << o.fmpm.order
+     << ", blend_alpha=" << o.fmpm.blend_alpha << ", blend_every=" << o.fmpm.blend_every
+     << ", position_alpha=" << position_alpha(o) << ")";
+  return os.str();
+}
+
+void bind_step_options(py::module_& m) {
+  py::class_<StepOptions> c(m, "StepOptions",
+                            "The options of a time step (step_options.hpp): StepOptions(**options) "
+                            "with the keys and values of the [step] table of the input files, "
+                            "each also an attribute.");
+  c.def(py::init([](const py::kwargs& options) {
+          StepOptions defaults;
+          defaults.exact_solver = cholmod_solver_factory();
+          StepOptions o = from_keywords(std::move(defaults), options, "StepOptions");
+          validate(o);
+          return o;
+        }),
+        "StepOptions(scheme='USL', velocity='FLIP', shape='cpdi', order=1, ...): every option "
+        "of the [step] table by name; the rest keep their defaults.");
+  bind_step_choices(c);
+  bind_step_numbers(c);
+  c.def(
+      "validate", [](const StepOptions& o) { validate(o); },
+      "Raises InputError for values outside their ranges (the limits of the input files).");
+  c.def("copy", [](const StepOptions& o) { return o; });
+  c.def("__repr__", &repr);
+}
+
+void bind_material(py::module_& m) {
+  py::class_<Material> c(m, "Material",
+                         "A material (material.hpp): Material(name, model, **parameters) with the "
+                         "keys of the [[material]] tables, each also an attribute.");
+  c.def(py::init([](const std::string& name, const std::string& model, const py::kwargs& kw) {
+          Material mat{.name = name, .model = material_model_from_string(model)};
+          mat = from_keywords(std::move(mat), kw, "Material");
+          validate(mat);
+          return mat;
+        }),
+        py::arg("name") = "material", py::arg("model") = "linear");
+  c.def_readwrite("name", &Material::name);
+  name_property(
+      c, "model", [](const Material& mat) { return mat.model; },
+      [](Material& mat, const std::string& s) { mat.model = material_model_from_string(s); },
+      "linear | neo-hookean | hyperelastic | mie-gruneisen");
+  c.def_readwrite("density", &Material::density);
+  c.def_readwrite("youngs", &Material::youngs, "E (not mie-gruneisen)");
+  c.def_readwrite("poisson", &Material::poisson, "ν (not mie-gruneisen)");
+  c.def_readwrite("bulk", &Material::bulk, "mie-gruneisen: K");
+  c.def_readwrite("shear", &Material::shear, "mie-gruneisen: G (0: a fluid)");
+  c.def_readwrite("gruneisen", &Material::gruneisen, "mie-gruneisen: γ₀");
+  c.def_readwrite("s1", &Material::hugoniot_slope, "mie-gruneisen: the Hugoniot slope S₁");
+  c.def_property(
+      "viscosity",
+      [](const Material& mat) {
+        return std::vector<double>{mat.av_linear, mat.av_quadratic};
+      },
+      [](Material& mat, const std::vector<double>& a) {
+        if (a.size() != 2)
+          throw InputError("Material.viscosity: expected [A1, A2]");
+        mat.av_linear = a[0];
+        mat.av_quadratic = a[1];
+      },
+      "mie-gruneisen: the artificial viscosity [A1, A2] (contact 2020 Eq. 52)");
+  c.def("wave_speed", &Material::wave_speed, py::arg("dim"));
+  c.def("__repr__", [](const Material& mat) {
+    std::ostringstream os;
+    os << "Material(name='" << mat.name << "', model='" << to_string(mat.model)
+       << "', density=" << mat.density << ", youngs=" << mat.youngs << ", poisson=" << mat.poisson
+       << ")";
+    return os.str();
+  });
+}
+
+} // namespace
+
+void bind_options(py::module_& m) {
+  bind_material(m);
+  bind_step_options(m);
+}
+
+} // namespace smpm::python
