@@ -80,7 +80,7 @@ def main():
             print(f"{panel} {x} {name} {update} failed: {err}")
     with open(a.out + ".csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["panel", "cell_or_courant", "update", "scheme", "energy_lost_percent",
+        w.writerow(["panel", "cell_or_courant", "velocity", "scheme", "energy_lost_percent",
                     "error"])
         w.writerows(rows)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))

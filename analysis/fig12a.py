@@ -42,7 +42,7 @@ def read(path):
 
 
 def name_of(r):
-    alpha, every, cx = num(r["alpha"]), int(r["blend_every"] or 1), num(r["periodic_cx"])
+    alpha, every, cx = num(r["blend_alpha"]), int(r["blend_every"] or 1), num(r["periodic_cx"])
     if not math.isnan(cx):
         return f"periodic (C_X={cx:g})"
     if alpha < 1:
@@ -60,20 +60,20 @@ def main():
     low = {}
     if args.low_dissipation:
         for r in read(args.low_dissipation):
-            if r["scheme"] == "FMPM":
-                low.setdefault(name_of(r), []).append((int(r["k"]), num(r["c_simulation"])))
+            if r["velocity"] == "FMPM":
+                low.setdefault(name_of(r), []).append((int(r["order"]), num(r["c_simulation"])))
     series = {}
     flip = None
     exact = None
     for r in rows:
-        if r["scheme"] == "FLIP":
+        if r["velocity"] == "FLIP":
             flip = r
             continue
-        if r["scheme"] == "exact":
+        if r["velocity"] == "exact":
             exact = r
             continue
         name = name_of(r)
-        series.setdefault(name, []).append((int(r["k"]), num(r["c_spectral"]), num(r["c_simulation"])))
+        series.setdefault(name, []).append((int(r["order"]), num(r["c_spectral"]), num(r["c_simulation"])))
     fig, ax = plt.subplots(figsize=(10, 5))
     colors = {}
     for i, (name, pts) in enumerate(sorted(series.items())):

@@ -77,7 +77,7 @@ def main():
     table = pathlib.Path(args.output).with_suffix(".csv")
     with open(table, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["alpha", "energy_loss_percent"])
+        w.writerow(["blend_alpha", "energy_loss_percent"])
         w.writerows(rows)
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot([r[0] for r in rows], [r[1] for r in rows], "-o")

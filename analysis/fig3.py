@@ -71,7 +71,7 @@ def run(smpm, workdir, case):
         args += ["--set", s]
     start = time.time()
     r = subprocess.run(list(map(str, args)), capture_output=True, text=True)
-    row = {"shape": shape, "depth_cells": d, "method": method, "k": k, "seconds": round(time.time() - start, 2)}
+    row = {"shape": shape, "depth_cells": d, "method": method, "order": k, "seconds": round(time.time() - start, 2)}
     if r.returncode != 0:
         row.update(error_percent="", sigma_rel_error="", steps="", note=r.stderr.strip().replace(",", ";")[:160])
         return row
@@ -97,7 +97,7 @@ def num(s):
 def plot(rows, prefix):
     def err(shape, d, method, k):
         for r in rows:
-            if (r["shape"], float(r["depth_cells"]), r["method"], int(r["k"])) == (shape, d, method, k):
+            if (r["shape"], float(r["depth_cells"]), r["method"], int(r["order"])) == (shape, d, method, k):
                 return num(r["error_percent"])
         return math.nan
 
@@ -152,7 +152,7 @@ def main():
     todo = list(cases(args.quick))
     with tempfile.TemporaryDirectory() as work, concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         rows = list(pool.map(lambda c: run(args.smpm, work, c), todo))
-    fields = ["shape", "depth_cells", "method", "k", "error_percent", "sigma_rel_error", "steps", "seconds", "note"]
+    fields = ["shape", "depth_cells", "method", "order", "error_percent", "sigma_rel_error", "steps", "seconds", "note"]
     with open(f"{args.output}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields)
         w.writeheader()

@@ -50,12 +50,12 @@ def rho_cli(args):
     with tempfile.TemporaryDirectory() as tmp:
         out = pathlib.Path(tmp) / "spectrum.csv"
         r = subprocess.run([args.smpm, "spectrum", args.input, "--courant", str(args.courant),
-                            "--k", ",".join(map(str, KS)), "--alpha", ",".join(map(str, ALPHAS)),
-                            "--every", "1", "-o", str(out)], capture_output=True, text=True)
+                            "--order", ",".join(map(str, KS)), "--blend-alpha", ",".join(map(str, ALPHAS)),
+                            "--blend-every", "1", "-o", str(out)], capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"rho_map.py: smpm spectrum failed: {r.stderr.strip()}")
         rows = list(csv.DictReader(l for l in open(out) if not l.startswith("#")))
-    return {(int(row["k"]), float(row["alpha"])): row["rho_T"] for row in rows}
+    return {(int(row["order"]), float(row["blend_alpha"])): row["rho_T"] for row in rows}
 
 
 def main():
@@ -71,7 +71,7 @@ def main():
     table = pathlib.Path(args.output).with_suffix(".csv")
     with open(table, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["k", "alpha", "blend_every", "courant", "rho_T"])
+        w.writerow(["order", "blend_alpha", "blend_every", "courant", "rho_T"])
         w.writerows((k, f"{alpha:g}", 1, args.courant, rho[k, alpha]) for alpha in ALPHAS for k in KS)
     grid = np.array([[float(rho[k, alpha]) for k in KS] for alpha in ALPHAS])
     fig, ax = plt.subplots(figsize=(7, 4.5))

@@ -29,14 +29,14 @@ def main():
     rows = list(csv.DictReader(l for l in lines if not l.startswith("#")))
     series = {}
     for r in rows:
-        series.setdefault((float(r["alpha"]), int(r["blend_every"])), []).append(
-            (int(r["k"]), float(r["truncation_error"])))
+        series.setdefault((float(r["blend_alpha"]), int(r["blend_every"])), []).append(
+            (int(r["order"]), float(r["truncation_error"])))
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     for (alpha, m), pts in sorted(series.items(), reverse=True):
         pts.sort()
         ax.semilogy([p[0] for p in pts], [p[1] for p in pts], "-o", label=f"α = {alpha:g}, m = {m}")
     rho = float(header.get("rho_A", "nan"))
-    ks = sorted({int(r["k"]) for r in rows})
+    ks = sorted({int(r["order"]) for r in rows})
     ax.semilogy(ks, [rho ** k for k in ks], "k:", label=f"ρ(A)^k, ρ(A) = {rho:.4f}")
     ax.set_xscale("log")
     ax.set_xlabel("FMPM order k")

@@ -3,8 +3,9 @@
 //   smpm run input.toml [--set section.key=value ...] [-o out.h5] [--quiet]
 //   smpm run --restart out.h5 [-o other.h5]
 //   smpm info out.h5
-//   smpm stability input.toml [--k 1,2,4] [--blend 1:0.8] [--periodic 2] [--method spectral]
-//   smpm spectrum input.toml [--k ...] [--alpha ...] [--courant C]
+//   smpm stability input.toml [--order 1,2,4] [--blend-alpha 0.8] [--blend-every 1,2]
+//                             [--periodic-cx 2] [--method spectral]
+//   smpm spectrum input.toml [--order ...] [--blend-alpha ...] [--blend-every ...] [--courant C]
 //
 // Threads: SMPM_THREADS=n (a positive integer), else OMP_NUM_THREADS, else every core; the
 // results are the same bit for bit for any number. Waiting threads sleep (OMP_WAIT_POLICY=passive)
@@ -143,19 +144,58 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   return run;
 }
 
-CLI::App* add_stability(CLI::App& app, smpm::app::StabilityArgs& st) {
+// The options renamed for one vocabulary (README, "One vocabulary"): each earlier spelling is
+// accepted in this release, hidden from --help, with a note when used.
+class Aliases {
+public:
+  template <class T>
+  void add(CLI::App* app, const std::string& earlier, const std::string& current, T& target) {
+    CLI::Option* o = app->add_option(earlier, target)->group("");
+    if constexpr (CLI::detail::type_count<T>::value != 1 ||
+                  CLI::detail::expected_count<T>::value != 1)
+      o->delimiter(',');
+    list_.push_back({app, earlier, current});
+  }
+  void print_notes() const {
+    for (const Alias& a : list_)
+      if (a.app->parsed() && a.app->count(a.earlier) > 0)
+        std::fprintf(stderr,
+                     "smpm: note: %s is now %s (the earlier name is accepted in this "
+                     "release only)\n",
+                     a.earlier.c_str(), a.current.c_str());
+  }
+
+private:
+  struct Alias {
+    CLI::App* app;
+    std::string earlier, current;
+  };
+  std::vector<Alias> list_;
+};
+
+CLI::App* add_stability(CLI::App& app, smpm::app::StabilityArgs& st, Aliases& aliases) {
   CLI::App* stab = app.add_subcommand(
       "stability", "critical Courant numbers of FLIP and FMPM(k) (FMPM 2026 Fig. 12)");
   stab->add_option("input", st.input, "input file (TOML)")->required();
   stab->add_option("--set", st.sets, "override an input entry")->allow_extra_args(false);
-  stab->add_option("--k", st.orders, "FMPM orders")->delimiter(',');
-  stab->add_option("--blend", st.blends, "blends m:alpha, e.g. 1:0.8,2:0.8")->delimiter(',');
-  stab->add_option("--periodic", st.periodic, "periodic FMPM budgets C_X")->delimiter(',');
-  stab->add_option("--method", st.method, "spectral | simulation | both");
-  stab->add_option("--shifts", st.shifts, "lattice shifts in the spectral sweep (default 4)");
+  stab->add_option("--order", st.orders, "FMPM orders k")->delimiter(',')->capture_default_str();
+  stab->add_option("--blend-alpha", st.blend_alphas,
+                   "blending fractions alpha of the blended rows (none: no blended rows)")
+      ->delimiter(',')
+      ->capture_default_str();
+  stab->add_option("--blend-every", st.blend_every, "blend every m-th pass, for every alpha")
+      ->delimiter(',')
+      ->capture_default_str();
+  stab->add_option("--periodic-cx", st.periodic_cx, "periodic FMPM budgets C_X (none: no rows)")
+      ->delimiter(',')
+      ->capture_default_str();
+  stab->add_option("--method", st.method, "spectral | simulation | both")->capture_default_str();
+  stab->add_option("--shifts", st.shifts, "lattice shifts in the spectral sweep")
+      ->capture_default_str();
   stab->add_option("--frames", st.frames, "also sweep the frames of this run file");
-  stab->add_option("--frame-stride", st.frame_stride, "use every n-th frame");
-  stab->add_option("-o,--output", st.output, "CSV table (default stability.csv)");
+  stab->add_option("--frame-stride", st.frame_stride, "use every n-th frame")
+      ->capture_default_str();
+  stab->add_option("-o,--output", st.output, "CSV table")->capture_default_str();
   stab->add_flag("-q,--quiet", st.quiet, "no progress lines");
   stab->add_flag("!--no-exact", st.exact, "leave out the exact consistent-mass row");
   stab->add_option("--position-alpha", st.position_alpha,
@@ -163,19 +203,29 @@ CLI::App* add_stability(CLI::App& app, smpm::app::StabilityArgs& st) {
   stab->add_option("--max-energy-change", st.max_energy_change,
                    "simulation: also fail a run whose total energy changes by more than this "
                    "fraction");
+  aliases.add(stab, "--k", "--order", st.orders);
+  aliases.add(stab, "--blend", "--blend-alpha and --blend-every", st.blends);
+  aliases.add(stab, "--periodic", "--periodic-cx", st.periodic_cx);
   return stab;
 }
 
-CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp) {
+CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp, Aliases& aliases) {
   CLI::App* spec = app.add_subcommand(
       "spectrum", "rho(A), cond(m~) and the truncation error of FMPM(k) against m~^-1");
   spec->add_option("input", sp.input, "input file (TOML)")->required();
   spec->add_option("--set", sp.sets, "override an input entry")->allow_extra_args(false);
-  spec->add_option("--k", sp.orders, "FMPM orders")->delimiter(',');
-  spec->add_option("--alpha", sp.alphas, "blending fractions")->delimiter(',');
-  spec->add_option("--every", sp.every, "blend every m-th pass")->delimiter(',');
+  spec->add_option("--order", sp.orders, "FMPM orders k")->delimiter(',')->capture_default_str();
+  spec->add_option("--blend-alpha", sp.blend_alphas, "blending fractions alpha")
+      ->delimiter(',')
+      ->capture_default_str();
+  spec->add_option("--blend-every", sp.blend_every, "blend every m-th pass")
+      ->delimiter(',')
+      ->capture_default_str();
   spec->add_option("--courant", sp.courant, "also rho(T(C)) at this Courant number");
-  spec->add_option("-o,--output", sp.output, "CSV table (default spectrum.csv)");
+  spec->add_option("-o,--output", sp.output, "CSV table")->capture_default_str();
+  aliases.add(spec, "--k", "--order", sp.orders);
+  aliases.add(spec, "--alpha", "--blend-alpha", sp.blend_alphas);
+  aliases.add(spec, "--every", "--blend-every", sp.blend_every);
   return spec;
 }
 
@@ -213,8 +263,9 @@ int main(int argc, char** argv) {
   smpm::app::SpectrumArgs sp;
   std::string info_path;
   CLI::App* run = add_run(app, ra);
-  CLI::App* stab = add_stability(app, st);
-  CLI::App* spec = add_spectrum(app, sp);
+  Aliases aliases;
+  CLI::App* stab = add_stability(app, st, aliases);
+  CLI::App* spec = add_spectrum(app, sp, aliases);
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
   info->add_option("file", info_path, "HDF5 file written by smpm run")->required();
   try {
@@ -223,6 +274,7 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  aliases.print_notes();
   int code = 0;
   try {
     smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core

@@ -11,12 +11,15 @@ namespace smpm::app {
 struct StabilityArgs {
   std::string input;
   std::vector<std::string> sets;
-  std::vector<int> orders{1, 2, 4, 8, 16, 40, 80};
-  std::vector<std::string> blends{"1:0.8", "2:0.8"}; ///< m:α ("none": no rows)
-  std::vector<std::string> periodic{"2"};            ///< C_X values ("none": no rows)
-  std::string method = "spectral";                   ///< spectral | simulation | both
-  int shifts = 4;                                    ///< lattice shifts per sweep
-  std::string frames;                                ///< run file whose frames are swept too
+  std::vector<int> orders{1, 2, 4, 8, 16, 40, 80}; ///< FMPM orders k (--order)
+  /// Blending fractions α (--blend-alpha; "none": no blended rows), each with every blend_every.
+  std::vector<std::string> blend_alphas{"0.8"};
+  std::vector<int> blend_every{1, 2};        ///< blending periods m (--blend-every)
+  std::vector<std::string> blends;           ///< m:α pairs (--blend, the earlier form)
+  std::vector<std::string> periodic_cx{"2"}; ///< C_X values (--periodic-cx; "none": no rows)
+  std::string method = "spectral";           ///< spectral | simulation | both
+  int shifts = 4;                            ///< lattice shifts per sweep
+  std::string frames;                        ///< run file whose frames are swept too
   int frame_stride = 1;
   std::string output = "stability.csv";
   bool quiet = false;
@@ -28,20 +31,26 @@ struct StabilityArgs {
 struct SpectrumArgs {
   std::string input;
   std::vector<std::string> sets;
-  std::vector<int> orders{1, 2, 4, 8, 16, 40, 80};
-  std::vector<double> alphas{1.0, 0.9, 0.8};
-  std::vector<int> every{1, 2}; ///< blend_every values m
-  double courant = 0;           ///< > 0: also ρ(T(C)) of FMPM for each (k, α, m)
+  std::vector<int> orders{1, 2, 4, 8, 16, 40, 80}; ///< --order
+  std::vector<double> blend_alphas{1.0, 0.9, 0.8}; ///< --blend-alpha
+  std::vector<int> blend_every{1, 2};              ///< --blend-every
+  double courant = 0; ///< > 0: also ρ(T(C)) of FMPM for each (k, α, m)
   std::string output = "spectrum.csv";
 };
 
+/// The columns of the stability table.
+inline constexpr const char* kStabilityColumns =
+    "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,c_spectral,"
+    "config_spectral,spectral_status,c_simulation,energy_change";
+/// The columns of the spectrum table (after its '# name = value' lines).
+inline constexpr const char* kSpectrumColumns =
+    "order,blend_alpha,blend_every,truncation_error,courant,rho_T";
+
 /// ρ(A), λ_min(m⁻¹m̃), cond(m̃) at t = 0, and the truncation error of FMPM(k) (and ρ(T(C)))
-/// for every k, α, m: a table on stdout and a CSV (scalars as '# name = value' lines).
+/// for every k, α, m: a table on stdout and a CSV (kSpectrumColumns).
 int spectrum_command(const SpectrumArgs& args);
 
-/// Writes the table (CSV header scheme,k,alpha,blend_every,periodic_cx,position_alpha,
-/// c_spectral,config_spectral,spectral_status,c_simulation,energy_change) and prints it.
-/// Returns the exit status.
+/// Writes the table (CSV with kStabilityColumns) and prints it. Returns the exit status.
 int stability_command(const StabilityArgs& args);
 
 } // namespace smpm::app

@@ -128,15 +128,15 @@ void bind_analysis(py::module_& m) {
   m.def(
       "sweep_shifts",
       [](const PyModel& pm, const std::optional<StepOptions>& options, int shifts, double tol,
-         double resolution) {
+         double resolution, int workers) {
         const StepOptions& o = options_or(pm, options);
         py::gil_scoped_release release;
-        return sweep_shifts(pm.model, o, shifts, tol, resolution);
+        return sweep_shifts(pm.model, o, shifts, tol, resolution, workers);
       },
       py::arg("model"), py::arg("options") = py::none(), py::arg("shifts") = 4,
-      py::arg("tol") = 1e-6, py::arg("resolution") = 1e-3,
+      py::arg("tol") = 1e-6, py::arg("resolution") = 1e-3, py::arg("workers") = 0,
       "The minimum of C* over `shifts` lattice shifts: the spectral column of `smpm "
-      "stability` (--shifts).");
+      "stability` (--shifts), one shift per task on `workers` threads (0: threads()).");
   m.def(
       "simulation_courant",
       [](const PyModel& pm, const std::optional<StepOptions>& options, std::optional<double> end,

@@ -315,14 +315,14 @@ class FmpmVariants(Base):
 class Stability(Base):
     def test_stability_table_and_figure(self):
         out = self.dir / "stab.csv"
-        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--k", "1,4", "--blend", "2:0.8", "--periodic", "2",
+        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--order", "1,4", "--blend-alpha", "0.8", "--blend-every", "2", "--periodic-cx", "2",
                  "--method", "both", "--shifts", "2", "-q", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
         lines = out.read_text().splitlines()
-        self.assertEqual(lines[0], "scheme,k,alpha,blend_every,periodic_cx,position_alpha,c_spectral,config_spectral,"
+        self.assertEqual(lines[0], "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,c_spectral,config_spectral,"
                                    "spectral_status,c_simulation,energy_change")
         rows = [dict(zip(lines[0].split(","), l.split(","))) for l in lines[1:]]
-        self.assertEqual([r["scheme"] for r in rows], ["FLIP", "FMPM", "FMPM", "FMPM", "FMPM", "exact"])
+        self.assertEqual([r["velocity"] for r in rows], ["FLIP", "FMPM", "FMPM", "FMPM", "FMPM", "exact"])
         for r in rows:  # the input's position_alpha (1) is used and recorded for every row
             self.assertEqual(r["position_alpha"], "1")
             self.assertEqual(r["spectral_status"], "converged")
@@ -330,7 +330,7 @@ class Stability(Base):
         # FLIP by bisection over five-period runs: the paper's 0.84, within 0.05 here.
         self.assertAlmostEqual(float(flip["c_simulation"]), 0.84, delta=0.05)
         fmpm4 = rows[2]
-        self.assertEqual(fmpm4["k"], "4")
+        self.assertEqual(fmpm4["order"], "4")
         self.assertAlmostEqual(float(fmpm4["c_simulation"]), 0.539, delta=0.03)  # the paper's FMPM(4) limit
         png = self.dir / "fig.png"
         r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "fig12a.py", out, "-o", png], capture_output=True, text=True)
@@ -339,12 +339,12 @@ class Stability(Base):
 
     def test_spectrum_table(self):
         out = self.dir / "spec.csv"
-        r = smpm("spectrum", EXAMPLES / "vibrating_bar.toml", "--k", "1,2,4", "--alpha", "1,0.8", "--courant", "0.4", "-o", out)
+        r = smpm("spectrum", EXAMPLES / "vibrating_bar.toml", "--order", "1,2,4", "--blend-alpha", "1,0.8", "--courant", "0.4", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
         text = out.read_text()
         self.assertIn("# rho_A = ", text)
         rows = [l for l in text.splitlines() if not l.startswith("#")]
-        self.assertEqual(rows[0], "k,alpha,blend_every,truncation_error,courant,rho_T")
+        self.assertEqual(rows[0], "order,blend_alpha,blend_every,truncation_error,courant,rho_T")
         self.assertEqual(len(rows) - 1, 3 * 2 + 3)  # m = 1: two alphas; m = 2: alpha 0.8 only
 
     def test_frames_sweep(self):
@@ -353,7 +353,7 @@ class Stability(Base):
         r = smpm("run", EXAMPLES / "vibrating_bar.toml", "-o", run, "-q", "--set", "time.end=40", "--set", "output.every=20")
         self.assertEqual(r.returncode, 0, r.stderr)
         out = self.dir / "frames.csv"
-        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--k", "4", "--blend", "none", "--periodic", "none",
+        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--order", "4", "--blend-alpha", "none", "--periodic-cx", "none",
                  "--shifts", "1", "--frames", run, "--no-exact", "-q", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
         lines = out.read_text().splitlines()
@@ -361,6 +361,33 @@ class Stability(Base):
         self.assertEqual(len(rows), 2)
         for row in rows:  # the minimum is named: the unshifted lattice or one of the frames
             self.assertRegex(row["config_spectral"], r"^(shift 0|frame [0-9]+)$")
+
+    def test_earlier_option_names(self):
+        # One release of aliases (README, "One vocabulary"): --k, --blend m:alpha and --periodic
+        # of stability, --k, --alpha and --every of spectrum give the tables of the current
+        # names, with a note on standard error for each.
+        bar = EXAMPLES / "vibrating_bar.toml"
+        common = ["--method", "spectral", "--shifts", "1", "--no-exact", "-q"]
+        tables = {}
+        for name, args in (("current", ["--order", "1,2", "--blend-alpha", "0.8", "--blend-every", "2",
+                                        "--periodic-cx", "2"]),
+                           ("earlier", ["--k", "1,2", "--blend", "2:0.8", "--periodic", "2"])):
+            out = self.dir / (name + ".csv")
+            r = smpm("stability", bar, *args, *common, "-o", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            tables[name] = out.read_text()
+            notes = [l for l in r.stderr.splitlines() if l.startswith("smpm: note:")]
+            self.assertEqual(len(notes), 3 if name == "earlier" else 0, r.stderr)
+        self.assertEqual(tables["current"], tables["earlier"])
+        self.assertEqual(len(tables["current"].splitlines()), 1 + 1 + 2 + 1 + 1)  # FLIP, FMPM(1, 2), blend, periodic
+        spectra = []
+        for args in (["--order", "1,4", "--blend-alpha", "0.8", "--blend-every", "2"],
+                     ["--k", "1,4", "--alpha", "0.8", "--every", "2"]):
+            out = self.dir / "spec.csv"
+            r = smpm("spectrum", bar, *args, "-o", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            spectra.append(out.read_text())
+        self.assertEqual(spectra[0], spectra[1])
 
     def test_bad_method(self):
         r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--method", "guess")

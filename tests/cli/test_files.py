@@ -148,7 +148,7 @@ class OutputNames(Base):
             import resource
             signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
             resource.setrlimit(resource.RLIMIT_FSIZE, (100, 100))
-        r = smpm("spectrum", BAR, "--k", "1,2", "--alpha", "1", "--every", "1", "-o", self.dir / "t.csv",
+        r = smpm("spectrum", BAR, "--order", "1,2", "--blend-alpha", "1", "--blend-every", "1", "-o", self.dir / "t.csv",
                  preexec_fn=limit)
         self.assertIn("cannot write the table (File too large)", one_line(self, r, 1))
         self.assertFalse((self.dir / "t.csv").exists())
@@ -429,9 +429,9 @@ class Options(Base):
 
     def test_option_values(self):
         cases = (
-            ("spectrum", "--every", "0"), ("spectrum", "--k", "0"), ("spectrum", "--k", "-1"),
-            ("spectrum", "--alpha", "5"), ("spectrum", "--alpha", "nan"), ("spectrum", "--courant", "-1"),
-            ("stability", "--k", "1000000"), ("stability", "--shifts", "1000000000"),
+            ("spectrum", "--blend-every", "0"), ("spectrum", "--order", "0"), ("spectrum", "--order", "-1"),
+            ("spectrum", "--blend-alpha", "5"), ("spectrum", "--blend-alpha", "nan"), ("spectrum", "--courant", "-1"),
+            ("stability", "--order", "1000000"), ("stability", "--shifts", "1000000000"),
             ("stability", "--frame-stride", "0"),
         )
         for cmd, opt, value in cases:
@@ -543,12 +543,12 @@ class SecondLook(Base):
         run = self.completed()
         xmf = run.with_suffix(".xmf")
         before = digest(run), digest(xmf)
-        for cmd, extra in (("spectrum", ["--k", "1"]), ("stability", ["--k", "1", "--no-exact", "--shifts", "1", "--method", "spectral"])):
+        for cmd, extra in (("spectrum", ["--order", "1"]), ("stability", ["--order", "1", "--no-exact", "--shifts", "1", "--method", "spectral"])):
             for o, why in ((run, "run file"), (xmf, "run file or its sidecar")):
                 with self.subTest(cmd=cmd, o=o.name):
                     self.assertIn(why, one_line(self, smpm(cmd, BAR, *extra, "-o", o), 2))
         # stability's --frames run file is an input of the table.
-        line = one_line(self, smpm("stability", BAR, "--k", "1", "--no-exact", "--shifts", "1", "--method", "spectral",
+        line = one_line(self, smpm("stability", BAR, "--order", "1", "--no-exact", "--shifts", "1", "--method", "spectral",
                                    "--frames", run, "-o", run), 2)
         self.assertIn("not overwritten", line)
         self.assertEqual((digest(run), digest(xmf)), before)
@@ -557,25 +557,25 @@ class SecondLook(Base):
         # then moved the table to live.h5 and exited 0).
         live = self.dir / "live.h5"
         p = self.run_in_background(live, "--set", "time.end=0.2")  # about 1.5 s
-        self.assertIn("partial file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "live.partial.h5"), 2))
-        self.assertIn("a run is writing this path", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", live), 2))
+        self.assertIn("partial file", one_line(self, smpm("spectrum", BAR, "--order", "1", "-o", self.dir / "live.partial.h5"), 2))
+        self.assertIn("a run is writing this path", one_line(self, smpm("spectrum", BAR, "--order", "1", "-o", live), 2))
         _, err = p.communicate(timeout=600)
         self.assertEqual(p.returncode, 0, err)
         with h5py.File(live, "r") as f:
             self.assertEqual(f.attrs["status"], "completed")
         # A path under a file, named as such.
-        self.assertIn("is a file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", run / "t.csv"), 2))
+        self.assertIn("is a file", one_line(self, smpm("spectrum", BAR, "--order", "1", "-o", run / "t.csv"), 2))
         # A link at the table's temporary name is replaced, not written through; a FIFO as the
         # table is refused at once (it would block); a stale lock file does not block a table.
         (self.dir / "t.csv.tmp").symlink_to(run)
-        r = smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "t.csv")
+        r = smpm("spectrum", BAR, "--order", "1", "-o", self.dir / "t.csv")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(digest(run), before[0])
         self.assertTrue((self.dir / "t.csv").read_text().startswith("#"))
         os.mkfifo(self.dir / "f.csv")
-        self.assertIn("not a regular file", one_line(self, smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "f.csv", timeout=30), 2))
+        self.assertIn("not a regular file", one_line(self, smpm("spectrum", BAR, "--order", "1", "-o", self.dir / "f.csv", timeout=30), 2))
         (self.dir / "s.csv.lock").touch()
-        self.assertEqual(smpm("spectrum", BAR, "--k", "1", "-o", self.dir / "s.csv").returncode, 0)
+        self.assertEqual(smpm("spectrum", BAR, "--order", "1", "-o", self.dir / "s.csv").returncode, 0)
 
     def test_table_directory_is_checked_before_the_work(self):
         if os.geteuid() != 0:
@@ -586,7 +586,7 @@ class SecondLook(Base):
             self.skipTest("cannot mount a tmpfs here")
         try:
             # Before, the stability sweep ran (3 s) and then could not write its table (exit 1).
-            r = smpm("stability", BAR, "--k", "1,2,4", "--method", "spectral", "-q", "-o", mnt / "t.csv")
+            r = smpm("stability", BAR, "--order", "1,2,4", "--method", "spectral", "-q", "-o", mnt / "t.csv")
             self.assertIn("cannot write in the directory", one_line(self, r, 2))
             self.assertIn("Read-only file system", r.stderr)
         finally:

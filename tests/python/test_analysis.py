@@ -48,12 +48,12 @@ def test_linearised_spectral_radius_matches_scipy(bar, scheme, k, courant):
 
 def stability_table(tmp_path, *args):
     out = tmp_path / "stability.csv"
-    r = run_smpm("stability", BAR, "--k", "4", "--method", "spectral", "--no-exact", "-q",
+    r = run_smpm("stability", BAR, "--order", "4", "--method", "spectral", "--no-exact", "-q",
                  "-o", out, *args)
     assert r.returncode == 0, r.stderr
     rows = list(csv.DictReader(out.open()))
-    flip = next(r for r in rows if r["scheme"] == "FLIP")
-    fmpm = next(r for r in rows if r["k"] == "4" and r["alpha"] == "1" and r["blend_every"] == "1"
+    flip = next(r for r in rows if r["velocity"] == "FLIP")
+    fmpm = next(r for r in rows if r["order"] == "4" and r["blend_alpha"] == "1" and r["blend_every"] == "1"
                 and r["periodic_cx"] == "")
     return flip, fmpm
 

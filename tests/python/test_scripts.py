@@ -37,12 +37,12 @@ def test_module_and_cli_write_the_same_table(name, tmp_path):
     assert module == cli
     if name == "rho_map.py":
         assert len(module) == 80  # 10 orders × 8 fractions
-        rho = {(int(r["k"]), float(r["alpha"])): float(r["rho_T"]) for r in module}
+        rho = {(int(r["order"]), float(r["blend_alpha"])): float(r["rho_T"]) for r in module}
         # FMPM(1) (PIC) is stable at C = 0.6 (C* = 0.86, FMPM 2026 §3.3) and FMPM(40) is not
         # (C* = 0.25); 1e-6 is the tolerance of critical_courant's ρ ≤ 1 + tol.
         assert rho[1, 1.0] <= 1 + 1e-6 and rho[40, 1.0] > 1 + 1e-6
     else:
-        loss = {float(r["alpha"]): float(r["energy_loss_percent"]) for r in module}
+        loss = {float(r["blend_alpha"]): float(r["energy_loss_percent"]) for r in module}
         assert len(loss) == 11
         # FMPM 2026 Fig. 12B: pure FMPM(1) (α = 0) dissipates ~40% in five periods at C = 0.539
         # (vibrating_bar.toml: PIC ~40%), pure FMPM(4) (α = 1) under 0.01%; ±1% and the bound.

@@ -1,4 +1,4 @@
-// Critical Courant numbers: spectral (ρ of the linearised step, over lattice shifts) and by
+// Critical Courant numbers: spectral (ρ of the linearised step at one configuration) and by
 // simulation (bisection over full runs), FMPM 2026 §3.3, Fig. 12A.
 
 #include "sparsempm/stability.hpp"
@@ -8,10 +8,121 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <vector>
 
 namespace smpm {
+
+namespace {
+
+// The search of critical_courant: ρ(T(C)) on the edges e_0 = 0, e_1 = 0.05, e_j = 2 e_{j−1} (up
+// to c_max), then on a grid of spacing ≤ resolution inside one bracket [e_{j−1}, e_j].
+class CourantSearch {
+public:
+  CourantSearch(const Model& model, const StepOptions& options, double tol, double c_max,
+                double resolution)
+      : model_(model), T_(model, options, stable_time_step(model, 0.05)), tol_(tol),
+        resolution_(resolution), edge_{0.0, std::min(0.05, c_max)} {
+    while (edge_.back() < c_max)
+      edge_.push_back(std::min(2 * edge_.back(), c_max));
+  }
+
+  // Whether ρ(T(C))^{1/s} ≤ 1 + tol (the growth per step; a non-finite ρ is unstable).
+  bool stable(double C, double& rho) {
+    T_.set_dt(stable_time_step(model_, C));
+    const SpectralRadius r = spectral_radius(T_);
+    ++out.evaluations;
+    out.not_converged += r.status == SpectralStatus::NotConverged;
+    out.non_finite += r.status == SpectralStatus::NonFinite;
+    rho = std::pow(r.rho, 1.0 / T_.steps_per_application());
+    return r.status != SpectralStatus::NonFinite && rho <= 1 + tol_;
+  }
+
+  double edge(int j) const { return edge_[size_t(j)]; }
+  int last() const { return int(edge_.size()) - 1; }
+  double resolution() const { return resolution_; }
+  CriticalCourant out;
+
+private:
+  const Model& model_;
+  LinearizedStep T_;
+  double tol_, resolution_;
+  std::vector<double> edge_;
+};
+
+// The bracket [e_{j−1}, e_j] being searched and what is known of its ends.
+struct Bracket {
+  int j = 1;
+  bool low_known = true;   // e_{j−1} stable (e_0 = 0: the identity step, ρ = 1)
+  bool high_known = false; // e_j unstable
+  bool entered = false;    // moved in from a neighbouring bracket
+  double low_rho = 1;      // ρ at e_{j−1} when it is known stable
+};
+
+// Doubling: the edges upward until one is unstable. Returns true when every edge up to c_max is
+// stable (C* = c_max, set in search.out).
+bool double_up(CourantSearch& search, Bracket& b) {
+  double rho = 0;
+  for (;; ++b.j) {
+    if (!search.stable(search.edge(b.j), rho)) {
+      b.high_known = true;
+      return false;
+    }
+    b.low_rho = rho;
+    if (b.j == search.last()) {
+      search.out.courant = search.edge(b.j);
+      search.out.rho = rho;
+      return true;
+    }
+  }
+}
+
+// The grid points of bracket b: i = 0 … n, spacing h ≤ resolution.
+struct BracketGrid {
+  double a, b, h;
+  Index n;
+  double at(Index i) const { return i == n ? b : a + double(i) * h; }
+};
+
+// Gallops on the grid of the bracket from index i until a stable s and an unstable u (s < u) are
+// known, or one of them is shown not to exist in the bracket (s or u left at −1).
+void gallop(CourantSearch& search, const BracketGrid& g, Index i, Index& s, Index& u,
+            double& rho_s) {
+  double rho = 0;
+  if (s < 0 || u < 0)
+    i = std::clamp(i, s + 1, u >= 0 ? u - 1 : g.n);
+  for (Index step = 1; s < 0 || u < 0; step *= 2) {
+    if (search.stable(g.at(i), rho)) {
+      s = i;
+      rho_s = rho;
+      if (u >= 0 || i == g.n)
+        break;
+      i = std::min(g.n, i + step);
+    } else {
+      u = i;
+      if (s >= 0 || i == 0)
+        break;
+      i = std::max(Index(0), i - step);
+    }
+  }
+}
+
+// Bisection between the stable grid point s and the unstable u: the last stable point.
+void bisect(CourantSearch& search, const BracketGrid& g, Index s, Index u, double rho_s) {
+  double rho = 0;
+  while (u - s > 1) {
+    const Index mid = s + (u - s) / 2;
+    if (search.stable(g.at(mid), rho)) {
+      s = mid;
+      rho_s = rho;
+    } else {
+      u = mid;
+    }
+  }
+  search.out.courant = g.at(s);
+  search.out.rho = rho_s;
+}
+
+} // namespace
 
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol,
                                  double c_max, double resolution, double hint) {
@@ -19,155 +130,50 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
               "critical_courant: c_max must be positive and finite and resolution at least "
               "1e-12 c_max");
   hint = std::isfinite(hint) ? std::min(hint, c_max) : 0.0;
-  LinearizedStep T(model, options, stable_time_step(model, 0.05));
-  CriticalCourant out;
-  auto stable = [&](double C, double& rho) {
-    T.set_dt(stable_time_step(model, C));
-    const SpectralRadius r = spectral_radius(T);
-    ++out.evaluations;
-    out.not_converged += r.status == SpectralStatus::NotConverged;
-    out.non_finite += r.status == SpectralStatus::NonFinite;
-    rho = std::pow(r.rho, 1.0 / T.steps_per_application()); // growth per step
-    return r.status != SpectralStatus::NonFinite && rho <= 1 + tol;
-  };
-  // The brackets [e_{j−1}, e_j]: e_0 = 0 (the identity step, ρ = 1), e_1 = 0.05, doubling up
-  // to c_max; in a bracket, the grid of 2^n intervals with n the least that makes them no wider
-  // than `resolution`. C* is the last stable grid point before an unstable one: the same point
-  // whether the search starts from the hint or from below, if stability is monotone in C (which
-  // bisection assumes anyway).
-  std::vector<double> edge{0.0, std::min(0.05, c_max)};
-  while (edge.back() < c_max)
-    edge.push_back(std::min(2 * edge.back(), c_max));
-  const int last = int(edge.size()) - 1;
-  double rho = 0, low_rho = 1; // ρ at e_{j−1} when it is known stable
-  bool low_known = true, high_known = false, entered = false;
-  int j = 1;
+  CourantSearch search(model, options, tol, c_max, resolution);
+  // C* is the last stable grid point before an unstable one: the same point whether the search
+  // starts from the hint or from below, if stability is monotone in C (which bisection assumes
+  // anyway).
+  Bracket b;
   if (hint > 0) { // the bracket that holds the hint
-    while (j < last && edge[size_t(j)] <= hint)
-      ++j;
-    low_known = j == 1;
-  } else { // doubling: the edges upward until one is unstable
-    for (; !high_known; ++j) {
-      if (!stable(edge[size_t(j)], rho)) {
-        high_known = true;
-        break;
-      }
-      low_rho = rho;
-      if (j == last) {
-        out.courant = edge[size_t(j)];
-        out.rho = rho;
-        return out;
-      }
-    }
+    while (b.j < search.last() && search.edge(b.j) <= hint)
+      ++b.j;
+    b.low_known = b.j == 1;
+  } else if (double_up(search, b)) {
+    return search.out;
   }
   for (;;) {
-    const double a = edge[size_t(j - 1)], b = edge[size_t(j)];
-    Index n = 1;
-    while ((b - a) / double(n) > resolution)
-      n *= 2;
-    const double h = (b - a) / double(n);
-    auto at = [&](Index i) { return i == n ? b : a + double(i) * h; };
-    Index s = low_known ? 0 : -1, u = high_known ? n : -1; // stable s < unstable u
-    double rho_s = low_rho;
-    // Gallop from the hint until both are found (in a bracket entered from a neighbour, its
-    // far end first, as doubling does) ...
-    Index i = hint > a ? Index(std::floor((hint - a) / h)) : 0;
-    if (entered)
-      i = s >= 0 ? n : 0;
-    if (s < 0 || u < 0)
-      i = std::clamp(i, s + 1, u >= 0 ? u - 1 : n);
-    for (Index step = 1; s < 0 || u < 0; step *= 2) {
-      if (stable(at(i), rho)) {
-        s = i;
-        rho_s = rho;
-        if (u >= 0 || i == n)
-          break;
-        i = std::min(n, i + step);
-      } else {
-        u = i;
-        if (s >= 0 || i == 0)
-          break;
-        i = std::max(Index(0), i - step);
+    BracketGrid g{search.edge(b.j - 1), search.edge(b.j), 0, 1};
+    while ((g.b - g.a) / double(g.n) > resolution)
+      g.n *= 2;
+    g.h = (g.b - g.a) / double(g.n);
+    Index s = b.low_known ? 0 : -1, u = b.high_known ? g.n : -1; // stable s < unstable u
+    double rho_s = b.low_rho;
+    // In a bracket entered from a neighbour, its far end first, as doubling does.
+    Index i = hint > g.a ? Index(std::floor((hint - g.a) / g.h)) : 0;
+    if (b.entered)
+      i = s >= 0 ? g.n : 0;
+    gallop(search, g, i, s, u, rho_s);
+    if (u < 0) { // stable at e_j: the transition is in a higher bracket
+      if (b.j == search.last()) {
+        search.out.courant = g.b;
+        search.out.rho = rho_s;
+        return search.out;
       }
-    }
-    if (u < 0) { // stable at b: the transition is in a higher bracket
-      if (j == last) {
-        out.courant = b;
-        out.rho = rho_s;
-        return out;
-      }
-      ++j;
-      low_known = true, low_rho = rho_s, high_known = false, entered = true;
+      b = {.j = b.j + 1, .low_known = true, .high_known = false, .entered = true, .low_rho = rho_s};
       continue;
     }
-    if (s < 0) { // unstable at a (j > 1): in a lower bracket
-      --j;
-      high_known = true, low_known = j == 1, low_rho = 1, entered = true;
+    if (s < 0) { // unstable at e_{j−1} (j > 1): in a lower bracket
+      b = {.j = b.j - 1,
+           .low_known = b.j - 1 == 1,
+           .high_known = true,
+           .entered = true,
+           .low_rho = 1};
       continue;
     }
-    // ... then bisect between them.
-    while (u - s > 1) {
-      const Index mid = s + (u - s) / 2;
-      if (stable(at(mid), rho)) {
-        s = mid;
-        rho_s = rho;
-      } else {
-        u = mid;
-      }
-    }
-    out.courant = at(s);
-    out.rho = rho_s;
-    return out;
+    bisect(search, g, s, u, rho_s);
+    return search.out;
   }
-}
-
-Model shifted(const Model& model, const std::array<double, 3>& shift) {
-  Model m = model;
-  for (int a = 0; a < m.grid.dim(); ++a)
-    m.particles.X.col(a).array() += shift[size_t(a)] * m.grid.cell_size(a);
-  Operators ops; // throws if a particle left the grid
-  ops.node_range = NodeRange::Particles;
-  assemble(m.grid, m.particles, Shape::Linear, ops);
-  return m;
-}
-
-std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts) {
-  if (shifts < 1)
-    throw InputError("the number of lattice shifts must be at least 1");
-  // The lattice repeats itself after one particle spacing 2 r⁰: shifts j/shifts of it (in cells
-  // along each axis) reach every distinct position of the lattice relative to the grid.
-  std::array<double, 3> period{0, 0, 0};
-  for (int a = 0; a < model.grid.dim(); ++a)
-    period[size_t(a)] = model.particles.size()
-                            ? 2 * model.particles.half_length(0, a) / model.grid.cell_size(a)
-                            : 1.0;
-  std::vector<LatticeShift> out;
-  for (int j = 0; j < shifts; ++j) {
-    const double f = double(j) / shifts;
-    LatticeShift s;
-    s.cells = {f * period[0], f * period[1], f * period[2]};
-    std::ostringstream name;
-    name << "shift " << s.cells[0];
-    s.name = name.str();
-    out.push_back(s);
-  }
-  return out;
-}
-
-ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
-                                double tol, double resolution) {
-  ConfigurationSweep out;
-  out.minimum.courant = std::numeric_limits<double>::infinity();
-  for (const LatticeShift& s : lattice_shifts(model, shifts)) {
-    const CriticalCourant c =
-        critical_courant(shifted(model, s.cells), options, tol, 2.0, resolution);
-    out.all.emplace_back(s.name, c.courant);
-    if (c.courant < out.minimum.courant) {
-      out.minimum = c;
-      out.configuration = s.name;
-    }
-  }
-  return out;
 }
 
 double simulation_energy_change(const Model& start, const StepOptions& options, double courant,

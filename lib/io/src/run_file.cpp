@@ -8,6 +8,7 @@
 #include <hdf5.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -283,6 +284,39 @@ OutputLock::~OutputLock() {
   ::unlink(lock_path_.c_str()); // while still locked: no other run holds this inode
   ::flock(fd_, LOCK_UN);
   ::close(fd_);
+}
+
+void write_table_file(const std::string& path, const std::string& text,
+                      const std::vector<std::string>& inputs, const std::string& option) {
+  const std::string tmp = path + ".tmp";
+  ::unlink(tmp.c_str());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  int why = fd < 0 ? errno : 0;
+  for (size_t done = 0; !why && done < text.size();) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n <= 0)
+      why = n < 0 ? errno : EIO;
+    else
+      done += size_t(n);
+  }
+  if (fd >= 0 && ::close(fd) != 0 && !why)
+    why = errno;
+  if (!why) {
+    try {
+      check_table_output(path, inputs, option);
+    } catch (const InputError&) {
+      ::unlink(tmp.c_str());
+      throw;
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      why = errno;
+  }
+  if (why) {
+    if (fd >= 0)
+      ::unlink(tmp.c_str());
+    throw std::runtime_error(option + " " + path + ": cannot write the table (" +
+                             std::strerror(why) + ")");
+  }
 }
 
 } // namespace smpm

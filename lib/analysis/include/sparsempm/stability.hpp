@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -115,11 +116,45 @@ struct LatticeShift {
 /// lattice's period) along every axis at once. Throws InputError for shifts < 1.
 std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts);
 
-/// C* over uniform shifts of the particle lattice relative to the grid: j/shifts (j = 0 …
-/// shifts − 1) of the particle spacing 2r⁰ (the lattice's period) along every axis at once;
-/// reports the minimum and its shift (named in cells along x, e.g. "shift 0.125").
+/// A particle configuration the spectral C* is computed at, with its name in tables ("shift
+/// 0.125", "frame 12").
+struct Configuration {
+  Model model;
+  std::string name;
+};
+
+/// The model at each of lattice_shifts (shifted), named by the shift.
+std::vector<Configuration> lattice_configurations(const Model& model, int shifts);
+
+/// A family of step options searched one after the other at each configuration (FMPM(k) for
+/// increasing k with one blending, say). With `hinted`, each search starts from the C* of the
+/// previous option at the same configuration (critical_courant's hint: the same C*, fewer
+/// evaluations, since C* changes little between neighbouring k, FMPM 2026 Fig. 12A); without
+/// (periodic FMPM, whose T(C) spans ⌈C_X/C⌉ steps, a count that jumps with C, so that its
+/// stability need not be monotone in C), every search starts from scratch.
+struct CourantSeries {
+  std::vector<StepOptions> options;
+  bool hinted = true;
+};
+
+/// The spectral C* of every option of every series at every configuration, and its minimum over
+/// them: out[s][i] is the sweep of option i of series s. One task per (series, configuration),
+/// run by run_tasks on `workers` threads (0: threads()); the results do not depend on their
+/// number. The spectral column of `smpm stability` and Python's sweep_shifts.
+std::vector<std::vector<ConfigurationSweep>>
+sweep_configurations(const std::vector<Configuration>& configurations,
+                     const std::vector<CourantSeries>& series, double tol = 1e-6,
+                     double resolution = 1e-3, int workers = 0);
+
+/// C* over uniform shifts of the particle lattice relative to the grid (lattice_configurations):
+/// the minimum and its shift (named in cells along x, e.g. "shift 0.125").
 ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
-                                double tol = 1e-6, double resolution = 1e-3);
+                                double tol = 1e-6, double resolution = 1e-3, int workers = 0);
+
+/// Runs task(i) for i = 0 … count − 1 on `workers` threads (0: threads()), each with one OpenMP
+/// thread: independent analyses on every core. The first failure stops the others (they finish
+/// the task in hand) and is rethrown.
+void run_tasks(size_t count, const std::function<void(size_t)>& task, int workers = 0);
 
 /// The simulation method of FMPM 2026 §3.3: full runs from t = 0 to `end`, each with the
 /// Courant time step held constant (advance with land_on_stops = false).

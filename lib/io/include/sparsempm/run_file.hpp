@@ -35,6 +35,14 @@ void check_run_output(const std::string& path, const std::string& input, const s
 void check_table_output(const std::string& path, const std::vector<std::string>& inputs,
                         const std::string& option);
 
+/// Writes the table `text` to `path` whole or not at all: through the temporary file
+/// "<path>.tmp", unlinked and created anew (O_EXCL | O_NOFOLLOW: a file or link left there by a
+/// killed command is never written through), with check_table_output done again just before
+/// the move (a run may have claimed the path meanwhile). A failed write or move throws
+/// std::runtime_error naming the option and the path, and removes the temporary file.
+void write_table_file(const std::string& path, const std::string& text,
+                      const std::vector<std::string>& inputs, const std::string& option);
+
 /// Whether a live run holds `path` locked: its HDF5 file (as opposed to a damaged file, which
 /// HDF5 cannot open either) or its lock file "<output>.lock" (as opposed to a stale one).
 bool held_by_writer(const std::string& path);

@@ -1,0 +1,71 @@
+#pragma once
+// The checks of the stability and spectrum options, before any work: the library's limits
+// (validate of step_options.hpp) in the words of the command line, "--option value: reason".
+
+#include <sparsempm/errors.hpp>
+#include <sparsempm/step_options.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace smpm::app {
+
+/// Most entries of a list option.
+inline constexpr size_t kMaxList = 1000;
+
+/// A value as a message shows it (a table cell leaves NaN empty).
+inline std::string shown(double v) {
+  if (std::isnan(v))
+    return "nan";
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+/// Applies `set` to default FMPM options and validates them as the library does: an option the
+/// library refuses is refused as "<flag> <value>: <reason>".
+template <class Set>
+void check_fmpm_option(const std::string& flag, const std::string& value, Set&& set) {
+  StepOptions o;
+  set(o.fmpm, o);
+  try {
+    validate(o);
+  } catch (const OptionError& e) {
+    throw InputError(flag + " " + value + ": " + e.reason());
+  }
+}
+
+inline void check_int(const std::string& option, int value, int lo, int hi) {
+  if (value < lo || value > hi)
+    throw InputError(option + " " + std::to_string(value) + ": must lie in [" + std::to_string(lo) +
+                     ", " + std::to_string(hi) + "]");
+}
+inline void check_fraction(const std::string& option, double value) {
+  if (!(value >= 0 && value <= 1))
+    throw InputError(option + " " + shown(value) + ": must lie in [0, 1]");
+}
+template <class T>
+void check_list(const std::string& option, const std::vector<T>& values) {
+  if (values.empty() || values.size() > kMaxList)
+    throw InputError(option + ": give 1 to " + std::to_string(kMaxList) + " values");
+}
+
+/// --order, --blend-alpha and --blend-every, each value by the library's limits.
+inline void check_fmpm_lists(const std::vector<int>& orders, const std::vector<double>& alphas,
+                             const std::vector<int>& every) {
+  check_list("--order", orders);
+  for (int k : orders)
+    check_fmpm_option("--order", std::to_string(k), [k](FmpmOptions& f, auto&) { f.order = k; });
+  check_list("--blend-alpha", alphas);
+  for (double a : alphas)
+    check_fmpm_option("--blend-alpha", shown(a), [a](FmpmOptions& f, auto&) { f.blend_alpha = a; });
+  check_list("--blend-every", every);
+  for (int m : every)
+    check_fmpm_option("--blend-every", std::to_string(m),
+                      [m](FmpmOptions& f, auto&) { f.blend_every = m; });
+}
+
+} // namespace smpm::app

@@ -1,0 +1,132 @@
+// The spectral C* over configurations (lattice shifts, frames of a run) for families of step
+// options, on every core (FMPM 2026 §3.3, Fig. 12A: the minimum over configurations).
+
+#include "sparsempm/stability.hpp"
+
+#include "sparsempm/errors.hpp"
+#include "sparsempm/threads.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+namespace smpm {
+
+Model shifted(const Model& model, const std::array<double, 3>& shift) {
+  Model m = model;
+  for (int a = 0; a < m.grid.dim(); ++a)
+    m.particles.X.col(a).array() += shift[size_t(a)] * m.grid.cell_size(a);
+  Operators ops; // throws if a particle left the grid
+  ops.node_range = NodeRange::Particles;
+  assemble(m.grid, m.particles, Shape::Linear, ops);
+  return m;
+}
+
+std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts) {
+  if (shifts < 1)
+    throw InputError("the number of lattice shifts must be at least 1");
+  // The lattice repeats itself after one particle spacing 2 r⁰: shifts j/shifts of it (in cells
+  // along each axis) reach every distinct position of the lattice relative to the grid.
+  std::array<double, 3> period{0, 0, 0};
+  for (int a = 0; a < model.grid.dim(); ++a)
+    period[size_t(a)] = model.particles.size()
+                            ? 2 * model.particles.half_length(0, a) / model.grid.cell_size(a)
+                            : 1.0;
+  std::vector<LatticeShift> out;
+  for (int j = 0; j < shifts; ++j) {
+    const double f = double(j) / shifts;
+    LatticeShift s;
+    s.cells = {f * period[0], f * period[1], f * period[2]};
+    std::ostringstream name;
+    name << "shift " << s.cells[0];
+    s.name = name.str();
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<Configuration> lattice_configurations(const Model& model, int shifts) {
+  std::vector<Configuration> out;
+  for (const LatticeShift& s : lattice_shifts(model, shifts))
+    out.push_back({shifted(model, s.cells), s.name});
+  return out;
+}
+
+void run_tasks(size_t count, const std::function<void(size_t)>& task, int workers) {
+  const size_t n = std::min(count, size_t(workers > 0 ? workers : threads()));
+  std::atomic<size_t> next{0};
+  std::atomic<bool> stop{false};
+  std::mutex guard;
+  std::exception_ptr failure;
+  auto worker = [&] {
+    set_threads(1);
+    for (size_t i; !stop && (i = next++) < count;) {
+      try {
+        task(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(guard);
+        if (!failure)
+          failure = std::current_exception();
+        stop = true;
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t w = 0; w < n; ++w)
+    pool.emplace_back(worker);
+  for (std::thread& t : pool)
+    t.join();
+  if (failure)
+    std::rethrow_exception(failure);
+}
+
+std::vector<std::vector<ConfigurationSweep>>
+sweep_configurations(const std::vector<Configuration>& configurations,
+                     const std::vector<CourantSeries>& series, double tol, double resolution,
+                     int workers) {
+  const size_t nc = configurations.size();
+  // c[s][i][f]: option i of series s at configuration f.
+  std::vector<std::vector<std::vector<CriticalCourant>>> c(series.size());
+  for (size_t s = 0; s < series.size(); ++s)
+    c[s].assign(series[s].options.size(), std::vector<CriticalCourant>(nc));
+  run_tasks(
+      series.size() * nc,
+      [&](size_t task) {
+        const size_t s = task / nc, f = task % nc;
+        double hint = 0;
+        for (size_t i = 0; i < series[s].options.size(); ++i) {
+          c[s][i][f] = critical_courant(configurations[f].model, series[s].options[i], tol, 2.0,
+                                        resolution, hint);
+          hint = series[s].hinted ? c[s][i][f].courant : 0.0;
+        }
+      },
+      workers);
+  std::vector<std::vector<ConfigurationSweep>> out(series.size());
+  for (size_t s = 0; s < series.size(); ++s)
+    for (const std::vector<CriticalCourant>& at : c[s]) {
+      ConfigurationSweep sweep;
+      sweep.minimum.courant = std::numeric_limits<double>::infinity();
+      for (size_t f = 0; f < nc; ++f) {
+        sweep.all.emplace_back(configurations[f].name, at[f].courant);
+        if (at[f].courant < sweep.minimum.courant) {
+          sweep.minimum = at[f];
+          sweep.configuration = configurations[f].name;
+        }
+      }
+      out[s].push_back(std::move(sweep));
+    }
+  return out;
+}
+
+ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
+                                double tol, double resolution, int workers) {
+  return sweep_configurations(lattice_configurations(model, shifts), {{.options = {options}}}, tol,
+                              resolution, workers)[0][0];
+}
+
+} // namespace smpm
