@@ -7,7 +7,7 @@ import os, numpy as np, scipy.linalg, sparsempm as smpm
 
 # 1. The README's four particles of mass 1/4 on a 1D grid of three cells (linear shapes).
 model = smpm.Model(smpm.Grid(cells=[3]), X=[0.75, 1.25, 1.75, 2.25], mass=[0.25] * 4,
-                   volume=[0.5] * 4, materials=[smpm.Material(density=0.5)])
+                   volume0=[0.5] * 4, materials=[smpm.Material(density=0.5)])
 ops = smpm.assemble(model, "linear")
 print("S =\n", ops.S.toarray(), "\nm = S^T M =", ops.m)
 print("m~ = S^T M S =\n", ops.consistent_mass().toarray())

@@ -15,8 +15,8 @@ void check_energy(const Model& model, double e, double e0, const FailureTest& te
     throw at_step(NumericalError("total energy is not finite"), model.step, model.time);
   // Body forces and driven BCs (values, moving walls) do work on the particles: their energy
   // need not stay near its start, so the growth test is off for them.
-  const bool loaded = model.body_force[0] != 0 || model.body_force[1] != 0 ||
-                      model.body_force[2] != 0 || model.bcs.driven();
+  const bool loaded =
+      model.gravity[0] != 0 || model.gravity[1] != 0 || model.gravity[2] != 0 || model.bcs.driven();
   if (loaded || !(test.energy_growth > 0) || !(e0 > 0) || e <= test.energy_growth * e0)
     return;
   const Particles& P = model.particles;

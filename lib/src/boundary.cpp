@@ -114,6 +114,16 @@ void BoundaryConditions::add_wall(const MovingWall& wall) {
   conditions.push_back(std::move(c));
 }
 
+void BoundaryConditions::append(const BoundaryConditions& other) {
+  const int offset = int(walls.size());
+  walls.insert(walls.end(), other.walls.begin(), other.walls.end());
+  for (VelocityCondition c : other.conditions) {
+    if (c.wall >= 0)
+      c.wall += offset;
+    conditions.push_back(std::move(c));
+  }
+}
+
 void BoundaryConditions::select_wall_nodes(const Grid& grid, const Mask& active, double t) {
   if (walls.empty())
     return;

@@ -5,6 +5,8 @@
 
 #include "sparsempm/contact.hpp"
 
+#include "enum_names.hpp"
+
 #include "contact_detail.hpp"
 
 #include "sparsempm/errors.hpp"
@@ -38,42 +40,47 @@ double gap_at_step_end(double separation, const Eigen::Vector3d& dp0, const Eige
 using detail::gap_at_step_end;
 using detail::row3;
 
+namespace {
+constexpr detail::EnumNames<ContactLaw, 3> kLaws{{{ContactLaw::Stick, "stick"},
+                                                  {ContactLaw::Frictionless, "frictionless"},
+                                                  {ContactLaw::Coulomb, "coulomb"}}};
+constexpr detail::EnumNames<ContactNormal, 3> kNormals{
+    {{ContactNormal::AverageGradient, "AG", "average gradient"},
+     {ContactNormal::LogisticRegression, "LR", "logistic regression"},
+     {ContactNormal::Specified, "specified"}}};
+constexpr detail::EnumNames<ContactDetection, 5> kDetections{
+    {{ContactDetection::Approaching, "approaching"},
+     {ContactDetection::Position, "CP", "critical position"},
+     {ContactDetection::DistanceFunction, "DF", "distance function"},
+     {ContactDetection::LogisticRegression, "LR", "logistic regression"},
+     {ContactDetection::Always, "always", "bonded"}}};
+constexpr detail::EnumNames<ContactFmpmMethod, 2> kFmpmMethods{
+    {{ContactFmpmMethod::Net, "net"}, {ContactFmpmMethod::Evolving, "evolving"}}};
+} // namespace
+
 std::string_view to_string(ContactLaw law) {
-  switch (law) {
-  case ContactLaw::Stick:
-    return "stick";
-  case ContactLaw::Frictionless:
-    return "frictionless";
-  case ContactLaw::Coulomb:
-    return "coulomb";
-  }
-  return "?";
+  return detail::enum_name(law, kLaws);
 }
 std::string_view to_string(ContactNormal normal) {
-  switch (normal) {
-  case ContactNormal::AverageGradient:
-    return "AG";
-  case ContactNormal::Specified:
-    return "specified";
-  case ContactNormal::LogisticRegression:
-    return "LR";
-  }
-  return "?";
+  return detail::enum_name(normal, kNormals);
 }
 std::string_view to_string(ContactDetection detection) {
-  switch (detection) {
-  case ContactDetection::Always:
-    return "always";
-  case ContactDetection::Approaching:
-    return "approaching";
-  case ContactDetection::Position:
-    return "CP";
-  case ContactDetection::LogisticRegression:
-    return "LR";
-  case ContactDetection::DistanceFunction:
-    return "DF";
-  }
-  return "?";
+  return detail::enum_name(detection, kDetections);
+}
+std::string_view to_string(ContactFmpmMethod method) {
+  return detail::enum_name(method, kFmpmMethods);
+}
+ContactLaw contact_law_from_string(std::string_view name) {
+  return detail::parse_enum(name, kLaws, "contact law");
+}
+ContactNormal contact_normal_from_string(std::string_view name) {
+  return detail::parse_enum(name, kNormals, "contact normal");
+}
+ContactDetection contact_detection_from_string(std::string_view name) {
+  return detail::parse_enum(name, kDetections, "contact detection");
+}
+ContactFmpmMethod contact_fmpm_method_from_string(std::string_view name) {
+  return detail::parse_enum(name, kFmpmMethods, "contact method inside FMPM(k)");
 }
 
 double distance_function_edge(double s, double exponent, double reach) {

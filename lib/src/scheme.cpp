@@ -138,7 +138,7 @@ struct Stages {
   void forces_and_velocity() {
     GridState& g = b.g;
     internal_force(op, fields.volume0, fields.F, fields.stress, g.f);
-    add_body_force(c.ops->m, c.body_force, g.f);
+    add_gravity(c.ops->m, c.gravity, g.f);
     if (!correct_bcs())
       c.bcs->zero_directions(*c.grid, g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
     g.p_plus.noalias() = g.p + c.dt * g.f;

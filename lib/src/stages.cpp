@@ -179,7 +179,7 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
   });
 }
 
-void add_body_force(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field& f) {
+void add_gravity(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field& f) {
   for (int a = 0; a < f.cols(); ++a)
     if (B[size_t(a)] != 0)
       f.col(a) += B[size_t(a)] * m;

@@ -78,7 +78,7 @@ void Stepper::step(Model& model, double dt) {
         .solver = solver_.get(),
         .grid = &prep_.ops.grid, // the step's nodes: the particles' window or the grid
         .bcs = &prep_.bcs,
-        .body_force = model.body_force,
+        .gravity = model.gravity,
         .contact_nodes = contact ? &prep_.contact : nullptr,
         .time = model.time,
         .dt = dt,

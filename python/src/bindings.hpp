@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace smpm::python {
 
@@ -38,6 +39,20 @@ struct PyOperators {
   const Operators& ops() const { return prep.ops; }
   const Grid& grid() const { return prep.ops.grid; }
 };
+
+/// A Python value as TOML text: bool, number, string (quoted with `quote`; a top-level string of
+/// an override as `--set` takes it), list, dict (an inline table). InputError otherwise.
+std::string toml_value(const py::handle& v, bool quote);
+/// The tables as TOML text: one [[name]] table for each dict.
+std::string toml_tables(const char* name, const std::vector<py::dict>& tables);
+/// An axis given as 0, 1, 2 or "x", "y", "z", as its name.
+std::string axis_name(const py::handle& axis);
+/// Fixed directions as the input files name them: ["x", "y"] (or the earlier "xy").
+py::list axis_names(const py::handle& fixed);
+/// Model.add_bc, Model.set_contact and Model.fix_plane: the tables read by the input reader.
+Index add_bc(PyModel& pm, const py::dict& table);
+void set_contact(PyModel& pm, const std::vector<py::dict>& tables);
+Index fix_plane(PyModel& pm, const py::handle& axis, double at, const py::handle& fixed);
 
 /// Parses a name of the input files' vocabulary into a shape etc.; InputError on a bad name.
 Shape shape_arg(const py::object& shape, const PyModel* model);

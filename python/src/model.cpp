@@ -1,5 +1,6 @@
-// sparsempm.Grid, Material, StepOptions, Particles and Model: the state of a run, read from a
-// TOML input (the reader of `smpm run`) or built from numpy arrays.
+// sparsempm.Grid, Particles and Model: the state of a run, read from a TOML input (the reader of
+// `smpm run`) or built from numpy arrays, with the tables of the input files (add_bc,
+// set_contact) read by the same reader.
 
 #include "bindings.hpp"
 #include "convert.hpp"
@@ -27,68 +28,32 @@ std::array<double, 3> triple(const std::vector<double>& v, double fill, const ch
   return t;
 }
 
-// A Python value as TOML text for a --set override: true/false, numbers, strings (quoted) and
-// lists of them.
-std::string toml_value(const py::handle& v, bool quote) {
-  if (py::isinstance<py::bool_>(v))
-    return v.cast<bool>() ? "true" : "false";
-  if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))
-    return py::repr(v).cast<std::string>();
-  if (py::isinstance<py::str>(v)) {
-    const std::string s = v.cast<std::string>();
-    return quote ? py::repr(v).cast<std::string>() : s; // a top-level string: as `--set` takes it
-  }
-  if (py::isinstance<py::sequence>(v)) {
-    std::string out = "[";
-    bool first = true;
-    for (const py::handle item : v) {
-      out += (first ? "" : ", ") + toml_value(item, true);
-      first = false;
-    }
-    return out + "]";
-  }
-  throw InputError("override value " + py::repr(v).cast<std::string>() +
-                   ": expected a bool, number, string or list");
+// Warns that `old_name` is the earlier name of `name` (accepted in this release only).
+void warn_earlier(const char* old_name, const char* name) {
+  const std::string text = std::string("'") + old_name + "' is the earlier name of '" + name +
+                           "' (accepted in this release only)";
+  if (PyErr_WarnEx(PyExc_DeprecationWarning, text.c_str(), 2) != 0)
+    throw py::error_already_set();
 }
 
-std::array<bool, 3> directions(const std::string& fixed) {
-  std::array<bool, 3> dirs{false, false, false};
-  for (const char c : fixed) {
-    if (c < 'x' || c > 'z')
-      throw InputError("fixed = \"" + fixed + "\": expected axis letters x, y, z");
-    dirs[size_t(c - 'x')] = true;
-  }
-  return dirs;
-}
-
-// sparsempm.Model(grid, X, mass, volume, ...): the checks of the input reader, in its words.
-PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleArray& mass,
-                          const DoubleArray& volume, const std::optional<DoubleArray>& V,
-                          const std::optional<py::array_t<int, py::array::forcecast>>& material,
-                          const std::vector<Material>& materials,
-                          const std::optional<DoubleArray>& half_length,
-                          const std::vector<std::tuple<int, double, std::string>>& fixed,
-                          const std::vector<double>& body_force) {
+// The particles of sparsempm.Model(grid, X, mass, volume0, ...), with the checks of the input
+// reader in its words.
+Particles
+particles_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleArray& mass,
+                      const DoubleArray& volume0, const std::optional<DoubleArray>& V,
+                      const std::optional<py::array_t<int, py::array::forcecast>>& material,
+                      size_t materials) {
   const int d = grid.dim();
   const Field x = to_field(X, -1, "X");
   const Index N = x.rows();
   if (x.cols() != d)
     throw InputError("X: expected " + std::to_string(d) + " columns (the grid's dimension), got " +
                      std::to_string(x.cols()));
-  if (materials.empty())
-    throw InputError("materials: give at least one Material");
-  PyModel pm;
-  pm.source = "<arrays>";
-  Model& model = pm.model;
-  model = Model(grid);
-  model.materials = materials;
-  for (const Material& mat : materials)
-    validate(mat);
-  Particles& P = model.particles;
+  Particles P;
   P.resize(d, N);
   P.X = x;
   P.mass = to_field(mass, N, "mass").col(0);
-  P.volume0 = to_field(volume, N, "volume").col(0);
+  P.volume0 = to_field(volume0, N, "volume0").col(0);
   if (V)
     P.V = to_field(*V, N, "V");
   if (P.V.cols() != d)
@@ -100,31 +65,65 @@ PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleAr
     if (!(P.mass[p] > 0) || !std::isfinite(P.mass[p]) || !(P.volume0[p] > 0) ||
         !std::isfinite(P.volume0[p]))
       throw InputError("particle " + std::to_string(p) + ": mass and volume must be positive");
-    if (P.material[p] < 0 || P.material[p] >= int(materials.size()))
+    if (P.material[p] < 0 || P.material[p] >= int(materials))
       throw InputError("particle " + std::to_string(p) + ": material id " +
                        std::to_string(P.material[p]) + " has no material (" +
-                       std::to_string(materials.size()) + " given)");
+                       std::to_string(materials) + " given)");
     std::array<double, 3> at{0, 0, 0};
     for (int a = 0; a < d; ++a)
       at[size_t(a)] = P.X(p, a);
     if (!grid.contains(at))
       throw InputError("particle " + std::to_string(p) + " lies outside the grid");
   }
-  // Default domain: the cube of the particle's volume.
-  for (Index p = 0; p < N; ++p)
+  for (Index p = 0; p < N; ++p) // default domain: the cube of the particle's volume
     P.half_length.row(p).setConstant(0.5 * std::pow(P.volume0[p], 1.0 / d));
-  if (half_length)
-    P.half_length = to_field(*half_length, N, "half_length");
-  if (P.half_length.cols() != d)
-    throw InputError("half_length: expected " + std::to_string(d) + " columns");
-  update_stress(model.materials, P.material, P.F, P.stress);
-  for (const auto& [axis, at, dirs] : fixed) {
-    if (axis < 0 || axis >= d)
-      throw InputError("fixed plane axis " + std::to_string(axis) + ": must lie in [0, " +
-                       std::to_string(d) + ")");
-    fix_plane(grid, axis, at, directions(dirs), model.bcs);
+  return P;
+}
+
+// sparsempm.Model(grid, X, mass, volume0, ...): `earlier` holds the earlier names volume and
+// body_force (accepted in this release only).
+PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleArray& mass,
+                          std::optional<DoubleArray> volume0, const std::optional<DoubleArray>& V,
+                          const std::optional<py::array_t<int, py::array::forcecast>>& material,
+                          const std::vector<Material>& materials,
+                          const std::optional<DoubleArray>& half_length, const py::list& fixed,
+                          std::vector<double> gravity, const py::kwargs& earlier) {
+  for (const auto& [key, value] : earlier) {
+    const std::string k = py::str(key);
+    if (k == "volume") {
+      warn_earlier("volume", "volume0");
+      volume0 = value.cast<DoubleArray>();
+    } else if (k == "body_force") {
+      warn_earlier("body_force", "gravity");
+      gravity = value.cast<std::vector<double>>();
+    } else {
+      throw InputError("Model: unexpected argument '" + clip(k) + "'");
+    }
   }
-  model.body_force = triple(body_force, 0.0, "body_force");
+  if (!volume0)
+    throw InputError("Model: give volume0, the initial volume of every particle");
+  if (materials.empty())
+    throw InputError("materials: give at least one Material");
+  for (const Material& mat : materials)
+    validate(mat);
+  PyModel pm;
+  pm.source = "<arrays>";
+  pm.model = Model(grid);
+  pm.model.materials = materials;
+  Particles& P = pm.model.particles;
+  P = particles_from_arrays(grid, X, mass, *volume0, V, material, materials.size());
+  if (half_length)
+    P.half_length = to_field(*half_length, P.size(), "half_length");
+  if (P.half_length.cols() != grid.dim())
+    throw InputError("half_length: expected " + std::to_string(grid.dim()) + " columns");
+  update_stress(pm.model.materials, P.material, P.F, P.stress);
+  for (const py::handle plane : fixed) {
+    const py::tuple t = plane.cast<py::tuple>();
+    if (t.size() != 3)
+      throw InputError("fixed: expected (axis, at, [directions]) for every plane");
+    fix_plane(pm, t[0], t[1].cast<double>(), t[2]);
+  }
+  pm.model.gravity = triple(gravity, 0.0, "gravity");
   return pm;
 }
 
@@ -220,100 +219,140 @@ Shape shape_arg(const py::object& shape, const PyModel* model) {
   return shape_from_string(shape.cast<std::string>());
 }
 
-void bind_model(py::module_& m) {
-  bind_grid(m);
-  bind_particles(m);
+namespace {
+
+void bind_conditions(py::module_& m) {
   py::class_<BoundaryConditions>(m, "BoundaryConditions",
-                                 "Grid velocity conditions (boundary.hpp).")
+                                 "Grid velocity conditions and moving walls (boundary.hpp).")
       .def_property_readonly("num_constrained", &BoundaryConditions::num_constrained)
       .def("__len__", [](const BoundaryConditions& b) { return b.conditions.size(); })
+      .def_property_readonly(
+          "walls", [](const BoundaryConditions& b) { return b.walls.size(); }, "moving walls")
       .def_property_readonly("driven", &BoundaryConditions::driven);
   py::class_<Energies>(m, "Energies")
       .def_readonly("kinetic", &Energies::kinetic)
       .def_readonly("strain", &Energies::strain)
       .def_readonly("total", &Energies::total)
+      .def_readonly("max_speed", &Energies::max_speed)
       .def_property_readonly("momentum", [](const Energies& e) {
         return std::vector<double>(e.momentum.data(), e.momentum.data() + 3);
       });
+}
 
-  py::class_<PyModel>(m, "Model",
-                      "A run's state (grid, particles, materials, velocity BCs, clock) with the "
-                      "step options and time settings of its input.")
-      .def(py::init(&model_from_arrays), py::arg("grid"), py::arg("X"), py::arg("mass"),
-           py::arg("volume"), py::arg("V") = py::none(), py::arg("material") = py::none(),
-           py::arg("materials") = std::vector<Material>{}, py::arg("half_length") = py::none(),
-           py::arg("fixed") = std::vector<std::tuple<int, double, std::string>>{},
-           py::arg("body_force") = std::vector<double>{},
-           "Model(grid, X, mass, volume, V=None, material=None, materials=[...], "
-           "half_length=None, fixed=[(axis, at, 'xy'), ...], body_force=[...]): particles from "
-           "arrays (X: N × d, mass and volume: N; V: N × d, zero by default; material: N ids "
-           "into materials, 0 by default; half_length: N × d, by default half the side of the "
-           "cube of each volume); fixed: zero-velocity planes x_axis = at in the named "
-           "directions.")
-      .def_static(
-          "from_toml",
-          [](const std::string& path, const py::dict& overrides) {
-            std::vector<std::string> sets;
-            for (const auto& [key, value] : overrides)
-              sets.push_back(py::str(key).cast<std::string>() + "=" + toml_value(value, false));
-            RunConfig cfg = read_input_file(path, sets);
-            for (const std::string& note : cfg.notes) // the earlier names the input used
-              if (PyErr_WarnEx(PyExc_DeprecationWarning, note.c_str(), 1) != 0)
-                throw py::error_already_set();
-            return PyModel{std::move(cfg.model), std::move(cfg.step), cfg.time, path};
-          },
-          py::arg("path"), py::arg("overrides") = py::dict(),
-          "Reads a TOML input as `smpm run path --set key=value ...` does; overrides maps "
-          "'section.key' to a value. Raises InputError with the message of the command.")
-      .def_property_readonly(
-          "particles", [](PyModel& pm) -> Particles& { return pm.model.particles; },
-          py::return_value_policy::reference_internal)
-      .def_property_readonly(
-          "grid", [](const PyModel& pm) { return pm.model.grid; }, "A copy of the grid.")
-      .def_property(
-          "materials", [](const PyModel& pm) { return pm.model.materials; },
-          [](PyModel& pm, const std::vector<Material>& mats) {
-            for (const Material& mat : mats)
-              validate(mat);
-            pm.model.materials = mats;
-          })
-      .def_property_readonly(
-          "bcs", [](PyModel& pm) -> BoundaryConditions& { return pm.model.bcs; },
-          py::return_value_policy::reference_internal)
-      .def_property(
-          "options", [](PyModel& pm) -> StepOptions& { return pm.options; },
-          [](PyModel& pm, const StepOptions& o) { pm.options = o; },
-          py::return_value_policy::reference_internal, "The step options of the input's [step].")
-      .def_property(
-          "courant", [](const PyModel& pm) { return pm.time_settings.courant; },
-          [](PyModel& pm, double c) { pm.time_settings.courant = c; }, "[time] courant")
-      .def_property(
-          "end", [](const PyModel& pm) { return pm.time_settings.end; },
-          [](PyModel& pm, double e) { pm.time_settings.end = e; }, "[time] end")
-      .def_property(
-          "time", [](const PyModel& pm) { return pm.model.time; },
-          [](PyModel& pm, double t) { pm.model.time = t; }, "simulated time t")
-      .def_property_readonly(
-          "step", [](const PyModel& pm) { return pm.model.step; }, "steps taken")
-      .def_property_readonly("dim", [](const PyModel& pm) { return pm.model.grid.dim(); })
-      .def_property_readonly("source", [](const PyModel& pm) { return pm.source; })
-      .def(
-          "fix_plane",
-          [](PyModel& pm, int axis, double at, const std::string& fixed) {
-            return fix_plane(pm.model.grid, axis, at, directions(fixed), pm.model.bcs);
-          },
-          py::arg("axis"), py::arg("at"), py::arg("fixed"),
-          "Zero velocity in the directions `fixed` ('x', 'xy', ...) on the nodes of the plane "
-          "x_axis = at; returns the number of nodes.")
-      .def("energies", [](const PyModel& pm) { return energies(pm.model); })
-      .def("copy", [](const PyModel& pm) { return pm; })
-      .def("__repr__", [](const PyModel& pm) {
-        std::ostringstream os;
-        os << "Model(" << pm.source << ": dim " << pm.model.grid.dim() << ", "
-           << pm.model.particles.size() << " particles, " << pm.model.grid.num_nodes()
-           << " nodes, t = " << pm.model.time << ", step " << pm.model.step << ")";
-        return os.str();
+PyModel from_toml(const std::string& path, const py::dict& overrides) {
+  std::vector<std::string> sets;
+  for (const auto& [key, value] : overrides)
+    sets.push_back(py::str(key).cast<std::string>() + "=" + toml_value(value, false));
+  RunConfig cfg = read_input_file(path, sets);
+  for (const std::string& note : cfg.notes) // the earlier names the input used
+    if (PyErr_WarnEx(PyExc_DeprecationWarning, note.c_str(), 1) != 0)
+      throw py::error_already_set();
+  return PyModel{std::move(cfg.model), std::move(cfg.step), cfg.time, path};
+}
+
+void bind_model_state(py::class_<PyModel>& c) {
+  c.def_property_readonly(
+      "particles", [](PyModel& pm) -> Particles& { return pm.model.particles; },
+      py::return_value_policy::reference_internal);
+  c.def_property_readonly(
+      "grid", [](const PyModel& pm) { return pm.model.grid; }, "A copy of the grid.");
+  c.def_property(
+      "materials", [](const PyModel& pm) { return pm.model.materials; },
+      [](PyModel& pm, const std::vector<Material>& mats) {
+        for (const Material& mat : mats)
+          validate(mat);
+        pm.model.materials = mats;
       });
+  c.def_property_readonly(
+      "bcs", [](PyModel& pm) -> BoundaryConditions& { return pm.model.bcs; },
+      py::return_value_policy::reference_internal,
+      "the velocity conditions as given (a step selects the walls' nodes on its own copy: "
+      "assemble(model).bcs)");
+  c.def_property_readonly(
+      "velocity_fields", [](const PyModel& pm) { return pm.model.contact.fields(); },
+      "velocity fields of the materials ([[contact]], set_contact); 1: single material mode");
+  c.def_property(
+      "gravity",
+      [](const PyModel& pm) {
+        return std::vector<double>(pm.model.gravity.begin(),
+                                   pm.model.gravity.begin() + pm.model.grid.dim());
+      },
+      [](PyModel& pm, const std::vector<double>& g) { pm.model.gravity = triple(g, 0, "gravity"); },
+      "[loads] gravity: the body acceleration B (per unit mass)");
+  c.def_property(
+      "options", [](PyModel& pm) -> StepOptions& { return pm.options; },
+      [](PyModel& pm, const StepOptions& o) { pm.options = o; },
+      py::return_value_policy::reference_internal, "The step options of the input's [step].");
+  c.def_property(
+      "courant", [](const PyModel& pm) { return pm.time_settings.courant; },
+      [](PyModel& pm, double C) { pm.time_settings.courant = C; }, "[time] courant");
+  c.def_property(
+      "end", [](const PyModel& pm) { return pm.time_settings.end; },
+      [](PyModel& pm, double e) { pm.time_settings.end = e; }, "[time] end");
+  c.def_property(
+      "time", [](const PyModel& pm) { return pm.model.time; },
+      [](PyModel& pm, double t) { pm.model.time = t; }, "simulated time t");
+  c.def_property_readonly(
+      "step", [](const PyModel& pm) { return pm.model.step; }, "steps taken");
+  c.def_property_readonly("dim", [](const PyModel& pm) { return pm.model.grid.dim(); });
+  c.def_property_readonly("source", [](const PyModel& pm) { return pm.source; });
+}
+
+void bind_model_tables(py::class_<PyModel>& c) {
+  c.def("add_bc", &add_bc,
+        "Adds one [[bc]] table, its keys and values as in the input files: plane={'axis': 'x', "
+        "'at': 0.0} or box={'min': [...], 'max': [...]} with fixed=['x', ...] or "
+        "velocity={'direction': [...], 'value': 'expression of t, x, y, z'}; or a moving wall "
+        "wall={'normal': [...], 'position': 'expression of t', 'velocity': ..., 'gradient': "
+        "..., 'depth': ...} (FMPM 2026 §3.1). Returns the (node, condition) pairs it adds. "
+        "Raises InputError with the message of the input reader.");
+  c.def("set_contact", &set_contact, py::arg("tables"),
+        "Replaces the [[contact]] tables: a list of dicts with the keys of the input files "
+        "(materials=['a', 'b'], law='stick' | 'frictionless' | 'coulomb' | 'single-field', "
+        "friction, normal='AG' | 'LR' | 'specified', direction, detection='approaching' | 'CP' "
+        "| 'DF' | 'LR' | 'always', critical_separation, df_exponent, df_reach, fmpm_method="
+        "'net' | 'evolving'); a table without materials is the law of every other pair.");
+  c.def("fix_plane", &fix_plane, py::arg("axis"), py::arg("at"), py::arg("fixed"),
+        "Zero velocity in the directions `fixed` (['x', 'y'], as the input files' fixed; 'xy' "
+        "is the earlier form) on the nodes of the plane x_axis = at (axis 0, 1, 2 or 'x', 'y', "
+        "'z'); returns the number of nodes.");
+}
+
+} // namespace
+
+void bind_model(py::module_& m) {
+  bind_grid(m);
+  bind_particles(m);
+  bind_conditions(m);
+  py::class_<PyModel> c(m, "Model",
+                        "A run's state (grid, particles, materials, velocity BCs, contact, clock) "
+                        "with the step options and time settings of its input.");
+  c.def(py::init(&model_from_arrays), py::arg("grid"), py::arg("X"), py::arg("mass"),
+        py::arg("volume0") = py::none(), py::arg("V") = py::none(),
+        py::arg("material") = py::none(), py::arg("materials") = std::vector<Material>{},
+        py::arg("half_length") = py::none(), py::arg("fixed") = py::list(),
+        py::arg("gravity") = std::vector<double>{},
+        "Model(grid, X, mass, volume0, V=None, material=None, materials=[...], "
+        "half_length=None, fixed=[(axis, at, ['x', ...]), ...], gravity=[...]): particles from "
+        "arrays (X: N × d, mass and volume0: N; V: N × d, zero by default; material: N ids "
+        "into materials, 0 by default; half_length: N × d, by default half the side of the "
+        "cube of each volume); fixed: zero-velocity planes x_axis = at in the named "
+        "directions (fix_plane); gravity: the body acceleration. volume and body_force are "
+        "the earlier names of volume0 and gravity.");
+  c.def_static("from_toml", &from_toml, py::arg("path"), py::arg("overrides") = py::dict(),
+               "Reads a TOML input as `smpm run path --set key=value ...` does; overrides maps "
+               "'section.key' to a value. Raises InputError with the message of the command.");
+  bind_model_state(c);
+  bind_model_tables(c);
+  c.def("energies", [](const PyModel& pm) { return energies(pm.model); });
+  c.def("copy", [](const PyModel& pm) { return pm; });
+  c.def("__repr__", [](const PyModel& pm) {
+    std::ostringstream os;
+    os << "Model(" << pm.source << ": dim " << pm.model.grid.dim() << ", "
+       << pm.model.particles.size() << " particles, " << pm.model.grid.num_nodes()
+       << " nodes, t = " << pm.model.time << ", step " << pm.model.step << ")";
+    return os.str();
+  });
 }
 
 } // namespace smpm::python

@@ -28,14 +28,33 @@ Field momentum(const PyOperators& o, const DoubleArray& p) {
 // v⁺(k) of FMPM 2026 Eqs. (5)–(6) from an updated momentum p⁺, by the step's own sequence
 // (updated_velocity of fmpm.hpp): the lumped BCs of Table 2 on p⁺ by the BC method, v⁺(1) = m⁻¹ p⁺,
 // then the loop of Table 1.
-py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int k, double alpha,
-                             int every, const BoundaryConditions* bcs, double time,
-                             const std::string& bc_method) {
-  FmpmOptions opt{.order = k, .blend_alpha = alpha, .blend_every = every};
+py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int order, double blend_alpha,
+                             int blend_every, const BoundaryConditions* bcs, double time,
+                             const std::string& bc_method, const py::kwargs& earlier) {
+  FmpmOptions opt{.order = order, .blend_alpha = blend_alpha, .blend_every = blend_every};
+  for (const auto& [key, value] : earlier) { // k, alpha, every: accepted in this release only
+    const std::string name = py::str(key);
+    const char* current = name == "k"       ? "order"
+                          : name == "alpha" ? "blend_alpha"
+                          : name == "every" ? "blend_every"
+                                            : nullptr;
+    if (!current)
+      throw InputError("fmpm_velocity: unexpected argument '" + clip(name) + "'");
+    const std::string note =
+        "'" + name + "' is the earlier name of '" + current + "' (accepted in this release only)";
+    if (PyErr_WarnEx(PyExc_DeprecationWarning, note.c_str(), 1) != 0)
+      throw py::error_already_set();
+    if (name == "k")
+      opt.order = value.cast<int>();
+    else if (name == "alpha")
+      opt.blend_alpha = value.cast<double>();
+    else
+      opt.blend_every = value.cast<int>();
+  }
   opt.bc_method = bc_method_from_string(bc_method);
   validate(opt);
   Field p = momentum(o, p_in);
-  const SparseRowMatrix* mt = k > 1 ? &o.prep.consistent_mass() : nullptr;
+  const SparseRowMatrix* mt = opt.order > 1 ? &o.prep.consistent_mass() : nullptr;
   Field v;
   {
     py::gil_scoped_release release;
@@ -182,11 +201,12 @@ void bind_operators(py::module_& m) {
       "'cpdi', 'b2cpdi'; default: the model's options.shape). A model with velocity fields "
       "([[contact]]) has them as blocks of columns of S: n = fields · grid_node_count, node i "
       "of field α is column α·grid_node_count + i, and m, active and m̃ hold every field.");
-  m.def("fmpm_velocity", &fmpm_grid_velocity, py::arg("ops"), py::arg("p"), py::arg("k"),
-        py::arg("alpha") = 1.0, py::arg("every") = 1, py::arg("bcs") = nullptr,
+  m.def("fmpm_velocity", &fmpm_grid_velocity, py::arg("ops"), py::arg("p"), py::arg("order") = 1,
+        py::arg("blend_alpha") = 1.0, py::arg("blend_every") = 1, py::arg("bcs") = nullptr,
         py::arg("time") = 0.0, py::arg("bc_method") = "incremental",
         "v⁺(k) = m̃_k⁻¹ p = Σ_{ℓ=1}^{k} Δv(ℓ), Δv(1) = m⁻¹ p, Δv(ℓ) = c_ℓ A Δv(ℓ−1) (FMPM 2026 "
-        "Eqs. 5-6, Table 1; c_ℓ = alpha on every `every`-th pass, §3.3): without blending "
+        "Eqs. 5-6, Table 1, k = order; c_ℓ = blend_alpha on every blend_every-th pass, §3.3): "
+        "without blending "
         "Σ_{j<k} Aʲ m⁻¹ p. With bcs (ops.bcs: the model's, walls included) the velocity BCs "
         "of bc_method (§3.1) as a step applies them to its updated momentum: Table 2 on p in "
         "momentum form (unless 'velocity'), then the loop. p: n or n × d; the result has its "

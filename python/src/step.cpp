@@ -11,18 +11,32 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 namespace smpm::python {
 
 namespace {
 
 // advance() of advance.hpp; `callback(model, energies, at_stop)` after every step, with the
-// GIL held (an exception it raises stops the run and propagates).
-AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj, double end,
-                            double courant, const py::object& callback, double stop_every,
-                            bool land_on_stops, double energy_growth) {
+// GIL held (an exception it raises stops the run and propagates). `earlier` holds t_end, the
+// earlier name of end (accepted in this release only).
+AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj,
+                            std::optional<double> end, std::optional<double> courant,
+                            const py::object& callback, double stop_every, bool land_on_stops,
+                            double energy_growth, const py::kwargs& earlier) {
   PyModel& pm = model_obj.cast<PyModel&>();
-  const AdvanceOptions options{.end = end,
-                               .courant = courant,
+  for (const auto& [key, value] : earlier) {
+    if (py::str(key).cast<std::string>() != "t_end")
+      throw InputError("advance: unexpected argument '" + clip(py::str(key).cast<std::string>()) +
+                       "'");
+    if (PyErr_WarnEx(PyExc_DeprecationWarning,
+                     "'t_end' is the earlier name of 'end' (accepted in this release only)",
+                     1) != 0)
+      throw py::error_already_set();
+    end = value.cast<double>();
+  }
+  const AdvanceOptions options{.end = end.value_or(pm.time_settings.end),
+                               .courant = courant.value_or(pm.time_settings.courant),
                                .stop_every = stop_every,
                                .land_on_stops = land_on_stops,
                                .failure = {.energy_growth = energy_growth},
@@ -58,10 +72,12 @@ void bind_step(py::module_& m) {
           py::arg("model"), py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
           "One step of length dt (USL/USF/... of the options). Raises NumericalError naming the "
           "step, time and particle when the state becomes invalid.")
-      .def("advance", &advance_model, py::arg("model"), py::arg("t_end"), py::arg("courant"),
-           py::arg("callback") = py::none(), py::arg("stop_every") = 0.0,
-           py::arg("land_on_stops") = true, py::arg("energy_growth") = 10.0,
-           "Steps to t_end with Δt = C Δx_min / max(c, max|V|) before every step (the loop of "
+      .def("advance", &advance_model, py::arg("model"), py::arg("end") = py::none(),
+           py::arg("courant") = py::none(), py::arg("callback") = py::none(),
+           py::arg("stop_every") = 0.0, py::arg("land_on_stops") = true,
+           py::arg("energy_growth") = 10.0,
+           "Steps to end (default model.end) with Δt = C Δx_min / max(c, max|V|), C = courant "
+           "(default model.courant), before every step (the loop of "
            "`smpm run`; advance.hpp): callback(model, energies, at_stop) after every step, "
            "stops at multiples of stop_every (steps shortened to land on them unless "
            "land_on_stops is False), NumericalError when the total energy exceeds "

@@ -76,7 +76,7 @@ TEST_CASE("overrides given with --set change scalars, named materials and absent
   CHECK(cfg.model.materials[0].youngs == 3.0);
   CHECK(cfg.step.velocity == VelocityUpdate::PIC);
   CHECK(cfg.output.matrices);
-  CHECK(cfg.model.body_force[0] == -1.0);
+  CHECK(cfg.model.gravity[0] == -1.0);
   CHECK(cfg.text.find("#   time.courant=0.3") != std::string::npos); // recorded in the input
   CHECK_THROWS_WITH(read_input(example("vibrating_bar.toml"), "b.toml", {"time.courrant=0.3"}),
                     Catch::Contains("did you mean 'courant'"));

@@ -29,7 +29,7 @@ TEST_CASE("the failure test: energy growth with its threshold", "[advance]") {
                     Catch::Contains("exceeds 2 times") && Catch::Contains("fastest particle"));
   CHECK_NOTHROW(check_energy(bar, 1e9, 1.0, {.energy_growth = 0})); // off
   CHECK_THROWS_WITH(check_energy(bar, std::nan(""), 1.0, {}), Catch::Contains("not finite"));
-  bar.body_force = {0, -9.8, 0}; // gravity does work: no growth test
+  bar.gravity = {0, -9.8, 0}; // gravity does work: no growth test
   CHECK_NOTHROW(check_energy(bar, 1e9, 1.0, {}));
 }
 

@@ -153,7 +153,7 @@ Model sliding_block(double mu, double v0, double g) {
   top.V.col(0).setConstant(v0);
   m.particles.append(top);
   fix_plane(m.grid, 1, 1.0, {true, true, false}, m.bcs);
-  m.body_force = {0, -g, 0};
+  m.gravity = {0, -g, 0};
   ContactPair law = pair_law(ContactLaw::Coulomb, ContactDetection::Approaching, mu);
   law.normal = ContactNormal::Specified;
   law.direction = Eigen::Vector3d::UnitY();

@@ -56,9 +56,9 @@ def test_numerical_failure_message(tmp_path):
 def test_arrays_outside_the_grid():
     grid = smpm.Grid(cells=[3])
     with pytest.raises(smpm.InputError, match="particle 1 lies outside the grid"):
-        smpm.Model(grid, X=[0.5, 3.5], mass=[1, 1], volume=[1, 1], materials=[smpm.Material()])
+        smpm.Model(grid, X=[0.5, 3.5], mass=[1, 1], volume0=[1, 1], materials=[smpm.Material()])
     with pytest.raises(smpm.InputError, match="material id 1 has no material"):
-        smpm.Model(grid, X=[0.5, 1.5], mass=[1, 1], volume=[1, 1], material=[0, 1],
+        smpm.Model(grid, X=[0.5, 1.5], mass=[1, 1], volume0=[1, 1], material=[0, 1],
                    materials=[smpm.Material()])
     with pytest.raises(smpm.InputError, match="poisson"):
         smpm.Material(poisson=0.5)

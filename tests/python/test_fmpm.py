@@ -49,7 +49,7 @@ def test_blended_series(bar_state):
     for ell in range(2, k + 1):
         dv = (alpha if ell % every == 1 else 1.0) * (A @ dv)
         ref += dv
-    v = smpm.fmpm_velocity(ops, p, k, alpha=alpha, every=every)
+    v = smpm.fmpm_velocity(ops, p, k, blend_alpha=alpha, blend_every=every)
     assert np.abs(v - ref).max() < 1e-12
     with pytest.raises(smpm.InputError):
         smpm.fmpm_velocity(ops, p, 0)

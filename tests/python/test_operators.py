@@ -55,7 +55,7 @@ def test_readme_four_particles_from_arrays():
     # The README's "MPM as matrices": 4 particles of mass 1/4 at 0.75 ... 2.25 on nodes 0 ... 3.
     grid = smpm.Grid(cells=[3])
     model = smpm.Model(grid, X=[0.75, 1.25, 1.75, 2.25], mass=np.full(4, 0.25),
-                       volume=np.full(4, 0.5), materials=[smpm.Material("m", density=0.5)])
+                       volume0=np.full(4, 0.5), materials=[smpm.Material("m", density=0.5)])
     ops = smpm.assemble(model, "linear")
     # Linear hats: S_pi = 1 − |X_p − x_i| (exact in binary).
     S_exact = np.array([[0.25, 0.75, 0, 0], [0, 0.75, 0.25, 0], [0, 0.25, 0.75, 0],

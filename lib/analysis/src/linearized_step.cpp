@@ -149,7 +149,7 @@ void LinearizedStep::Impl::step(bool grid_update) const {
                             .solver = solver.get(),
                             .grid = &model.grid,
                             .bcs = &homogeneous,
-                            .body_force = {0, 0, 0},
+                            .gravity = {0, 0, 0},
                             .time = 0,
                             .dt = dt,
                             .grid_update = grid_update};

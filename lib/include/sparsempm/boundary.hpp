@@ -52,6 +52,8 @@ struct BoundaryConditions {
 
   /// Adds a moving wall and its velocity condition (nodes selected by select_wall_nodes).
   void add_wall(const MovingWall& wall);
+  /// Appends the conditions and walls of `other` (the conditions of its walls renumbered).
+  void append(const BoundaryConditions& other);
   /// Selects the nodes of every wall at time t: the active (massive) nodes the wall constrains
   /// (MovingWall). Then checks that the conditions on every node are parallel or perpendicular
   /// (FMPM 2026 §3.1, Table 2); throws InputError naming the node and the conditions otherwise.

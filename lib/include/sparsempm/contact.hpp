@@ -54,15 +54,23 @@ enum class ContactDetection {
   LogisticRegression ///< N_c > 0 and d_LR < 0 from the particle clouds (contact 2020 Eq. 24)
 };
 
-std::string_view to_string(ContactLaw law);
-std::string_view to_string(ContactNormal normal);
-std::string_view to_string(ContactDetection detection);
-
 /// How contact corrects the increments of the FMPM(k) loop (FMPM 2026 §3.2, after Eq. 20).
 enum class ContactFmpmMethod {
   Net,     ///< the law on the net uncorrected velocities; Δp^(eff)(ℓ) = Δp(ℓ) − Δp^(net)
   Evolving ///< the law on the evolving corrected velocities; Δp(ℓ) corrects the increment
 };
+
+/// Names of the [[contact]] tables: law stick | frictionless | coulomb, normal AG | LR |
+/// specified, detection approaching | CP | DF | LR | always, fmpm_method net | evolving. The
+/// parsers throw InputError naming the valid choices.
+std::string_view to_string(ContactLaw law);
+std::string_view to_string(ContactNormal normal);
+std::string_view to_string(ContactDetection detection);
+std::string_view to_string(ContactFmpmMethod method);
+ContactLaw contact_law_from_string(std::string_view name);
+ContactNormal contact_normal_from_string(std::string_view name);
+ContactDetection contact_detection_from_string(std::string_view name);
+ContactFmpmMethod contact_fmpm_method_from_string(std::string_view name);
 
 /// The contact between two velocity fields.
 struct ContactPair {

@@ -19,9 +19,11 @@ struct Model {
   std::vector<Material> materials;
   BoundaryConditions bcs;
   Contact contact; ///< velocity fields of the materials and their contact laws (contact.hpp)
-  std::array<double, 3> body_force{0, 0, 0}; ///< acceleration B (per unit mass), d entries used
-  double time = 0;                           ///< simulated time t
-  long step = 0;                             ///< number of steps taken
+  /// The uniform body acceleration B of every particle ([loads] gravity), d entries used: the
+  /// body force per unit mass of FMPM 2026 task 2, f += Sᵀ M B.
+  std::array<double, 3> gravity{0, 0, 0};
+  double time = 0; ///< simulated time t
+  long step = 0;   ///< number of steps taken
 
   Model() = default;
   /// A model on `grid` with no particles and no constraints.

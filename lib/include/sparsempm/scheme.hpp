@@ -85,7 +85,7 @@ struct StepContext {
   /// after P2G, the reaction force of task 2.a, the FMPM loop, the exact solve, BC3) takes
   /// the values at the start of the step, t, as NairnMPM does (FMPM 2026 §3.1).
   const BoundaryConditions* bcs = nullptr;
-  std::array<double, 3> body_force{0, 0, 0};
+  std::array<double, 3> gravity{0, 0, 0}; ///< the body acceleration B (Model::gravity)
   /// Multimaterial contact (contact.hpp): this step's contact nodes with their laws, normals
   /// and separations, found at the start of the step; null in single material mode.
   ContactNodes* contact_nodes = nullptr;

@@ -58,8 +58,8 @@ void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, 
 /// the initial volumes Ω (FMPM 2026 task 2; Buzzi Eq. 15).
 void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
                     const ConstFieldRef& F, const ConstFieldRef& stress, Field& f);
-/// f += m Bᵀ: a uniform body acceleration B, i.e. f += Sᵀ M B (Buzzi Eq. 14).
-void add_body_force(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field& f);
+/// f += m Bᵀ: the uniform body acceleration B (gravity), i.e. f += Sᵀ M B (Buzzi Eq. 14).
+void add_gravity(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field& f);
 /// v = m⁻¹ x, with m_inv = 1/m_i on active nodes and 0 elsewhere.
 void lumped_solve(const Eigen::VectorXd& m_inv, const Field& x, Field& v);
 

@@ -209,6 +209,38 @@ OutputSettings read_output(const Reader& r, const toml::table& root, const std::
 
 } // namespace
 
+namespace {
+// The tables `text` holds, parsed, with no top-level key but `key` (an array of tables).
+toml::table parse_tables(const Reader& r, const std::string& text, const std::string& source,
+                         const char* key) {
+  detail::check_non_ascii(text, source);
+  toml::table root;
+  try {
+    root = toml::parse(text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << source << ":" << e.source().begin.line << ": " << e.description();
+    throw InputError(os.str());
+  }
+  for (auto&& [k, v] : root)
+    if (k.str() != key)
+      r.fail(&v, std::string(k.str()), std::string("expected [[") + key + "]] tables only");
+  return root;
+}
+} // namespace
+
+BoundaryConditions read_bc_tables(const std::string& text, const std::string& source,
+                                  const Grid& grid) {
+  const Reader r(source);
+  return read_bcs(r, parse_tables(r, text, source, "bc"), grid);
+}
+
+Contact read_contact_tables(const std::string& text, const std::string& source,
+                            const std::vector<Material>& materials, int dim) {
+  const Reader r(source);
+  return detail::read_contact(r, parse_tables(r, text, source, "contact"), materials, dim);
+}
+
 RunConfig read_input(const std::string& input_text, const std::string& source,
                      const std::vector<std::string>& overrides) {
   const Reader r(source);
@@ -257,7 +289,7 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   const toml::table* loads = r.table(root, "loads", "[loads]", false);
   if (loads) {
     r.check_keys(*loads, "loads");
-    cfg.model.body_force = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);
+    cfg.model.gravity = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);
   }
 
   cfg.output = read_output(r, root, source, cfg.time.end);

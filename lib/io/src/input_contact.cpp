@@ -37,19 +37,58 @@ std::array<int, 2> table_materials(const Reader& r, const toml::table& t, const 
   return m;
 }
 
+// The normal of a table: AG, LR, or a specified direction from the first material to the second.
+void read_normal(const Reader& r, const toml::table& t, const std::string& key, int dim,
+                 bool has_materials, ContactPair& p) {
+  p.normal = r.choice(t, "normal", key + "normal", "AG", &contact_normal_from_string);
+  if (p.normal != ContactNormal::Specified) {
+    if (t.get("direction"))
+      r.fail(t.get("direction"), key + "direction",
+             "only normal = \"specified\" takes a direction");
+    return;
+  }
+  if (!has_materials)
+    r.fail(t.get("normal"), key + "normal",
+           "a specified normal needs `materials` (it points from the first to the second)");
+  const auto dir = r.vector(t, "direction", key + "direction", dim, true);
+  p.direction = Eigen::Vector3d(dir[0], dir[1], dir[2]);
+  if (!(p.direction.norm() > 0))
+    r.fail(t.get("direction"), key + "direction", "must not be zero");
+  p.direction.normalize();
+}
+
+// The detection of a table and the parameters that belong to it (CP: δ_c; DF: the fit).
+void read_detection(const Reader& r, const toml::table& t, const std::string& key, ContactPair& p) {
+  p.detection =
+      r.choice(t, "detection", key + "detection", "approaching", &contact_detection_from_string);
+  if (p.detection == ContactDetection::Position)
+    p.critical_separation = r.number(t, "critical_separation", key + "critical_separation", 0.8);
+  else if (t.get("critical_separation"))
+    r.fail(t.get("critical_separation"), key + "critical_separation",
+           "only detection = \"CP\" takes a critical separation");
+  if (p.detection != ContactDetection::DistanceFunction) {
+    for (const char* k : {"df_exponent", "df_reach"})
+      if (t.get(k))
+        r.fail(t.get(k), key + k, "only detection = \"DF\" takes the distance-function fit");
+    return;
+  }
+  p.df_exponent = r.number(t, "df_exponent", key + "df_exponent", p.df_exponent);
+  if (!(p.df_exponent > 0 && p.df_exponent <= 10))
+    r.fail(t.get("df_exponent"), key + "df_exponent", "must be in (0, 10]");
+  p.df_reach = r.number(t, "df_reach", key + "df_reach", p.df_reach);
+  if (!(p.df_reach > 0 && p.df_reach <= 10))
+    r.fail(t.get("df_reach"), key + "df_reach", "must be in (0, 10] cells");
+}
+
 ContactPair read_law(const Reader& r, const toml::table& t, const std::string& key, int dim,
                      bool has_materials) {
   ContactPair p;
-  const std::string law = r.string(t, "law", key + "law", std::nullopt);
-  if (law == "stick")
-    p.law = ContactLaw::Stick;
-  else if (law == "frictionless")
-    p.law = ContactLaw::Frictionless;
-  else if (law == "coulomb")
-    p.law = ContactLaw::Coulomb;
-  else
+  try {
+    p.law = contact_law_from_string(r.string(t, "law", key + "law", std::nullopt));
+  } catch (const InputError& e) {
     r.fail(t.get("law"), key + "law",
-           "expected stick | frictionless | coulomb | single-field (a perfect interface)");
+           std::string(e.what()) + "; or single-field (one velocity field, a perfect interface)");
+  }
   if (p.law == ContactLaw::Coulomb) {
     p.friction = r.number(t, "friction", key + "friction", std::nullopt);
     if (!(p.friction >= 0))
@@ -57,63 +96,10 @@ ContactPair read_law(const Reader& r, const toml::table& t, const std::string& k
   } else if (t.get("friction")) {
     r.fail(t.get("friction"), key + "friction", "only the coulomb law has a friction coefficient");
   }
-  const std::string normal = r.string(t, "normal", key + "normal", "AG");
-  if (normal == "specified") {
-    if (!has_materials)
-      r.fail(t.get("normal"), key + "normal",
-             "a specified normal needs `materials` (it points from the first to the second)");
-    const auto dir = r.vector(t, "direction", key + "direction", dim, true);
-    p.normal = ContactNormal::Specified;
-    p.direction = Eigen::Vector3d(dir[0], dir[1], dir[2]);
-    if (!(p.direction.norm() > 0))
-      r.fail(t.get("direction"), key + "direction", "must not be zero");
-    p.direction.normalize();
-  } else if (normal == "LR") {
-    p.normal = ContactNormal::LogisticRegression;
-  } else if (normal != "AG") {
-    r.fail(t.get("normal"), key + "normal",
-           "expected AG (average gradient) | LR (logistic regression) | specified");
-  }
-  if (normal != "specified" && t.get("direction"))
-    r.fail(t.get("direction"), key + "direction", "only normal = \"specified\" takes a direction");
-  const std::string detection = r.string(t, "detection", key + "detection", "approaching");
-  if (detection == "approaching")
-    p.detection = ContactDetection::Approaching;
-  else if (detection == "CP")
-    p.detection = ContactDetection::Position;
-  else if (detection == "DF")
-    p.detection = ContactDetection::DistanceFunction;
-  else if (detection == "LR")
-    p.detection = ContactDetection::LogisticRegression;
-  else if (detection == "always")
-    p.detection = ContactDetection::Always;
-  else
-    r.fail(t.get("detection"), key + "detection",
-           "expected approaching | CP (critical position) | DF (distance function) | LR "
-           "(logistic regression) | always (bonded)");
-  if (p.detection == ContactDetection::Position)
-    p.critical_separation = r.number(t, "critical_separation", key + "critical_separation", 0.8);
-  else if (t.get("critical_separation"))
-    r.fail(t.get("critical_separation"), key + "critical_separation",
-           "only detection = \"CP\" takes a critical separation");
-  if (p.detection == ContactDetection::DistanceFunction) {
-    p.df_exponent = r.number(t, "df_exponent", key + "df_exponent", p.df_exponent);
-    if (!(p.df_exponent > 0 && p.df_exponent <= 10))
-      r.fail(t.get("df_exponent"), key + "df_exponent", "must be in (0, 10]");
-    p.df_reach = r.number(t, "df_reach", key + "df_reach", p.df_reach);
-    if (!(p.df_reach > 0 && p.df_reach <= 10))
-      r.fail(t.get("df_reach"), key + "df_reach", "must be in (0, 10] cells");
-  } else {
-    for (const char* k : {"df_exponent", "df_reach"})
-      if (t.get(k))
-        r.fail(t.get(k), key + k, "only detection = \"DF\" takes the distance-function fit");
-  }
-  const std::string method = r.string(t, "fmpm_method", key + "fmpm_method", "net");
-  if (method == "evolving")
-    p.fmpm_method = ContactFmpmMethod::Evolving;
-  else if (method != "net")
-    r.fail(t.get("fmpm_method"), key + "fmpm_method",
-           "expected net | evolving (contact inside the FMPM(k) loop, FMPM 2026 §3.2)");
+  read_normal(r, t, key, dim, has_materials, p);
+  read_detection(r, t, key, p);
+  p.fmpm_method =
+      r.choice(t, "fmpm_method", key + "fmpm_method", "net", &contact_fmpm_method_from_string);
   return p;
 }
 
@@ -125,41 +111,70 @@ int root_of(std::vector<int>& parent, int m) {
 
 } // namespace
 
-Contact read_contact(const Reader& r, const toml::table& root, const std::vector<Material>& mats,
-                     int dim) {
-  Contact c;
-  const auto tables = r.tables(root, "contact", false);
-  if (tables.empty())
-    return c; // single material mode
-  // Fields: every material its own, merged by single-field tables.
+namespace {
+
+bool single_field(const Reader& r, const toml::table& t, const std::string& key) {
+  return r.string(t, "law", key + "law", std::nullopt) == "single-field";
+}
+
+// The velocity field of each material: its own, merged by the single-field tables.
+std::vector<int> material_fields(const Reader& r, const std::vector<const toml::table*>& tables,
+                                 const std::vector<Material>& mats) {
   std::vector<int> parent(mats.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (size_t k = 0; k < tables.size(); ++k) {
     const toml::table& t = *tables[k];
     const std::string key = "contact." + std::to_string(k) + ".";
     r.check_keys(t, "contact");
-    if (r.string(t, "law", key + "law", std::nullopt) != "single-field")
+    if (!single_field(r, t, key))
       continue;
     const auto m = table_materials(r, t, key, mats);
     if (m[0] < 0)
       r.fail(t.get("law"), key + "law", "single-field needs `materials`");
     parent[size_t(root_of(parent, m[0]))] = root_of(parent, m[1]);
   }
-  std::vector<int> field_of_root(mats.size(), -1);
+  std::vector<int> field_of_root(mats.size(), -1), field(mats.size());
   int fields = 0;
-  c.material_field.resize(mats.size());
   for (size_t m = 0; m < mats.size(); ++m) {
     int& f = field_of_root[size_t(root_of(parent, int(m)))];
     if (f < 0)
       f = fields++;
-    c.material_field[m] = f;
+    field[m] = f;
   }
-  std::vector<std::vector<std::string>> pair_key(
-      static_cast<size_t>(fields), std::vector<std::string>(static_cast<size_t>(fields)));
+  return field;
+}
+
+// Every pair of fields needs a law when no table is the law of every other pair.
+void check_every_pair(const Reader& r, const Contact& c, const std::vector<Material>& mats,
+                      const std::vector<std::vector<std::string>>& pair_key) {
+  for (size_t m1 = 0; m1 < mats.size(); ++m1)
+    for (size_t m2 = m1 + 1; m2 < mats.size(); ++m2) {
+      const int a = std::min(c.material_field[m1], c.material_field[m2]);
+      const int b = std::max(c.material_field[m1], c.material_field[m2]);
+      if (a != b && pair_key[size_t(a)][size_t(b)].empty())
+        throw InputError(r.where(nullptr, "[[contact]]") + ": materials '" + mats[m1].name +
+                         "' and '" + mats[m2].name +
+                         "' are in different velocity fields without a contact law (add a "
+                         "[[contact]] table for them, or one without `materials` for every "
+                         "other pair)");
+    }
+}
+
+} // namespace
+
+Contact read_contact(const Reader& r, const toml::table& root, const std::vector<Material>& mats,
+                     int dim) {
+  Contact c;
+  const auto tables = r.tables(root, "contact", false);
+  if (tables.empty())
+    return c; // single material mode
+  c.material_field = material_fields(r, tables, mats);
+  const size_t fields = size_t(c.fields());
+  std::vector<std::vector<std::string>> pair_key(fields, std::vector<std::string>(fields));
   for (size_t k = 0; k < tables.size(); ++k) {
     const toml::table& t = *tables[k];
     const std::string key = "contact." + std::to_string(k) + ".";
-    if (r.string(t, "law", key + "law", std::nullopt) == "single-field")
+    if (single_field(r, t, key))
       continue;
     const auto m = table_materials(r, t, key, mats);
     ContactPair p = read_law(r, t, key, dim, m[0] >= 0);
@@ -188,18 +203,8 @@ Contact read_contact(const Reader& r, const toml::table& root, const std::vector
     p.second = b;
     c.pairs.push_back(p);
   }
-  if (!c.has_fallback) // every pair of fields needs a law
-    for (size_t m1 = 0; m1 < mats.size(); ++m1)
-      for (size_t m2 = m1 + 1; m2 < mats.size(); ++m2) {
-        const int a = std::min(c.material_field[m1], c.material_field[m2]);
-        const int b = std::max(c.material_field[m1], c.material_field[m2]);
-        if (a != b && pair_key[size_t(a)][size_t(b)].empty())
-          throw InputError(r.where(nullptr, "[[contact]]") + ": materials '" + mats[m1].name +
-                           "' and '" + mats[m2].name +
-                           "' are in different velocity fields without a contact law (add a "
-                           "[[contact]] table for them, or one without `materials` for every "
-                           "other pair)");
-      }
+  if (!c.has_fallback)
+    check_every_pair(r, c, mats, pair_key);
   return c;
 }
 

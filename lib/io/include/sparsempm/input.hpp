@@ -48,6 +48,16 @@ struct RunConfig {
 /// tables are addressed by name or index, e.g. "material.bar.youngs=3"). Throws InputError.
 RunConfig read_input(const std::string& text, const std::string& source,
                      const std::vector<std::string>& overrides = {});
+/// Reads [[bc]] tables given as TOML text (as they stand in an input file; the Python module's
+/// Model.add_bc writes them) into conditions on `grid`, with the checks and messages of
+/// read_input ("source:line: bc.0.wall.depth = ...: ..."). Throws InputError.
+BoundaryConditions read_bc_tables(const std::string& text, const std::string& source,
+                                  const Grid& grid);
+/// Reads [[contact]] tables given as TOML text against the model's materials (by name), as
+/// read_input does: the velocity fields of the materials and the laws between them.
+Contact read_contact_tables(const std::string& text, const std::string& source,
+                            const std::vector<Material>& materials, int dim);
+
 /// Most frames a run may write (output.every ≥ time.end / kMaxFrames).
 inline constexpr long kMaxFrames = 100000;
 /// Largest input file accepted (16 MiB).
