@@ -15,6 +15,7 @@
 // 3 numerical failure (frames written so far are kept in the partial file), 130 / 143 for
 // SIGINT / SIGTERM, 1 any other error (a full disk, a closed standard output).
 
+#include "info_command.hpp"
 #include "notes.hpp"
 #include "progress.hpp"
 #include "stability_command.hpp"
@@ -96,34 +97,6 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
                 r.energy_start, r.energy_end, change, r.frames, r.output.c_str(),
                 xdmf_path(r.output).c_str());
   }
-  return 0;
-}
-
-int info_command(const std::string& path) {
-  const smpm::StoredRun run = smpm::read_stored_run(path);
-  std::printf("file:     %s\nversion:  %s\nstatus:   %s\n", path.c_str(), run.version.c_str(),
-              run.status.c_str());
-  std::printf("frames:   %zu", run.frame_times.size());
-  if (!run.frame_times.empty())
-    std::printf(" (t = %g ... %g)", run.frame_times.front(), run.frame_times.back());
-  std::printf(
-      "\nfields:   particles/<frame>/{X, V, stress, F, mass, volume, volume0, "
-      "half_length, material}, grid/<frame>/{nodes, m, p, v}, series/{step, t, kinetic, strain, "
-      "total, momentum}\n");
-  if (!run.series.empty()) {
-    const auto& a = run.series.front();
-    const auto& b = run.series.back();
-    std::printf("steps:    %zu rows of series (step %ld ... %ld)\n", run.series.size(), a.step,
-                b.step);
-    std::printf("energy:   start t = %g: kinetic %.6g strain %.6g total %.6g\n", a.t, a.e.kinetic,
-                a.e.strain, a.e.total);
-    std::printf("          end   t = %g: kinetic %.6g strain %.6g total %.6g (%+.4f%%)\n", b.t,
-                b.e.kinetic, b.e.strain, b.e.total,
-                a.e.total != 0 ? 100 * (b.e.total - a.e.total) / std::abs(a.e.total) : 0.0);
-  }
-  for (const auto& o : run.overrides)
-    std::printf("override: %s\n", o.c_str());
-  std::printf("input:\n%s\n", run.input.c_str());
   return 0;
 }
 
@@ -266,8 +239,10 @@ int main(int argc, char** argv) {
   Aliases aliases;
   CLI::App* stab = add_stability(app, st, aliases);
   CLI::App* spec = add_spectrum(app, sp, aliases);
+  bool layout = false;
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
-  info->add_option("file", info_path, "HDF5 file written by smpm run")->required();
+  info->add_option("file", info_path, "HDF5 file written by smpm run");
+  info->add_flag("--layout", layout, "print the layout of every run file instead");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -285,7 +260,7 @@ int main(int argc, char** argv) {
     else if (*spec)
       code = smpm::app::spectrum_command(sp);
     else
-      code = info_command(info_path);
+      code = smpm::app::info_command(info_path, layout);
   } catch (const smpm::InputError& e) {
     std::fprintf(stderr, "smpm: error: %s\n", e.what());
     code = 2;

@@ -200,6 +200,26 @@ class RunFiles(Base):
         self.assertIn("frames:   3", r.stdout)
         self.assertIn("status:   completed", r.stdout)
         self.assertIn("energy:", r.stdout)
+        # It walks the file: every dataset of the last frame and of the series is listed with
+        # its shape and its layout entry (none "not of the sparsempm layout").
+        with h5py.File(self.disks, "r") as f:
+            names = []
+            f.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
+            last = sorted(f["particles"].keys())[-1]
+            for n in names:
+                if n.startswith("series/") or f"/{last}" in n:
+                    line = next(l for l in r.stdout.splitlines() if l.split() and l.split()[0] == "/" + n)
+                    self.assertIn(" x ".join(map(str, f[n].shape)) or "scalar", line)
+        self.assertNotIn("not of the sparsempm layout", r.stdout)
+
+    def test_readme_shows_the_layout(self):
+        # The README's list of a run file's objects is the print of `smpm info --layout`
+        # (output.hpp's run_file_layout, the one statement of it).
+        r = smpm("info", "--layout")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        readme = (SOURCE / "README.md").read_text()
+        block = readme.split("<!-- smpm info --layout -->\n```text\n", 1)[1].split("```", 1)[0]
+        self.assertEqual(block, r.stdout)
 
     def test_analysis_scripts_write_pngs(self):
         for script, args in (("plot_energy.py", []), ("plot_particles.py", ["--frame", "1", "--field", "stress_xx"])):

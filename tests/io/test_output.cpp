@@ -5,9 +5,12 @@
 
 #include "hdf5_util.hpp"
 #include <sparsempm/output.hpp>
+#include <sparsempm/run.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 using namespace smpm;
@@ -142,4 +145,43 @@ TEST_CASE("the restart state of a file without /state comes from its frame and s
   CHECK(back.velocity_change_sum == 0.25);
   std::filesystem::remove(path);
   std::filesystem::remove(xdmf_path(path));
+}
+
+TEST_CASE("a run file holds the objects of its layout and no others", "[output]") {
+  // run_file_layout() states the layout once (output.hpp): every object of a file has its entry,
+  // and every entry of the runs the file is one of is found (a 1D bar with its matrices, two
+  // blocks in contact).
+  const auto dir = std::filesystem::temp_directory_path();
+  struct Case {
+    const char* example;
+    std::vector<std::string> sets;
+    std::vector<std::string> when; // the runs this file is one of
+  };
+  for (const Case& c :
+       std::vector<Case>{{"vibrating_bar.toml",
+                          {"time.end=20", "output.matrices=true"},
+                          {"", "1D", "output.matrices"}},
+                         {"two_block_compression.toml", {"time.end=1"}, {"", "contact"}}}) {
+    CAPTURE(c.example);
+    RunConfig cfg = read_input(example_text(c.example), c.example, c.sets);
+    const std::string path = (dir / (std::string("smpm_layout_") + c.example + ".h5")).string();
+    RunOptions options;
+    options.output = path;
+    run(cfg, options);
+    std::set<std::string> found;
+    for (const FileObject& o : walk_run_file(path)) {
+      CAPTURE(o.path);
+      REQUIRE(o.entry);
+      found.insert(o.entry->path);
+    }
+    for (const LayoutEntry& e : run_file_layout())
+      if (std::find(c.when.begin(), c.when.end(), e.when) != c.when.end()) {
+        CAPTURE(e.path);
+        CHECK(found.count(e.path) == 1);
+      }
+    std::filesystem::remove(path);
+    std::filesystem::remove(xdmf_path(path));
+  }
+  CHECK(layout_pattern("/matrices/000012/G1/indptr") == "/matrices/<frame>/<matrix>/indptr");
+  CHECK(layout_pattern("/state/1234567@courant_budget") == "/state/<frame>@courant_budget");
 }

@@ -1,25 +1,11 @@
 #pragma once
 /// \file output.hpp
-/// HDF5 output of a run, one file per run, with an XDMF sidecar for ParaView.
-///
-/// Layout (frames numbered 000000, 000001, …):
-///   /particles/<frame>/{X, V, stress, F, mass, volume, volume0, half_length, material}
-///                      attributes time, step, complete
-///   /grid/<frame>/{nodes, m, p, v}  P2G of the frame's particle state on the nodes with mass
-///                                (their indices, na × 1, na × d, na × d); attributes grid_nodes
-///                                (n_g) and velocity_fields (n_f: with several, each field's
-///                                node i has index α n_g + i, contact 2020 Eq. 5)
-///   /matrices/<frame>/{S, G0, G1, G2, consistent_mass}/{data, indices, indptr, shape}
-///                                (CSR; only with output.matrices = true)
-///   /series/{step, t, kinetic, strain, total, momentum, velocity_change,
-///            velocity_change_sum, friction, viscous, fmpm_order}  one row per step
-///   /series/{material_mass, material_momentum, material_centre}  per material (one body per
-///            material in multimaterial runs): n_mat, n_mat × d, n_mat × d columns a row
-///   /state/<frame>               attributes courant_budget, friction_work, viscous_work,
-///                                velocity_change_sum: what a restart continues (RunState)
-///   root attributes: input (the input text), overrides, version, status
-/// Every frame is flushed when written; the HDF5 metadata cache keeps evictions off, so a run
-/// killed between two flushes leaves a file that opens with every completed frame.
+/// HDF5 output of a run, one file per run, with an XDMF sidecar for ParaView. Its layout is
+/// stated once, in run_file_layout() (frames named 000000, 000001, …): the writer makes those
+/// objects and no others (a test walks a file against it), `smpm info --layout` prints it and
+/// the README shows that print. Every frame is flushed when written; the HDF5 metadata cache
+/// keeps evictions off, so a run killed between two flushes leaves a file that opens with every
+/// completed frame.
 
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/input.hpp"
@@ -31,6 +17,34 @@
 #include <vector>
 
 namespace smpm {
+
+/// One object of a run file's layout: its path (<frame> stands for every frame's name,
+/// <matrix> for S, G0, G1, G2 and consistent_mass, "@name" for an attribute), its shape (N
+/// particles, na nodes with mass, nc contact nodes, d dimensions), what it holds, and the runs
+/// that write it ("": every run).
+struct LayoutEntry {
+  const char* path;
+  const char* shape;
+  const char* what;
+  const char* when;
+};
+/// The layout of a run file.
+const std::vector<LayoutEntry>& run_file_layout();
+/// The layout path of an object's path ("/particles/000012/X" → "/particles/<frame>/X").
+std::string layout_pattern(const std::string& path);
+/// The layout entry of an object's path, or nullptr for an object the layout does not name.
+const LayoutEntry* layout_entry(const std::string& path);
+
+/// An object found in a run file: its path, its shape (datasets) and its layout entry.
+struct FileObject {
+  std::string path;
+  std::string shape;
+  const LayoutEntry* entry = nullptr;
+};
+/// The root's attributes, the series and the last complete frame of a run file (every frame
+/// holds the same objects), walked with HDF5 (H5Ovisit). Throws InputError for a file that is
+/// not a run.
+std::vector<FileObject> walk_run_file(const std::string& path);
 
 /// One row of the energy series.
 struct SeriesRow {

@@ -1,0 +1,166 @@
+// The layout of a run file, stated once (output.hpp: run_file_layout), and the walk of a file
+// against it (smpm info).
+
+#include "sparsempm/output.hpp"
+
+#include "hdf5_util.hpp"
+#include "output_format.hpp"
+#include "sparsempm/errors.hpp"
+#include "sparsempm/run_file.hpp"
+
+#include <algorithm>
+#include <regex>
+
+namespace smpm {
+
+using namespace detail;
+
+const std::vector<LayoutEntry>& run_file_layout() {
+  static const std::vector<LayoutEntry> layout = {
+      {"/@input", "text", "the input file with the --set overrides appended", ""},
+      {"/@overrides", "strings", "the --set overrides", ""},
+      {"/@source", "text", "the input file's name", ""},
+      {"/@version", "text", "the sparsempm version that wrote the file", ""},
+      {"/@status", "text", "running | completed | failed: ... | interrupted: ...", ""},
+      {"/particles/<frame>/X", "N x d", "positions", ""},
+      {"/particles/<frame>/V", "N x d", "velocities", ""},
+      {"/particles/<frame>/stress", "N x d^2", "Cauchy stresses (row-major)", ""},
+      {"/particles/<frame>/F", "N x d^2", "deformation gradients (row-major)", ""},
+      {"/particles/<frame>/mass", "N", "masses", ""},
+      {"/particles/<frame>/volume", "N", "current volumes J V0", ""},
+      {"/particles/<frame>/volume0", "N", "initial volumes", ""},
+      {"/particles/<frame>/half_length", "N x d", "initial half-lengths r0 of the domains", ""},
+      {"/particles/<frame>/material", "N", "material ids (index of [[material]])", ""},
+      {"/particles/<frame>/energy", "N", "internal energy per unit mass U (mie-gruneisen)", ""},
+      {"/particles/<frame>/xyz", "N x 3", "positions with y = z = 0, for ParaView", "1D"},
+      {"/particles/<frame>@time", "scalar", "the frame's time t", ""},
+      {"/particles/<frame>@step", "scalar", "the frame's step", ""},
+      {"/particles/<frame>@complete", "scalar", "written last: the frame is whole", ""},
+      {"/grid/<frame>/nodes", "na", "grid index of each node with mass (a n_g + i: field a)", ""},
+      {"/grid/<frame>/m", "na", "lumped masses m = S^T M", ""},
+      {"/grid/<frame>/p", "na x d", "momenta p = S^T M V (before contact)", ""},
+      {"/grid/<frame>/v", "na x d", "velocities m^-1 p", ""},
+      {"/grid/<frame>@grid_nodes", "scalar", "n_g, the grid's nodes", ""},
+      {"/grid/<frame>@velocity_fields", "scalar", "n_f, the velocity fields", ""},
+      {"/grid/<frame>/contact_nodes", "nc", "grid index of each contact node", "contact"},
+      {"/grid/<frame>/contact_fields", "2 nc", "its two fields (-1, -1: three or more)", "contact"},
+      {"/grid/<frame>/contact_normal", "nc x d", "the normal from the first field", "contact"},
+      {"/grid/<frame>/contact_separation", "nc", "the separation of the detection (-1: none)",
+       "contact"},
+      {"/grid/<frame>/contact_approaching", "nc", "1 where the fields approach", "contact"},
+      {"/matrices/<frame>/<matrix>/data", "nnz", "CSR values of S, G0, G1, G2, consistent_mass",
+       "output.matrices"},
+      {"/matrices/<frame>/<matrix>/indices", "nnz", "CSR column indices", "output.matrices"},
+      {"/matrices/<frame>/<matrix>/indptr", "rows + 1", "CSR row offsets", "output.matrices"},
+      {"/matrices/<frame>/<matrix>/shape", "2", "rows and columns", "output.matrices"},
+      {"/series/step", "steps", "step number, one row per step (row 0: t = 0)", ""},
+      {"/series/t", "steps", "time", ""},
+      {"/series/kinetic", "steps", "kinetic energy", ""},
+      {"/series/strain", "steps", "strain (internal) energy", ""},
+      {"/series/total", "steps", "kinetic + strain", ""},
+      {"/series/momentum", "steps x d", "total momentum", ""},
+      {"/series/velocity_change", "steps", "RMS of V(t) - V(0) (FMPM 2026 §3.1)", ""},
+      {"/series/velocity_change_sum", "steps", "its running sum", ""},
+      {"/series/friction", "steps", "work of Coulomb friction since t = 0", ""},
+      {"/series/viscous", "steps", "work of the artificial viscosity since t = 0", ""},
+      {"/series/fmpm_order", "steps", "order the FMPM loop reached (0: none)", ""},
+      {"/series/material_mass", "steps x n_mat", "mass of each material", ""},
+      {"/series/material_momentum", "steps x n_mat d", "momentum of each material", ""},
+      {"/series/material_centre", "steps x n_mat d", "centre of mass of each material", ""},
+      {"/state/<frame>@courant_budget", "scalar", "periodic FMPM's budget (restart)", ""},
+      {"/state/<frame>@friction_work", "scalar", "friction work (restart)", ""},
+      {"/state/<frame>@viscous_work", "scalar", "viscous work (restart)", ""},
+      {"/state/<frame>@velocity_change_sum", "scalar", "velocity-change sum (restart)", ""},
+  };
+  return layout;
+}
+
+std::string layout_pattern(const std::string& path) {
+  static const std::regex frame("/[0-9]{6,}(/|@|$)"), matrix("/matrices/<frame>/[A-Za-z0-9_]+/");
+  std::string p = std::regex_replace(path, frame, "/<frame>$1");
+  return std::regex_replace(p, matrix, "/matrices/<frame>/<matrix>/");
+}
+
+const LayoutEntry* layout_entry(const std::string& path) {
+  const std::string pattern = layout_pattern(path);
+  for (const LayoutEntry& e : run_file_layout())
+    if (pattern == e.path)
+      return &e;
+  return nullptr;
+}
+
+namespace {
+
+std::string shape_of(hid_t dataset) {
+  const h5::Id space(H5Dget_space(dataset), H5Sclose);
+  hsize_t dims[4] = {0, 0, 0, 0};
+  const int rank = H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  std::string s;
+  for (int k = 0; k < rank; ++k)
+    s += (k ? " x " : "") + std::to_string(dims[k]);
+  return rank == 0 ? "scalar" : s;
+}
+
+struct Walk {
+  std::vector<FileObject> out;
+  std::string prefix; // the path of the group being visited
+};
+
+herr_t on_attribute(hid_t, const char* name, const H5A_info_t*, void* data) {
+  auto& [w, object] = *static_cast<std::pair<Walk*, std::string>*>(data);
+  const std::string path = object == "/" ? "/@" + std::string(name) : object + "@" + name;
+  w->out.push_back({path, "", layout_entry(path)});
+  return 0;
+}
+
+void attributes(Walk& w, hid_t obj, const std::string& path) {
+  std::pair<Walk*, std::string> ctx{&w, path};
+  H5Aiterate2(obj, H5_INDEX_NAME, H5_ITER_INC, nullptr, on_attribute, &ctx);
+}
+
+herr_t on_object(hid_t group, const char* name, const H5O_info_t* info, void* data) {
+  Walk& w = *static_cast<Walk*>(data);
+  const bool self = std::string(name) == ".";
+  const std::string path = w.prefix + (self ? "" : "/" + std::string(name));
+  const h5::Id obj(H5Oopen(group, name, H5P_DEFAULT), H5Oclose);
+  if (!obj)
+    return 0;
+  if (info->type == H5O_TYPE_DATASET) {
+    const h5::Id set(H5Dopen2(group, name, H5P_DEFAULT), H5Dclose);
+    w.out.push_back({path, shape_of(set.get()), layout_entry(path)});
+  }
+  attributes(w, obj.get(), path);
+  return 0;
+}
+
+// Every object in the group `path` of the file, recursively.
+void visit(Walk& w, hid_t file, const std::string& path) {
+  const h5::Id g(H5Gopen2(file, path.c_str(), H5P_DEFAULT), H5Gclose);
+  if (!g) // a frame whose write failed (a full disk): a dangling link
+    return;
+  w.prefix = path;
+  H5Ovisit2(g.get(), H5_INDEX_NAME, H5_ITER_INC, on_object, &w, H5O_INFO_BASIC);
+}
+
+} // namespace
+
+std::vector<FileObject> walk_run_file(const std::string& path) {
+  check_regular_file(path, kMaxRunFileBytes, "run file");
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const h5::Id file(open_for_reading(path), H5Fclose);
+  Walk w;
+  attributes(w, file.get(), "/");
+  const std::vector<int> frames = complete_frames(file.get());
+  for (const char* group : {"grid", "matrices", "particles", "series", "state"}) {
+    const std::string g = std::string("/") + group;
+    if (!h5::exists(file.get(), group))
+      continue;
+    if (g == "/series")
+      visit(w, file.get(), g);
+    else if (!frames.empty() && h5::exists(file.get(), g + "/" + frame_name(frames.back())))
+      visit(w, file.get(), g + "/" + frame_name(frames.back()));
+  }
+  return w.out;
+}
+
+} // namespace smpm
