@@ -175,6 +175,111 @@ void set_pattern(SparseRowMatrix& A, Index N, Index n, Index nnz) {
 
 } // namespace
 
+namespace {
+
+// Whether S (N × n) and the G_a have the same rows, columns and pattern sizes.
+bool matches(const SparseRowMatrix& S, const std::array<SparseRowMatrix, 3>& G, int d, Index N,
+             Index n) {
+  bool same = S.rows() == N && S.cols() == n;
+  for (int a = 0; a < d; ++a)
+    same = same && G[size_t(a)].rows() == N && G[size_t(a)].nonZeros() == S.nonZeros();
+  return same;
+}
+
+// On a failure some boxes are recorded and some rows rewritten: the pattern is emptied so that
+// nothing stale is read, and the next call starts afresh.
+void discard_pattern(std::vector<ShapeSupport>& support, SparseRowMatrix& S,
+                     std::array<SparseRowMatrix, 3>& G) {
+  support.clear();
+  S.resize(0, 0);
+  for (SparseRowMatrix& Ga : G)
+    Ga.resize(0, 0);
+}
+
+// Pass 1: the node box of every particle, recorded in `support` (changes: which boxes moved or
+// changed size, rows rewritten in place for moved boxes of the same size).
+void record_boxes(const Grid& grid, const Particles& P, Shape shape,
+                  std::vector<ShapeSupport>& support, BoxChanges& changes) {
+  if (shape == Shape::Linear || shape == Shape::BSpline2) {
+    detail::point_supports(grid, P, shape == Shape::BSpline2, support, changes);
+  } else if (shape == Shape::GIMP) {
+    detail::gimp_supports(grid, P, support, changes);
+  } else {
+    const bool bs = uses_bspline(shape);
+    by_dim(grid.dim(), [&]<int D>() {
+      const CellCoordinates<D> f(grid, P);
+      detail::parallel_for(P.size(), [&](Index p) {
+        changes.record(p, support[size_t(p)], corner_support<D>(grid, f, P, p, bs));
+      });
+    });
+  }
+}
+
+// A new pattern of S and the G_a from the boxes: row offsets (an exclusive prefix sum of the box
+// sizes), then the rows in parallel, copied to every G_a. Returns false (with the count in
+// `nnz`) when the nonzeros would exceed 32-bit indices.
+bool build_pattern(const Grid& numbering, const std::vector<ShapeSupport>& support,
+                   const BoxChanges::Rows& rows, Index n, int d, SparseRowMatrix& S,
+                   std::array<SparseRowMatrix, 3>& G, Index& nnz) {
+  const Index N = Index(support.size());
+  nnz = 0;
+  for (const ShapeSupport& s : support)
+    nnz += Index(s.count[0]) * s.count[1] * s.count[2];
+  if (nnz > Index(std::numeric_limits<int>::max()))
+    return false;
+  set_pattern(S, N, n, nnz);
+  int* outer = S.outerIndexPtr();
+  int* inner = S.innerIndexPtr();
+  Index pos = 0;
+  for (Index p = 0; p < N; ++p) {
+    outer[p] = int(pos);
+    const ShapeSupport& s = support[size_t(p)];
+    pos += Index(s.count[0]) * s.count[1] * s.count[2];
+  }
+  outer[N] = int(pos);
+  detail::parallel_for(N, [&](Index p) {
+    const ShapeSupport& s = support[size_t(p)];
+    write_box_row(numbering, s, rows.first_column(p, s), inner + outer[p]);
+  });
+  for (int a = 0; a < 3; ++a) {
+    if (a >= d) {
+      G[a].resize(0, 0);
+      continue;
+    }
+    set_pattern(G[a], N, n, nnz);
+    std::copy(outer, outer + N + 1, G[a].outerIndexPtr());
+    std::copy(inner, inner + nnz, G[a].innerIndexPtr());
+  }
+  return true;
+}
+
+// Pass 2: the values of S and the G_a in their pattern.
+void write_values(const Grid& grid, const Particles& P, Shape shape,
+                  const std::vector<ShapeSupport>& support, SparseRowMatrix& S,
+                  std::array<SparseRowMatrix, 3>& G) {
+  const int d = grid.dim();
+  double* sv = S.valuePtr();
+  double* gv[3] = {G[0].valuePtr(), d > 1 ? G[1].valuePtr() : nullptr,
+                   d > 2 ? G[2].valuePtr() : nullptr};
+  const int* outer = S.outerIndexPtr();
+  if (shape == Shape::Linear || shape == Shape::BSpline2)
+    return detail::point_values(grid, P, shape == Shape::BSpline2, support, outer, sv, gv);
+  if (shape == Shape::GIMP)
+    return detail::gimp_values(grid, P, support, outer, sv, gv);
+  const bool bs = uses_bspline(shape);
+  by_dim(d, [&]<int D>() {
+    const CellCoordinates<D> f(grid, P);
+    detail::parallel_for(P.size(), [&](Index p) {
+      const int begin = outer[p];
+      double* const g[3] = {gv[0] + begin, D > 1 ? gv[1] + begin : nullptr,
+                            D > 2 ? gv[2] + begin : nullptr};
+      corner_row<D>(f, P, p, bs, support[size_t(p)], sv + begin, g);
+    });
+  });
+}
+
+} // namespace
+
 bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRowMatrix& S,
                     std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support,
                     int fields, const int* field, Grid* window) {
@@ -187,14 +292,10 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
   // pattern kept), updated after the boxes are known.
   const bool same_grid = !window || (window->same_whole_grid(grid) && !grid.is_window());
   const Grid& numbering = window ? *window : grid;
-  // Pass 1: the node box of every particle. The pattern is kept when no box changed; a box that
-  // moved and kept its size has its row rewritten during the pass; when a box changed size,
-  // the pattern is built anew.
-  const bool point = shape == Shape::Linear || shape == Shape::BSpline2;
-  bool fresh = !same_grid || Index(support.size()) != N || S.rows() != N ||
-               S.cols() != numbering.num_nodes() * fields;
-  for (int a = 0; a < d; ++a)
-    fresh = fresh || G[size_t(a)].rows() != N || G[size_t(a)].nonZeros() != S.nonZeros();
+  // The pattern is kept when no box changed; a box that moved and kept its size has its row
+  // rewritten during pass 1; when a box changed size, the pattern is built anew.
+  const bool fresh = !same_grid || Index(support.size()) != N ||
+                     !matches(S, G, d, N, numbering.num_nodes() * fields);
   support.resize(N);
   BoxChanges changes;
   BoxChanges::Rows rows;
@@ -209,30 +310,10 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
     rows.arrays = d + 1;
     changes.rows = &rows;
   }
-  // On a failure some boxes are recorded and some rows rewritten: the pattern is emptied so
-  // that nothing stale is read, and the next call starts afresh.
-  auto discard_pattern = [&] {
-    support.clear();
-    S.resize(0, 0);
-    for (SparseRowMatrix& Ga : G)
-      Ga.resize(0, 0);
-  };
   try {
-    if (point) {
-      detail::point_supports(grid, P, shape == Shape::BSpline2, support, changes);
-    } else if (shape == Shape::GIMP) {
-      detail::gimp_supports(grid, P, support, changes);
-    } else {
-      const bool bs = uses_bspline(shape);
-      by_dim(d, [&]<int D>() {
-        const CellCoordinates<D> f(grid, P);
-        detail::parallel_for(N, [&](Index p) {
-          changes.record(p, support[size_t(p)], corner_support<D>(grid, f, P, p, bs));
-        });
-      });
-    }
+    record_boxes(grid, P, shape, support, changes);
   } catch (...) {
-    discard_pattern();
+    discard_pattern(support, S, G);
     throw;
   }
   BoxChange change = fresh ? BoxChange::Resized : changes.result();
@@ -243,67 +324,16 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
       change = BoxChange::Resized;
     }
   }
-  const Index n = numbering.num_nodes() * fields;
   rows.nodes_per_field = numbering.num_nodes();
-  if (change == BoxChange::Resized) {
-    Index nnz = 0;
-    for (const ShapeSupport& s : support)
-      nnz += Index(s.count[0]) * s.count[1] * s.count[2];
-    if (nnz > Index(std::numeric_limits<int>::max())) {
-      discard_pattern();
-      throw NumericalError("S would hold " + std::to_string(nnz) +
-                           " nonzeros, more than its 32-bit indices allow");
-    }
-    set_pattern(S, N, n, nnz);
-    // Row offsets (an exclusive prefix sum of the box sizes), then the rows in parallel.
-    int* outer = S.outerIndexPtr();
-    int* inner = S.innerIndexPtr();
-    Index pos = 0;
-    for (Index p = 0; p < N; ++p) {
-      outer[p] = int(pos);
-      const ShapeSupport& s = support[size_t(p)];
-      pos += Index(s.count[0]) * s.count[1] * s.count[2];
-    }
-    outer[N] = int(pos);
-    detail::parallel_for(N, [&](Index p) {
-      const ShapeSupport& s = support[size_t(p)];
-      write_box_row(numbering, s, rows.first_column(p, s), inner + outer[p]);
-    });
-    for (int a = 0; a < 3; ++a) {
-      if (a >= d) {
-        G[a].resize(0, 0);
-        continue;
-      }
-      set_pattern(G[a], N, n, nnz);
-      std::copy(outer, outer + N + 1, G[a].outerIndexPtr());
-      std::copy(inner, inner + nnz, G[a].innerIndexPtr());
-    }
+  Index nnz = 0;
+  if (change == BoxChange::Resized &&
+      !build_pattern(numbering, support, rows, numbering.num_nodes() * fields, d, S, G, nnz)) {
+    discard_pattern(support, S, G);
+    throw NumericalError("S would hold " + std::to_string(nnz) +
+                         " nonzeros, more than its 32-bit indices allow");
   }
-  const bool changed = change != BoxChange::None;
-  // Pass 2: values.
-  double* sv = S.valuePtr();
-  double* gv[3] = {G[0].valuePtr(), d > 1 ? G[1].valuePtr() : nullptr,
-                   d > 2 ? G[2].valuePtr() : nullptr};
-  const int* outer = S.outerIndexPtr();
-  if (point) {
-    detail::point_values(grid, P, shape == Shape::BSpline2, support, outer, sv, gv);
-    return changed;
-  }
-  if (shape == Shape::GIMP) {
-    detail::gimp_values(grid, P, support, outer, sv, gv);
-    return changed;
-  }
-  const bool bs = uses_bspline(shape);
-  by_dim(d, [&]<int D>() {
-    const CellCoordinates<D> f(grid, P);
-    detail::parallel_for(N, [&](Index p) {
-      const int begin = outer[p];
-      double* const g[3] = {gv[0] + begin, D > 1 ? gv[1] + begin : nullptr,
-                            D > 2 ? gv[2] + begin : nullptr};
-      corner_row<D>(f, P, p, bs, support[size_t(p)], sv + begin, g);
-    });
-  });
-  return changed;
+  write_values(grid, P, shape, support, S, G);
+  return change != BoxChange::None;
 }
 
 } // namespace smpm

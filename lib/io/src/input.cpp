@@ -210,23 +210,50 @@ OutputSettings read_output(const Reader& r, const toml::table& root, const std::
 } // namespace
 
 namespace {
-// The tables `text` holds, parsed, with no top-level key but `key` (an array of tables).
-toml::table parse_tables(const Reader& r, const std::string& text, const std::string& source,
-                         const char* key) {
+// The TOML text of `source`, parsed; InputError naming the line of a syntax error.
+toml::table parse_text(const std::string& text, const std::string& source) {
   detail::check_non_ascii(text, source);
-  toml::table root;
   try {
-    root = toml::parse(text, std::string_view(source));
+    return toml::parse(text, std::string_view(source));
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
     os << source << ":" << e.source().begin.line << ": " << e.description();
     throw InputError(os.str());
   }
+}
+
+// The tables `text` holds, parsed, with no top-level key but `key` (an array of tables).
+toml::table parse_tables(const Reader& r, const std::string& text, const std::string& source,
+                         const char* key) {
+  toml::table root = parse_text(text, source);
   for (auto&& [k, v] : root)
     if (k.str() != key)
       r.fail(&v, std::string(k.str()), std::string("expected [[") + key + "]] tables only");
   return root;
 }
+TimeSettings read_time(const Reader& r, const toml::table& root) {
+  const toml::table* time = r.table(root, "time", "[time]", true);
+  r.check_keys(*time, "time");
+  TimeSettings t;
+  t.courant = r.positive(*time, "courant", "time.courant", 0.5);
+  t.end = r.positive(*time, "end", "time.end", std::nullopt);
+  t.land_on_frames = r.boolean(*time, "land_on_frames", "time.land_on_frames", true);
+  return t;
+}
+
+// The shape functions of every particle must fit in the grid (checked on the particles' window:
+// storage proportional to the particles, not the grid).
+void check_supports(const RunConfig& cfg) {
+  try {
+    Operators ops;
+    ops.node_range = NodeRange::Particles;
+    assemble(cfg.model.grid, cfg.model.particles, cfg.step.shape, ops);
+  } catch (const NumericalError& e) {
+    throw InputError(cfg.source + ": particles outside the grid for step.shape = \"" +
+                     std::string(to_string(cfg.step.shape)) + "\": " + e.what());
+  }
+}
+
 } // namespace
 
 BoundaryConditions read_bc_tables(const std::string& text, const std::string& source,
@@ -247,15 +274,7 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   // A UTF-8 byte-order mark (written by some editors) is not part of the TOML text.
   const std::string bom = "\xEF\xBB\xBF";
   const std::string text = input_text.rfind(bom, 0) == 0 ? input_text.substr(3) : input_text;
-  detail::check_non_ascii(text, source);
-  toml::table root;
-  try {
-    root = toml::parse(text, std::string_view(source));
-  } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << source << ":" << e.source().begin.line << ": " << e.description();
-    throw InputError(os.str());
-  }
+  toml::table root = parse_text(text, source);
   RunConfig cfg;
   cfg.notes = detail::apply_aliases(root, source);
   for (const auto& o : overrides)
@@ -277,33 +296,15 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials);
   cfg.model.bcs = read_bcs(r, root, grid);
 
-  const toml::table* time = r.table(root, "time", "[time]", true);
-  r.check_keys(*time, "time");
-  cfg.time.courant = r.positive(*time, "courant", "time.courant", 0.5);
-  cfg.time.end = r.positive(*time, "end", "time.end", std::nullopt);
-  cfg.time.land_on_frames = r.boolean(*time, "land_on_frames", "time.land_on_frames", true);
-
+  cfg.time = read_time(r, root);
   read_step(r, root, cfg.step);
   cfg.model.contact = detail::read_contact(r, root, cfg.model.materials, grid.dim());
-
-  const toml::table* loads = r.table(root, "loads", "[loads]", false);
-  if (loads) {
+  if (const toml::table* loads = r.table(root, "loads", "[loads]", false)) {
     r.check_keys(*loads, "loads");
     cfg.model.gravity = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);
   }
-
   cfg.output = read_output(r, root, source, cfg.time.end);
-
-  // The shape functions of every particle must fit in the grid (checked on the particles'
-  // window: storage proportional to the particles, not the grid).
-  try {
-    Operators ops;
-    ops.node_range = NodeRange::Particles;
-    assemble(grid, cfg.model.particles, cfg.step.shape, ops);
-  } catch (const NumericalError& e) {
-    throw InputError(source + ": particles outside the grid for step.shape = \"" +
-                     std::string(to_string(cfg.step.shape)) + "\": " + e.what());
-  }
+  check_supports(cfg);
   return cfg;
 }
 

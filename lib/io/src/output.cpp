@@ -174,6 +174,48 @@ void OutputFile::finish(const std::string& target) {
   path_ = target;
 }
 
+namespace {
+
+// Drops the frames after the last complete one (a killed or failed run's).
+void drop_incomplete_frames(hid_t file, int last) {
+  for (const char* group : {"particles", "grid", "matrices", "state"}) {
+    if (!h5::exists(file, group))
+      continue;
+    h5::Id g = h5::open_group(file, group);
+    for (int k = last + 1; h5::exists(g.get(), frame_name(k)); ++k)
+      H5Ldelete(g.get(), frame_name(k).c_str(), H5P_DEFAULT);
+  }
+}
+
+// Truncates every series to the rows of steps up to `step` (the restart frame's); a series that
+// a file of an earlier version lacks is made, NaN in those rows.
+void keep_series_to(hid_t file, long step, int materials, int dim) {
+  h5::Id series = h5::open_group(file, "series");
+  const Field steps = h5::read_doubles(series.get(), "step");
+  hsize_t keep = 0;
+  while (keep < hsize_t(steps.rows()) && long(steps(Index(keep), 0)) <= step)
+    ++keep;
+  auto make_missing = [&](const char* name, hsize_t width) {
+    if (h5::exists(series.get(), name))
+      return;
+    h5::create_series(series.get(), name, width);
+    const std::vector<double> missing(keep * std::max<hsize_t>(width, 1),
+                                      std::numeric_limits<double>::quiet_NaN());
+    h5::append_series(series.get(), name, missing.data(), keep, width);
+  };
+  for (const char* s : kSeries) {
+    make_missing(s, 0);
+    h5::truncate_series(series.get(), s, keep);
+  }
+  h5::truncate_series(series.get(), "momentum", keep);
+  for (int s = 0; s < 3; ++s) {
+    make_missing(kMaterialSeries[s], material_width(s, materials, dim));
+    h5::truncate_series(series.get(), kMaterialSeries[s], keep);
+  }
+}
+
+} // namespace
+
 OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next_frame) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const h5::Id fapl = access_plist();
@@ -184,59 +226,28 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
   out.file_ = File(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()));
   if (!out.file_.is_open())
     throw InputError(path + ": cannot open the run file for restart");
-  const std::vector<int> frames = complete_frames(out.file_.get());
+  const hid_t f = out.file_.get();
+  const std::vector<int> frames = complete_frames(f);
   if (frames.empty())
     throw InputError(path + ": no complete frame to restart from");
   const int last = frames.back();
-  if (!h5::exists(out.file_.get(), "state")) // a file of an earlier version
-    h5::create_group(out.file_.get(), "state");
-  // Drop incomplete frames after the last complete one.
-  for (const char* group : {"particles", "grid", "matrices", "state"}) {
-    if (!h5::exists(out.file_.get(), group))
-      continue;
-    h5::Id g = h5::open_group(out.file_.get(), group);
-    for (int k = last + 1; h5::exists(g.get(), frame_name(k)); ++k)
-      H5Ldelete(g.get(), frame_name(k).c_str(), H5P_DEFAULT);
-  }
-  // Load the state of the last frame.
-  try {
-    load_frame_from(out.file_.get(), last, cfg.model);
+  if (!h5::exists(f, "state")) // a file of an earlier version
+    h5::create_group(f, "state");
+  drop_incomplete_frames(f, last);
+  try { // the state of the last frame
+    load_frame_from(f, last, cfg.model);
   } catch (const std::runtime_error& e) {
     throw InputError(path + ": frame " + std::to_string(last) + ": " + e.what());
   }
-  h5::Id parts = h5::open_group(out.file_.get(), "particles");
-  // Keep the series rows up to that step.
-  h5::Id series = h5::open_group(out.file_.get(), "series");
-  const Field step = h5::read_doubles(series.get(), "step");
-  hsize_t keep = 0;
-  while (keep < hsize_t(step.rows()) && long(step(Index(keep), 0)) <= cfg.model.step)
-    ++keep;
-  for (const char* s : kSeries) {
-    if (!h5::exists(series.get(), s)) { // a file of an earlier version: NaN rows so far
-      h5::create_series(series.get(), s, 0);
-      const std::vector<double> missing(keep, std::numeric_limits<double>::quiet_NaN());
-      h5::append_series(series.get(), s, missing.data(), keep, 0);
-    }
-    h5::truncate_series(series.get(), s, keep);
-  }
-  h5::truncate_series(series.get(), "momentum", keep);
-  for (int s = 0; s < 3; ++s) {
-    const char* name = kMaterialSeries[s];
-    if (!h5::exists(series.get(), name)) { // a file of an earlier version: NaN rows so far
-      const hsize_t w = material_width(s, out.materials_, out.dim_);
-      h5::create_series(series.get(), name, w);
-      const std::vector<double> missing(keep * w, std::numeric_limits<double>::quiet_NaN());
-      h5::append_series(series.get(), name, missing.data(), keep, w);
-    }
-    h5::truncate_series(series.get(), name, keep);
-  }
-  h5::set_attribute(out.file_.get(), "status", std::string("running"));
+  keep_series_to(f, cfg.model.step, out.materials_, out.dim_);
+  h5::set_attribute(f, "status", std::string("running"));
+  h5::Id parts = h5::open_group(f, "particles");
   for (int k : frames) {
     h5::Id fg = h5::open_group(parts.get(), frame_name(k));
     out.frames_.emplace_back(k, h5::get_double_attribute(fg.get(), "time"));
     out.frame_particles_.push_back(cfg.model.particles.size());
   }
-  h5::check(H5Fflush(out.file_.get(), H5F_SCOPE_GLOBAL), "flush");
+  h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush");
   for (size_t k = 0; k < out.frames_.size(); ++k) // the sidecar of this file, from scratch
     out.write_xdmf_frame(k);
   next_frame = last + 1;

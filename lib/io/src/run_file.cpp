@@ -139,56 +139,76 @@ void check_regular_file(const std::string& path, long long max_bytes, const std:
                      " bytes, more than the " + std::to_string(max_bytes) + " accepted");
 }
 
-void check_run_output(const std::string& path, const std::string& input, const std::string& option,
-                      const std::string& restart) {
+namespace {
+
+// The names an output path may not have: empty, a directory, no extension, a lock file's, a
+// sidecar's, a partial file's.
+void check_output_name(const std::string& path, const std::string& option) {
   const std::string who = option + " " + path + ": ";
   if (path.empty())
     throw InputError(option + ": the output path is empty");
   std::error_code ec;
   if (fs::is_directory(path, ec))
     throw InputError(who + "is a directory; give a file name such as run.h5");
-  if (fs::path(path).extension().empty())
+  const fs::path extension = fs::path(path).extension();
+  if (extension.empty())
     throw InputError(who + "has no extension; give a name such as run.h5 (its partial file and "
                            "sidecars are named from it)");
-  if (fs::path(path).extension() == ".lock")
+  if (extension == ".lock")
     throw InputError(who + "is the name of a run's lock file; give a name such as run.h5");
-  if (fs::path(path).extension() == ".xmf")
+  if (extension == ".xmf")
     throw InputError(who + "is the name of a ParaView sidecar; give the .h5 name");
   if (is_partial_path(path))
     throw InputError(who + "names a partial file; give the result's name " + final_path(path) +
                      " (a run writes " + path + " itself and moves it there when it completes)");
+}
+
+// The output path or its partial twin `p` as a file found there: never the input, a
+// directory, a locked or damaged file, another program's file, or a killed run's restart point.
+void check_existing_output(const std::string& path, const std::string& p, const std::string& input,
+                           const std::string& option, const std::string& restart) {
+  const std::string who = option + " " + path + ": ";
+  std::error_code ec;
+  if (!input.empty() && same_file(p, input))
+    throw InputError(who + (p == path ? "is" : "its partial file " + p + " is") +
+                     " the input file; not overwritten");
+  if (fs::is_directory(p, ec))
+    throw InputError(who + "its partial file " + p + " is a directory");
+  if (!fs::exists(p, ec))
+    return;
+  const ExistingFile e = existing_file(p);
+  if (e.kind == FileKind::Locked)
+    throw InputError(path + ": another run is writing this file (" + p +
+                     " is locked); wait for it or choose another -o");
+  const std::string found = p == path ? "exists" : "its partial file " + p + " exists";
+  if (e.kind == FileKind::Damaged)
+    throw InputError(who + found +
+                     " and is a damaged HDF5 file (it cannot be opened); not overwritten (move "
+                     "it away)");
+  if (e.kind == FileKind::Other)
+    throw InputError(who + found + " and is not a sparsempm run file; not overwritten");
+  // A run that was killed or interrupted: its partial file is the point to restart from.
+  if (p != path && e.has_frame && (e.status == "running" || e.status.starts_with("interrupted")) &&
+      !(!restart.empty() && same_file(p, restart)))
+    throw InputError(who + "its partial file " + p + " holds a run that " +
+                     (e.status == "running" ? "was stopped" : "was interrupted") +
+                     "; continue it with --restart " + p + ", or move it away to start again");
+}
+
+} // namespace
+
+void check_run_output(const std::string& path, const std::string& input, const std::string& option,
+                      const std::string& restart) {
+  check_output_name(path, option);
   // A live run on this path (also where HDF5's own file locks are off) is named as such
   // before its files are judged.
   if (held_by_writer(path + ".lock"))
     throw InputError(path + ": another run is writing this file (" + path +
                      ".lock is locked); wait for it or choose another -o");
-  for (const std::string& p : {path, partial_path(path)}) {
-    if (!input.empty() && same_file(p, input))
-      throw InputError(who + (p == path ? "is" : "its partial file " + p + " is") +
-                       " the input file; not overwritten");
-    if (fs::is_directory(p, ec))
-      throw InputError(who + "its partial file " + p + " is a directory");
-    if (!fs::exists(p, ec))
-      continue;
-    const ExistingFile e = existing_file(p);
-    if (e.kind == FileKind::Locked)
-      throw InputError(path + ": another run is writing this file (" + p +
-                       " is locked); wait for it or choose another -o");
-    if (e.kind == FileKind::Damaged)
-      throw InputError(
-          who + (p == path ? "exists" : "its partial file " + p + " exists") +
-          " and is a damaged HDF5 file (it cannot be opened); not overwritten (move it away)");
-    if (e.kind == FileKind::Other)
-      throw InputError(who + (p == path ? "exists" : "its partial file " + p + " exists") +
-                       " and is not a sparsempm run file; not overwritten");
-    // A run that was killed or interrupted: its partial file is the point to restart from.
-    if (p != path && e.has_frame &&
-        (e.status == "running" || e.status.starts_with("interrupted")) &&
-        !(!restart.empty() && same_file(p, restart)))
-      throw InputError(who + "its partial file " + p + " holds a run that " +
-                       (e.status == "running" ? "was stopped" : "was interrupted") +
-                       "; continue it with --restart " + p + ", or move it away to start again");
-  }
+  for (const std::string& p : {path, partial_path(path)})
+    check_existing_output(path, p, input, option, restart);
+  const std::string who = option + " " + path + ": ";
+  std::error_code ec;
   for (const std::string& p : {path, partial_path(path)}) {
     const std::string xmf = xdmf_path(p);
     if (!input.empty() && same_file(xmf, input))

@@ -176,6 +176,51 @@ std::vector<std::string> apply_aliases(toml::table& root, const std::string& sou
   return notes;
 }
 
+namespace {
+
+// The entry of an array of tables an override names ("material.bar.youngs", "bc.0.wall.depth"):
+// the table by name or index, or its inline table; `section` receives the schema section.
+toml::table* listed_target(toml::node* sec, const std::vector<std::string>& parts,
+                           const std::string& spec, std::string& section) {
+  if (parts.size() != 3 && parts.size() != 4)
+    throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] entries are addressed as " +
+                     parts[0] + ".<name or index>.key=value (or .table.key=value)");
+  toml::table* target = nullptr;
+  if (toml::array* arr = sec ? sec->as_array() : nullptr)
+    for (size_t k = 0; k < arr->size() && !target; ++k) {
+      toml::table* t = (*arr)[k].as_table();
+      const auto name = t ? t->get("name") : nullptr;
+      if (t && ((name && name->value<std::string>() == parts[1]) || std::to_string(k) == parts[1]))
+        target = t;
+    }
+  if (!target)
+    throw InputError("--set " + clip(spec) + ": no [[" + parts[0] + "]] named or numbered '" +
+                     parts[1] + "'");
+  if (parts.size() == 3)
+    return target;
+  section = parts[0] + "." + parts[2]; // a key of an inline table of the entry
+  toml::node* sub = target->get(parts[2]);
+  if (!schema().count(section) || !sub || !sub->as_table())
+    throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] " + parts[1] +
+                     " has no table '" + parts[2] + "'");
+  return sub->as_table();
+}
+
+// The table of a plain section an override names ("time.end"), made when absent.
+toml::table* section_target(toml::table& root, toml::node* sec,
+                            const std::vector<std::string>& parts, const std::string& spec) {
+  if (parts.size() != 2)
+    throw InputError("--set " + clip(spec) + ": expected " + parts[0] + ".key=value");
+  if (!sec)
+    sec = &root.insert_or_assign(parts[0], toml::table{}).first->second;
+  toml::table* target = sec->as_table();
+  if (!target)
+    throw InputError("--set " + clip(spec) + ": '" + parts[0] + "' is not a table");
+  return target;
+}
+
+} // namespace
+
 std::string apply_override(toml::table& root, const std::string& spec) {
   for (const char c : spec)
     if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f)
@@ -199,41 +244,9 @@ std::string apply_override(toml::table& root, const std::string& spec) {
   toml::node* sec = root.get(parts[0]);
   const bool listed =
       parts[0] == "material" || parts[0] == "body" || parts[0] == "bc" || parts[0] == "contact";
-  toml::table* target = nullptr;
   std::string section = parts[0]; // the schema section of the key set
-  if (listed) {
-    if (parts.size() != 3 && parts.size() != 4)
-      throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] entries are addressed as " +
-                       parts[0] + ".<name or index>.key=value (or .table.key=value)");
-    toml::array* arr = sec ? sec->as_array() : nullptr;
-    if (arr)
-      for (size_t k = 0; k < arr->size() && !target; ++k) {
-        toml::table* t = (*arr)[k].as_table();
-        const auto name = t ? t->get("name") : nullptr;
-        if (t &&
-            ((name && name->value<std::string>() == parts[1]) || std::to_string(k) == parts[1]))
-          target = t;
-      }
-    if (!target)
-      throw InputError("--set " + clip(spec) + ": no [[" + parts[0] + "]] named or numbered '" +
-                       parts[1] + "'");
-    if (parts.size() == 4) { // a key of an inline table of the entry, e.g. bc.0.wall.depth
-      section = parts[0] + "." + parts[2];
-      toml::node* sub = target->get(parts[2]);
-      if (!schema().count(section) || !sub || !sub->as_table())
-        throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] " + parts[1] +
-                         " has no table '" + parts[2] + "'");
-      target = sub->as_table();
-    }
-  } else {
-    if (parts.size() != 2)
-      throw InputError("--set " + clip(spec) + ": expected " + parts[0] + ".key=value");
-    if (!sec)
-      sec = &root.insert_or_assign(parts[0], toml::table{}).first->second;
-    target = sec->as_table();
-    if (!target)
-      throw InputError("--set " + clip(spec) + ": '" + parts[0] + "' is not a table");
-  }
+  toml::table* target =
+      listed ? listed_target(sec, parts, spec, section) : section_target(root, sec, parts, spec);
   const std::string& key = parts.back();
   const auto& valid = schema().at(section);
   if (std::find(valid.begin(), valid.end(), key) == valid.end())
