@@ -223,22 +223,12 @@ void build_clouds(const Operators& ops, const ParticleOperators& op, ContactNode
 
 } // namespace
 
-void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
-                        const Contact& contact, const ContactParticles& P, ContactNodes& cn,
-                        const BoundaryConditions* bcs) {
-  cn.nodes.clear();
-  cn.sides.clear();
-  cn.friction_work = 0;
+namespace {
+
+// The nodes seen by two or more fields (a = b = −1 for three or more), and their slots.
+void collect_contact_nodes(const Operators& ops, ContactNodes& cn) {
   const int nf = ops.fields;
-  if (nf < 2)
-    return;
   const Index ng = ops.grid_node_count;
-  if (uses(contact, ContactNormal::AverageGradient))
-    volume_gradient(op, P.volume, cn.gradient);
-  if (uses(contact, ContactDetection::Position) ||
-      uses(contact, ContactDetection::DistanceFunction))
-    map_momentum(op, P.X, cn.position); // Σ_{p∈α} S_pi M_p X_p
-  // The nodes seen by two or more fields.
   for (Index i = 0; i < ng; ++i) {
     int count = 0, a = -1, b = -1;
     for (int f = 0; f < nf; ++f)
@@ -257,14 +247,57 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
   cn.slot.assign(size_t(ng), -1);
   for (size_t c = 0; c < cn.nodes.size(); ++c)
     cn.slot[size_t(cn.nodes[c].node)] = int(c);
+}
+
+// n̂ ← P n̂ / |P n̂| with P the node's projector onto its free directions.
+Eigen::Vector3d constrained_normal(const ContactNodes& cn, const ContactNodes::Node& node,
+                                   const Eigen::Vector3d& n) {
+  return node.constrained < 0 ? n : unit_or_zero(cn.free[size_t(node.constrained)] * n);
+}
+
+// Contact 2020 §3.4, Eq. (50): at a node of three or more fields, each field against the others
+// lumped, with the law of the heaviest other field.
+void lumped_sides(const Operators& ops, const Contact& contact, const NodeGeometry& geo,
+                  ContactNodes& cn, ContactNodes::Node& node) {
+  const int nf = ops.fields;
+  const Index ng = ops.grid_node_count;
+  node.first_side = Index(cn.sides.size());
+  for (int f = 0; f < nf; ++f) {
+    ContactNodes::Side side;
+    if (ops.active[f * ng + node.node]) {
+      int heaviest = -1;
+      for (int o = 0; o < nf; ++o)
+        if (o != f && ops.active[o * ng + node.node] &&
+            (heaviest < 0 || ops.m[o * ng + node.node] > ops.m[heaviest * ng + node.node]))
+          heaviest = o;
+      side.pair = &contact.pair(f, heaviest);
+      side.normal = constrained_normal(cn, node, geo.normal(*side.pair, f, -1));
+      side.separation = geo.separation(*side.pair, f, -1, side.normal);
+    }
+    cn.sides.push_back(side);
+  }
+}
+
+} // namespace
+
+void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOperators& op,
+                        const Contact& contact, const ContactParticles& P, ContactNodes& cn,
+                        const BoundaryConditions* bcs) {
+  cn.nodes.clear();
+  cn.sides.clear();
+  cn.friction_work = 0;
+  if (ops.fields < 2)
+    return;
+  if (uses(contact, ContactNormal::AverageGradient))
+    volume_gradient(op, P.volume, cn.gradient);
+  if (uses(contact, ContactDetection::Position) ||
+      uses(contact, ContactDetection::DistanceFunction))
+    map_momentum(op, P.X, cn.position); // Σ_{p∈α} S_pi M_p X_p
+  collect_contact_nodes(ops, cn);
   if (bcs)
     free_directions(grid, *bcs, cn);
   else
     cn.free.clear();
-  // n̂ ← P n̂ / |P n̂| with P the node's projector onto its free directions.
-  auto constrain = [&](const ContactNodes::Node& node, const Eigen::Vector3d& n) {
-    return node.constrained < 0 ? n : unit_or_zero(cn.free[size_t(node.constrained)] * n);
-  };
   if (uses(contact, ContactNormal::LogisticRegression) ||
       uses(contact, ContactDetection::LogisticRegression))
     build_clouds(ops, op, cn);
@@ -272,31 +305,15 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
   for (size_t c = 0; c < cn.nodes.size(); ++c) {
     ContactNodes::Node& node = cn.nodes[c];
     const NodeGeometry geo{grid, ops, cn, P, node.node, Index(c)};
-    if (node.a >= 0) {
-      node.pair = &contact.pair(node.a, node.b);
-      node.normal = constrain(node, geo.normal(*node.pair, node.a, node.b));
-      node.separation = geo.separation(*node.pair, node.a, node.b, node.normal);
-      const double h = cell_width_along(grid, node.normal);
-      node.area = h > 0 ? vcell / h : 0;
+    if (node.a < 0) {
+      lumped_sides(ops, contact, geo, cn, node);
       continue;
     }
-    // Contact 2020 §3.4, Eq. (50): each field against the others lumped, with the law of the
-    // heaviest other field.
-    node.first_side = Index(cn.sides.size());
-    for (int f = 0; f < nf; ++f) {
-      ContactNodes::Side side;
-      if (ops.active[f * ng + node.node]) {
-        int heaviest = -1;
-        for (int o = 0; o < nf; ++o)
-          if (o != f && ops.active[o * ng + node.node] &&
-              (heaviest < 0 || ops.m[o * ng + node.node] > ops.m[heaviest * ng + node.node]))
-            heaviest = o;
-        side.pair = &contact.pair(f, heaviest);
-        side.normal = constrain(node, geo.normal(*side.pair, f, -1));
-        side.separation = geo.separation(*side.pair, f, -1, side.normal);
-      }
-      cn.sides.push_back(side);
-    }
+    node.pair = &contact.pair(node.a, node.b);
+    node.normal = constrained_normal(cn, node, geo.normal(*node.pair, node.a, node.b));
+    node.separation = geo.separation(*node.pair, node.a, node.b, node.normal);
+    const double h = cell_width_along(grid, node.normal);
+    node.area = h > 0 ? vcell / h : 0;
   }
 }
 

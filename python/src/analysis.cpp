@@ -103,15 +103,9 @@ void bind_results(py::module_& m) {
       .def_readonly("active", &MassSpectrum::active);
 }
 
-} // namespace
-
-void bind_analysis(py::module_& m) {
-  bind_linearized_step(m);
-  bind_results(m);
-  m.def(
-      "_spectral_radius",
-      [](const LinearizedStep& T, Index dense_limit) { return spectral_radius(T, dense_limit); },
-      py::arg("T"), py::arg("dense_limit") = 1500, py::call_guard<py::gil_scoped_release>());
+// The critical Courant numbers: spectral at one configuration and over lattice shifts, and by
+// simulation (FMPM 2026 §3.3).
+void bind_courant_searches(py::module_& m) {
   m.def(
       "critical_courant",
       [](const PyModel& pm, const std::optional<StepOptions>& options, double tol, double c_max,
@@ -158,6 +152,18 @@ void bind_analysis(py::module_& m) {
       py::arg("max_energy_change") = std::numeric_limits<double>::infinity(),
       "The largest C whose full run to `end` (default model.end) does not fail, by bisection: "
       "the simulation column of `smpm stability`.");
+}
+
+} // namespace
+
+void bind_analysis(py::module_& m) {
+  bind_linearized_step(m);
+  bind_results(m);
+  bind_courant_searches(m);
+  m.def(
+      "_spectral_radius",
+      [](const LinearizedStep& T, Index dense_limit) { return spectral_radius(T, dense_limit); },
+      py::arg("T"), py::arg("dense_limit") = 1500, py::call_guard<py::gil_scoped_release>());
   m.def(
       "mass_spectrum",
       [](PyOperators& o, Index dense_limit) {

@@ -82,15 +82,12 @@ py::array exact_grid_velocity(PyOperators& o, const DoubleArray& p_in,
 
 } // namespace
 
-void bind_operators(py::module_& m) {
-  py::class_<PyOperators>(m, "Operators",
-                          "The operators of one configuration (FMPM 2026 §2.1): S, G, M, m and "
-                          "the active nodes; consistent_mass(), S_plus() and expansion_matrix() "
-                          "on request. Matrices are scipy.sparse.csr_matrix; S, G, M, m and "
-                          "active share the library's storage (read-only).")
-      .def_property_readonly(
-          "S", [](py::object self) { return csr_view(self.cast<PyOperators&>().prep.ops.S, self); },
-          "N × n shape-function weights S_pi")
+namespace {
+
+void bind_matrices(py::class_<PyOperators>& c) {
+  c.def_property_readonly(
+       "S", [](py::object self) { return csr_view(self.cast<PyOperators&>().prep.ops.S, self); },
+       "N × n shape-function weights S_pi")
       .def_property_readonly(
           "G",
           [](py::object self) {
@@ -134,8 +131,11 @@ void bind_operators(py::module_& m) {
             Eigen::VectorXi a = active_nodes(o.ops());
             return py::array_t<int>(a.size(), a.data());
           },
-          "indices of the active nodes, ascending")
-      .def_property_readonly("dim", [](const PyOperators& o) { return o.ops().dim; })
+          "indices of the active nodes, ascending");
+}
+
+void bind_numbering(py::class_<PyOperators>& c) {
+  c.def_property_readonly("dim", [](const PyOperators& o) { return o.ops().dim; })
       .def_property_readonly(
           "fields", [](const PyOperators& o) { return o.ops().fields; },
           "velocity fields n_f: blocks of n_g columns of S (1 unless the model has [[contact]] "
@@ -164,11 +164,14 @@ void bind_operators(py::module_& m) {
           "bcs", [](PyOperators& o) -> const BoundaryConditions& { return o.prep.bcs; },
           py::return_value_policy::reference_internal,
           "the model's velocity BCs with the walls' nodes at the model's time: those of a step "
-          "from this configuration (pass them to fmpm_velocity and exact_velocity)")
-      .def(
-          "consistent_mass",
-          [](const PyOperators& o) { return csr_owned(SparseRowMatrix(consistent_mass(o.ops()))); },
-          "m̃ = Sᵀ diag(M) S, n × n (rows sum to m)")
+          "from this configuration (pass them to fmpm_velocity and exact_velocity)");
+}
+
+void bind_products(py::class_<PyOperators>& c) {
+  c.def(
+       "consistent_mass",
+       [](const PyOperators& o) { return csr_owned(SparseRowMatrix(consistent_mass(o.ops()))); },
+       "m̃ = Sᵀ diag(M) S, n × n (rows sum to m)")
       .def(
           "S_plus",
           [](const PyOperators& o) { return csr_owned(SparseRowMatrix(S_plus(o.ops()))); },
@@ -187,7 +190,19 @@ void bind_operators(py::module_& m) {
             return from_field(std::move(p), V.ndim() == 1);
           },
           py::arg("V"), "p = Sᵀ (M ∘ V), one row per node");
+}
 
+} // namespace
+
+void bind_operators(py::module_& m) {
+  py::class_<PyOperators> c(m, "Operators",
+                            "The operators of one configuration (FMPM 2026 §2.1): S, G, M, m and "
+                            "the active nodes; consistent_mass(), S_plus() and expansion_matrix() "
+                            "on request. Matrices are scipy.sparse.csr_matrix; S, G, M, m and "
+                            "active share the library's storage (read-only).");
+  bind_matrices(c);
+  bind_numbering(c);
+  bind_products(c);
   m.def(
       "assemble",
       [](const PyModel& model, const py::object& shape) {

@@ -54,6 +54,18 @@ AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj,
   return advance(pm.model, stepper, options, observer);
 }
 
+// The Courant relation of the time step (diagnostics.hpp).
+void bind_courant(py::module_& m) {
+  m.def(
+      "stable_time_step",
+      [](const PyModel& pm, double courant) { return stable_time_step(pm.model, courant); },
+      py::arg("model"), py::arg("courant"),
+      "Δt = C Δx_min / max(c_wave, max_p |V_p|) (FMPM 2026 §3.3)");
+  m.def(
+      "courant_of", [](const PyModel& pm, double dt) { return courant_of(pm.model, dt); },
+      py::arg("model"), py::arg("dt"), "C = Δt max(c_wave, max_p |V_p|) / Δx_min");
+}
+
 } // namespace
 
 void bind_step(py::module_& m) {
@@ -106,16 +118,8 @@ void bind_step(py::module_& m) {
       .def_property_readonly(
           "fmpm_metrics", [](const Stepper& s) { return s.last_fmpm_metrics(); },
           "the convergence metric of passes 2, 3, ... of the last step's FMPM loop (dynamic "
-          "FMPM; scheme.dynamic_limit = 0 runs it to the order)");
-
-  m.def(
-      "stable_time_step",
-      [](const PyModel& pm, double courant) { return stable_time_step(pm.model, courant); },
-      py::arg("model"), py::arg("courant"),
-      "Δt = C Δx_min / max(c_wave, max_p |V_p|) (FMPM 2026 §3.3)");
-  m.def(
-      "courant_of", [](const PyModel& pm, double dt) { return courant_of(pm.model, dt); },
-      py::arg("model"), py::arg("dt"), "C = Δt max(c_wave, max_p |V_p|) / Δx_min");
+          "FMPM; step.dynamic_limit = 0 runs it to the order)");
+  bind_courant(m);
 }
 
 } // namespace smpm::python
