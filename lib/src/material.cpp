@@ -104,20 +104,35 @@ void linear_stress_energy(const Material& m, int d, const double* F, double* sig
     run.template operator()<3>();
 }
 
+// The shear term of the hyperelastic and Mie–Grüneisen laws (contact 2020 Eqs. 18, 51):
+// σ_shear = (G/J) dev(B̄), B̄ = J^{−2/3} F Fᵀ, and its energy W = (G/2)(tr B̄ − 3).
+Eigen::Matrix3d isochoric_shear(double G, const Eigen::Matrix3d& F, double J) {
+  const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
+  return (G / J) * (Bbar - (Bbar.trace() / 3.0) * Eigen::Matrix3d::Identity());
+}
+double isochoric_shear_energy(double G, const Eigen::Matrix3d& F, double J) {
+  const double I1 = (F.transpose() * F).trace();
+  return 0.5 * G * (I1 * std::pow(J, -2.0 / 3.0) - 3);
+}
+
 } // namespace
 
 Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3d& F) {
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   const double G = mat.shear_modulus();
   switch (mat.model) {
-  case MaterialModel::Linear: {
-    if (dim == 1) { // bar in uniaxial stress
-      Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
-      s(0, 0) = mat.youngs * (F(0, 0) - 1);
-      return s;
-    }
-    const Eigen::Matrix3d eps = 0.5 * (F + F.transpose()) - I;
-    return mat.lame_lambda() * eps.trace() * I + 2 * G * eps;
+  case MaterialModel::Linear: { // linear_stress; in 2D plane strain, the 3D law at F₃₃ = 1
+    const int d = dim == 1 ? 1 : 3;
+    double Fd[9], sigma[9];
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        Fd[a * d + b] = F(a, b);
+    linear_stress_energy(mat, d, Fd, sigma, nullptr);
+    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        s(a, b) = sigma[a * d + b];
+    return s;
   }
   case MaterialModel::NeoHookean: { // FMPM 2026 Eq. (14)
     const double J = F.determinant();
@@ -125,15 +140,11 @@ Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3
   }
   case MaterialModel::Hyperelastic: { // contact 2020 Eq. (18): σ = (G/J) dev(B̄) + (K/2J)(J² − 1) I
     const double J = F.determinant();
-    const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
-    const Eigen::Matrix3d dev = Bbar - (Bbar.trace() / 3.0) * I;
-    return (G / J) * dev + (0.5 * mat.bulk_modulus() * (J * J - 1) / J) * I;
+    return isochoric_shear(G, F, J) + (0.5 * mat.bulk_modulus() * (J * J - 1) / J) * I;
   }
   case MaterialModel::MieGruneisen: { // U = 0, q = 0: the cold curve with the shear term
     const double J = F.determinant();
-    const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
-    const Eigen::Matrix3d dev = Bbar - (Bbar.trace() / 3.0) * I;
-    return (G / J) * dev - mie_gruneisen_pressure(mat, J, 0) * I;
+    return isochoric_shear(G, F, J) - mie_gruneisen_pressure(mat, J, 0) * I;
   }
   }
   return Eigen::Matrix3d::Zero();
@@ -157,14 +168,12 @@ double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d
            0.25 * mat.lame_lambda() * (J * J - 1 - 2 * std::log(J));
   }
   case MaterialModel::Hyperelastic: {
-    const double J = F.determinant(), I1 = (F.transpose() * F).trace();
-    return 0.5 * G * (I1 * std::pow(J, -2.0 / 3.0) - 3) +
+    const double J = F.determinant();
+    return isochoric_shear_energy(G, F, J) +
            0.5 * mat.bulk_modulus() * (0.5 * (J * J - 1) - std::log(J));
   }
-  case MaterialModel::MieGruneisen: { // the shear term only: the rest is the energy U
-    const double J = F.determinant(), I1 = (F.transpose() * F).trace();
-    return 0.5 * G * (I1 * std::pow(J, -2.0 / 3.0) - 3);
-  }
+  case MaterialModel::MieGruneisen: // the shear term only: the rest is the energy U
+    return isochoric_shear_energy(G, F, F.determinant());
   }
   return 0;
 }
@@ -288,12 +297,9 @@ bool uses_shock_physics(const std::vector<Material>& materials) {
 }
 
 namespace {
-// The shear term (G/J) dev(B̄) of a Mie–Grüneisen particle.
+// The shear term of a Mie–Grüneisen particle (none for a fluid, G = 0).
 Eigen::Matrix3d shear_term(const Material& mat, const Eigen::Matrix3d& F, double J) {
-  if (mat.shear == 0)
-    return Eigen::Matrix3d::Zero();
-  const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
-  return (mat.shear / J) * (Bbar - (Bbar.trace() / 3.0) * Eigen::Matrix3d::Identity());
+  return mat.shear == 0 ? Eigen::Matrix3d::Zero() : isochoric_shear(mat.shear, F, J);
 }
 } // namespace
 
