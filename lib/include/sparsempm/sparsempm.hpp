@@ -18,5 +18,7 @@
 #include "sparsempm/shape.hpp"
 #include "sparsempm/stages.hpp"
 #include "sparsempm/step.hpp"
+#include "sparsempm/step_options.hpp"
+#include "sparsempm/step_preparation.hpp"
 #include "sparsempm/types.hpp"
 #include "sparsempm/version.hpp"

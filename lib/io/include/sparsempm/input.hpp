@@ -8,7 +8,7 @@
 /// and name the nearest valid key when a key is unknown.
 
 #include "sparsempm/model.hpp"
-#include "sparsempm/step.hpp"
+#include "sparsempm/step_options.hpp"
 
 #include <string>
 #include <vector>
