@@ -1,6 +1,7 @@
 #pragma once
 // The checks of the stability and spectrum options, before any work: the library's limits
-// (validate of step_options.hpp) in the words of the command line, "--option value: reason".
+// (validate of step_options.hpp) in the words of the command line, "--option value: reason";
+// and the cells of their tables.
 
 #include <sparsempm/errors.hpp>
 #include <sparsempm/step_options.hpp>
@@ -14,6 +15,16 @@ namespace smpm::app {
 
 /// Most entries of a list option.
 inline constexpr size_t kMaxList = 1000;
+
+/// A value as a table cell shows it: `precision` significant digits, NaN empty.
+inline std::string cell(double v, int precision = 4) {
+  if (std::isnan(v))
+    return "";
+  std::ostringstream os;
+  os.precision(precision);
+  os << v;
+  return os.str();
+}
 
 /// A value as a message shows it (a table cell leaves NaN empty).
 inline std::string shown(double v) {

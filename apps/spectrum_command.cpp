@@ -21,15 +21,6 @@ namespace smpm::app {
 
 namespace {
 
-std::string cell(double v, int precision) {
-  if (std::isnan(v))
-    return "";
-  std::ostringstream os;
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
-
 void validate(const SpectrumArgs& a) {
   check_fmpm_lists(a.orders, a.blend_alphas, a.blend_every);
   if (!(a.courant >= 0) || !std::isfinite(a.courant))

@@ -37,15 +37,6 @@ struct Row {
   bool fmpm() const { return opt.velocity == VelocityUpdate::FMPM; }
 };
 
-std::string cell(double v, int precision = 4) {
-  if (std::isnan(v))
-    return "";
-  std::ostringstream os;
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
-
 // The (m, α) pairs of the blended rows: every --blend-every with every --blend-alpha but 1 (the
 // unblended rows), or the pairs of the earlier --blend m:alpha when it is given.
 std::vector<std::pair<int, double>> blend_pairs(const StabilityArgs& a) {

@@ -40,6 +40,11 @@ struct PyOperators {
   const Grid& grid() const { return prep.ops.grid; }
 };
 
+/// A DeprecationWarning of the one vocabulary: "'old' is the earlier name of 'name' (accepted
+/// in this release only)"; `note` given: that text instead (the input's notes).
+void warn_earlier_name(const std::string& old_name, const std::string& name,
+                       const std::string& note = {});
+
 /// A Python value as TOML text: bool, number, string (quoted with `quote`; a top-level string of
 /// an override as `--set` takes it), list, dict (an inline table). InputError otherwise.
 std::string toml_value(const py::handle& v, bool quote);

@@ -28,14 +28,6 @@ std::array<double, 3> triple(const std::vector<double>& v, double fill, const ch
   return t;
 }
 
-// Warns that `old_name` is the earlier name of `name` (accepted in this release only).
-void warn_earlier(const char* old_name, const char* name) {
-  const std::string text = std::string("'") + old_name + "' is the earlier name of '" + name +
-                           "' (accepted in this release only)";
-  if (PyErr_WarnEx(PyExc_DeprecationWarning, text.c_str(), 2) != 0)
-    throw py::error_already_set();
-}
-
 // The particles of sparsempm.Model(grid, X, mass, volume0, ...), with the checks of the input
 // reader in its words.
 Particles
@@ -91,10 +83,10 @@ PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleAr
   for (const auto& [key, value] : earlier) {
     const std::string k = py::str(key);
     if (k == "volume") {
-      warn_earlier("volume", "volume0");
+      warn_earlier_name("volume", "volume0");
       volume0 = value.cast<DoubleArray>();
     } else if (k == "body_force") {
-      warn_earlier("body_force", "gravity");
+      warn_earlier_name("body_force", "gravity");
       gravity = value.cast<std::vector<double>>();
     } else {
       throw InputError("Model: unexpected argument '" + clip(k) + "'");
@@ -245,8 +237,7 @@ PyModel from_toml(const std::string& path, const py::dict& overrides) {
     sets.push_back(py::str(key).cast<std::string>() + "=" + toml_value(value, false));
   RunConfig cfg = read_input_file(path, sets);
   for (const std::string& note : cfg.notes) // the earlier names the input used
-    if (PyErr_WarnEx(PyExc_DeprecationWarning, note.c_str(), 1) != 0)
-      throw py::error_already_set();
+    warn_earlier_name("", "", note);
   return PyModel{std::move(cfg.model), std::move(cfg.step), cfg.time, path};
 }
 

@@ -40,10 +40,7 @@ py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int order,
                                             : nullptr;
     if (!current)
       throw InputError("fmpm_velocity: unexpected argument '" + clip(name) + "'");
-    const std::string note =
-        "'" + name + "' is the earlier name of '" + current + "' (accepted in this release only)";
-    if (PyErr_WarnEx(PyExc_DeprecationWarning, note.c_str(), 1) != 0)
-      throw py::error_already_set();
+    warn_earlier_name(name, current);
     if (name == "k")
       opt.order = value.cast<int>();
     else if (name == "alpha")

@@ -53,14 +53,6 @@ void name_property(py::class_<Class>& c, const char* name, Get get, Set set, con
       name, [get](const Class& o) { return std::string(to_string(get(o))); }, set, doc);
 }
 
-// Warns once per call that `old_name` is the earlier name of `name` (accepted in this release).
-void warn_earlier_name(const char* old_name, const char* name) {
-  const std::string text = std::string("'") + old_name + "' is the earlier name of '" + name +
-                           "' (accepted in this release only)";
-  if (PyErr_WarnEx(PyExc_DeprecationWarning, text.c_str(), 2) != 0)
-    throw py::error_already_set();
-}
-
 void bind_step_choices(py::class_<StepOptions>& c) {
   name_property(
       c, "shape", [](const StepOptions& o) { return o.shape; },

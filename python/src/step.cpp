@@ -29,10 +29,7 @@ AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj,
     if (py::str(key).cast<std::string>() != "t_end")
       throw InputError("advance: unexpected argument '" + clip(py::str(key).cast<std::string>()) +
                        "'");
-    if (PyErr_WarnEx(PyExc_DeprecationWarning,
-                     "'t_end' is the earlier name of 'end' (accepted in this release only)",
-                     1) != 0)
-      throw py::error_already_set();
+    warn_earlier_name("t_end", "end");
     end = value.cast<double>();
   }
   const AdvanceOptions options{.end = end.value_or(pm.time_settings.end),

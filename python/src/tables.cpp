@@ -14,6 +14,15 @@
 
 namespace smpm::python {
 
+void warn_earlier_name(const std::string& old_name, const std::string& name,
+                       const std::string& note) {
+  const std::string text = !note.empty() ? note
+                                         : "'" + old_name + "' is the earlier name of '" + name +
+                                               "' (accepted in this release only)";
+  if (PyErr_WarnEx(PyExc_DeprecationWarning, text.c_str(), 1) != 0)
+    throw py::error_already_set();
+}
+
 std::string toml_value(const py::handle& v, bool quote) {
   if (py::isinstance<py::bool_>(v))
     return v.cast<bool>() ? "true" : "false";

@@ -312,3 +312,26 @@ def test_every_table_of_an_input_from_python(example, steps):
             stepper.step(m, smpm.stable_time_step(m, ref.courant))
     for name in ("X", "V", "F", "stress", "energy"):
         assert np.array_equal(getattr(model.particles, name), getattr(ref.particles, name)), name
+
+
+def test_earlier_python_names_warn_and_mean_the_same():
+    # The renames of one vocabulary (README): k, alpha, every, volume, body_force, t_end and the
+    # input's step.update / [scheme] still work in this release, each with a DeprecationWarning.
+    bar = smpm.Model.from_toml(str(BAR))
+    ops = smpm.assemble(bar)
+    p = ops.momentum(bar.particles.V)
+    with pytest.warns(DeprecationWarning, match="'k' is the earlier name of 'order'"):
+        old = smpm.fmpm_velocity(ops, p, k=4, alpha=0.8, every=2)
+    assert np.array_equal(old, smpm.fmpm_velocity(ops, p, order=4, blend_alpha=0.8, blend_every=2))
+    grid = smpm.Grid(cells=[4])
+    with pytest.warns(DeprecationWarning, match="'volume' is the earlier name of 'volume0'"):
+        m = smpm.Model(grid, X=[1.5, 2.5], mass=[1, 1], volume=[1, 1], materials=[smpm.Material()],
+                       body_force=[-1.0])
+    assert list(m.particles.volume0) == [1, 1] and m.gravity == [-1.0]
+    a, b = bar.copy(), bar.copy()
+    with pytest.warns(DeprecationWarning, match="'t_end' is the earlier name of 'end'"):
+        smpm.Stepper(a.options).advance(a, t_end=4.0, courant=0.5)
+    smpm.Stepper(b.options).advance(b, end=4.0, courant=0.5)
+    assert np.array_equal(a.particles.V, b.particles.V)
+    with pytest.warns(DeprecationWarning, match="--set scheme.velocity is now --set step.velocity"):
+        assert smpm.Model.from_toml(str(BAR), {"scheme.velocity": "PIC"}).options.velocity == "PIC"
