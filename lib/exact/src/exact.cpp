@@ -83,8 +83,8 @@ int axis_of(const VelocityCondition& c, int d) {
   for (size_t k = 0; k < std::min<size_t>(3, order.size()); ++k)
     os << (k ? ", " : "") << "node " << ops.whole_node(order[k]) << " (m = " << ops.m[order[k]]
        << ")";
-  os << " (set scheme.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
-        "scheme.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
+  os << " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
+        "step.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
   throw NumericalError(os.str());
 }
 } // namespace
