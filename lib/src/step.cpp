@@ -43,25 +43,31 @@ const std::vector<double>& Stepper::last_fmpm_metrics() const {
   return buf_->step.fmpm.metrics;
 }
 
+Stepper::Prepared Stepper::prepared_of(const Model& model) {
+  return {&model,
+          model.step,
+          model.time,
+          model.particles.size(),
+          model.particles.X.data(),
+          model.particles.F.data()};
+}
+
 const StepPreparation& Stepper::prepare(const Model& model) {
-  prepared_model_ = nullptr;
+  prepared_ = {};
   try {
     prepare_step(model, opt_.shape, prep_);
   } catch (const NumericalError& e) { // the next step's failure
     throw at_step(e, model.step + 1, model.time);
   }
-  prepared_model_ = &model;
-  prepared_step_ = model.step;
-  prepared_time_ = model.time;
+  prepared_ = prepared_of(model);
   return prep_;
 }
 
 void Stepper::step(Model& model, double dt) {
   Particles& P = model.particles;
   try {
-    const bool prepared =
-        prepared_model_ == &model && prepared_step_ == model.step && prepared_time_ == model.time;
-    prepared_model_ = nullptr;
+    const bool prepared = prepared_.model && prepared_ == prepared_of(model);
+    prepared_ = {};
     if (!prepared)
       prepare_step(model, opt_.shape, prep_);
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP

@@ -20,6 +20,18 @@ namespace {
 
 using DoubleArray = py::array_t<double, py::array::forcecast>;
 
+// Conditions of moving walls hold the nodes a step selects (prepare_step): the model's own
+// BCs (model.bcs) hold none. Refuses those, which would silently leave the walls out.
+void check_wall_nodes(const BoundaryConditions* bcs) {
+  if (!bcs)
+    return;
+  for (const VelocityCondition& c : bcs->conditions)
+    if (c.wall >= 0 && c.nodes.empty())
+      throw InputError("bcs: the wall '" + c.label +
+                       "' has no nodes selected (model.bcs as given); pass ops.bcs, the "
+                       "conditions a step from this configuration uses, walls included");
+}
+
 // The grid momentum p (n or n × d) as a field with one row per node.
 Field momentum(const PyOperators& o, const DoubleArray& p) {
   return to_field(p, o.ops().num_nodes(), "p");
@@ -50,6 +62,7 @@ py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int order,
   }
   opt.bc_method = bc_method_from_string(bc_method);
   validate(opt);
+  check_wall_nodes(bcs);
   Field p = momentum(o, p_in);
   const SparseRowMatrix* mt = opt.order > 1 ? &o.prep.consistent_mass() : nullptr;
   Field v;
@@ -66,6 +79,7 @@ py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int order,
 py::array exact_grid_velocity(PyOperators& o, const DoubleArray& p_in,
                               const BoundaryConditions* bcs, double time, double regularization,
                               double mass_cutoff) {
+  check_wall_nodes(bcs);
   const Field p = momentum(o, p_in);
   const SparseRowMatrix& mt = o.prep.consistent_mass();
   CholmodSolver solver({.regularization = regularization, .mass_cutoff = mass_cutoff});

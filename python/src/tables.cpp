@@ -87,7 +87,10 @@ Index add_bc(PyModel& pm, const py::dict& table) {
   const BoundaryConditions bcs =
       read_bc_tables(toml_tables("bc", {table}), pm.source + " (add_bc)", pm.model.grid);
   const Index nodes = bcs.num_constrained();
-  pm.model.bcs.append(bcs);
+  BoundaryConditions all = pm.model.bcs;
+  all.append(bcs);
+  all.check_superposition(); // against the conditions already there, as the input reader does
+  pm.model.bcs = std::move(all);
   return nodes;
 }
 

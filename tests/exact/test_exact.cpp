@@ -96,6 +96,29 @@ TEST_CASE("with axis velocity BCs the exact solve is the limit of the incrementa
       CHECK(exact(i, 0) == smpm::test::approx(0.2 + 0.1 * s.grid.node_coordinate(i, 1), 1e-15));
 }
 
+TEST_CASE("a condition within round-off of an axis prescribes that axis", "[exact]") {
+  // exact.hpp: conditions must be along axes; a direction within 1e-12 of one (a normalised
+  // input) is taken as the axis, with its sign: the same solution as the exact axis, bit for bit.
+  const Setup s = setup();
+  auto solve = [&](const Eigen::Vector3d& direction) {
+    BoundaryConditions bcs;
+    VelocityCondition pull;
+    pull.nodes = nodes_on_plane(s.grid, 0, 5.0);
+    pull.direction = direction;
+    pull.value = [](double, const Eigen::Vector3d& x) { return 0.2 + 0.1 * x[1]; };
+    bcs.conditions.push_back(pull);
+    Field v;
+    CholmodSolver().solve(s.ops, s.mt.matrix, {&s.grid, &bcs, 0.0}, s.p, v);
+    return v;
+  };
+  const Field axis = solve(-Eigen::Vector3d::UnitX());
+  const Field near = solve(Eigen::Vector3d(-1, 1e-7, 0).normalized());
+  CHECK(near == axis);
+  for (Index i : nodes_on_plane(s.grid, 0, 5.0))
+    if (s.ops.active[i])
+      CHECK(axis(i, 0) == -(0.2 + 0.1 * s.grid.node_coordinate(i, 1)));
+}
+
 TEST_CASE("a singular consistent mass is reported with its nodes", "[exact]") {
   // Two particles and four active nodes (linear shape functions): rank(m̃) = 2 < 4.
   const Grid g(1, {0, 0, 0}, {1, 1, 1}, {10, 1, 1});

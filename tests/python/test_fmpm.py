@@ -5,6 +5,7 @@ import pytest
 import scipy.sparse.linalg
 
 import sparsempm as smpm
+from conftest import SOURCE
 
 
 @pytest.fixture
@@ -98,3 +99,27 @@ def test_fmpm_velocity_holds_the_fixed_end_by_each_bc_method(bar, bar_state, k):
     assert (abs(lumped_only[fixed, 0]) > 1e-6) == (k > 1)
     # Without BCs the fixed node moves with its neighbours.
     assert abs(smpm.fmpm_velocity(ops, p, k)[fixed, 0]) > 1e-6
+
+
+def test_the_model_bcs_of_a_model_with_walls_are_refused():
+    # A wall's nodes are selected by each step on its own copy of the BCs (step_preparation.hpp):
+    # model.bcs holds none, ops.bcs those at the model's time. fmpm_velocity and exact_velocity
+    # refuse model.bcs with a wall (its velocities would silently be left free).
+    model = smpm.Model.from_toml(str(SOURCE / "examples" / "two_block_compression.toml"))
+    ops = smpm.assemble(model)
+    p = ops.momentum(model.particles.V)
+    assert model.bcs.walls == 1 and ops.bcs.num_constrained > model.bcs.num_constrained
+    for call in (smpm.fmpm_velocity, smpm.exact_velocity):
+        with pytest.raises(smpm.InputError, match="pass ops.bcs"):
+            call(ops, p, bcs=model.bcs)
+    v = smpm.fmpm_velocity(ops, p, 2, bcs=ops.bcs)
+    assert v.shape == p.shape
+
+
+def test_add_bc_checks_the_conditions_already_there():
+    # FMPM 2026 Table 2: conditions sharing a node must be parallel or perpendicular, across
+    # every add_bc as in one input file.
+    model = smpm.Model.from_toml(str(SOURCE / "examples" / "two_block_compression.toml"))
+    with pytest.raises(smpm.InputError, match="at an angle"):
+        model.add_bc({"plane": {"axis": "y", "at": 0.0},
+                      "velocity": {"direction": [1.0, 1.0], "value": 0.0}})

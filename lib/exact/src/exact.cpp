@@ -101,11 +101,25 @@ Field prescribed_components(const Operators& ops, const LoopConstraints& bc, con
   const int d = int(p.cols());
   Field prescribed = Field::Constant(n, d, std::numeric_limits<double>::quiet_NaN());
   if (bc.bcs && !bc.bcs->conditions.empty()) {
-    for (const VelocityCondition& cond : bc.bcs->conditions)
-      (void)axis_of(cond, d); // conditions along axes only
+    // Conditions along axes only; a direction within round-off of an axis is taken as the axis.
+    const BoundaryConditions* bcs = bc.bcs;
+    BoundaryConditions snapped;
+    for (const VelocityCondition& cond : bc.bcs->conditions) {
+      const int a = axis_of(cond, d);
+      const Eigen::Vector3d axis = (cond.direction[a] > 0 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(a);
+      if (cond.direction.head(d) != axis.head(d) && bcs == bc.bcs) {
+        snapped = *bc.bcs;
+        bcs = &snapped;
+      }
+    }
+    if (bcs == &snapped)
+      for (VelocityCondition& cond : snapped.conditions) {
+        const int a = axis_of(cond, d);
+        cond.direction = (cond.direction[a] > 0 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(a);
+      }
     Field values = Field::Zero(n, d), fixed = Field::Ones(n, d);
-    bc.bcs->constrain_velocity(*bc.grid, bc.time, values, &ops.active);
-    bc.bcs->zero_directions(*bc.grid, fixed);
+    bcs->constrain_velocity(*bc.grid, bc.time, values, &ops.active);
+    bcs->zero_directions(*bc.grid, fixed);
     for (Index i = 0; i < n; ++i)
       for (int a = 0; a < d; ++a)
         if (ops.active[i] && fixed(i, a) == 0)

@@ -60,14 +60,14 @@ public:
   Energies energies(const Model& model) const;
 
   const StepOptions& options() const { return opt_; }
-  /// The operators assembled for the last step (configuration at its start). Their nodes are
-  /// those of the particles' window of the model's grid, operators().grid (NodeRange::Particles):
-  /// node i is node operators().grid.whole_node(i) of the grid.
+  /// The operators assembled for the last step (configuration at its start), or for the next one
+  /// after prepare(). Their nodes are those of the particles' window of the model's grid,
+  /// operators().grid (NodeRange::Particles): node i is node operators().grid.whole_node(i).
   const Operators& operators() const { return prep_.ops; }
   /// The preparation of the last step (or of the next one, after prepare()).
   const StepPreparation& preparation() const { return prep_; }
-  /// The grid fields of the last step, on the nodes of operators().grid; v_plus is the velocity
-  /// used by the particle update.
+  /// The grid fields of the last step, on the nodes of its operators (those of operators() until
+  /// prepare() prepares the next step); v_plus is the velocity used by the particle update.
   const GridState& grid_state() const;
   /// m̃ of the last step (assembled only when the step used it).
   const ConsistentMass& consistent_mass_storage() const { return prep_.consistent_mass_storage(); }
@@ -93,9 +93,18 @@ private:
   StepOptions opt_;
   std::unique_ptr<MassSolver> solver_;
   StepPreparation prep_;
-  const Model* prepared_model_ = nullptr; // prepare(): the model, step and time prepared
-  long prepared_step_ = -1;
-  double prepared_time_ = 0;
+  // What prepare() prepared: the model, its clock and its particle storage.
+  struct Prepared {
+    const Model* model = nullptr;
+    long step = -1;
+    double time = 0;
+    Index particles = 0;
+    const double* X = nullptr;
+    const double* F = nullptr;
+    bool operator==(const Prepared&) const = default;
+  };
+  static Prepared prepared_of(const Model& model);
+  Prepared prepared_;
   std::unique_ptr<Buffers> buf_;
   StepperState state_;
   bool grid_update_ = false;

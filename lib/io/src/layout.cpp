@@ -93,7 +93,7 @@ namespace {
 
 std::string shape_of(hid_t dataset) {
   const h5::Id space(H5Dget_space(dataset), H5Sclose);
-  hsize_t dims[4] = {0, 0, 0, 0};
+  hsize_t dims[H5S_MAX_RANK] = {};
   const int rank = H5Sget_simple_extent_dims(space.get(), dims, nullptr);
   std::string s;
   for (int k = 0; k < rank; ++k)
