@@ -124,25 +124,52 @@ void BoundaryConditions::append(const BoundaryConditions& other) {
   }
 }
 
+namespace {
+// The nodes of `grid` with mass in some velocity field that the wall constrains at time t, as
+// nodes of the whole grid.
+void wall_nodes(const MovingWall& w, const Grid& grid, const Mask& active, double t,
+                std::vector<Index>& nodes) {
+  const double tol = 1e-9 * grid.min_cell_size();
+  nodes.clear(); // keeps its capacity: no allocation once the wall's reach is settled
+  const Index ng = grid.num_nodes();
+  for (Index i = 0; i < ng; ++i) {
+    bool mass = false; // node i has mass in some velocity field
+    for (Index r = i; r < active.size() && !mass; r += ng)
+      mass = active[r];
+    if (mass && w.selects(t, grid.node_position(i), tol))
+      nodes.push_back(grid.whole_node(i));
+  }
+}
+} // namespace
+
 void BoundaryConditions::select_wall_nodes(const Grid& grid, const Mask& active, double t) {
   if (walls.empty())
     return;
-  const double tol = 1e-9 * grid.min_cell_size();
-  for (VelocityCondition& c : conditions) {
-    if (c.wall < 0)
-      continue;
-    const MovingWall& w = walls[size_t(c.wall)];
-    c.nodes.clear(); // keeps its capacity: no allocation once the wall's reach is settled
-    const Index ng = grid.num_nodes();
-    for (Index i = 0; i < ng; ++i) {
-      bool mass = false; // node i has mass in some velocity field
-      for (Index r = i; r < active.size() && !mass; r += ng)
-        mass = active[r];
-      if (mass && w.selects(t, grid.node_position(i), tol))
-        c.nodes.push_back(grid.whole_node(i));
-    }
-  }
+  for (VelocityCondition& c : conditions)
+    if (c.wall >= 0)
+      wall_nodes(walls[size_t(c.wall)], grid, active, t, c.nodes);
   check_superposition();
+}
+
+void BoundaryConditions::step_conditions(const Grid& grid, const Mask& active, double t,
+                                         BoundaryConditions& step) const {
+  step.walls.clear();
+  step.conditions.resize(conditions.size());
+  for (size_t k = 0; k < conditions.size(); ++k) {
+    const VelocityCondition& c = conditions[k];
+    VelocityCondition& s = step.conditions[k];
+    s.direction = c.direction;
+    s.label = c.label;
+    s.wall = -1;
+    s.value = nullptr;
+    if (c.value) // a pointer in the closure: no allocation, no copy of an expression
+      s.value = [f = &c.value](double time, const Eigen::Vector3d& x) { return (*f)(time, x); };
+    if (c.wall >= 0)
+      wall_nodes(walls[size_t(c.wall)], grid, active, t, s.nodes);
+    else
+      s.nodes = c.nodes;
+  }
+  step.check_superposition();
 }
 
 void BoundaryConditions::check_superposition() const {

@@ -24,10 +24,8 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
     assemble(model.grid, P, shape, s.ops);
   }
   // The conditions of the step on its nodes (the particles' window or the grid, ops.grid); the
-  // walls move (FMPM 2026 §3.1). Copy-assignment keeps the node lists' storage of the last
-  // step's copy (their value functions are copied: a few allocations a step, none a particle).
-  s.bcs = model.bcs;
-  s.bcs.select_wall_nodes(s.ops.grid, s.ops.active, model.time);
+  // walls move (FMPM 2026 §3.1).
+  model.bcs.step_conditions(s.ops.grid, s.ops.active, model.time, s.bcs);
   if (nf > 1) {
     P.jacobian(s.volume);
     s.volume.array() *= P.volume0.array();

@@ -4,6 +4,7 @@
 #include "support.hpp"
 
 #include <cmath>
+#include <memory>
 
 using namespace smpm;
 using smpm::test::approx;
@@ -177,4 +178,37 @@ TEST_CASE("a step selects the walls' nodes on its own copy of the BCs: the model
     CHECK(a.particles.V == b.particles.V);
     CHECK(a.particles.stress == b.particles.stress);
   }
+}
+
+TEST_CASE("a step's conditions call the model's values: no copy of an expression a step",
+          "[walls][step]") {
+  // BoundaryConditions::step_conditions (prepare_step's): the walls' nodes as select_wall_nodes
+  // selects them, and value functions that call the model's (an expression's copy re-parses it).
+  struct Counted {
+    std::shared_ptr<int> copies = std::make_shared<int>(0);
+    Counted() = default;
+    Counted(const Counted& o) : copies(o.copies) { ++*copies; }
+    Counted& operator=(const Counted&) = default;
+    double operator()(double t, const Eigen::Vector3d&) const { return 2.0 + t; }
+  };
+  Model m = strip(0.5);
+  const Counted value;
+  VelocityCondition c;
+  c.nodes = nodes_on_plane(m.grid, 0, 0.0);
+  c.direction = Eigen::Vector3d::UnitY();
+  c.value = value;
+  m.bcs.conditions.push_back(c);
+  const int copies = *value.copies;
+  const Operators ops = assemble(m.grid, m.particles, Shape::CPDI);
+  BoundaryConditions step;
+  for (int s = 0; s < 3; ++s)
+    m.bcs.step_conditions(m.grid, ops.active, 0.5, step);
+  CHECK(*value.copies == copies);
+  REQUIRE(step.conditions.size() == 2);
+  CHECK(step.conditions[1].value_at(0.5, Eigen::Vector3d::Zero()) == 2.5);
+  BoundaryConditions selected = m.bcs;
+  selected.select_wall_nodes(m.grid, ops.active, 0.5);
+  CHECK(step.conditions[0].nodes == selected.conditions[0].nodes);
+  CHECK(!step.conditions[0].nodes.empty());
+  CHECK(m.bcs.conditions[0].nodes.empty()); // the model's stay as given
 }

@@ -60,6 +60,13 @@ struct BoundaryConditions {
   /// The step calls this once per step, with the values of that step's time.
   void select_wall_nodes(const Grid& grid, const Eigen::Array<bool, Eigen::Dynamic, 1>& active,
                          double t);
+  /// The conditions of one step, written into `step` (whose storage is reused: no allocation
+  /// once its lists have grown): these conditions with every wall's nodes selected at time t as
+  /// select_wall_nodes does, then checked for superposition. The value functions of `step`
+  /// call those of these conditions (no copy of their expressions per step), so these must
+  /// outlive `step` and stay unchanged while it is used; its conditions have wall = −1.
+  void step_conditions(const Grid& grid, const Eigen::Array<bool, Eigen::Dynamic, 1>& active,
+                       double t, BoundaryConditions& step) const;
   /// Throws InputError unless the conditions sharing a node are parallel or perpendicular.
   void check_superposition() const;
   /// Whether any condition prescribes a non-zero velocity (a value function or a wall): the

@@ -6,7 +6,7 @@
 ///   - S, G, M, m and the active nodes (assemble, operators.hpp), with the materials' velocity
 ///     fields as blocks of columns of S in multimaterial mode (contact.hpp);
 ///   - the velocity BCs of the step: the model's conditions with the walls' nodes at the
-///     model's time (FMPM 2026 §3.1), in a copy, so the model's BCs stay as they were given;
+///     model's time (FMPM 2026 §3.1), apart from the model's, which stay as they were given;
 ///   - the contact nodes with their normals, separations and areas (contact 2020 §2.3, §3.1);
 ///   - m̃ = Sᵀ M S, assembled on first use (only the steps that use it pay for it).
 
@@ -21,8 +21,9 @@ struct StepPreparation {
   /// S, G, M, m and the active nodes of the configuration; set ops.node_range (the particles'
   /// window of the grid or the whole grid) before the first prepare_step.
   Operators ops;
-  /// The model's velocity conditions, the walls' nodes selected at the model's time among the
-  /// nodes with mass (BoundaryConditions::select_wall_nodes).
+  /// The model's velocity conditions with the walls' nodes selected at the model's time among
+  /// the nodes with mass (BoundaryConditions::step_conditions): their values call the model's,
+  /// so they are valid while the model's conditions are unchanged.
   BoundaryConditions bcs;
   Eigen::VectorXi field;  ///< velocity field of each particle (multimaterial; empty otherwise)
   Eigen::VectorXd volume; ///< current particle volumes J Ω⁽⁰⁾ (multimaterial: AG normals)
