@@ -111,7 +111,7 @@ def main():
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     fig.savefig(args.output, dpi=120)
-    print(f"{args.output}: {len(rows)} schemes from {args.table}")
+    print(f"{args.output}: {len(rows)} rows from {args.table}")
 
 
 if __name__ == "__main__":
