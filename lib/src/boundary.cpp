@@ -34,13 +34,21 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
   SMPM_VERIFY(ng > 0 && x.rows() % ng == 0, "velocity BCs: a node field of " +
                                                 std::to_string(x.rows()) + " rows on a grid of " +
                                                 std::to_string(ng) + " nodes");
-  // The conditions name nodes of the whole grid; a window of it (Grid::window) holds some.
+  // The conditions name nodes of the whole grid; a window of it (Grid::window) holds some. A
+  // node beyond the whole grid is a condition of another grid: refused, never written.
   const bool window = grid.is_window();
-  auto node = [&](Index whole) { return window ? grid.node_of_whole(whole) : whole; };
+  const Index whole_nodes = grid.whole_num_nodes();
+  auto node = [&](const VelocityCondition& c, Index whole) {
+    if (whole < 0 || whole >= whole_nodes)
+      throw InputError("velocity condition '" + c.label + "' names node " + std::to_string(whole) +
+                       ", not a node of this grid of " + std::to_string(whole_nodes) +
+                       " nodes (the conditions of another model?)");
+    return window ? grid.node_of_whole(whole) : whole;
+  };
   for (Index block = 0; block < x.rows(); block += ng) {
     for (const auto& c : conditions)
       for (Index g : c.nodes) {
-        const Index i = node(g), r = block + i;
+        const Index i = node(c, g), r = block + i;
         if (i < 0 || (active && !(*active)[r]))
           continue;
         const auto n = c.direction.head(d);
@@ -53,7 +61,7 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
       if (!c.value)
         continue;
       for (Index g : c.nodes) {
-        const Index i = node(g), r = block + i;
+        const Index i = node(c, g), r = block + i;
         if (i < 0 || (active && !(*active)[r]))
           continue;
         const double w = weight(r);

@@ -123,3 +123,15 @@ def test_add_bc_checks_the_conditions_already_there():
     with pytest.raises(smpm.InputError, match="at an angle"):
         model.add_bc({"plane": {"axis": "y", "at": 0.0},
                       "velocity": {"direction": [1.0, 1.0], "value": 0.0}})
+
+
+def test_the_conditions_of_another_grid_are_refused(bar_state):
+    # A condition names nodes of its model's grid: on operators of a smaller grid a node beyond it
+    # is refused with the condition's name (it was read and written out of bounds).
+    ops, p = bar_state
+    big = smpm.Model(smpm.Grid(cells=[2000000]), X=[1.5], mass=[1], volume0=[1],
+                     materials=[smpm.Material()])
+    big.fix_plane("x", 1999999.0, ["x"])
+    for call in (smpm.fmpm_velocity, smpm.exact_velocity):
+        with pytest.raises(smpm.InputError, match="names node 1999999, not a node of this grid"):
+            call(ops, p, bcs=big.bcs)
