@@ -447,6 +447,27 @@ class Options(Base):
         self.assertIn("does not exist", line)
 
 
+class ExitCodes(Base):
+    """A particle that leaves the grid in a step that ends on a frame is that run's numerical
+    failure (exit 3, the step and particle named), not a failed write of the frame (exit 1)."""
+
+    def test_leaving_the_grid_on_a_frame(self):
+        inp = self.dir / "leave.toml"
+        # One particle at 9.5 moving at 10 on a grid [0, 10]; C = 1 gives Δt = 0.1, so every step
+        # ends on a frame (every 0.1), and the first puts the particle at 10.5, off the grid.
+        inp.write_text("[grid]\ndim = 1\norigin = [0.0]\ncell_size = [1.0]\ncells = [10]\n\n"
+                       "[[material]]\nname = \"m\"\ndensity = 1.0\nyoungs = 1e-6\n\n"
+                       "[[body]]\nmaterial = \"m\"\nregion = \"box\"\nmin = [9.25]\nmax = [9.75]\n"
+                       "ppc = [1]\nvelocity = [\"10\"]\n\n[time]\ncourant = 1.0\nend = 1.0\n\n"
+                       "[step]\nshape = \"linear\"\n\n[output]\nevery = 0.1\n")
+        line = one_line(self, smpm("run", inp, "-o", self.dir / "out.h5", "-q"), 3)
+        self.assertIn("smpm: numerical failure: step 2 (t = 0.1): particle 0 at (10.5) has left the grid", line)
+        self.assertNotIn("disk", line)
+        with h5py.File(self.dir / "out.partial.h5", "r") as f:  # frame 0 kept, the status says why
+            self.assertEqual(sorted(f["particles"].keys()), ["000000"])
+            self.assertIn("left the grid", f.attrs["status"])
+
+
 class DiskFull(Base):
     """Item 3: a full disk stops the run with a one-line error; completed frames stay readable."""
 
