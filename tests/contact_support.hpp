@@ -14,11 +14,13 @@ inline Material elastic(const std::string& name, double youngs, double density =
   return smpm::test::material(name, MaterialModel::NeoHookean, youngs, 0.3, density);
 }
 
-inline ContactPair pair_law(ContactLaw law, ContactDetection detection, double mu = 0) {
+inline ContactPair pair_law(ContactLaw law, ContactDetection detection, double mu = 0,
+                            ContactNormal normal = ContactNormal::AverageGradient) {
   ContactPair p;
   p.first = 0;
   p.second = 1;
   p.law = law;
+  p.normal = normal;
   p.detection = detection;
   p.friction = mu;
   return p;
@@ -79,6 +81,56 @@ inline void stacked_blocks_contact(double bottom, double gap, const ContactPair&
   m.contact.pairs = {law};
   Operators ops;
   contact_nodes_of(m, ops, cn);
+}
+
+// A block (0.6 × 0.4, material 1) resting on a slab (2.4 × 0.4, material 0) inclined at `theta`
+// to the x axis, under gravity g = 10 along −y: both on lattices of h/2 aligned with the slope (a
+// flat interface, not aligned with the grid), the slab held by the nodes deeper than 0.2 in it.
+// The contact is ContactPair's default but for its law (frictionless or Coulomb μ).
+inline Model inclined_slab(double theta, double mu, double h = 0.05) {
+  const Eigen::Vector2d t(std::cos(theta), std::sin(theta)), n(-std::sin(theta), std::cos(theta));
+  const Eigen::Vector2d origin(0.4, 0.7);
+  Model m(Grid(2, {0, 0, 0}, {h, h, 1}, {int(std::lround(3.2 / h)), int(std::lround(2.8 / h)), 1}));
+  m.materials = {smpm::test::material("slab", MaterialModel::Linear, 1e6, 0.3, 1000),
+                 smpm::test::material("block", MaterialModel::Linear, 1e6, 0.3, 1000)};
+  const double dx = h / 2;
+  std::vector<std::pair<Eigen::Vector2d, int>> points;
+  for (double s = dx / 2; s < 2.4; s += dx)
+    for (double q = -dx / 2; q > -0.4; q -= dx)
+      points.push_back({origin + s * t + q * n, 0});
+  for (double s = 0.6 + dx / 2; s < 1.2; s += dx)
+    for (double q = dx / 2; q < 0.4; q += dx)
+      points.push_back({origin + s * t + q * n, 1});
+  Particles& P = m.particles;
+  P.resize(2, Index(points.size()));
+  for (size_t k = 0; k < points.size(); ++k) {
+    const Index p = Index(k);
+    P.X.row(p) = points[k].first.transpose();
+    P.material[p] = points[k].second;
+    P.volume0[p] = dx * dx;
+    P.mass[p] = dx * dx * 1000;
+    P.half_length.row(p).setConstant(dx / 2);
+  }
+  VelocityCondition fx, fy;
+  for (Index i = 0; i < m.grid.num_nodes(); ++i) {
+    const Eigen::Vector3d x = m.grid.node_position(i);
+    const Eigen::Vector2d r = Eigen::Vector2d(x[0], x[1]) - origin;
+    if (r.dot(t) > -0.2 && r.dot(t) < 2.6 && r.dot(n) < -0.2 && r.dot(n) > -0.6)
+      fx.nodes.push_back(i);
+  }
+  fy.nodes = fx.nodes;
+  fx.direction = Eigen::Vector3d::UnitX();
+  fy.direction = Eigen::Vector3d::UnitY();
+  fx.label = "slab x";
+  fy.label = "slab y";
+  m.bcs.conditions = {fx, fy};
+  m.gravity = {0, -10, 0};
+  ContactPair pair; // the defaults
+  pair.law = mu > 0 ? ContactLaw::Coulomb : ContactLaw::Frictionless;
+  pair.friction = mu;
+  m.contact.material_field = {0, 1};
+  m.contact.pairs = {pair};
+  return m;
 }
 
 } // namespace smpm::test

@@ -42,9 +42,9 @@ class TwoBlocks(unittest.TestCase):
         cases = {
             "single": ["contact.0.law=single-field"],
             "sn_approaching": ["contact.0.detection=approaching"] + SN,
-            "ag_approaching": ["contact.0.detection=approaching"],
+            "ag_approaching": ["contact.0.detection=approaching", "contact.0.normal=AG"],
             "ag_cp": [],
-            "ag_df": ["contact.0.detection=DF"],
+            "ag_df": ["contact.0.detection=DF", "contact.0.normal=AG"],
             "df_sn": ["contact.0.detection=DF"] + SN,
             "lr": LR,
         }

@@ -40,7 +40,8 @@ std::array<int, 2> table_materials(const Reader& r, const toml::table& t, const 
 // The normal of a table: AG, LR, or a specified direction from the first material to the second.
 void read_normal(const Reader& r, const toml::table& t, const std::string& key, int dim,
                  bool has_materials, ContactPair& p) {
-  p.normal = r.choice(t, "normal", key + "normal", "AG", &contact_normal_from_string);
+  p.normal = r.choice(t, "normal", key + "normal", std::string(to_string(p.normal)),
+                      &contact_normal_from_string); // default: ContactPair's (LR)
   if (p.normal != ContactNormal::Specified) {
     if (t.get("direction"))
       r.fail(t.get("direction"), key + "direction",
@@ -59,8 +60,8 @@ void read_normal(const Reader& r, const toml::table& t, const std::string& key, 
 
 // The detection of a table and the parameters that belong to it (CP: δ_c; DF: the fit).
 void read_detection(const Reader& r, const toml::table& t, const std::string& key, ContactPair& p) {
-  p.detection =
-      r.choice(t, "detection", key + "detection", "approaching", &contact_detection_from_string);
+  p.detection = r.choice(t, "detection", key + "detection", std::string(to_string(p.detection)),
+                         &contact_detection_from_string); // default: ContactPair's (LR)
   if (p.detection == ContactDetection::Position)
     p.critical_separation = r.number(t, "critical_separation", key + "critical_separation", 0.8);
   else if (t.get("critical_separation"))
