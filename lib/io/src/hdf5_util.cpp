@@ -172,7 +172,7 @@ std::vector<std::string> get_strings_attribute(hid_t obj, const std::string& nam
 
 void create_series(hid_t group, const std::string& name, hsize_t cols) {
   const hsize_t dims[2] = {0, cols}, maxdims[2] = {H5S_UNLIMITED, cols};
-  const hsize_t chunk[2] = {1024, cols ? cols : 1};
+  const hsize_t chunk[2] = {kSeriesChunk, cols ? cols : 1};
   Id space(H5Screate_simple(cols ? 2 : 1, dims, maxdims), H5Sclose);
   Id plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_chunk(plist.get(), cols ? 2 : 1, chunk);

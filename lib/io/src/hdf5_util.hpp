@@ -63,7 +63,9 @@ std::string get_string_attribute(hid_t obj, const std::string& name);
 std::vector<std::string> get_strings_attribute(hid_t obj, const std::string& name);
 bool has_attribute(hid_t obj, const std::string& name);
 
-/// An extendible 1D (cols = 0) or 2D double dataset; appends rows.
+/// Rows per chunk of a series.
+inline constexpr hsize_t kSeriesChunk = 1024;
+/// An extendible 1D (cols = 0) or 2D double dataset in chunks of kSeriesChunk rows; appends rows.
 void create_series(hid_t group, const std::string& name, hsize_t cols);
 void append_series(hid_t group, const std::string& name, const double* rows, hsize_t count,
                    hsize_t cols);

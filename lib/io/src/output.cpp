@@ -13,6 +13,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <sys/statvfs.h>
 
 namespace smpm {
 
@@ -126,20 +127,73 @@ long OutputFile::File::close() {
   return status;
 }
 
+namespace {
+// The groups that hold one group per frame.
+constexpr const char* kFrameGroups[] = {"particles", "grid", "matrices", "state"};
+
+// Renames the frame groups `from` to `to` (best effort when `to` is empty: deletes them).
+void move_frame(hid_t file, const std::string& from, const std::string& to) {
+  for (const char* group : kFrameGroups) {
+    if (!h5::exists(file, group))
+      continue;
+    const h5::Id g = h5::open_group(file, group);
+    if (H5Lexists(g.get(), from.c_str(), H5P_DEFAULT) <= 0)
+      continue;
+    if (to.empty())
+      H5Ldelete(g.get(), from.c_str(), H5P_DEFAULT);
+    else
+      h5::check(H5Lmove(g.get(), from.c_str(), g.get(), to.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+                "cannot name frame " + to);
+  }
+}
+
+// Throws std::runtime_error unless the file system of `path` has room for `bytes` (an upper
+// bound, frame_bytes) and 64 kB more: a
+// write that fills the disk leaves HDF5 metadata pointing past the end of the file (links that
+// cannot even be deleted), so a frame that might not fit is not begun.
+void check_room(const std::string& path, double bytes) {
+  struct statvfs fs {};
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (::statvfs(dir.empty() ? "." : dir.c_str(), &fs) != 0)
+    return; // unknown: the write itself reports a full disk
+  const double room = double(fs.f_bavail) * double(fs.f_frsize);
+  if (room < bytes + 64 * 1024)
+    throw std::runtime_error("no room for the frame: it needs about " +
+                             std::to_string(long(bytes / 1024)) + " kB and the disk has " +
+                             std::to_string(long(room / 1024)) + " kB free");
+}
+} // namespace
+
 void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool matrices,
                              const StepPreparation* prepared) {
+  check_room(path_, frame_bytes(model, prepared, matrices, pending_.size(), series_written_));
+  // The frame is written under a staging name that no reader takes for a frame, flushed, and
+  // only then given its name: a frame whose write fails all the same (the disk filled by another
+  // program) leaves no frame behind. A staged name left by such a failure (a dangling link,
+  // which HDF5 cannot delete) is passed over.
   const std::string name = frame_name(frame);
-  write_particles(file_.get(), name, model);
-  write_grid(file_.get(), name, model, shape, matrices, prepared);
-  append_series_rows(file_.get(), pending_, dim_); // the rows accumulated since the last frame
-  pending_.clear();
-  write_run_state(file_.get(), name, state_);
-  {
-    h5::Id parts = h5::open_group(file_.get(), "particles");
-    h5::Id g = h5::open_group(parts.get(), name);
-    h5::set_attribute(g.get(), "complete", 1L); // written last: the frame is whole
+  const hid_t f = file_.get();
+  std::string staged = name + ".staged";
+  for (int k = 1; h5::exists(f, "particles/" + staged); ++k)
+    staged = name + ".staged" + std::to_string(k);
+  try {
+    write_particles(f, staged, model);
+    write_grid(f, staged, model, shape, matrices, prepared);
+    write_run_state(f, staged, state_);
+    append_series_rows(f, pending_, dim_); // the rows accumulated since the last frame
+    {
+      h5::Id g = h5::open_group(f, "particles/" + staged);
+      h5::set_attribute(g.get(), "complete", 1L); // the frame is whole
+    }
+    h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush");
+    move_frame(f, staged, name);
+    h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush");
+  } catch (...) {
+    move_frame(f, staged, ""); // no staged frame in what a later flush writes
+    throw;
   }
-  h5::check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush");
+  series_written_ += pending_.size();
+  pending_.clear();
   frames_.emplace_back(frame, model.time);
   frame_particles_.push_back(model.particles.size());
   write_xdmf_frame(frames_.size() - 1);
@@ -149,6 +203,7 @@ void OutputFile::set_status(const std::string& status) noexcept {
   try {
     if (!pending_.empty()) { // the series up to the last step, past the last frame
       append_series_rows(file_.get(), pending_, dim_);
+      series_written_ += pending_.size();
       pending_.clear();
     }
   } catch (const std::exception&) {
@@ -159,6 +214,13 @@ void OutputFile::set_status(const std::string& status) noexcept {
   } catch (const std::exception&) {
     // A full disk: the status stays "running"; the frames flushed before remain readable.
   }
+}
+
+void OutputFile::discard() noexcept {
+  file_.close();
+  std::error_code ec;
+  std::filesystem::remove(path_, ec);
+  std::filesystem::remove(xdmf_path(path_), ec);
 }
 
 void OutputFile::finish(const std::string& target) {
@@ -176,20 +238,34 @@ void OutputFile::finish(const std::string& target) {
 
 namespace {
 
-// Drops the frames after the last complete one (a killed or failed run's).
-void drop_incomplete_frames(hid_t file, int last) {
-  for (const char* group : {"particles", "grid", "matrices", "state"}) {
+// Drops every frame group but the complete frames (a killed or failed run's last frame, staged
+// or dangling: a link whose object never reached the disk).
+void drop_incomplete_frames(hid_t file, const std::vector<int>& frames) {
+  std::vector<std::string> keep;
+  for (int k : frames)
+    keep.push_back(frame_name(k));
+  for (const char* group : kFrameGroups) {
     if (!h5::exists(file, group))
       continue;
     h5::Id g = h5::open_group(file, group);
-    for (int k = last + 1; h5::exists(g.get(), frame_name(k)); ++k)
-      H5Ldelete(g.get(), frame_name(k).c_str(), H5P_DEFAULT);
+    H5G_info_t info;
+    H5Gget_info(g.get(), &info);
+    std::vector<std::string> names;
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+      char link[64] = {};
+      if (H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, link, sizeof link,
+                             H5P_DEFAULT) >= 0)
+        names.emplace_back(link);
+    }
+    for (const std::string& n : names)
+      if (std::find(keep.begin(), keep.end(), n) == keep.end())
+        H5Ldelete(g.get(), n.c_str(), H5P_DEFAULT);
   }
 }
 
 // Truncates every series to the rows of steps up to `step` (the restart frame's); a series that
 // a file of an earlier version lacks is made, NaN in those rows.
-void keep_series_to(hid_t file, long step, int materials, int dim) {
+hsize_t keep_series_to(hid_t file, long step, int materials, int dim) {
   h5::Id series = h5::open_group(file, "series");
   const Field steps = h5::read_doubles(series.get(), "step");
   hsize_t keep = 0;
@@ -212,6 +288,7 @@ void keep_series_to(hid_t file, long step, int materials, int dim) {
     make_missing(kMaterialSeries[s], material_width(s, materials, dim));
     h5::truncate_series(series.get(), kMaterialSeries[s], keep);
   }
+  return keep;
 }
 
 } // namespace
@@ -233,13 +310,13 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
   const int last = frames.back();
   if (!h5::exists(f, "state")) // a file of an earlier version
     h5::create_group(f, "state");
-  drop_incomplete_frames(f, last);
+  drop_incomplete_frames(f, frames);
   try { // the state of the last frame
     load_frame_from(f, last, cfg.model);
   } catch (const std::runtime_error& e) {
     throw InputError(path + ": frame " + std::to_string(last) + ": " + e.what());
   }
-  keep_series_to(f, cfg.model.step, out.materials_, out.dim_);
+  out.series_written_ = keep_series_to(f, cfg.model.step, out.materials_, out.dim_);
   h5::set_attribute(f, "status", std::string("running"));
   h5::Id parts = h5::open_group(f, "particles");
   for (int k : frames) {

@@ -44,6 +44,11 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
                 const StepPreparation* prepared);
 void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim);
 void write_run_state(hid_t file, const std::string& name, const RunState& state);
+/// An upper bound of the bytes a frame of `model` (and the `series_rows` rows before it, after
+/// `series_written` rows already in the file) adds to a run file and its sidecar: what
+/// write_frame makes sure the disk has before writing it.
+double frame_bytes(const Model& model, const StepPreparation* prepared, bool matrices,
+                   size_t series_rows, size_t series_written);
 /// Loads one frame's particle state and clock into `model`.
 void load_frame_from(hid_t file, int frame, Model& model);
 

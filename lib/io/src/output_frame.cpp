@@ -5,6 +5,7 @@
 
 #include "sparsempm/stages.hpp"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -148,6 +149,32 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
     h5::append_series(series.get(), kMaterialSeries[s], data.data(), k, hsize_t(w));
   }
 }
+double frame_bytes(const Model& model, const StepPreparation* prepared, bool matrices,
+                   size_t series_rows, size_t series_written) {
+  const double N = double(model.particles.size()), d = model.grid.dim();
+  const double fields = model.contact.fields();
+  // The particle fields: X, V, half-lengths (d each), σ, F (d² each), four scalars, the ids,
+  // and in 1D the three coordinates of ParaView.
+  double bytes = 8 * N * (3 * d + 2 * d * d + 4 + (d == 1 ? 3 : 0)) + 4 * N;
+  // The grid fields of the nodes with mass and the contact nodes (of the step's preparation when
+  // given, else every node of every field).
+  const double nodes =
+      prepared ? double(prepared->ops.active.count()) : double(model.grid.num_nodes()) * fields;
+  const double contact = prepared ? double(prepared->contact.nodes.size()) : nodes;
+  bytes += 8 * nodes * (2 + 2 * d) + (fields > 1 ? 8 * contact * (4 + d) : 0.0);
+  if (matrices) { // S and G_a (values, indices) and m̃, on the whole grid
+    const double nnz = prepared ? double(prepared->ops.S.nonZeros()) : N * std::pow(4, d);
+    bytes += 12 * nnz * (1 + d) + 12 * nnz * std::pow(3, d) + 8 * N * (2 + d) +
+             8 * double(model.grid.num_nodes()) * fields;
+  }
+  // The series' chunks of kSeriesChunk rows that the new rows begin (every column of them).
+  const double chunks = std::ceil(double(series_written + series_rows) / h5::kSeriesChunk) -
+                        std::ceil(double(series_written) / h5::kSeriesChunk);
+  bytes += 8 * chunks * h5::kSeriesChunk * (10 + d + double(model.materials.size()) * (1 + 2 * d));
+  // HDF5's metadata (under 1 kB an object, ~30 objects) and the sidecar's frame.
+  return bytes + 32 * 1024 + 8 * 1024;
+}
+
 // /state/<name>: what a restart continues (RunState).
 void write_run_state(hid_t file, const std::string& name, const RunState& state) {
   h5::Id states = h5::open_group(file, "state");

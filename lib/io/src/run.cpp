@@ -146,11 +146,17 @@ private:
     const StepPreparation& next = stepper_.prepare(m);
     out_.set_run_state({.stepper = stepper_.state(), .velocity_change_sum = change_sum_});
     try {
-      out_.write_frame(next_frame_++, m, cfg_.step.shape, cfg_.output.matrices, &next);
+      out_.write_frame(next_frame_, m, cfg_.step.shape, cfg_.output.matrices, &next);
+      ++next_frame_;
     } catch (const std::runtime_error& w) {
+      const bool first = next_frame_ == 0; // nothing to keep: no file is left behind
+      if (first)
+        out_.discard();
       throw std::runtime_error(partial_ + ": writing the frame of step " + std::to_string(m.step) +
                                " (t = " + std::to_string(m.time) + ") failed: " + w.what() +
-                               " (is the disk full?)");
+                               (first ? " (is the disk full?); no frame was written, so no file "
+                                        "is kept"
+                                      : " (is the disk full?); the frames before it are kept"));
     }
   }
 

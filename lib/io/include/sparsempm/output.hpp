@@ -98,6 +98,9 @@ public:
   /// Marks the run completed, closes the file and moves it (with a fresh sidecar) to `target`,
   /// replacing what was there; the partial sidecar is removed.
   void finish(const std::string& target);
+  /// Closes and removes the file and its sidecar: for a run whose first frame could not be
+  /// written (nothing to keep, and no file that looks like a run). Does not throw.
+  void discard() noexcept;
   /// The state a restart needs, stored with the frames written from now on.
   void set_run_state(const RunState& state) { state_ = state; }
   const std::string& path() const { return path_; }
@@ -132,7 +135,8 @@ private:
   std::vector<std::pair<int, double>> frames_; // (frame, time) written so far
   std::vector<Index> frame_particles_;
   std::vector<SeriesRow> pending_;
-  long xmf_trailer_ = -1; // byte offset of the closing tags of the sidecar (−1: not written)
+  size_t series_written_ = 0; // rows of the series in the file
+  long xmf_trailer_ = -1;     // byte offset of the closing tags of the sidecar (−1: not written)
 };
 
 /// The input text, overrides and frame list stored in a run file.
