@@ -88,11 +88,13 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
   }
   if (!quiet) {
     bar.finish();
-    const double change = r.energy_start != 0
-                              ? 100 * (r.energy_end - r.energy_start) / std::abs(r.energy_start)
-                              : 0.0;
-    std::printf("completed %ld steps in %.3f s (%.0f steps/s); total energy %.6g -> %.6g "
-                "(%+.4f%%); %d frames in %s (ParaView: %s)\n",
+    // A change relative to a zero start has no meaning: then none is printed.
+    char change[32] = "";
+    if (r.energy_start != 0)
+      std::snprintf(change, sizeof change, " (%+.4f%%)",
+                    100 * (r.energy_end - r.energy_start) / std::abs(r.energy_start));
+    std::printf("completed %ld steps in %.3f s (%.0f steps/s); total energy %.6g -> %.6g%s; %d "
+                "frames in %s (ParaView: %s)\n",
                 r.steps, r.wall_seconds, r.wall_seconds > 0 ? r.steps / r.wall_seconds : 0.0,
                 r.energy_start, r.energy_end, change, r.frames, r.output.c_str(),
                 xdmf_path(r.output).c_str());

@@ -409,6 +409,22 @@ class Stability(Base):
             spectra.append(out.read_text())
         self.assertEqual(spectra[0], spectra[1])
 
+    def test_a_model_at_rest(self):
+        # The two blocks start at rest (the piston moves them): the spectrum's truncation errors
+        # are 0 (they were 0/0, printed -nan) and the run's summary prints no relative change of
+        # an energy that starts at 0 (it printed +0.0000%).
+        blocks = EXAMPLES / "two_block_compression.toml"
+        out = self.dir / "rest.csv"
+        r = smpm("spectrum", blocks, "--order", "1,4", "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = [l.split(",") for l in out.read_text().splitlines() if l[0].isdigit()]
+        self.assertTrue(rows and all(float(row[3]) == 0 for row in rows), rows)
+        r = smpm("run", blocks, "-o", self.dir / "rest.h5", "--set", "time.end=0.5")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        summary = r.stdout.strip().splitlines()[-1]
+        self.assertIn("total energy 0 -> ", summary)
+        self.assertNotIn("%", summary)
+
     def test_bad_method(self):
         r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--method", "guess")
         self.assertEqual(r.returncode, 2)

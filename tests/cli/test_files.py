@@ -447,6 +447,18 @@ class Options(Base):
         self.assertIn("does not exist", line)
 
 
+class Sidecar(Base):
+    """The XDMF sidecar is XML whatever the run file's name holds."""
+
+    def test_name_with_markup(self):
+        import xml.etree.ElementTree as ET
+        out = self.dir / "a&b<c>'d\".h5"
+        r = smpm("run", BAR, "-o", out, "-q", "--set", "time.end=20")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        items = [d.text for d in ET.parse(self.dir / "a&b<c>'d\".xmf").iter("DataItem") if d.text]
+        self.assertTrue(any(t.startswith("a&b<c>'d\".h5:/particles/000000/") for t in items), items[:3])
+
+
 class ExitCodes(Base):
     """A particle that leaves the grid in a step that ends on a frame is that run's numerical
     failure (exit 3, the step and particle named), not a failed write of the frame (exit 1)."""

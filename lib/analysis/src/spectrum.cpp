@@ -96,7 +96,11 @@ double truncation_error(const Operators& ops, const SparseRowMatrix& mt, const F
   lumped_solve(ops.m_inv, p, v);
   FmpmWorkspace w;
   fmpm_loop(ops.m_inv, mt, opt, {}, v, w);
-  return (v - v_exact).norm() / v_exact.norm();
+  const double error = (v - v_exact).norm(), scale = v_exact.norm();
+  // A model at rest: both are zero and so is the error (never 0/0).
+  if (!(scale > 0))
+    return error > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+  return error / scale;
 }
 
 } // namespace smpm

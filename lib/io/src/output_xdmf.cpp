@@ -20,6 +20,33 @@ std::string xdmf_path(const std::string& h5_path) {
 }
 
 namespace {
+// `text` as XML character data: &, <, >, " and ' as entities (a file name may hold any of them).
+std::string xml_escaped(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+    case '&':
+      out += "&amp;";
+      break;
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    case '\'':
+      out += "&apos;";
+      break;
+    default:
+      out += c;
+    }
+  }
+  return out;
+}
+
 const char* kXdmfTrailer = "  </Grid>\n </Domain>\n</Xdmf>\n";
 
 std::string xdmf_header() {
@@ -30,7 +57,7 @@ std::string xdmf_header() {
 // The <Grid> of one frame: particle positions and fields as HDF DataItems of `h5_name`.
 std::string xdmf_frame(const std::string& h5_name, int frame, double time, Index N, int d) {
   const char* axes = "xyz";
-  const std::string name = frame_name(frame), base = h5_name + ":/particles/" + name;
+  const std::string name = frame_name(frame), base = xml_escaped(h5_name) + ":/particles/" + name;
   std::ostringstream x;
   auto data = [&](const std::string& set, Index cols) {
     std::ostringstream s;

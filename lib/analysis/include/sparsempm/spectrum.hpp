@@ -22,7 +22,8 @@ MassSpectrum mass_spectrum(const Operators& ops, const SparseRowMatrix& mt,
                            Index dense_limit = 2000);
 
 /// ‖m̃_k⁻¹ p − v_exact‖ / ‖v_exact‖ for the FMPM(k) inverse of `opt` (order, blending) and the
-/// exact v_exact = m̃⁻¹ p (FMPM 2026 Eq. 5 against Eq. 2's limit).
+/// exact v_exact = m̃⁻¹ p (FMPM 2026 Eq. 5 against Eq. 2's limit); 0 when both are zero (a
+/// model at rest).
 double truncation_error(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
                         const Field& p, const Field& v_exact);
 
