@@ -242,7 +242,7 @@ class ContactInput(unittest.TestCase):
                    ["contact.0.df_reach", "(0, 10]"])
         self.check(["contact.0.fmpm_method=both"], ["contact.0.fmpm_method", "net | evolving"])
         self.check(["contact.0.normal=specified"], ["contact.0.direction", "missing"])
-        self.check(SN[:1] + ["contact.0.direction=[0.0, 0.0]"], ["must not be zero"])
+        self.check(SN[:1] + ["contact.0.direction=[0.0, 0.0]"], ["must be a non-zero vector"])
         self.check(["contact.0.critical_separation=1", "contact.0.detection=always"],
                    ["only detection = \"CP\""])
 

@@ -459,6 +459,51 @@ class Sidecar(Base):
         self.assertTrue(any(t.startswith("a&b<c>'d\".h5:/particles/000000/") for t in items), items[:3])
 
 
+class Directions(Base):
+    """A direction with large entries (a wall's normal, a velocity condition's or a contact's
+    direction) is the unit vector it points along: scaled by its largest entry before it is
+    normalised (|[1e200, 0]| overflows to inf, and the direction divided by it was zero)."""
+
+    INPUT = ("[grid]\ndim = 2\norigin = [0.0, 0.0]\ncell_size = [1.0, 1.0]\ncells = [20, 4]\n\n"
+             "[[material]]\nname = \"m\"\ndensity = 1.0\nyoungs = 10.0\n\n"
+             "[[body]]\nmaterial = \"m\"\nregion = \"box\"\nmin = [2.0, 0.0]\nmax = [8.0, 4.0]\n"
+             "ppc = [2, 2]\nvelocity = [\"1\", \"0\"]\n\n"
+             "[[bc]]\nplane = {{ axis = \"x\", at = 2.0 }}\n"
+             "velocity = {{ direction = [{d}, 0.0], value = 0.5 }}\n\n"
+             "[[bc]]\nwall = {{ normal = [{d}, 0.0], position = \"9\", velocity = 0.0, "
+             "gradient = 0.0, depth_cells = 1.0 }}\n\n"
+             "[time]\nend = 3.0\n\n[output]\nevery = 3.0\n")
+
+    def final_positions(self, name, d):
+        inp = self.dir / (name + ".toml")
+        inp.write_text(self.INPUT.format(d=d))
+        out = self.dir / (name + ".h5")
+        r = smpm("run", inp, "-o", out, "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(out, "r") as f:
+            return f["particles"]["000001"]["X"][:]
+
+    def test_large_entries(self):
+        unit = self.final_positions("unit", "1.0")
+        # The conditions act: the wall at x = 9 holds the block (moving at 1 for t = 3, a free
+        # block's right edge would reach 11).
+        self.assertLess(unit[:, 0].max(), 9.5)
+        # Scaling by the largest entry gives exactly [1, 0]: the same run bit for bit.
+        np.testing.assert_array_equal(self.final_positions("large", "1e200"), unit)
+        np.testing.assert_array_equal(self.final_positions("small", "1e-300"), unit)
+
+    def test_contact_direction(self):
+        sets = ["time.end=2", "output.every=2", "contact.0.normal=specified"]
+        def run(d):
+            out = self.dir / f"c{len(d)}.h5"
+            args = [a for s in (*sets, f"contact.0.direction={d}") for a in ("--set", s)]
+            r = smpm("run", EXAMPLES / "two_block_compression.toml", "-o", out, "-q", *args)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with h5py.File(out, "r") as f:
+                return f["particles"]["000001"]["V"][:]
+        np.testing.assert_array_equal(run("[0.0, 1e200]"), run("[0.0, 1.0]"))
+
+
 class ExitCodes(Base):
     """A particle that leaves the grid in a step that ends on a frame is that run's numerical
     failure (exit 3, the step and particle named), not a failed write of the frame (exit 1)."""

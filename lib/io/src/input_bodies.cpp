@@ -203,12 +203,8 @@ std::vector<Index> bc_nodes(const Reader& r, const toml::table& t, const std::st
 VelocityCondition velocity_condition(const Reader& r, const toml::table& vel,
                                      const std::string& key, int d) {
   r.check_keys(vel, "bc.velocity");
-  const auto dir = r.vector(vel, "direction", key + "velocity.direction", d, true);
-  Eigen::Vector3d n(dir[0], dir[1], dir[2]);
-  if (!(n.norm() > 0))
-    r.fail(vel.get("direction"), key + "velocity.direction", "must be a non-zero vector");
   VelocityCondition c;
-  c.direction = n.normalized();
+  c.direction = r.unit_vector(vel, "direction", key + "velocity.direction", d);
   c.label = key + "velocity";
   const toml::node* vn = r.node(vel, "value", key + "velocity.value", true);
   if (vn->is_string()) {
@@ -251,12 +247,8 @@ MovingWall moving_wall(const Reader& r, const toml::table& w, const std::string&
                        const Grid& g) {
   r.check_keys(w, "bc.wall");
   const int d = g.dim();
-  const auto dir = r.vector(w, "normal", key + "wall.normal", d, true);
   MovingWall wall;
-  wall.normal = Eigen::Vector3d(dir[0], dir[1], dir[2]);
-  if (!(wall.normal.norm() > 0))
-    r.fail(w.get("normal"), key + "wall.normal", "must be a non-zero vector");
-  wall.normal.normalize();
+  wall.normal = r.unit_vector(w, "normal", key + "wall.normal", d);
   wall.position = time_function(r, w, "position", key + "wall.position", true);
   wall.velocity = time_function(r, w, "velocity", key + "wall.velocity", false);
   wall.gradient = time_function(r, w, "gradient", key + "wall.gradient", false);

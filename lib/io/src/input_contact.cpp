@@ -51,11 +51,7 @@ void read_normal(const Reader& r, const toml::table& t, const std::string& key, 
   if (!has_materials)
     r.fail(t.get("normal"), key + "normal",
            "a specified normal needs `materials` (it points from the first to the second)");
-  const auto dir = r.vector(t, "direction", key + "direction", dim, true);
-  p.direction = Eigen::Vector3d(dir[0], dir[1], dir[2]);
-  if (!(p.direction.norm() > 0))
-    r.fail(t.get("direction"), key + "direction", "must not be zero");
-  p.direction.normalize();
+  p.direction = r.unit_vector(t, "direction", key + "direction", dim);
 }
 
 // The detection of a table and the parameters that belong to it (CP: δ_c; DF: the fit).

@@ -8,6 +8,8 @@
 
 #include <toml++/toml.h>
 
+#include <Eigen/Core>
+
 #include <array>
 #include <cmath>
 #include <optional>
@@ -160,6 +162,18 @@ public:
       out[k] = *v;
     }
     return out;
+  }
+  // A direction: an array of `count` numbers, not all zero, as a unit vector (scaled by its
+  // largest entry first, so that entries like 1e200 do not overflow the norm).
+  Eigen::Vector3d unit_vector(const toml::table& t, const std::string& key, const std::string& name,
+                              int count) const {
+    const auto v = vector(t, key, name, count, true);
+    Eigen::Vector3d n(v[0], v[1], v[2]);
+    const double largest = n.cwiseAbs().maxCoeff();
+    if (!(largest > 0))
+      fail(t.get(key), name, "must be a non-zero vector");
+    n /= largest;
+    return n.normalized();
   }
   std::array<int, 3> counts(const toml::table& t, const std::string& key, const std::string& name,
                             int count) const {
