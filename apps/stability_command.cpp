@@ -246,7 +246,7 @@ void validate(const StabilityArgs& a) {
       }
       check_fmpm_option("--periodic-cx", text, [cx](auto&, StepOptions& o) { o.periodic_cx = cx; });
     }
-  check_int("--shifts", a.shifts, 1, 1000);
+  check_int("--shifts", a.shifts, 1, kMaxLatticeShifts);
   check_int("--frame-stride", a.frame_stride, 1, 1000000);
   if (!std::isnan(a.position_alpha))
     check_fraction("--position-alpha", a.position_alpha);

@@ -33,9 +33,12 @@ void check_energy(const Model& model, double e, double e0, const FailureTest& te
 
 AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
                       const StepObserver& observer) {
+  const Stepper::Exclusive hold(stepper); // no other thread steps it between our steps
   if (!(o.end >= model.time) || !std::isfinite(o.end))
     throw InputError("end time " + std::to_string(o.end) + " is before the model's time " +
                      std::to_string(model.time));
+  if (std::isnan(o.failure.energy_growth))
+    throw InputError("energy_growth must be a number (0 or less: no growth test), got nan");
   SMPM_VERIFY(o.stop_every >= 0 && std::isfinite(o.stop_every),
               "advance: the interval between stops must be non-negative");
   AdvanceReport report;
@@ -75,6 +78,9 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
       if (o.observer_changes_model) // new velocities or materials set the next time step
         speed = signal_speed(model);
     }
+    check_interrupt(o.interrupt, [&] {
+      return "after step " + std::to_string(model.step) + " (t = " + number_text(model.time) + ")";
+    });
   }
   if (report.steps == 0)
     report.energy_end = energies(model).total;

@@ -1,5 +1,6 @@
 #include "sparsempm/errors.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <sstream>
 #include <utility>
@@ -31,6 +32,10 @@ std::string clip(std::string_view text, size_t max) {
   if (text.size() > max)
     out += "... (" + std::to_string(text.size()) + " characters)";
   return out;
+}
+
+const char* signal_name(int s) {
+  return s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : "a signal";
 }
 
 std::string number_text(double value) {

@@ -16,9 +16,9 @@ Grid::Grid(int dim, const std::array<double, 3>& origin, const std::array<double
     if (!(cell_size[a] > 0) || !std::isfinite(cell_size[a]))
       throw InputError("grid cell_size[" + std::to_string(a) + "] must be positive, got " +
                        std::to_string(cell_size[a]));
-    if (cells[a] < 1)
-      throw InputError("grid cells[" + std::to_string(a) + "] must be at least 1, got " +
-                       std::to_string(cells[a]));
+    if (cells[a] < 1 || cells[a] > kMaxCells)
+      throw InputError("grid cells[" + std::to_string(a) + "] must be 1 to " +
+                       std::to_string(kMaxCells) + ", got " + std::to_string(cells[a]));
     if (!std::isfinite(origin[a]))
       throw InputError("grid origin[" + std::to_string(a) + "] is not finite");
     origin_[a] = origin[a];
@@ -26,6 +26,11 @@ Grid::Grid(int dim, const std::array<double, 3>& origin, const std::array<double
     cells_[a] = cells[a];
     count_[a] = cells[a] + 1;
   }
+  // Counted in double, where the product of three counts up to 2^30 + 1 cannot overflow.
+  if (double(count_[0]) * count_[1] * count_[2] > double(kMaxNodes))
+    throw InputError("grid of " + std::to_string(count_[0]) + " x " + std::to_string(count_[1]) +
+                     " x " + std::to_string(count_[2]) + " nodes: more than the " +
+                     std::to_string(kMaxNodes) + " a grid can number");
 }
 
 Grid Grid::window(const std::array<int, 3>& first, const std::array<int, 3>& count) const {

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <string>
+#include <thread>
 
 namespace smpm {
 
@@ -15,7 +17,26 @@ struct Stepper::Buffers {
   StepBuffers step;
   ShockState shock;
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
+  std::atomic<std::thread::id> owner{}; ///< the thread holding the Stepper (Exclusive); none: {}
 };
+
+Stepper::Exclusive::Exclusive(const Stepper& stepper) {
+  std::atomic<std::thread::id>& owner = stepper.buf_->owner;
+  const std::thread::id me = std::this_thread::get_id();
+  std::thread::id none{};
+  if (owner.compare_exchange_strong(none, me, std::memory_order_acquire)) {
+    held_ = &stepper;
+    return;
+  }
+  if (none != me)
+    throw UsageError("Stepper: called from a second thread while another thread is stepping it "
+                     "(a Stepper belongs to one thread at a time; give each thread its own)");
+}
+
+Stepper::Exclusive::~Exclusive() {
+  if (held_)
+    held_->buf_->owner.store(std::thread::id{}, std::memory_order_release);
+}
 
 Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_unique<Buffers>()) {
   validate(opt_);
@@ -53,6 +74,7 @@ Stepper::Prepared Stepper::prepared_of(const Model& model) {
 }
 
 const StepPreparation& Stepper::prepare(const Model& model) {
+  const Exclusive hold(*this);
   prepared_ = {};
   try {
     prepare_step(model, opt_.shape, prep_);
@@ -64,6 +86,11 @@ const StepPreparation& Stepper::prepare(const Model& model) {
 }
 
 void Stepper::step(Model& model, double dt) {
+  const Exclusive hold(*this);
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw InputError("step: the time step must be positive and finite, got " + number_text(dt));
+  if (!std::isfinite(model.time))
+    throw InputError("step: the model's time must be finite, got " + number_text(model.time));
   Particles& P = model.particles;
   try {
     const bool prepared = prepared_.model && prepared_ == prepared_of(model);

@@ -1,6 +1,11 @@
 #include "sparsempm/step_preparation.hpp"
 
+#include "sparsempm/errors.hpp"
 #include "sparsempm/stages.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
 
 namespace smpm {
 
@@ -12,8 +17,26 @@ const SparseRowMatrix& StepPreparation::consistent_mass() {
   return mt_.matrix;
 }
 
+namespace {
+
+// Masses and initial volumes must stay positive and finite (a program, or Python through the
+// arrays' views, can set any value between steps).
+void check_amounts(const Eigen::VectorXd& amount, const char* name) {
+  if ((amount.array() > 0 && amount.array() < std::numeric_limits<double>::infinity()).all())
+    return;
+  Index p = 0;
+  while (amount[p] > 0 && std::isfinite(amount[p]))
+    ++p;
+  throw InputError("particle " + std::to_string(p) + ": " + name + " " + number_text(amount[p]) +
+                   " must be positive and finite");
+}
+
+} // namespace
+
 void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
   const Particles& P = model.particles;
+  check_amounts(P.mass, "mass");
+  check_amounts(P.volume0, "volume0");
   s.mt_current_ = false;
   const int nf = model.contact.fields();
   if (nf > 1) { // multimaterial: the fields as blocks of columns of S (contact.hpp)

@@ -5,6 +5,7 @@
 
 #include "bindings.hpp"
 #include "convert.hpp"
+#include "interrupt.hpp"
 
 #include <sparsempm/advance.hpp>
 #include <sparsempm/errors.hpp>
@@ -44,7 +45,9 @@ void bind_linearized_step(py::module_& m) {
       .def_property_readonly("steps_per_application", &LinearizedStep::steps_per_application)
       .def(
           "matvec",
-          [](const LinearizedStep& T, const py::array_t<double, py::array::forcecast>& x) {
+          [](const LinearizedStep& T,
+             const py::array_t<double, py::array::c_style | py::array::forcecast>& x) {
+            // c_style: a strided x (a column of a C-ordered X in T @ X) arrives as a copy.
             if (x.ndim() != 1 || x.shape(0) != T.rows())
               throw std::invalid_argument("matvec: expected a vector of " +
                                           std::to_string(T.rows()) + " entries");
@@ -111,8 +114,9 @@ void bind_courant_searches(py::module_& m) {
       [](const PyModel& pm, const std::optional<StepOptions>& options, double tol, double c_max,
          double resolution, double hint) {
         const StepOptions& o = options_or(pm, options);
-        py::gil_scoped_release release;
-        return critical_courant(pm.model, o, tol, c_max, resolution, hint);
+        return interruptible([&](const std::atomic<int>* interrupt) {
+          return critical_courant(pm.model, o, tol, c_max, resolution, hint, interrupt);
+        });
       },
       py::arg("model"), py::arg("options") = py::none(), py::arg("tol") = 1e-6,
       py::arg("c_max") = 2.0, py::arg("resolution") = 1e-3, py::arg("hint") = 0.0,
@@ -124,8 +128,9 @@ void bind_courant_searches(py::module_& m) {
       [](const PyModel& pm, const std::optional<StepOptions>& options, int shifts, double tol,
          double resolution, int workers) {
         const StepOptions& o = options_or(pm, options);
-        py::gil_scoped_release release;
-        return sweep_shifts(pm.model, o, shifts, tol, resolution, workers);
+        return interruptible([&](const std::atomic<int>* interrupt) {
+          return sweep_shifts(pm.model, o, shifts, tol, resolution, workers, interrupt);
+        });
       },
       py::arg("model"), py::arg("options") = py::none(), py::arg("shifts") = 4,
       py::arg("tol") = 1e-6, py::arg("resolution") = 1e-3, py::arg("workers") = 0,
@@ -143,8 +148,10 @@ void bind_courant_searches(py::module_& m) {
         sim.failure.energy_growth = energy_growth;
         sim.max_energy_change = max_energy_change;
         const StepOptions& o = options_or(pm, options);
-        py::gil_scoped_release release;
-        return simulation_courant(pm.model, o, sim);
+        return interruptible([&](const std::atomic<int>* interrupt) {
+          sim.interrupt = interrupt;
+          return simulation_courant(pm.model, o, sim);
+        });
       },
       py::arg("model"), py::arg("options") = py::none(), py::arg("end") = py::none(),
       py::arg("lo") = 0.02, py::arg("hi") = 1.5, py::arg("resolution") = 0.005,

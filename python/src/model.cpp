@@ -282,7 +282,12 @@ void bind_model_state(py::class_<PyModel>& c) {
       [](PyModel& pm, double e) { pm.time_settings.end = e; }, "[time] end");
   c.def_property(
       "time", [](const PyModel& pm) { return pm.model.time; },
-      [](PyModel& pm, double t) { pm.model.time = t; }, "simulated time t");
+      [](PyModel& pm, double t) {
+        if (!std::isfinite(t))
+          throw InputError("time must be finite, got " + number_text(t));
+        pm.model.time = t;
+      },
+      "simulated time t");
   c.def_property_readonly(
       "step", [](const PyModel& pm) { return pm.model.step; }, "steps taken");
   c.def_property_readonly("dim", [](const PyModel& pm) { return pm.model.grid.dim(); });

@@ -3,6 +3,7 @@
 
 #include "bindings.hpp"
 #include "convert.hpp"
+#include "interrupt.hpp"
 
 #include <sparsempm/advance.hpp>
 #include <sparsempm/errors.hpp>
@@ -47,8 +48,11 @@ AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj,
       py::gil_scoped_acquire acquire;
       callback(model_obj, e, at_stop);
     };
-  py::gil_scoped_release release;
-  return advance(pm.model, stepper, options, observer);
+  return interruptible([&](const std::atomic<int>* interrupt) {
+    AdvanceOptions o = options;
+    o.interrupt = interrupt;
+    return advance(pm.model, stepper, o, observer);
+  });
 }
 
 // The Courant relation of the time step (diagnostics.hpp).
@@ -90,7 +94,8 @@ void bind_step(py::module_& m) {
            "`smpm run`; advance.hpp): callback(model, energies, at_stop) after every step, "
            "stops at multiples of stop_every (steps shortened to land on them unless "
            "land_on_stops is False), NumericalError when the total energy exceeds "
-           "energy_growth times its start.")
+           "energy_growth times its start; Ctrl-C stops it after the step in progress "
+           "(KeyboardInterrupt, the model at that step).")
       .def_property_readonly("options", &Stepper::options)
       .def_property_readonly(
           "grid_velocity",

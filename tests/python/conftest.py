@@ -2,7 +2,9 @@
 (SMPM, set by ctest) and the source tree (SMPM_SOURCE)."""
 import os
 import pathlib
+import signal
 import subprocess
+import threading
 
 import pytest
 
@@ -24,3 +26,40 @@ def run_smpm(*args, cwd=None):
 def bar():
     """The free-vibrating bar of FMPM 2026 §3.3 (CPDI, FLIP, C = 0.5) as `smpm run` reads it."""
     return smpm.Model.from_toml(str(BAR))
+
+
+class interrupting:
+    """Sends SIGINT to this process every `every` seconds while the `with` block runs, as a
+    user pressing Ctrl-C until the computation stops. Python's handler is replaced for the
+    block by one that records each signal in `seen` and, at the first, stops the sending and
+    raises KeyboardInterrupt (as Python's own does) when `raises`, or nothing otherwise."""
+
+    def __init__(self, every=0.2, raises=True):
+        self.every, self.raises, self.seen = every, raises, []
+
+    def _handler(self, signum, frame):
+        self.seen.append(signum)
+        if len(self.seen) == 1:
+            self._done.set()
+            if self.raises:
+                raise KeyboardInterrupt
+
+    def __enter__(self):
+        self._done = threading.Event()
+        self._previous = signal.signal(signal.SIGINT, self._handler)
+
+        def send():
+            while not self._done.wait(self.every):
+                os.kill(os.getpid(), signal.SIGINT)
+
+        self._thread = threading.Thread(target=send, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._done.set()
+        self._thread.join()
+        for _ in range(100):  # a signal still in flight runs the handler here
+            pass
+        signal.signal(signal.SIGINT, self._previous)
+        return False

@@ -1,6 +1,7 @@
 """Spectra and stability from Python: the linearised step as a scipy LinearOperator, ρ(T) by
 scipy against the library, C* against `smpm stability`, ρ(A) against a dense eigensolver."""
 import csv
+import signal
 
 import numpy as np
 import pytest
@@ -9,7 +10,7 @@ import scipy.sparse.linalg
 
 import sparsempm as smpm
 
-from conftest import BAR, run_smpm
+from conftest import BAR, interrupting, run_smpm
 
 
 def options(bar, scheme, k=1):
@@ -95,3 +96,30 @@ def test_mass_spectrum_matches_dense_eigenvalues(bar):
     mt = ops.consistent_mass().toarray()[np.ix_(act, act)]
     w = scipy.linalg.eigvalsh(mt)
     assert ms.cond_mt == pytest.approx(w.max() / w.min(), rel=1e-9)
+
+
+def test_the_matrix_free_product_of_a_c_ordered_block(bar):
+    # T @ X with X C-ordered hands each column to matvec as a strided view; the matrix-free
+    # product read it as contiguous memory (a wrong T @ X above the dense limit).
+    T = smpm.linearized_step(bar, dense_limit=0)
+    assert T.shape[0] > 3
+    X = np.random.default_rng(7).standard_normal((T.shape[0], 3))
+    Y = T @ X
+    for j in range(3):
+        np.testing.assert_array_equal(Y[:, j], T.step.matvec(np.ascontiguousarray(X[:, j])))
+    np.testing.assert_array_equal(T @ np.asfortranarray(X), Y)
+
+
+@pytest.mark.parametrize("search", ["sweep_shifts", "simulation_courant"])
+def test_ctrl_c_stops_the_searches(bar, search):
+    # The searches run with the GIL released; Python's handler ran only once they returned, with
+    # their result. Now SIGINT stops them at the next evaluation of rho(T) (or step of a run):
+    # Python's handler runs then (here one that raises nothing) and, as the search has no
+    # result, the call raises KeyboardInterrupt.
+    with interrupting(raises=False) as ctrl_c:
+        with pytest.raises(KeyboardInterrupt):
+            if search == "sweep_shifts":  # 300 shifts: about 20 s uninterrupted
+                smpm.sweep_shifts(bar, None, 300, workers=1)
+            else:  # about 20 s uninterrupted
+                smpm.simulation_courant(bar, end=40 * bar.end)
+    assert ctrl_c.seen and set(ctrl_c.seen) == {signal.SIGINT}

@@ -65,3 +65,39 @@ def test_arrays_outside_the_grid():
     with pytest.raises(smpm.InputError, match="expected"):
         smpm.StepOptions(velocity="FLOP")
     assert np.isfinite(smpm.Material(youngs=4, density=1).wave_speed(1))
+
+
+def test_sizes_beyond_the_caps_are_refused(bar):
+    # The CLI's --shifts cap (1 to 1000) holds for the library's sweep as well: a million
+    # shifts were a million spectral searches with no way to stop them.
+    with pytest.raises(smpm.InputError, match="lattice shifts must be 1 to 1000, got 1000000"):
+        smpm.sweep_shifts(bar, None, 10**6)
+    # cells + 1 nodes per axis wrapped around int: num_nodes was 0 for 2^31 - 1 cells.
+    with pytest.raises(smpm.InputError, match=r"cells\[0\] must be 1 to 1073741824"):
+        smpm.Grid([2**31 - 1] * 3)
+    with pytest.raises(smpm.InputError, match="more than the 1125899906842624 a grid can number"):
+        smpm.Grid([2**20] * 3)
+    assert smpm.Grid([2**30]).num_nodes == 2**30 + 1
+    assert smpm.Grid([2**16, 2**16, 2**16 - 2]).num_nodes == (2**16 + 1)**2 * (2**16 - 1)
+
+
+def test_out_of_range_arguments_are_refused(bar):
+    # Each of these ran before: a step backwards in time, a NaN clock, a failure test turned
+    # off by NaN, C* = 0 for a negative tolerance, a negative mass set through the arrays' view.
+    stepper = smpm.Stepper(bar.options)
+    with pytest.raises(smpm.InputError, match="time step must be positive and finite, got -0.1"):
+        stepper.step(bar, -0.1)
+    with pytest.raises(smpm.InputError, match="time must be finite, got nan"):
+        bar.time = float("nan")
+    with pytest.raises(smpm.InputError, match="energy_growth must be a number"):
+        stepper.advance(bar, end=1.0, energy_growth=float("nan"))
+    with pytest.raises(smpm.InputError, match="tol must be non-negative and finite, got -1"):
+        smpm.critical_courant(bar, tol=-1)
+    bar.particles.mass[3] = -1.0
+    with pytest.raises(smpm.InputError, match="particle 3: mass -1 must be positive and finite"):
+        stepper.step(bar, 0.25)
+    bar.particles.mass[3] = 1.0
+    bar.particles.volume0[5] = float("inf")
+    with pytest.raises(smpm.InputError, match="particle 5: volume0 inf must be positive"):
+        stepper.step(bar, 0.25)
+    assert bar.step == 0 and bar.time == 0

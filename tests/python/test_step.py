@@ -8,7 +8,7 @@ import pytest
 
 import sparsempm as smpm
 
-from conftest import BAR, SOURCE, run_smpm
+from conftest import BAR, SOURCE, interrupting, run_smpm
 
 # 100 steps of the bar: Δt = C Δx / c = 0.5 · 1 / 2 = 0.25 (the wave speed exceeds |V| ≤ 0.16),
 # so t = 25 is reached in exactly 100 steps, and one frame at its end.
@@ -335,3 +335,55 @@ def test_earlier_python_names_warn_and_mean_the_same():
     assert np.array_equal(a.particles.V, b.particles.V)
     with pytest.warns(DeprecationWarning, match="--set scheme.velocity is now --set step.velocity"):
         assert smpm.Model.from_toml(str(BAR), {"scheme.velocity": "PIC"}).options.velocity == "PIC"
+
+
+def test_a_stepper_belongs_to_one_thread(bar):
+    # advance() holds its Stepper for the whole run: a step of another model from a second
+    # thread in the middle of it used to run, on the same operators and grid fields as the run;
+    # now it is refused and the run goes on as if it had not been tried.
+    other = smpm.Model.from_toml(str(BAR))
+    reference = smpm.Model.from_toml(str(BAR))
+    smpm.Stepper(reference.options).advance(reference, end=25.0, callback=lambda *a: None)
+    stepper = smpm.Stepper(bar.options)
+    started, tried, refused = threading.Event(), threading.Event(), []
+
+    def callback(model, energies, at_stop):
+        if not started.is_set():
+            started.set()
+            tried.wait(60)  # releases the GIL: the second thread steps now
+
+    def second():
+        started.wait(60)
+        try:
+            stepper.step(other, 0.25)
+        except smpm.UsageError as e:
+            refused.append(str(e))
+        tried.set()
+
+    thread = threading.Thread(target=second)
+    thread.start()
+    stepper.advance(bar, end=25.0, callback=callback)
+    thread.join()
+    assert refused and "a Stepper belongs to one thread at a time" in refused[0]
+    assert other.step == 0 and bar.step == 100
+    np.testing.assert_array_equal(bar.particles.V, reference.particles.V)
+    np.testing.assert_array_equal(bar.particles.X, reference.particles.X)
+    # Once the run is over, the other thread may take the Stepper.
+    thread = threading.Thread(target=stepper.step, args=(other, 0.25))
+    thread.start()
+    thread.join()
+    assert other.step == 1
+
+
+def test_ctrl_c_stops_advance_after_the_step_in_progress(bar):
+    # advance() runs with the GIL released: Python's SIGINT handler used to run only when the
+    # whole run (here 10 million steps) had ended. Now the run stops after the step in progress
+    # with KeyboardInterrupt and the model is left at that step.
+    # At C = 0.1 (Δt = 0.05, see OVERRIDES) FLIP stays stable for the 10 million steps.
+    end = 1e7 * 0.05
+    with interrupting():
+        with pytest.raises(KeyboardInterrupt):
+            smpm.Stepper(bar.options).advance(bar, end=end, courant=0.1)
+    assert 0 < bar.time < end and bar.step > 0
+    assert bar.time == pytest.approx(0.05 * bar.step)
+    assert np.isfinite(bar.particles.V).all()

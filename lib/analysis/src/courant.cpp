@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace smpm {
@@ -19,15 +20,19 @@ namespace {
 class CourantSearch {
 public:
   CourantSearch(const Model& model, const StepOptions& options, double tol, double c_max,
-                double resolution)
+                double resolution, const std::atomic<int>* interrupt)
       : model_(model), T_(model, options, stable_time_step(model, 0.05)), tol_(tol),
-        resolution_(resolution), edge_{0.0, std::min(0.05, c_max)} {
+        resolution_(resolution), interrupt_(interrupt), edge_{0.0, std::min(0.05, c_max)} {
     while (edge_.back() < c_max)
       edge_.push_back(std::min(2 * edge_.back(), c_max));
   }
 
   // Whether ρ(T(C))^{1/s} ≤ 1 + tol (the growth per step; a non-finite ρ is unstable).
   bool stable(double C, double& rho) {
+    check_interrupt(interrupt_, [&] {
+      return "in the search for C* after " + std::to_string(out.evaluations) +
+             " evaluations of rho(T)";
+    });
     T_.set_dt(stable_time_step(model_, C));
     const SpectralRadius r = spectral_radius(T_);
     ++out.evaluations;
@@ -46,6 +51,7 @@ private:
   const Model& model_;
   LinearizedStep T_;
   double tol_, resolution_;
+  const std::atomic<int>* interrupt_;
   std::vector<double> edge_;
 };
 
@@ -125,12 +131,16 @@ void bisect(CourantSearch& search, const BracketGrid& g, Index s, Index u, doubl
 } // namespace
 
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol,
-                                 double c_max, double resolution, double hint) {
+                                 double c_max, double resolution, double hint,
+                                 const std::atomic<int>* interrupt) {
+  if (!(tol >= 0) || !std::isfinite(tol))
+    throw InputError("critical_courant: tol must be non-negative and finite, got " +
+                     number_text(tol));
   SMPM_VERIFY(c_max > 0 && std::isfinite(c_max) && resolution >= 1e-12 * c_max,
               "critical_courant: c_max must be positive and finite and resolution at least "
               "1e-12 c_max");
   hint = std::isfinite(hint) ? std::min(hint, c_max) : 0.0;
-  CourantSearch search(model, options, tol, c_max, resolution);
+  CourantSearch search(model, options, tol, c_max, resolution, interrupt);
   // C* is the last stable grid point before an unstable one: the same point whether the search
   // starts from the hint or from below, if stability is monotone in C (which bisection assumes
   // anyway).
@@ -185,7 +195,8 @@ double simulation_energy_change(const Model& start, const StepOptions& options, 
                            .stop_every = 0,
                            .land_on_stops = false, // constant Courant steps
                            .failure = sim.failure,
-                           .energy_start = std::nullopt};
+                           .energy_start = std::nullopt,
+                           .interrupt = sim.interrupt};
   AdvanceReport r;
   try {
     r = advance(model, stepper, adv);

@@ -12,6 +12,7 @@
 #include <limits>
 #include <mutex>
 #include <sstream>
+#include <string>
 #include <thread>
 
 namespace smpm {
@@ -27,8 +28,9 @@ Model shifted(const Model& model, const std::array<double, 3>& shift) {
 }
 
 std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts) {
-  if (shifts < 1)
-    throw InputError("the number of lattice shifts must be at least 1");
+  if (shifts < 1 || shifts > kMaxLatticeShifts)
+    throw InputError("the number of lattice shifts must be 1 to " +
+                     std::to_string(kMaxLatticeShifts) + ", got " + std::to_string(shifts));
   // The lattice repeats itself after one particle spacing 2 r⁰: shifts j/shifts of it (in cells
   // along each axis) reach every distinct position of the lattice relative to the grid.
   std::array<double, 3> period{0, 0, 0};
@@ -88,7 +90,7 @@ void run_tasks(size_t count, const std::function<void(size_t)>& task, int worker
 std::vector<std::vector<ConfigurationSweep>>
 sweep_configurations(const std::vector<Configuration>& configurations,
                      const std::vector<CourantSeries>& series, double tol, double resolution,
-                     int workers) {
+                     int workers, const std::atomic<int>* interrupt) {
   const size_t nc = configurations.size();
   // c[s][i][f]: option i of series s at configuration f.
   std::vector<std::vector<std::vector<CriticalCourant>>> c(series.size());
@@ -101,7 +103,7 @@ sweep_configurations(const std::vector<Configuration>& configurations,
         double hint = 0;
         for (size_t i = 0; i < series[s].options.size(); ++i) {
           c[s][i][f] = critical_courant(configurations[f].model, series[s].options[i], tol, 2.0,
-                                        resolution, hint);
+                                        resolution, hint, interrupt);
           hint = series[s].hinted ? c[s][i][f].courant : 0.0;
         }
       },
@@ -124,9 +126,10 @@ sweep_configurations(const std::vector<Configuration>& configurations,
 }
 
 ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
-                                double tol, double resolution, int workers) {
+                                double tol, double resolution, int workers,
+                                const std::atomic<int>* interrupt) {
   return sweep_configurations(lattice_configurations(model, shifts), {{.options = {options}}}, tol,
-                              resolution, workers)[0][0];
+                              resolution, workers, interrupt)[0][0];
 }
 
 } // namespace smpm

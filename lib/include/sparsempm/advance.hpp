@@ -43,6 +43,9 @@ struct AdvanceOptions {
   /// The observer may change the model (Python's callback gets it mutable): the signal speed of
   /// the next step is then taken from the model after the observer, not from the step's energies.
   bool observer_changes_model = false;
+  /// Set asynchronously to a signal's number (SIGINT, SIGTERM): the run stops after the step in
+  /// progress (and its observer) with Interrupted.
+  const std::atomic<int>* interrupt = nullptr;
 };
 
 /// Called after every step with the model, its total energy and whether the step reached a stop.

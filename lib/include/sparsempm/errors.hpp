@@ -2,6 +2,7 @@
 /// \file errors.hpp
 /// The two kinds of failure a user can act on: bad input and numerical failure.
 
+#include <atomic>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -50,6 +51,31 @@ std::string number_text(double value);
 
 /// Prefixes a NumericalError's message with the step and time at which it happened.
 NumericalError at_step(const NumericalError& e, long step, double time);
+
+/// Thrown when a signal asked a long computation to stop at its next safe point: a run between
+/// steps (RunOptions, AdvanceOptions), the stability searches between evaluations of ρ(T). Their
+/// `interrupt` flag is an atomic a signal handler sets to the signal's number (0: none).
+class Interrupted : public std::runtime_error {
+public:
+  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal_(signal) {}
+  int signal() const { return signal_; }
+
+private:
+  int signal_;
+};
+
+/// "SIGINT", "SIGTERM" or "a signal".
+const char* signal_name(int signal);
+
+/// Throws Interrupted ("interrupted by SIGINT <where>") when `flag` is set; `where` is called
+/// only then (it says where the computation stopped).
+template <class Where>
+void check_interrupt(const std::atomic<int>* flag, Where&& where) {
+  if (!flag)
+    return;
+  if (const int s = flag->load(std::memory_order_relaxed); s != 0)
+    throw Interrupted(s, std::string("interrupted by ") + signal_name(s) + " " + where());
+}
 
 /// Thrown when the library is called wrongly by a program (mismatched sizes, a missing
 /// solver): a defect of the calling code, not of the user's input. Always checked.

@@ -22,8 +22,11 @@ class Grid {
 public:
   /// A 1D grid of one unit cell at the origin (a placeholder to be assigned over).
   Grid() : Grid(1, {0, 0, 0}, {1, 1, 1}, {1, 1, 1}) {}
-  /// Throws InputError unless 1 ≤ dim ≤ 3, every cell size is positive and finite and
-  /// every cell count is at least 1.
+  /// Throws InputError unless 1 ≤ dim ≤ 3, every cell size is positive and finite, every cell
+  /// count is 1 to kMaxCells and the grid has at most kMaxNodes nodes (so that no count of
+  /// nodes or node index overflows).
+  static constexpr int kMaxCells = 1 << 30;
+  static constexpr Index kMaxNodes = Index(1) << 50;
   Grid(int dim, const std::array<double, 3>& origin, const std::array<double, 3>& cell_size,
        const std::array<int, 3>& cells);
 

@@ -31,9 +31,24 @@ struct StepperState {
 };
 
 /// Advances a Model by one time step; owns the operators, m̃ and the grid fields and reuses
-/// their storage from step to step.
+/// their storage from step to step. A Stepper belongs to one thread at a time: step(), prepare()
+/// and advance() throw UsageError when another thread is inside one of them with the same
+/// Stepper (a nested call from the same thread, such as advance's observer may make, is allowed).
 class Stepper {
 public:
+  /// Holds the Stepper for the calling thread while it lives (step, prepare and advance take one);
+  /// throws UsageError when another thread holds it.
+  class Exclusive {
+  public:
+    explicit Exclusive(const Stepper& stepper);
+    ~Exclusive();
+    Exclusive(const Exclusive&) = delete;
+    Exclusive& operator=(const Exclusive&) = delete;
+
+  private:
+    const Stepper* held_ = nullptr; // the Stepper to release; null for a nested hold
+  };
+
   /// Validates the options (validate) and makes the exact solver when one is needed.
   explicit Stepper(const StepOptions& options);
   ~Stepper();

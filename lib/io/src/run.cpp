@@ -6,7 +6,6 @@
 #include "sparsempm/run_file.hpp"
 
 #include <cmath>
-#include <csignal>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -16,10 +15,6 @@
 namespace smpm {
 
 namespace {
-const char* signal_name(int s) {
-  return s == SIGINT ? "SIGINT" : s == SIGTERM ? "SIGTERM" : "a signal";
-}
-
 // The partial file of a fresh run, or a copy of the restart file continued from its last
 // complete frame (the restart file itself is never written). Sets next_frame and e0.
 OutputFile open_partial(RunConfig& cfg, const RunOptions& options, const std::string& partial,
@@ -161,12 +156,10 @@ private:
   }
 
   void check_interrupt(const Model& m) const {
-    if (!options_.interrupt || options_.interrupt->load() == 0)
-      return;
-    const int s = options_.interrupt->load();
-    throw Interrupted(s, std::string("interrupted by ") + signal_name(s) + " after step " +
-                             std::to_string(m.step) + " (t = " + std::to_string(m.time) +
-                             "); the frames so far are in " + partial_);
+    smpm::check_interrupt(options_.interrupt, [&] {
+      return "after step " + std::to_string(m.step) + " (t = " + std::to_string(m.time) +
+             "); the frames so far are in " + partial_;
+    });
   }
 
   RunConfig& cfg_;

@@ -93,8 +93,11 @@ struct CriticalCourant {
 /// unstable. With `hint` > 0 (the C* of a neighbouring scheme, e.g. FMPM(k − 1) on the same
 /// lattice: C* changes little with k) the search starts there and gallops to the transition:
 /// the same C* (the same grid point, if stability is monotone in C) in fewer evaluations.
+/// Throws InputError unless tol is non-negative and finite, and Interrupted when `interrupt` (a
+/// flag a signal handler sets) is set before an evaluation.
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol = 1e-6,
-                                 double c_max = 2.0, double resolution = 1e-3, double hint = 0);
+                                 double c_max = 2.0, double resolution = 1e-3, double hint = 0,
+                                 const std::atomic<int>* interrupt = nullptr);
 
 /// The model with every particle translated by `shift` (in cells along each axis); boundary
 /// conditions stay on their nodes. Throws NumericalError if a particle leaves the grid.
@@ -113,7 +116,9 @@ struct LatticeShift {
 };
 
 /// The shifts of sweep_shifts: j/shifts (j = 0 … shifts − 1) of the particle spacing 2r⁰ (the
-/// lattice's period) along every axis at once. Throws InputError for shifts < 1.
+/// lattice's period) along every axis at once. Throws InputError unless 1 ≤ shifts ≤
+/// kMaxLatticeShifts.
+inline constexpr int kMaxLatticeShifts = 1000;
 std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts);
 
 /// A particle configuration the spectral C* is computed at, with its name in tables ("shift
@@ -140,16 +145,19 @@ struct CourantSeries {
 /// The spectral C* of every option of every series at every configuration, and its minimum over
 /// them: out[s][i] is the sweep of option i of series s. One task per (series, configuration),
 /// run by run_tasks on `workers` threads (0: threads()); the results do not depend on their
-/// number. The spectral column of `smpm stability` and Python's sweep_shifts.
+/// number. The spectral column of `smpm stability` and Python's sweep_shifts. `interrupt` as for
+/// critical_courant (every task stops at its next evaluation).
 std::vector<std::vector<ConfigurationSweep>>
 sweep_configurations(const std::vector<Configuration>& configurations,
                      const std::vector<CourantSeries>& series, double tol = 1e-6,
-                     double resolution = 1e-3, int workers = 0);
+                     double resolution = 1e-3, int workers = 0,
+                     const std::atomic<int>* interrupt = nullptr);
 
 /// C* over uniform shifts of the particle lattice relative to the grid (lattice_configurations):
 /// the minimum and its shift (named in cells along x, e.g. "shift 0.125").
 ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,
-                                double tol = 1e-6, double resolution = 1e-3, int workers = 0);
+                                double tol = 1e-6, double resolution = 1e-3, int workers = 0,
+                                const std::atomic<int>* interrupt = nullptr);
 
 /// Runs task(i) for i = 0 … count − 1 on `workers` threads (0: threads()), each with one OpenMP
 /// thread: independent analyses on every core. The first failure stops the others (they finish
@@ -167,6 +175,8 @@ struct SimulationCourantOptions {
   /// Also fail a run whose total energy changes by more than this fraction of its start
   /// (|E_end − E_0| / E_0): the paper's "largest C with low dissipation". Infinite: off.
   double max_energy_change = std::numeric_limits<double>::infinity();
+  /// Stops the runs with Interrupted between steps (AdvanceOptions::interrupt).
+  const std::atomic<int>* interrupt = nullptr;
 };
 
 struct SimulationCourant {

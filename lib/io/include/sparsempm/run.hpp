@@ -3,6 +3,7 @@
 /// Driving a run from its configuration: the time loop (advance), frames, restart, and the
 /// file-safety promises of run_file.hpp.
 
+#include "sparsempm/errors.hpp" // Interrupted: a run stopped by a signal (status "interrupted")
 #include "sparsempm/input.hpp"
 
 #include <atomic>
@@ -31,16 +32,6 @@ struct RunReport {
   double energy_end = 0;   ///< total energy at the end
   int frames = 0;          ///< frames in the file
   std::string output;      ///< the HDF5 file
-};
-
-/// A run stopped by a signal; the partial file is marked "interrupted".
-class Interrupted : public std::runtime_error {
-public:
-  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal_(signal) {}
-  int signal() const { return signal_; }
-
-private:
-  int signal_;
 };
 
 /// Called after every step with the model and the end time.
