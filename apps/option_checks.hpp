@@ -6,15 +6,41 @@
 #include <sparsempm/errors.hpp>
 #include <sparsempm/step_options.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace smpm::app {
 
 /// Most entries of a list option.
 inline constexpr size_t kMaxList = 1000;
+/// The largest FMPM order and blending period the commands take (each order is a spectral
+/// search over k passes; the library's own cap, kMaxFmpmOrder, is higher).
+inline constexpr int kMaxListedOrder = 10000;
+
+/// Whether all of `text` is a finite number (std::from_chars; an optional leading '+'), and
+/// that number in `v`.
+template <class T>
+bool parse_all(const std::string& text, T& v) {
+  const char* first = text.data() + (text.rfind('+', 0) == 0 ? 1 : 0);
+  const char* last = text.data() + text.size();
+  const auto [end, ec] = std::from_chars(first, last, v);
+  if constexpr (std::is_floating_point_v<T>)
+    if (!std::isfinite(v))
+      return false;
+  return ec == std::errc() && end == last && first != last;
+}
+/// `text` as the value of `option`, or InputError "<option> <text>: expected <expected>".
+template <class T = double>
+T parse_value(const std::string& option, const std::string& text, const std::string& expected) {
+  T v{};
+  if (!parse_all(text, v))
+    throw InputError(option + " " + clip(text) + ": expected " + expected);
+  return v;
+}
 
 /// A value as a table cell shows it: `precision` significant digits, NaN empty.
 inline std::string cell(double v, int precision = 4) {
@@ -64,19 +90,19 @@ void check_list(const std::string& option, const std::vector<T>& values) {
     throw InputError(option + ": give 1 to " + std::to_string(kMaxList) + " values");
 }
 
-/// --order, --blend-alpha and --blend-every, each value by the library's limits.
+/// --order, --blend-alpha and --blend-every, each value by the library's limits (orders and
+/// periods up to kMaxListedOrder).
 inline void check_fmpm_lists(const std::vector<int>& orders, const std::vector<double>& alphas,
                              const std::vector<int>& every) {
   check_list("--order", orders);
   for (int k : orders)
-    check_fmpm_option("--order", std::to_string(k), [k](FmpmOptions& f, auto&) { f.order = k; });
+    check_int("--order", k, 1, kMaxListedOrder);
   check_list("--blend-alpha", alphas);
   for (double a : alphas)
     check_fmpm_option("--blend-alpha", shown(a), [a](FmpmOptions& f, auto&) { f.blend_alpha = a; });
   check_list("--blend-every", every);
   for (int m : every)
-    check_fmpm_option("--blend-every", std::to_string(m),
-                      [m](FmpmOptions& f, auto&) { f.blend_every = m; });
+    check_int("--blend-every", m, 1, kMaxListedOrder);
 }
 
 } // namespace smpm::app

@@ -245,6 +245,15 @@ int main(int argc, char** argv) {
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
   info->add_option("file", info_path, "HDF5 file written by smpm run");
   info->add_flag("--layout", layout, "print the layout of every run file instead");
+  // A first argument that names no command (CLI11 says only "A subcommand is required").
+  const auto named = [&](const CLI::App* c) { return c->get_name() == argv[1]; };
+  if (argc > 1 && argv[1][0] != '-' && app.get_subcommands(named).empty()) {
+    std::fprintf(stderr,
+                 "smpm: error: unknown command '%s' (expected run, stability, spectrum or "
+                 "info; smpm --help lists them)\n",
+                 smpm::clip(argv[1]).c_str());
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -257,9 +266,10 @@ int main(int argc, char** argv) {
     smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core
     if (*run)
       code = run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet);
-    else if (*stab)
+    else if (*stab) {
+      st.position_alpha_given = stab->count("--position-alpha") > 0; // a NaN given is refused
       code = smpm::app::stability_command(st);
-    else if (*spec)
+    } else if (*spec)
       code = smpm::app::spectrum_command(sp);
     else
       code = smpm::app::info_command(info_path, layout);

@@ -39,27 +39,33 @@ struct Row {
 
 // The (m, α) pairs of the blended rows: every --blend-every with every --blend-alpha but 1 (the
 // unblended rows), or the pairs of the earlier --blend m:alpha when it is given.
+std::vector<double> blend_alphas(const StabilityArgs& a) {
+  std::vector<double> alphas;
+  for (const std::string& text : a.blend_alphas)
+    if (!text.empty() && text != "none")
+      alphas.push_back(parse_value("--blend-alpha", text, "a number in [0, 1] or none"));
+  return alphas;
+}
+
 std::vector<std::pair<int, double>> blend_pairs(const StabilityArgs& a) {
   std::vector<std::pair<int, double>> pairs;
   for (const std::string& b : a.blends) {
     if (b.empty() || b == "none")
       continue;
     const size_t colon = b.find(':');
-    try {
-      if (colon == std::string::npos)
-        throw std::invalid_argument(b);
-      pairs.emplace_back(std::stoi(b.substr(0, colon)), std::stod(b.substr(colon + 1)));
-    } catch (const std::exception&) {
-      throw InputError("--blend " + b + ": expected m:alpha, e.g. 2:0.8");
-    }
+    int m = 0;
+    double alpha = 0;
+    if (colon == std::string::npos || !parse_all(b.substr(0, colon), m) ||
+        !parse_all(b.substr(colon + 1), alpha))
+      throw InputError("--blend " + clip(b) + ": expected m:alpha, e.g. 2:0.8");
+    pairs.emplace_back(m, alpha);
   }
   if (!a.blends.empty())
     return pairs;
   for (int m : a.blend_every)
-    for (const std::string& text : a.blend_alphas)
-      if (!text.empty() && text != "none")
-        if (const double alpha = std::stod(text); alpha != 1)
-          pairs.emplace_back(m, alpha);
+    for (const double alpha : blend_alphas(a))
+      if (alpha != 1)
+        pairs.emplace_back(m, alpha);
   return pairs;
 }
 
@@ -67,7 +73,8 @@ std::vector<double> periodic_budgets(const StabilityArgs& a) {
   std::vector<double> out;
   for (const std::string& text : a.periodic_cx)
     if (!text.empty() && text != "none")
-      if (const double cx = std::stod(text); cx > 0) // C_X = 0: the plain FMPM rows
+      if (const double cx = parse_value("--periodic-cx", text, "a Courant budget C_X or none");
+          cx > 0) // C_X = 0: the plain FMPM rows
         out.push_back(cx);
   return out;
 }
@@ -81,7 +88,7 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
     Row r;
     r.opt = base;
     r.opt.velocity = v;
-    if (!std::isnan(a.position_alpha))
+    if (a.position_alpha_given)
       r.opt.position_alpha = a.position_alpha;
     r.opt.fmpm.metric = ConvergenceMetric::None;
     r.opt.fmpm.order = k;
@@ -219,36 +226,27 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
 void validate(const StabilityArgs& a) {
   if (a.method != "spectral" && a.method != "simulation" && a.method != "both")
     throw InputError("--method " + a.method + ": expected spectral | simulation | both");
-  std::vector<double> alphas;
-  for (const std::string& text : a.blend_alphas)
-    if (!text.empty() && text != "none") {
-      try {
-        alphas.push_back(std::stod(text));
-      } catch (const std::exception&) {
-        throw InputError("--blend-alpha " + text + ": expected a number in [0, 1] or none");
-      }
-    }
+  const std::vector<double> alphas = blend_alphas(a);
   check_fmpm_lists(a.orders, alphas.empty() ? std::vector<double>{1.0} : alphas, a.blend_every);
+  if (!a.blends.empty())
+    check_list("--blend", a.blends);
   for (const auto& [every, alpha] : blend_pairs(a)) {
     const std::string pair = std::to_string(every) + ":" + shown(alpha);
+    if (every < 1 || every > kMaxListedOrder)
+      throw InputError("--blend " + pair + ": m must lie in [1, " +
+                       std::to_string(kMaxListedOrder) + "]");
     check_fmpm_option("--blend", pair, [&](FmpmOptions& f, auto&) {
       f.blend_every = every;
       f.blend_alpha = alpha;
     });
   }
-  for (const std::string& text : a.periodic_cx)
-    if (!text.empty() && text != "none") {
-      double cx = 0;
-      try {
-        cx = std::stod(text);
-      } catch (const std::exception&) {
-        throw InputError("--periodic-cx " + text + ": expected a Courant budget C_X or none");
-      }
-      check_fmpm_option("--periodic-cx", text, [cx](auto&, StepOptions& o) { o.periodic_cx = cx; });
-    }
+  check_list("--periodic-cx", a.periodic_cx);
+  for (const double cx : periodic_budgets(a))
+    check_fmpm_option("--periodic-cx", shown(cx),
+                      [cx](auto&, StepOptions& o) { o.periodic_cx = cx; });
   check_int("--shifts", a.shifts, 1, kMaxLatticeShifts);
   check_int("--frame-stride", a.frame_stride, 1, 1000000);
-  if (!std::isnan(a.position_alpha))
+  if (a.position_alpha_given)
     check_fraction("--position-alpha", a.position_alpha);
   if (!(a.max_energy_change > 0))
     throw InputError("--max-energy-change " + shown(a.max_energy_change) + ": must be positive");

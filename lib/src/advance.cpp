@@ -31,14 +31,46 @@ void check_energy(const Model& model, double e, double e0, const FailureTest& te
   throw at_step(NumericalError(os.str()), model.step, model.time);
 }
 
+namespace {
+// The failure of a Courant time step dt below test.min_time_step_fraction of the first, dt0.
+void check_time_step(const Model& model, double dt, double dt0, const FailureTest& test) {
+  if (!(test.min_time_step_fraction > 0) || dt >= test.min_time_step_fraction * dt0)
+    return;
+  std::ostringstream os;
+  os << "the time step " << dt << " fell below " << test.min_time_step_fraction
+     << " of the first step's " << dt0 << " (the signal speed grew " << dt0 / dt << " times)";
+  // The most compressed Mie–Grüneisen particle: its wave speed diverges as 1 − J → 1/S₁.
+  const Particles& P = model.particles;
+  const Eigen::VectorXd J = P.jacobian();
+  Index worst = -1;
+  double eta = 0;
+  for (Index p = 0; p < P.size(); ++p) {
+    const Material& m = model.materials[size_t(P.material[p])];
+    if (m.model != MaterialModel::MieGruneisen || !(m.hugoniot_slope > 0))
+      continue;
+    const double e = m.hugoniot_slope * (1 - J[p]);
+    if (e > eta) {
+      eta = e;
+      worst = p;
+    }
+  }
+  if (worst >= 0)
+    os << "; particle " << worst << " is compressed to S1 (1 - J) = " << eta
+       << ", near the Mie-Gruneisen limit 1";
+  throw at_step(NumericalError(os.str()), model.step + 1, model.time); // the step not taken
+}
+} // namespace
+
 AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
                       const StepObserver& observer) {
   const Stepper::Exclusive hold(stepper); // no other thread steps it between our steps
   if (!(o.end >= model.time) || !std::isfinite(o.end))
-    throw InputError("end time " + std::to_string(o.end) + " is before the model's time " +
-                     std::to_string(model.time));
+    throw InputError("end time " + number_text(o.end) + " is before the model's time " +
+                     number_text(model.time));
   if (std::isnan(o.failure.energy_growth))
     throw InputError("energy_growth must be a number (0 or less: no growth test), got nan");
+  if (std::isnan(o.failure.min_time_step_fraction))
+    throw InputError("min_time_step_fraction must be a number (0 or less: no test), got nan");
   SMPM_VERIFY(o.stop_every >= 0 && std::isfinite(o.stop_every),
               "advance: the interval between stops must be non-negative");
   AdvanceReport report;
@@ -60,8 +92,12 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   const bool shock = uses_shock_physics(model.materials);
   const double wave = shock ? 0 : max_wave_speed(model.materials, model.particles);
   double speed = signal_speed(model);
+  double dt0 = 0; // the first step's Courant time step
   while (model.time < o.end - eps) {
     double dt = stable_time_step(model, o.courant, speed);
+    if (report.steps == 0)
+      dt0 = dt;
+    check_time_step(model, dt, dt0, o.failure);
     if (o.land_on_stops)
       dt = std::min(dt, stop - model.time);
     stepper.step(model, dt);

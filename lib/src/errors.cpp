@@ -1,5 +1,6 @@
 #include "sparsempm/errors.hpp"
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <sstream>
@@ -39,6 +40,8 @@ const char* signal_name(int s) {
 }
 
 std::string number_text(double value) {
+  if (std::isnan(value))
+    return "nan"; // not "-nan": the sign of a NaN means nothing to a reader
   std::ostringstream os;
   os << value;
   return os.str();

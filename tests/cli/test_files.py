@@ -827,3 +827,263 @@ class SecondLook(Base):
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)
+
+
+def bar_with_bc(bc, end=12.0):
+    """A 1D elastic bar on [0, 4] of a grid [0, 10], at rest, with the given [[bc]] table."""
+    return ("[grid]\ndim = 1\norigin = [0.0]\ncell_size = [1.0]\ncells = [10]\n\n"
+            "[[material]]\nname = \"m\"\ndensity = 1.0\nyoungs = 1.0\n\n"
+            "[[body]]\nmaterial = \"m\"\nregion = \"box\"\nmin = [0.0]\nmax = [4.0]\nppc = [2]\n\n"
+            "[[bc]]\n" + bc + "\n\n[time]\ncourant = 0.5\nend = %r\n\n"
+            "[step]\nshape = \"linear\"\n\n[output]\nevery = 1.0\n" % end)
+
+
+class NonFiniteConditions(Base):
+    """A velocity condition or moving wall whose value stops being finite stops the run as a
+    numerical failure naming it (exit 3, every frame before kept); a NaN number in the input is
+    refused by key (exit 2, nothing written)."""
+
+    def run_bar(self, bc, end=12.0):
+        inp = self.dir / "bar.toml"
+        inp.write_text(bar_with_bc(bc, end))
+        return smpm("run", inp, "-o", self.dir / "out.h5", "-q")
+
+    def test_a_wall_whose_position_stops_being_finite(self):
+        # s_w = 5 + sqrt(1 - t/10) is NaN after t = 10: the wall selected no node and the run
+        # ended with exit 0 as if it had no wall. Δt = 0.5: step 22 starts at t = 10.5.
+        line = one_line(self, self.run_bar(
+            'wall = { normal = [1.0], position = "5 + sqrt(1 - t/10)" }'), 3)
+        self.assertEqual(line, "smpm: numerical failure: step 22 (t = 11): bc.0.wall.position is "
+                               "nan at t = 10.5 (the moving wall needs finite values)")
+        with h5py.File(self.dir / "out.partial.h5", "r") as f:  # the frames of t = 0 ... 10
+            self.assertEqual(len(f["particles"]), 11)
+            self.assertIn("bc.0.wall.position", f.attrs["status"])
+
+    def test_a_wall_velocity_and_a_condition_value_that_stop_being_finite(self):
+        # These were reported as a particle's non-finite velocity, naming no condition.
+        line = one_line(self, self.run_bar(
+            'wall = { normal = [1.0], position = 4.0, velocity = "sqrt(0.5 - t)" }'), 3)
+        # Step 3 starts at t = 1, where the frame is written (the step is prepared there).
+        self.assertIn("step 3 (t = 1): bc.0.wall.velocity is nan at t = 1", line)
+        line = one_line(self, self.run_bar(
+            'plane = { axis = "x", at = 0.0 }\nvelocity = { direction = [1.0], '
+            'value = "sqrt(0.5 - t)" }'), 3)
+        self.assertIn("step 3 (t = 1.5): velocity condition 'bc.0.velocity' gives nan at node 0 "
+                      "at t = 1", line)
+
+    def test_a_nan_velocity_value_is_refused(self):
+        # value = nan ran to step 1 and failed there (exit 3).
+        for value in ("nan", "inf", "-inf"):
+            line = one_line(self, self.run_bar(
+                'plane = { axis = "x", at = 0.0 }\nvelocity = { direction = [1.0], value = %s }'
+                % value), 2)
+            self.assertIn("bc.0.velocity.value", line)
+            self.assertIn("must be finite", line)
+            self.assertEqual(list(self.dir.glob("out*")), [])
+
+
+class OverflowingSizes(Base):
+    """Sizes whose products overflow are refused at input by key (exit 2, nothing written); they
+    surfaced as failures of step 1 ("the time step must be positive", an infinite mass)."""
+
+    def refused(self, *sets, example=BAR):
+        r = smpm("run", example, "-o", self.dir / "out.h5", "-q", *[a for s in sets for a in ("--set", s)])
+        line = one_line(self, r, 2)
+        self.assertEqual(list(self.dir.glob("out*")), [])
+        return line
+
+    def test_sizes_that_overflow(self):
+        # The bar: density 0.5, so E = 1e308 gives E / rho = inf.
+        line = self.refused("material.0.youngs=1e308")
+        self.assertIn("material.bar.youngs = 1e+308: gives an infinite wave speed", line)
+        # 2D: a cell of (1e200)^2 has no finite volume; a cell of (1e-200)^2 has none either.
+        for h in ("1e200", "1e-200"):
+            line = self.refused("grid.cell_size=[%s, %s]" % (h, h),
+                                example=EXAMPLES / "two_block_compression.toml")
+            self.assertIn("grid.cell_size: the cell volume", line)
+            self.assertIn("is not a positive finite number", line)
+        line = self.refused("grid.cell_size=[1e307]")  # 48 cells
+        self.assertIn("grid.cell_size: the grid's extent along axis 0 overflows", line)
+        # Particles of 4 (one per cell of 4) at a density of 1e308 (E / rho = 1).
+        line = self.refused("material.0.density=1e308", "material.0.youngs=1e308",
+                            "body.0.ppc=[1]", "grid.cell_size=[4.0]")
+        self.assertIn("material.bar.density: gives particle 0 an infinite mass", line)
+
+
+class StrictOptions(Base):
+    """Every number of a stability option is all of its text, finite and within its cap; these
+    were accepted (std::stod read "2abc" as 2, a NaN --position-alpha meant "not given")."""
+
+    def test_malformed_and_out_of_range_values_are_refused(self):
+        long_list = ",".join(["2:0.5"] * 1001)
+        cases = {
+            ("--blend", "20000:0.5"): "--blend 20000:0.5: m must lie in [1, 10000]",
+            ("--blend", "2junk:0.8zzz"): "--blend 2junk:0.8zzz: expected m:alpha, e.g. 2:0.8",
+            ("--blend", "2:0.8zzz"): "--blend 2:0.8zzz: expected m:alpha",
+            ("--periodic", "2abc"): "--periodic-cx 2abc: expected a Courant budget C_X or none",
+            ("--periodic-cx", "1e999"): "--periodic-cx 1e999: expected a Courant budget",
+            ("--blend-alpha", "0.5x"): "--blend-alpha 0.5x: expected a number in [0, 1] or none",
+            ("--blend-alpha", "nan"): "--blend-alpha nan: expected a number",
+            ("--position-alpha", "nan"): "--position-alpha nan: must lie in [0, 1]",
+            ("--order", "20000"): "--order 20000: must lie in [1, 10000]",
+            ("--blend-every", "20000"): "--blend-every 20000: must lie in [1, 10000]",
+            ("--blend", long_list): "--blend: give 1 to 1000 values",
+            ("--periodic-cx", ",".join(["2"] * 1001)): "--periodic-cx: give 1 to 1000 values",
+        }
+        out = self.dir / "t.csv"
+        for (option, value), message in cases.items():
+            r = smpm("stability", BAR, option, value, "-o", out, "-q")
+            self.assertEqual(r.returncode, 2, (option, r.stderr))
+            self.assertIn("smpm: error: " + message, r.stderr.splitlines()[-1], option)
+            self.assertFalse(out.exists())
+
+    def test_an_unknown_command_is_named(self):
+        line = one_line(self, smpm("bogus"), 2)
+        self.assertEqual(line, "smpm: error: unknown command 'bogus' (expected run, stability, "
+                               "spectrum or info; smpm --help lists them)")
+
+
+class ContactLimits(Base):
+    """The contact inputs' ranges: δ_c in cells, and the number of materials (the contact laws
+    are a table over pairs of fields). Each was accepted: -1 and 1e300 as δ_c; 20,000 materials
+    with a fallback law ended in std::bad_alloc after a quadratic duplicate check."""
+
+    def test_critical_separation_range(self):
+        two = EXAMPLES / "two_block_compression.toml"
+        for value in ("-1", "1e300", "4.5"):
+            r = smpm("run", two, "-o", self.dir / "out.h5", "-q",
+                     "--set", "contact.0.critical_separation=" + value)
+            line = one_line(self, r, 2)
+            self.assertIn("contact.0.critical_separation", line)
+            self.assertIn("must be in [0, 4] cells", line)
+        self.assertEqual(list(self.dir.glob("out*")), [])
+
+    def test_too_many_materials(self):
+        inp = self.dir / "many.toml"
+        mats = "".join('[[material]]\nname = "m%d"\ndensity = 1.0\nyoungs = 1.0\n\n' % i
+                       for i in range(20000))
+        inp.write_text("[grid]\ndim = 1\norigin = [0.0]\ncell_size = [1.0]\ncells = [10]\n\n" + mats +
+                       '[[body]]\nmaterial = "m0"\nregion = "box"\nmin = [0.0]\nmax = [4.0]\n'
+                       'ppc = [2]\n\n[[contact]]\nlaw = "stick"\n\n[time]\nend = 1.0\n')
+        line = one_line(self, smpm("run", inp, "-o", self.dir / "out.h5", "-q"), 2)
+        self.assertIn("[[material]]: 20000 tables, more than the 1000 materials a model takes",
+                      line)
+        self.assertEqual(list(self.dir.glob("out*")), [])
+
+
+class Messages(Base):
+    """One line that says what is wrong, however long what the input holds."""
+
+    def test_long_keys_and_expressions_are_clipped(self):
+        text = BAR.read_text()
+        key = "k" * 100000
+        inp = self.dir / "key.toml"
+        inp.write_text(text.replace("[time]", "[time]\n%s = 1\n" % key))
+        line = one_line(self, smpm("run", inp, "-o", self.dir / "out.h5", "-q"), 2)
+        self.assertLess(len(line), 400)  # the whole key made a 100 kB line
+        self.assertIn("time.kkkk", line)
+        self.assertIn("(100005 characters)", line)
+        self.assertIn("unknown key", line)
+        inp = self.dir / "expr.toml"
+        inp.write_text(text.replace('velocity = ["0.16*sin(pi*X/80)"]',
+                                    'velocity = ["%s@"]' % ("1+" * 50000)))
+        line = one_line(self, smpm("run", inp, "-o", self.dir / "out.h5", "-q"), 2)
+        self.assertLess(len(line), 500)  # muparser's echo of the expression made another
+        self.assertIn("body.0.velocity: cannot parse '1+1+", line)
+        self.assertIn("(100001 characters)", line)
+        self.assertEqual(list(self.dir.glob("out*")), [])
+
+    def test_a_full_inode_table_is_named(self):
+        # A file system with no free inode: creating the lock file fails with ENOSPC, which was
+        # blamed on the directory ("is the directory writable?") and -o was "output.file".
+        if os.geteuid() != 0:
+            self.skipTest("mounting a tmpfs needs root")
+        mnt = self.dir / "few_inodes"
+        mnt.mkdir()
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=10m,nr_inodes=2", "tmpfs",
+                           str(mnt)]).returncode:
+            self.skipTest("cannot mount a tmpfs here")
+        try:
+            while True:  # use up the inodes left
+                try:
+                    (mnt / ("f%d" % len(list(mnt.iterdir())))).touch()
+                except OSError:
+                    break
+            line = one_line(self, smpm("run", BAR, "-o", mnt / "x.h5", "-q"), 2)
+            self.assertIn("x.h5.lock (No space left on device: the disk, its table of inodes or "
+                          "the quota is full)", line)
+            self.assertNotIn("output.file", line)
+            self.assertNotIn("writable", line)
+        finally:
+            subprocess.run(["umount", str(mnt)])
+
+
+class Stalls(Base):
+    """A run whose time step collapses stops as a numerical failure: a wall at 20 km/s drives a
+    short nickel bar to the Mie-Gruneisen limit 1 - J = 1/S1, where the wave speed diverges; Δt
+    fell from 1e-5 to 2e-12 over 57,742 steps and the run never ended."""
+
+    def test_a_shock_at_the_mie_gruneisen_limit(self):
+        sets = ['bc.3.wall.position="12 - 20000*t"', "bc.3.wall.velocity=-20000.0",
+                "body.0.max=[10.0, 2.5]", "body.1.min=[10.0, 0.0]", "body.1.max=[12.0, 2.5]",
+                "bc.0.box.max=[13.0, 0.0]", "bc.1.box.max=[13.0, 3.5]", "output.every=5e-5"]
+        r = smpm("run", EXAMPLES / "shock_split_bar.toml", "-o", self.dir / "s.h5", "-q",
+                 *[a for s in sets for a in ("--set", s)], timeout=300)
+        line = one_line(self, r, 3)
+        self.assertRegex(line, r"^smpm: numerical failure: step \d+ \(t = [0-9.e-]+\): the time "
+                               r"step [0-9.e-]+ fell below 0.001 of the first step's "
+                               r"1.08606e-05 \(the signal speed grew [0-9.]+ times\); particle "
+                               r"\d+ is compressed to S1 \(1 - J\) = 0.99")
+        with h5py.File(self.dir / "s.partial.h5", "r") as f:  # t = 0, 5e-5, 1e-4, 1.5e-4
+            self.assertEqual(len(f["particles"]), 5)
+            self.assertIn("fell below", f.attrs["status"])
+
+
+class DamagedRestart(Base):
+    """A restart file whose last frame or state is damaged is refused by its own name (exit 2,
+    nothing written), before it is copied: a Mie-Gruneisen frame without `energy` restarted with
+    U = 0, a NaN courant_budget turned periodic FMPM off for good, a NaN position failed some
+    steps later as a numerical failure naming the output's copy."""
+
+    def damaged(self, example, sets, damage):
+        done = self.dir / "done.h5"
+        r = smpm("run", example, "-o", done, "-q", *[a for s in sets for a in ("--set", s)])
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(done, "r+") as f:
+            last = sorted(f["particles"].keys())[-1]
+            damage(f, last)
+        r = smpm("run", "--restart", done, "-o", self.dir / "again.h5", "-q")
+        line = one_line(self, r, 2)
+        self.assertIn(str(done) + ": frame %d: " % int(last), line)
+        self.assertEqual(sorted(p.name for p in self.dir.iterdir()), ["done.h5", "done.xmf"])
+        return line
+
+    def test_a_mie_gruneisen_frame_without_energy(self):
+        shock = EXAMPLES / "shock_split_bar.toml"
+        sets = ["time.end=2e-4", "output.every=1e-4"]
+        line = self.damaged(shock, sets, lambda f, last: f["particles"][last].__delitem__("energy"))
+        self.assertIn("energy is missing (the Mie-Gruneisen materials need it)", line)
+
+        def nan_energy(f, last):
+            f["particles"][last]["energy"][0] = np.nan
+        line = self.damaged(shock, sets, nan_energy)
+        self.assertIn("energy holds a value that is not finite", line)
+
+    def test_non_finite_values_and_state(self):
+        sets = ["time.end=8", "output.every=4", "step.velocity=FMPM", "step.order=2",
+                "step.periodic_cx=2"]
+
+        def nan_budget(f, last):
+            f["state"][last].attrs["courant_budget"] = np.nan
+        line = self.damaged(BAR, sets, nan_budget)
+        self.assertIn("the state's courant_budget = nan (it must be finite and non-negative)", line)
+
+        def nan_position(f, last):
+            f["particles"][last]["X"][3, 0] = np.nan
+        line = self.damaged(BAR, sets, nan_position)
+        self.assertIn("X holds a value that is not finite", line)
+
+        def negative_mass(f, last):
+            f["particles"][last]["mass"][2] = -1.0
+        line = self.damaged(BAR, sets, negative_mass)
+        self.assertIn("mass holds -1 (it must be positive and finite)", line)

@@ -138,6 +138,21 @@ TEST_CASE("a singular consistent mass is reported with its nodes", "[exact]") {
   // The documented regularisation (1 − ε) m̃ + ε m makes it solvable.
   CholmodSolver regularized({.regularization = 1e-6});
   CHECK_NOTHROW(regularized.solve(ops, mt.matrix, {}, p, v));
+  // With a velocity field per particle the columns are α n_g + i: the message names node i of
+  // the 11-node grid and its field, not column 11 + i (it said "node 13" for node 2 of field 1).
+  Operators two;
+  const Eigen::VectorXi field = (Eigen::VectorXi(2) << 0, 1).finished();
+  assemble(g, P, Shape::Linear, two, 2, &field);
+  assemble_consistent_mass(two, mt);
+  Field p2 = Field::Ones(two.num_nodes(), 1);
+  try {
+    solver.solve(two, mt.matrix, {}, p2, v);
+    FAIL("m̃ of one particle per field on two nodes each is singular");
+  } catch (const NumericalError& e) {
+    const std::string what = e.what();
+    CHECK_THAT(what, Catch::Matches(".*at node (2|3|4|5) of velocity field (0|1); smallest lumped "
+                                    "masses: node [2-5] of velocity field [01] .*"));
+  }
 }
 
 TEST_CASE("the regularised exact solve is the blended inverse and keeps a uniform translation",

@@ -2,6 +2,8 @@
 
 #include "support.hpp"
 
+#include <random>
+
 using namespace smpm;
 using smpm::test::approx;
 
@@ -45,6 +47,63 @@ TEST_CASE("fixed planes select the nodes on them", "[boundary]") {
   CHECK(bc.num_constrained() == 12);
   CHECK_THROWS_WITH(fix_plane(g, 0, 0.5, {true, false, false}, bc),
                     Catch::Contains("contains no grid node"));
+}
+
+TEST_CASE("planes and boxes select by index the nodes a scan of the grid selects", "[boundary]") {
+  // nodes_on_plane and nodes_in_box find a plane's or box's index range along each axis and
+  // list its nodes; the reference is the scan of every node with the same tolerance (10⁻⁹ of a
+  // cell), on grids with round-off in their coordinates, on windows, and at the tolerance.
+  auto scan = [](const Grid& g, auto&& inside) {
+    std::vector<Index> out;
+    for (Index i = 0; i < g.num_nodes(); ++i)
+      if (inside(g.node_position(i)))
+        out.push_back(i);
+    return out;
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int d = 1 + trial % 3;
+    const std::array<double, 3> origin{-0.3 + u(rng), 1.7 * u(rng), -u(rng)};
+    const std::array<double, 3> h{0.1 + 0.01 * std::floor(10 * u(rng)), 0.3, 1.0 / 3};
+    const std::array<int, 3> cells{3 + trial % 7, 2 + trial % 5, 1 + trial % 4};
+    Grid g(d, origin, h, cells);
+    if (trial % 4 == 3) // a window of the grid
+      g = g.window({1, d > 1 ? 1 : 0, d > 2 ? 1 : 0},
+                   {cells[0] - 1, d > 1 ? cells[1] : 1, d > 2 ? cells[2] : 1});
+    const int axis = trial % d;
+    const double tol = 1e-9 * h[size_t(axis)];
+    const int q = int(std::floor(u(rng) * (cells[size_t(axis)] + 1)));
+    for (const double offset : {0.0, 0.9 * tol, -0.9 * tol, 1.1 * tol, 0.5 * h[size_t(axis)]}) {
+      const double at = origin[size_t(axis)] + h[size_t(axis)] * q + offset;
+      const auto expected =
+          scan(g, [&](const Eigen::Vector3d& x) { return std::abs(x[axis] - at) <= tol; });
+      if (expected.empty())
+        CHECK_THROWS_WITH(nodes_on_plane(g, axis, at), Catch::Contains("contains no grid node"));
+      else
+        CHECK(nodes_on_plane(g, axis, at) == expected);
+    }
+    std::array<double, 3> lo{}, hi{};
+    for (int a = 0; a < 3; ++a) {
+      const double span = h[size_t(a)] * (cells[size_t(a)] + 2);
+      lo[size_t(a)] = origin[size_t(a)] - h[size_t(a)] + span * u(rng);
+      hi[size_t(a)] = lo[size_t(a)] + span * u(rng) * 0.6;
+      if (trial % 5 == 0) // a bound on a node, just outside the tolerance
+        lo[size_t(a)] = origin[size_t(a)] + h[size_t(a)] + 1.1e-9 * h[size_t(a)];
+    }
+    const auto expected = scan(g, [&](const Eigen::Vector3d& x) {
+      bool inside = true;
+      for (int a = 0; a < d; ++a) {
+        const double t = 1e-9 * h[size_t(a)];
+        inside = inside && x[a] >= lo[size_t(a)] - t && x[a] <= hi[size_t(a)] + t;
+      }
+      return inside;
+    });
+    if (expected.empty())
+      CHECK_THROWS_WITH(nodes_in_box(g, lo, hi), Catch::Contains("contains no grid node"));
+    else
+      CHECK(nodes_in_box(g, lo, hi) == expected);
+  }
 }
 
 TEST_CASE("parallel velocity conditions add their values (FMPM 2026 Table 2)", "[boundary]") {

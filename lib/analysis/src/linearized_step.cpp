@@ -103,6 +103,7 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
   // The BC directions with zero values: walls frozen on the nodes they select now.
   for (VelocityCondition c : I.prep.bcs.conditions) {
     c.value = nullptr;
+    c.wall_state.reset();
     c.wall = -1;
     I.homogeneous.conditions.push_back(std::move(c));
   }

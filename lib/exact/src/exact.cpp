@@ -77,12 +77,12 @@ int axis_of(const VelocityCondition& c, int d) {
   std::sort(order.begin(), order.end(), [&](int a, int b) { return ops.m[a] < ops.m[b]; });
   std::ostringstream os;
   os << "the consistent mass matrix is not positive definite on the active nodes: CHOLMOD found "
-        "a non-positive pivot at node "
-     << (minor >= 0 && minor < long(f.free.size()) ? ops.whole_node(f.free[size_t(minor)]) : -1)
+        "a non-positive pivot at "
+     << (minor >= 0 && minor < long(f.free.size()) ? ops.node_text(f.free[size_t(minor)])
+                                                   : std::string("an unknown node"))
      << "; smallest lumped masses: ";
   for (size_t k = 0; k < std::min<size_t>(3, order.size()); ++k)
-    os << (k ? ", " : "") << "node " << ops.whole_node(order[k]) << " (m = " << ops.m[order[k]]
-       << ")";
+    os << (k ? ", " : "") << ops.node_text(order[k]) << " (m = " << ops.m[order[k]] << ")";
   os << " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
         "step.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
   throw NumericalError(os.str());

@@ -19,6 +19,10 @@ struct FailureTest {
   /// under body forces or driven velocity BCs (values or moving walls), which do work on the
   /// particles.
   double energy_growth = 10;
+  /// Fail when the Courant time step falls below this fraction of the first step's (≤ 0:
+  /// never): the signal speed has grown a thousandfold, as when a Mie–Grüneisen particle nears
+  /// its limit of compression 1 − J = 1/S₁, and the run would creep on without end.
+  double min_time_step_fraction = 1e-3;
 };
 
 /// Throws NumericalError naming the step, time and fastest particle when the total energy `e`

@@ -12,11 +12,21 @@
 #include <Eigen/Core>
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace smpm {
+
+/// A moving wall's position s_w, velocity v and gradient ∇v at one time (MovingWall::at).
+struct WallState {
+  double position = 0, velocity = 0, gradient = 0;
+  /// FMPM 2026 §3.1: v + ∇v (x · n̂ − s_w).
+  double value(const Eigen::Vector3d& normal, const Eigen::Vector3d& x) const {
+    return velocity + gradient * (x.dot(normal) - position);
+  }
+};
 
 struct VelocityCondition {
   std::vector<Index> nodes;                                        ///< constrained nodes
@@ -24,7 +34,12 @@ struct VelocityCondition {
   std::function<double(double t, const Eigen::Vector3d& x)> value; ///< v_b(t, x); empty ⇒ 0
   std::string label;                                               ///< for messages
   int wall = -1; ///< ≥ 0: the nodes are those BoundaryConditions::walls[wall] selects each step
-  double value_at(double t, const Eigen::Vector3d& x) const { return value ? value(t, x) : 0.0; }
+  /// A wall's condition in one step (BoundaryConditions::step_conditions): v_b is the wall's
+  /// value with this state (n̂ = direction, the wall's normal) and `value` is empty.
+  std::optional<WallState> wall_state;
+  double value_at(double t, const Eigen::Vector3d& x) const {
+    return wall_state ? wall_state->value(direction, x) : value ? value(t, x) : 0.0;
+  }
 };
 
 /// A wall moving through the grid (FMPM 2026 §3.1, Fig. 2): the plane s = s_w(t) with unit
@@ -39,7 +54,12 @@ struct MovingWall {
   std::function<double(double t)> velocity;          ///< v(t); empty ⇒ 0
   std::function<double(double t)> gradient;          ///< ∇v(t); empty ⇒ 0
   double depth = 0;                                  ///< d (length)
-  std::string label;                                 ///< for messages
+  std::string label;                                 ///< for messages ("bc.N.wall")
+  /// s_w(t), v(t) and ∇v(t), each evaluated once. Throws NumericalError naming the function
+  /// (label.position, label.velocity or label.gradient), t and the value when one is not
+  /// finite: a wall whose position stops being finite would otherwise select no node and stop
+  /// acting unnoticed.
+  WallState at(double t) const;
   /// v(t) + ∇v(t) (x · n̂ − s_w(t)).
   double value_at(double t, const Eigen::Vector3d& x) const;
   /// Whether a node at x is constrained at time t (it must also have mass).
@@ -62,9 +82,11 @@ struct BoundaryConditions {
                          double t);
   /// The conditions of one step, written into `step` (whose storage is reused: no allocation
   /// once its lists have grown): these conditions with every wall's nodes selected at time t as
-  /// select_wall_nodes does, then checked for superposition. The value functions of `step`
-  /// call those of these conditions (no copy of their expressions per step), so these must
-  /// outlive `step` and stay unchanged while it is used; its conditions have wall = −1.
+  /// select_wall_nodes does, then checked for superposition. Each wall's s_w, v and ∇v are
+  /// evaluated once, at t (MovingWall::at: NumericalError when one is not finite), into its
+  /// condition's wall_state; the other value functions of `step` call those of these
+  /// conditions (no copy of their expressions per step), so these must outlive `step` and stay
+  /// unchanged while it is used; its conditions have wall = −1.
   void step_conditions(const Grid& grid, const Eigen::Array<bool, Eigen::Dynamic, 1>& active,
                        double t, BoundaryConditions& step) const;
   /// Throws InputError unless the conditions sharing a node are parallel or perpendicular.

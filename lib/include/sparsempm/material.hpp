@@ -31,6 +31,10 @@ std::string_view to_string(MaterialModel m);
 MaterialModel material_model_from_string(std::string_view name);
 
 /// An isotropic elastic material given by density, Young's modulus and Poisson's ratio.
+/// The most materials a model takes: the contact laws are a table over pairs of velocity
+/// fields (10⁶ entries at this cap).
+inline constexpr int kMaxMaterials = 1000;
+
 struct Material {
   std::string name;
   MaterialModel model = MaterialModel::Linear;

@@ -9,6 +9,7 @@
 
 #include <Eigen/SparseCore>
 #include <array>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -79,6 +80,12 @@ struct Operators {
   /// n_g the grid's nodes): what files and messages name.
   Index whole_node(Index c) const {
     return (c / grid_node_count) * grid.whole_num_nodes() + grid.whole_node(c % grid_node_count);
+  }
+  /// Column c as a message names it: "node i" of the whole grid, with " of velocity field α"
+  /// when there are several fields (whose columns α n_g + i are not nodes of the grid).
+  std::string node_text(Index c) const {
+    const std::string node = "node " + std::to_string(grid.whole_node(c % grid_node_count));
+    return fields > 1 ? node + " of velocity field " + std::to_string(c / grid_node_count) : node;
   }
 };
 

@@ -20,7 +20,7 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
     parser_->SetExpr(text);
     parser_->Eval(); // parses now, so that errors surface while reading the input
   } catch (const mu::Parser::exception_type& e) {
-    throw InputError(where + ": cannot parse '" + text + "': " + e.GetMsg());
+    throw InputError(where + ": cannot parse '" + clip(text) + "': " + clip(e.GetMsg(), 160));
   }
 }
 

@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace smpm {
@@ -46,6 +47,17 @@ Grid read_grid(const Reader& r, const toml::table& root) {
     if (!(h[a] > 0))
       r.fail(g.get("cell_size"), "grid.cell_size", "every cell size must be positive");
   const auto cells = r.counts(g, "cells", "grid.cells", d);
+  // Sizes whose products overflow would surface only as a failure of the first step.
+  double cell_volume = 1;
+  for (int a = 0; a < d; ++a) {
+    cell_volume *= h[a];
+    if (!std::isfinite(origin[a] + cells[a] * h[a]))
+      r.fail(g.get("cell_size"), "grid.cell_size",
+             "the grid's extent along axis " + std::to_string(a) + " overflows");
+  }
+  if (!std::isfinite(cell_volume) || !(cell_volume > 0))
+    r.fail(g.get("cell_size"), "grid.cell_size",
+           "the cell volume " + number_text(cell_volume) + " is not a positive finite number");
   double total = 1;
   for (int a = 0; a < d; ++a)
     total *= cells[a] + 1.0;
@@ -91,13 +103,18 @@ void read_mie_gruneisen(const Reader& r, const toml::table& t, const std::string
 
 std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
   std::vector<Material> mats;
-  for (const toml::table* t : r.tables(root, "material", true)) {
+  const std::vector<const toml::table*> tables = r.tables(root, "material", true);
+  if (tables.size() > size_t(kMaxMaterials))
+    r.fail(nullptr, "[[material]]",
+           std::to_string(tables.size()) + " tables, more than the " +
+               std::to_string(kMaxMaterials) + " materials a model takes");
+  std::set<std::string> names;
+  for (const toml::table* t : tables) {
     r.check_keys(*t, "material");
     Material m;
     m.name = r.string(*t, "name", "material.name", std::nullopt);
-    for (const auto& other : mats)
-      if (other.name == m.name)
-        r.fail(t->get("name"), "material.name", "duplicate material name");
+    if (!names.insert(m.name).second)
+      r.fail(t->get("name"), "material.name", "duplicate material name");
     const std::string key = "material." + m.name + ".";
     const std::string model = r.string(*t, "model", key + "model", "linear");
     try {
@@ -108,6 +125,9 @@ std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
     m.density = r.positive(*t, "density", key + "density", std::nullopt);
     if (m.model == MaterialModel::MieGruneisen) {
       read_mie_gruneisen(r, *t, key, m);
+      if (!std::isfinite(m.wave_speed(3)))
+        r.fail(t->get("bulk"), key + "bulk",
+               "gives an infinite wave speed (the modulus over the density overflows)");
       mats.push_back(m);
       continue;
     }
@@ -118,6 +138,9 @@ std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
     m.poisson = r.number(*t, "poisson", key + "poisson", 0.0);
     if (!(m.poisson > -1 && m.poisson < 0.5))
       r.fail(t->get("poisson"), key + "poisson", "must lie in (-1, 0.5)");
+    if (!std::isfinite(m.wave_speed(1)) || !std::isfinite(m.wave_speed(3)))
+      r.fail(t->get("youngs"), key + "youngs",
+             "gives an infinite wave speed (the modulus over the density overflows)");
     mats.push_back(m);
   }
   return mats;
@@ -294,6 +317,11 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   cfg.model = Model(grid);
   cfg.model.materials = read_materials(r, root);
   cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials);
+  const Particles& P = cfg.model.particles;
+  for (Index p = 0; p < P.size(); ++p)
+    if (!std::isfinite(P.mass[p]))
+      r.fail(nullptr, "material." + cfg.model.materials[size_t(P.material[p])].name + ".density",
+             "gives particle " + std::to_string(p) + " an infinite mass");
   cfg.model.bcs = read_bcs(r, root, grid);
 
   cfg.time = read_time(r, root);

@@ -217,6 +217,8 @@ VelocityCondition velocity_condition(const Reader& r, const toml::table& vel,
     };
   } else if (auto num = vn->value<double>()) {
     const double value = *num;
+    if (!std::isfinite(value))
+      r.fail(vn, key + "velocity.value", "must be finite");
     c.value = [value](double, const Eigen::Vector3d&) { return value; };
   } else {
     r.fail(vn, key + "velocity.value", "expected a number or an expression of t, x, y, z");

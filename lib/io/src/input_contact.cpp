@@ -58,9 +58,15 @@ void read_normal(const Reader& r, const toml::table& t, const std::string& key, 
 void read_detection(const Reader& r, const toml::table& t, const std::string& key, ContactPair& p) {
   p.detection = r.choice(t, "detection", key + "detection", std::string(to_string(p.detection)),
                          &contact_detection_from_string); // default: ContactPair's (LR)
-  if (p.detection == ContactDetection::Position)
+  if (p.detection == ContactDetection::Position) {
     p.critical_separation = r.number(t, "critical_separation", key + "critical_separation", 0.8);
-  else if (t.get("critical_separation"))
+    // δ_c compares (x_i^β − x_i^α)·n̂, the separation of the materials' positions extrapolated
+    // to a node, within the few cells of the node's support: beyond 4 cells every node would
+    // be in contact. Contact 2020 §2.2 uses 0.8 to 0.96.
+    if (!(p.critical_separation >= 0 && p.critical_separation <= 4))
+      r.fail(t.get("critical_separation"), key + "critical_separation",
+             "must be in [0, 4] cells (contact 2020 uses 0.8 to 0.96)");
+  } else if (t.get("critical_separation"))
     r.fail(t.get("critical_separation"), key + "critical_separation",
            "only detection = \"CP\" takes a critical separation");
   if (p.detection != ContactDetection::DistanceFunction) {
@@ -165,6 +171,10 @@ Contact read_contact(const Reader& r, const toml::table& root, const std::vector
   const auto tables = r.tables(root, "contact", false);
   if (tables.empty())
     return c; // single material mode
+  if (mats.size() > size_t(kMaxMaterials))
+    r.fail(nullptr, "[[contact]]",
+           std::to_string(mats.size()) + " materials, more than the " +
+               std::to_string(kMaxMaterials) + " a model takes");
   c.material_field = material_fields(r, tables, mats);
   const size_t fields = size_t(c.fields());
   std::vector<std::vector<std::string>> pair_key(fields, std::vector<std::string>(fields));

@@ -8,6 +8,7 @@
 #include "sparsempm/version.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -76,11 +77,12 @@ OutputFile::OutputFile(const std::string& path, const RunConfig& cfg)
     : path_(path), dim_(cfg.model.grid.dim()), materials_(int(cfg.model.materials.size())) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const h5::Id fapl = access_plist();
+  errno = 0;
   file_ = File(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()));
-  if (!file_.is_open())
-    throw InputError("output.file = \"" + path +
-                     "\": cannot create the file (is the directory "
-                     "writable?)");
+  if (!file_.is_open()) // HDF5's file driver leaves the errno of its open()
+    throw InputError(path + ": cannot create the file (" +
+                     (errno ? create_failure(errno) : std::string("is the directory writable?")) +
+                     ")");
   try {
     initialize(cfg);
   } catch (const std::exception& e) {

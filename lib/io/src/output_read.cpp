@@ -135,6 +135,35 @@ void check_frame_shapes(const Particles& P, int d) {
   expect("energy", P.energy.rows(), 1, 1);
 }
 
+// Throws std::runtime_error naming the dataset unless every value a step reads is in its range:
+// a damaged frame would otherwise be continued (a NaN position fails some steps later, a NaN
+// energy or a negative mass runs on).
+void check_frame_values(const Particles& P, const Model& model) {
+  const std::pair<const char*, const Field*> finite[] = {
+      {"X", &P.X}, {"V", &P.V}, {"F", &P.F}, {"stress", &P.stress}};
+  for (const auto& [name, f] : finite)
+    if (!f->allFinite())
+      throw std::runtime_error(std::string(name) + " holds a value that is not finite");
+  if (!P.energy.allFinite())
+    throw std::runtime_error("energy holds a value that is not finite");
+  const std::pair<const char*, const double*> positive[] = {{"mass", P.mass.data()},
+                                                            {"volume0", P.volume0.data()},
+                                                            {"half_length", P.half_length.data()}};
+  const Index counts[] = {P.mass.size(), P.volume0.size(), P.half_length.size()};
+  for (size_t k = 0; k < 3; ++k)
+    for (Index i = 0; i < counts[k]; ++i)
+      if (!(positive[k].second[i] > 0) || !std::isfinite(positive[k].second[i]))
+        throw std::runtime_error(std::string(positive[k].first) + " holds " +
+                                 number_text(positive[k].second[i]) +
+                                 " (it must be positive and finite)");
+  const int materials = int(model.materials.size());
+  for (Index p = 0; p < P.material.size(); ++p)
+    if (P.material[p] < 0 || P.material[p] >= materials)
+      throw std::runtime_error("material holds the id " + std::to_string(P.material[p]) +
+                               " of particle " + std::to_string(p) + " (the run has " +
+                               std::to_string(materials) + " materials)");
+}
+
 } // namespace
 
 namespace detail {
@@ -152,15 +181,23 @@ void load_frame_from(hid_t file, int frame, Model& model) {
   P.half_length = h5::read_doubles(g.get(), "half_length");
   if (h5::exists(g.get(), "energy"))
     P.energy = h5::read_doubles(g.get(), "energy").col(0);
+  else if (uses_shock_physics(model.materials)) // their internal energy U is part of the state
+    throw std::runtime_error("energy is missing (the Mie-Gruneisen materials need it)");
   else
     P.energy.setZero(P.X.rows());
   const std::vector<int> mat = h5::read_ints(g.get(), "material");
   P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
   P.dim = model.grid.dim();
   check_frame_shapes(P, P.dim);
+  check_frame_values(P, model);
+  const double time = h5::get_double_attribute(g.get(), "time");
+  const long step = h5::get_long_attribute(g.get(), "step");
+  if (!(time >= 0) || !std::isfinite(time) || step < 0)
+    throw std::runtime_error("the frame's time " + number_text(time) + " or step " +
+                             std::to_string(step) + " is out of range");
   model.particles = std::move(P);
-  model.time = h5::get_double_attribute(g.get(), "time");
-  model.step = h5::get_long_attribute(g.get(), "step");
+  model.time = time;
+  model.step = step;
 }
 } // namespace detail
 
@@ -172,7 +209,30 @@ std::vector<int> run_frames(const std::string& path) {
   return complete_frames(f);
 }
 
+namespace {
+// Throws InputError naming the file, frame and attribute unless the state can be continued.
+const RunState& checked(const RunState& s, const std::string& path, int frame) {
+  const std::pair<const char*, double> values[] = {{"courant_budget", s.stepper.courant_budget},
+                                                   {"friction_work", s.stepper.friction_work},
+                                                   {"viscous_work", s.stepper.viscous_work},
+                                                   {"velocity_change_sum", s.velocity_change_sum}};
+  for (const auto& [name, v] : values)
+    if (!std::isfinite(v) || (v < 0 && name == values[0].first))
+      throw InputError(path + ": frame " + std::to_string(frame) + ": the state's " + name + " = " +
+                       number_text(v) + " (it must be finite" +
+                       (name == values[0].first ? " and non-negative)" : ")"));
+  return s;
+}
+
+RunState read_state(const std::string& path, int frame);
+} // namespace
+
 RunState read_run_state(const std::string& path, int frame) {
+  return checked(read_state(path, frame), path, frame);
+}
+
+namespace {
+RunState read_state(const std::string& path, int frame) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   RunState state;
   long step = 0;
@@ -205,6 +265,7 @@ RunState read_run_state(const std::string& path, int frame) {
     state.stepper = {state.stepper.courant_budget, last->friction, last->viscous};
   return state;
 }
+} // namespace
 
 void load_frame(const std::string& path, int frame, Model& model) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);

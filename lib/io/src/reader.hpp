@@ -49,7 +49,7 @@ public:
     os << file;
     if (line > 0)
       os << ":" << line;
-    os << ": " << key;
+    os << ": " << clip(key, 120); // a key may be as long as the file
     if (n && n->is_value()) {
       std::ostringstream value;
       n->visit([&](auto&& v) { value << v; });

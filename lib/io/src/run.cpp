@@ -32,6 +32,12 @@ OutputFile open_partial(RunConfig& cfg, const RunOptions& options, const std::st
     stored = read_stored_run(options.restart_from);
     if (stored->frame_times.empty())
       throw InputError(options.restart_from + ": no complete frame to restart from");
+    // The frame and state continued, checked in the restart file itself: a damaged one is
+    // refused by that file's name before anything is written.
+    const int last = run_frames(options.restart_from).back();
+    Model probe = cfg.model;
+    load_frame(options.restart_from, last, probe);
+    (void)read_run_state(options.restart_from, last);
     if (!stored->series.empty())
       e0 = stored->series.front().e.total;
   }
@@ -148,7 +154,7 @@ private:
       if (first)
         out_.discard();
       throw std::runtime_error(partial_ + ": writing the frame of step " + std::to_string(m.step) +
-                               " (t = " + std::to_string(m.time) + ") failed: " + w.what() +
+                               " (t = " + number_text(m.time) + ") failed: " + w.what() +
                                (first ? " (is the disk full?); no frame was written, so no file "
                                         "is kept"
                                       : " (is the disk full?); the frames before it are kept"));
@@ -157,7 +163,7 @@ private:
 
   void check_interrupt(const Model& m) const {
     smpm::check_interrupt(options_.interrupt, [&] {
-      return "after step " + std::to_string(m.step) + " (t = " + std::to_string(m.time) +
+      return "after step " + std::to_string(m.step) + " (t = " + number_text(m.time) +
              "); the frames so far are in " + partial_;
     });
   }
@@ -201,7 +207,7 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     // fixed plane at an angle): the run has started and its frames are kept, so it is a
     // failure of that step, not a refused input.
     const std::string what = "step " + std::to_string(cfg.model.step + 1) +
-                             " (from t = " + std::to_string(cfg.model.time) + "): " + e.what() +
+                             " (from t = " + number_text(cfg.model.time) + "): " + e.what() +
                              "; the frames so far are in " + partial;
     r.out().set_status("failed: " + what);
     throw std::runtime_error(what);

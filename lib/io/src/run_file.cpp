@@ -262,6 +262,15 @@ void check_table_output(const std::string& path, const std::vector<std::string>&
                      ")");
 }
 
+std::string create_failure(int err) {
+  const std::string text = std::strerror(err);
+  if (err == ENOSPC || err == EDQUOT)
+    return text + ": the disk, its table of inodes or the quota is full";
+  if (err == EACCES || err == EPERM || err == EROFS)
+    return text + ": is the directory writable?";
+  return text;
+}
+
 OutputLock::OutputLock(const std::string& path) : lock_path_(path + ".lock") {
   // Lock the file at the path, then check that the path still names it: a run that finished
   // meanwhile unlinks its lock file before releasing it.
@@ -273,7 +282,7 @@ OutputLock::OutputLock(const std::string& path) : lock_path_(path + ".lock") {
       throw InputError(path + ": " + lock_path_ + " is a link, not a lock file; not touched");
     if (fd_ < 0)
       throw InputError(path + ": cannot create the lock file " + lock_path_ + " (" +
-                       std::strerror(errno) + "; is the directory writable?)");
+                       create_failure(errno) + ")");
     struct stat own {};
     if (::fstat(fd_, &own) != 0 || !S_ISREG(own.st_mode) || own.st_size != 0 || own.st_nlink != 1) {
       ::close(fd_);

@@ -47,6 +47,10 @@ void write_table_file(const std::string& path, const std::string& text,
 /// HDF5 cannot open either) or its lock file "<output>.lock" (as opposed to a stale one).
 bool held_by_writer(const std::string& path);
 
+/// Why creating a file failed, for a message: strerror(err) with what to look at (ENOSPC: the
+/// disk or its table of inodes is full; EACCES, EPERM, EROFS: the directory is not writable).
+std::string create_failure(int err);
+
 /// Largest run file read (any size HDF5 holds; the check is that it is a regular file).
 inline constexpr long long kMaxRunFileBytes = 1LL << 50;
 
