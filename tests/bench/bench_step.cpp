@@ -24,6 +24,7 @@
 
 #include <sparsempm/exact.hpp>
 #include <sparsempm/input.hpp>
+#include <sparsempm/output.hpp>
 #include <sparsempm/sparsempm.hpp>
 #include <sparsempm/threads.hpp>
 
@@ -36,6 +37,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <sys/resource.h>
@@ -302,6 +304,36 @@ void BM_PlaneScan(benchmark::State& state) {
 BENCHMARK(BM_PlaneSelection)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlaneScan)->Unit(benchmark::kMillisecond);
 
+// Frames of a 4-particle run: 100 frames written after `before` frames of the same file. A
+// frame must cost the same whatever number of frames precede it (the metadata cache of every
+// frame kept made frame n cost O(n): 10,000 frames slowed from 60 to a few per second).
+void BM_FramesAfter(benchmark::State& state) {
+  const int before = int(state.range(0));
+  smpm::RunConfig cfg = smpm::read_input(
+      "[grid]\ndim = 1\norigin = [0.0]\ncell_size = [1.0]\ncells = [10]\n\n[[material]]\n"
+      "name = \"m\"\ndensity = 1.0\nyoungs = 1.0\n\n[[body]]\nmaterial = \"m\"\nregion = "
+      "\"box\"\nmin = [2.0]\nmax = [4.0]\nppc = [2]\n\n[time]\nend = 1.0\n",
+      "frames.toml", {});
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "sparsempm_bench_frames.h5").string();
+  for (auto _ : state) {
+    state.PauseTiming();
+    {
+      smpm::OutputFile out(path, cfg);
+      for (int k = 0; k < before; ++k)
+        out.write_frame(k, cfg.model, smpm::Shape::Linear, false);
+      state.ResumeTiming();
+      for (int k = before; k < before + 100; ++k)
+        out.write_frame(k, cfg.model, smpm::Shape::Linear, false);
+      state.PauseTiming();
+    }
+    std::filesystem::remove(path);
+    std::filesystem::remove(std::filesystem::path(path).replace_extension(".xmf"));
+    state.ResumeTiming();
+  }
+}
+BENCHMARK(BM_FramesAfter)->Arg(0)->Arg(4000)->Iterations(2)->Unit(benchmark::kMillisecond);
+
 // Collects real times so that ratios to the baseline of the same run can be printed: the
 // median over --benchmark_repetitions (the one run without), and the smallest and largest.
 class RatioReporter : public benchmark::ConsoleReporter {
@@ -496,6 +528,13 @@ int main(int argc, char** argv) {
                 "%.4f (%.3f / %.3f ms)\n",
                 rep.ms["BM_PlaneSelection"] / rep.ms["BM_PlaneScan"], rep.ms["BM_PlaneSelection"],
                 rep.ms["BM_PlaneScan"]);
+  if (rep.ms.count("BM_FramesAfter/0/iterations:2") &&
+      rep.ms.count("BM_FramesAfter/4000/iterations:2"))
+    std::printf(
+        "100 frames of 4 particles after 4000 frames / after none %.3f (%.2f / %.2f ms; "
+        "target <= 1.5)\n",
+        rep.ms["BM_FramesAfter/4000/iterations:2"] / rep.ms["BM_FramesAfter/0/iterations:2"],
+        rep.ms["BM_FramesAfter/4000/iterations:2"], rep.ms["BM_FramesAfter/0/iterations:2"]);
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   const double N = 4.0 * side() * side();

@@ -1087,3 +1087,16 @@ class DamagedRestart(Base):
             f["particles"][last]["mass"][2] = -1.0
         line = self.damaged(BAR, sets, negative_mass)
         self.assertIn("mass holds -1 (it must be positive and finite)", line)
+
+
+class EarlierNames(Base):
+    def test_a_type_error_under_the_earlier_table_name_is_located_once(self):
+        # [scheme] is the earlier name of [step]: its type errors printed the location twice.
+        text = BAR.read_text().replace("[step]", "[scheme]").replace(
+            'velocity = "FLIP" ', "velocity = 4 ", 1)
+        inp = self.dir / "sch.toml"
+        inp.write_text(text)
+        line = one_line(self, smpm("run", inp, "-o", self.dir / "out.h5", "-q"), 2)
+        self.assertRegex(line, r"^smpm: error: [^ ]*sch\.toml:\d+: step\.velocity = 4: expected a "
+                               r"string$")
+        self.assertEqual(line.count("sch.toml"), 1)

@@ -123,6 +123,8 @@ private:
     long id_ = -1;
   };
 
+  /// The file is closed and opened again after this many frames (its metadata cache emptied).
+  static constexpr size_t kFramesPerOpen = 64;
   OutputFile() = default;
   void initialize(const RunConfig& cfg);
   void write_xdmf_frame(size_t k);
