@@ -14,7 +14,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace smpm {
 
@@ -104,6 +106,54 @@ const ContactPair& Contact::pair(int a, int b) const {
     return fallback;
   throw InputError("velocity fields " + std::to_string(a) + " and " + std::to_string(b) +
                    " meet but no [[contact]] table gives their law");
+}
+
+void activate_bonded_fields(const Contact& contact, Operators& ops) {
+  const int nf = ops.fields;
+  if (nf < 2)
+    return;
+  auto bonded_law = [](const ContactPair& p) {
+    return p.law == ContactLaw::Stick && p.detection == ContactDetection::Always;
+  };
+  std::vector<char> bonded(size_t(nf * nf), 0); // bonded[a nf + b]: a and b are bonded
+  bool any = false;
+  for (int a = 0; a < nf; ++a)
+    for (int b = a + 1; b < nf; ++b) {
+      bool law = contact.has_fallback && bonded_law(contact.fallback);
+      for (const ContactPair& p : contact.pairs)
+        if (p.first == a && p.second == b)
+          law = bonded_law(p);
+      bonded[size_t(a * nf + b)] = bonded[size_t(b * nf + a)] = law;
+      any = any || law;
+    }
+  if (!any)
+    return;
+  const Index ng = ops.grid_node_count;
+  auto total = [&](Index i) {
+    double t = 0; // in field order, as lumped_mass_and_active sums it
+    for (int f = 0; f < nf; ++f)
+      t += ops.m[f * ng + i];
+    return t;
+  };
+  double largest = 0;
+  for (Index i = 0; i < ng; ++i)
+    largest = std::max(largest, total(i));
+  for (Index i = 0; i < ng; ++i) {
+    if (!(total(i) > kMassTolerance * largest))
+      continue;
+    for (int f = 0; f < nf; ++f) {
+      const Index r = f * ng + i;
+      if (ops.active[r] || !(ops.m[r] > std::numeric_limits<double>::min()))
+        continue;
+      bool all = true;
+      for (int g = 0; g < nf && all; ++g)
+        all = g == f || !(ops.m[g * ng + i] > 0) || bonded[size_t(f * nf + g)];
+      if (all) {
+        ops.active[r] = true;
+        ops.m_inv[r] = 1 / ops.m[r];
+      }
+    }
+  }
 }
 
 void Contact::particle_fields(const Eigen::VectorXi& material, Eigen::VectorXi& field) const {

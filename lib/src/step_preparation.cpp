@@ -42,6 +42,7 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
   if (nf > 1) { // multimaterial: the fields as blocks of columns of S (contact.hpp)
     model.contact.particle_fields(P.material, s.field);
     assemble(model.grid, P, shape, s.ops, nf, &s.field);
+    activate_bonded_fields(model.contact, s.ops);
   } else {
     s.field.resize(0);
     assemble(model.grid, P, shape, s.ops);

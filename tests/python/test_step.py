@@ -1,4 +1,5 @@
 """Steps from Python equal `smpm run` bit for bit; the run loop and its callback."""
+import re
 import threading
 import time
 
@@ -8,7 +9,7 @@ import pytest
 
 import sparsempm as smpm
 
-from conftest import BAR, SOURCE, interrupting, run_smpm
+from conftest import BAR, SOURCE, TWO_BLOCKS, interrupting, run_smpm
 
 # 100 steps of the bar: Δt = C Δx / c = 0.5 · 1 / 2 = 0.25 (the wave speed exceeds |V| ≤ 0.16),
 # so t = 25 is reached in exactly 100 steps, and one frame at its end.
@@ -387,3 +388,35 @@ def test_ctrl_c_stops_advance_after_the_step_in_progress(bar):
     assert 0 < bar.time < end and bar.step > 0
     assert bar.time == pytest.approx(0.05 * bar.step)
     assert np.isfinite(bar.particles.V).all()
+
+
+@pytest.mark.parametrize("shape", ["linear", "gimp", "bspline2", "cpdi", "b2cpdi"])
+def test_bonded_contact_is_single_material_mode_for_every_shape(tmp_path, shape):
+    # Contact 2020 §3.2: stick contact detected everywhere reverts to single material mode. The
+    # two blocks of contact 2020 §2.3 bonded, 60 FLIP steps and 60 PIC steps, against the same
+    # blocks as one velocity field: equal to round-off for every shape. With uGIMP a field whose
+    # share of a node fell below 1e-10 of the largest nodal mass was switched off there, dropping
+    # its internal force: 1.8e-8 of max|V| (the other shapes: 1e-13).
+    text = TWO_BLOCKS.read_text()
+    text = text.replace('law = "coulomb"', 'law = "stick"').replace("friction = 0.2\n", "")
+    text = re.sub(r'detection = "CP".*', 'detection = "always"', text)
+    bonded = tmp_path / "bonded.toml"
+    bonded.write_text(text)
+    for velocity in ("FLIP", "PIC"):
+        runs = []
+        for law in ("stick", "single-field"):
+            model = smpm.Model.from_toml(str(bonded), {"step.shape": shape,
+                                                       "step.velocity": velocity,
+                                                       "contact.0.law": law})
+            stepper = smpm.Stepper(model.options)
+            dt = smpm.stable_time_step(model, 0.5)
+            for _ in range(60):
+                stepper.step(model, dt)
+            runs.append(model.particles)
+        bonded_V, single_V = runs[0].V, runs[1].V
+        scale = np.abs(single_V).max()
+        assert scale > 0
+        assert np.abs(bonded_V - single_V).max() < 1e-11 * scale, (velocity, shape)
+        momentum = [p.mass @ p.V for p in runs]
+        momentum_scale = (runs[1].mass @ np.abs(single_V)).max()
+        assert np.abs(momentum[0] - momentum[1]).max() < 1e-11 * momentum_scale

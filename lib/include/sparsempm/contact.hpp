@@ -206,6 +206,16 @@ struct ContactNodes {
 double contact_friction_work(const Eigen::Vector3d& dp0, const Eigen::Vector3d& dp,
                              const Eigen::Vector3d& normal, double m_red);
 
+/// Bonded contact (law stick, detection always: contact 2020 §2.3's test of the reversion to
+/// single material mode) is single material mode on every node: a field with mass on a node
+/// whose total Σ_α m^α_i single material mode keeps, but below the tolerance of an active field
+/// (kMassTolerance of the largest total), is made active there when it is bonded to every other
+/// field with mass on the node, so that its momentum and internal force stay on the node as in
+/// single material mode. (A uGIMP domain that barely reaches a node gives such a field; dropping
+/// its force there departed a bonded run from single material mode by 2e-8 of the velocity.)
+/// Other laws keep the tolerance: a field of a tiny share is not a contact partner.
+void activate_bonded_fields(const Contact& contact, Operators& ops);
+
 /// Finds the nodes seen by two or more fields of `ops` (block columns) and their normals,
 /// separations and areas (contact 2020 §2.3, §3.1), once per step.
 ///
