@@ -27,6 +27,8 @@ template <class T>
 bool parse_all(const std::string& text, T& v) {
   const char* first = text.data() + (text.rfind('+', 0) == 0 ? 1 : 0);
   const char* last = text.data() + text.size();
+  if (first != text.data() && first != last && *first == '-') // "+-5"
+    return false;
   const auto [end, ec] = std::from_chars(first, last, v);
   if constexpr (std::is_floating_point_v<T>)
     if (!std::isfinite(v))

@@ -71,11 +71,15 @@ std::vector<std::pair<int, double>> blend_pairs(const StabilityArgs& a) {
 
 std::vector<double> periodic_budgets(const StabilityArgs& a) {
   std::vector<double> out;
-  for (const std::string& text : a.periodic_cx)
-    if (!text.empty() && text != "none")
-      if (const double cx = parse_value("--periodic-cx", text, "a Courant budget C_X or none");
-          cx > 0) // C_X = 0: the plain FMPM rows
-        out.push_back(cx);
+  for (const std::string& text : a.periodic_cx) {
+    if (text.empty() || text == "none")
+      continue;
+    const double cx = parse_value("--periodic-cx", text, "a Courant budget C_X or none");
+    if (cx < 0)
+      throw InputError("--periodic-cx " + clip(text) + ": must be non-negative (0: no rows)");
+    if (cx > 0) // C_X = 0: the plain FMPM rows
+      out.push_back(cx);
+  }
   return out;
 }
 

@@ -92,10 +92,10 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   const bool shock = uses_shock_physics(model.materials);
   const double wave = shock ? 0 : max_wave_speed(model.materials, model.particles);
   double speed = signal_speed(model);
-  double dt0 = 0; // the first step's Courant time step
+  double dt0 = o.time_step_start.value_or(0); // the first step's Courant time step
   while (model.time < o.end - eps) {
     double dt = stable_time_step(model, o.courant, speed);
-    if (report.steps == 0)
+    if (report.steps == 0 && !o.time_step_start)
       dt0 = dt;
     check_time_step(model, dt, dt0, o.failure);
     if (o.land_on_stops)

@@ -30,13 +30,14 @@ bool python_handles_sigint() {
 SigintScope::SigintScope() {
   if (!python_handles_sigint())
     return;
+  if (g_depth == 0) // cleared before our handler can set it
+    g_sigint.store(0);
   struct sigaction ours {};
   ours.sa_handler = on_sigint;
   sigemptyset(&ours.sa_mask);
   if (::sigaction(SIGINT, &ours, &previous_) != 0)
     return;
-  if (g_depth++ == 0)
-    g_sigint.store(0);
+  ++g_depth;
   active_ = true;
 }
 
@@ -49,10 +50,11 @@ void SigintScope::restore() {
 }
 
 SigintScope::~SigintScope() {
-  const bool pending = active_ && g_sigint.load() != 0;
-  restore();
-  if (pending && g_depth == 0)
-    PyErr_SetInterrupt(); // seen at Python's next check of signals
+  if (!active_)
+    return;
+  restore(); // first: a SIGINT from now on is Python's own
+  if (g_depth == 0 && g_sigint.exchange(0) != 0)
+    PyErr_SetInterrupt(); // one that came after the last check: seen at Python's next check
 }
 
 const std::atomic<int>* SigintScope::flag() const {

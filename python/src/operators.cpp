@@ -220,9 +220,12 @@ void bind_operators(py::module_& m) {
         PyOperators o;
         o.shape = shape_arg(shape, &model);
         prepare_step(model.model, o.shape, o.prep); // the Stepper's preparation, whole grid
-        // ops.bcs outlives this call: its values copied from the model's (which they call).
-        for (size_t k = 0; k < o.prep.bcs.conditions.size(); ++k)
+        // ops.bcs outlives this call: its values copied from the model's (which they call),
+        // and a wall's evaluated at the time a product is given (not frozen at the model's).
+        for (size_t k = 0; k < o.prep.bcs.conditions.size(); ++k) {
           o.prep.bcs.conditions[k].value = model.model.bcs.conditions[k].value;
+          o.prep.bcs.conditions[k].wall_state.reset();
+        }
         return o;
       },
       py::arg("model"), py::arg("shape") = py::none(),

@@ -99,12 +99,16 @@ void bind_step(py::module_& m) {
       .def_property_readonly("options", &Stepper::options)
       .def_property_readonly(
           "grid_velocity",
-          [](const Stepper& s) { return from_field(s.grid_state().v_plus, false); },
+          [](const Stepper& s) {
+            const Stepper::Exclusive hold(s); // not while another thread steps it
+            return from_field(s.grid_state().v_plus, false);
+          },
           "v⁺ of the last step (n × d), the velocity of its particle update, on the nodes of "
           "the step (grid_nodes)")
       .def_property_readonly(
           "grid_nodes",
           [](const Stepper& s) {
+            const Stepper::Exclusive hold(s);
             const Operators& ops = s.operators();
             py::array_t<long> nodes(ops.num_nodes());
             auto out = nodes.mutable_unchecked<1>();
@@ -115,10 +119,18 @@ void bind_step(py::module_& m) {
           "the grid index of each row of grid_velocity: a step works on the window of the grid "
           "that its particles reach (α n_g + i for node i of velocity field α)")
       .def_property_readonly(
-          "fmpm_order", [](const Stepper& s) { return s.last_fmpm().order; },
+          "fmpm_order",
+          [](const Stepper& s) {
+            const Stepper::Exclusive hold(s);
+            return s.last_fmpm().order;
+          },
           "the FMPM order reached by the last step's loop")
       .def_property_readonly(
-          "fmpm_metrics", [](const Stepper& s) { return s.last_fmpm_metrics(); },
+          "fmpm_metrics",
+          [](const Stepper& s) {
+            const Stepper::Exclusive hold(s);
+            return s.last_fmpm_metrics();
+          },
           "the convergence metric of passes 2, 3, ... of the last step's FMPM loop (dynamic "
           "FMPM; step.dynamic_limit = 0 runs it to the order)");
   bind_courant(m);

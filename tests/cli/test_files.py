@@ -922,6 +922,8 @@ class StrictOptions(Base):
             ("--blend", "2:0.8zzz"): "--blend 2:0.8zzz: expected m:alpha",
             ("--periodic", "2abc"): "--periodic-cx 2abc: expected a Courant budget C_X or none",
             ("--periodic-cx", "1e999"): "--periodic-cx 1e999: expected a Courant budget",
+            ("--periodic-cx", "-2"): "--periodic-cx -2: must be non-negative (0: no rows)",
+            ("--blend-alpha", "+-0.5"): "--blend-alpha +-0.5: expected a number",
             ("--blend-alpha", "0.5x"): "--blend-alpha 0.5x: expected a number in [0, 1] or none",
             ("--blend-alpha", "nan"): "--blend-alpha nan: expected a number",
             ("--position-alpha", "nan"): "--position-alpha nan: must lie in [0, 1]",
@@ -1037,6 +1039,16 @@ class Stalls(Base):
         with h5py.File(self.dir / "s.partial.h5", "r") as f:  # t = 0, 5e-5, 1e-4, 1.5e-4
             self.assertEqual(len(f["particles"]), 5)
             self.assertIn("fell below", f.attrs["status"])
+        # Restarted from its last frame, the run fails at the same step with the same numbers:
+        # the reference is the first step of t = 0, not the first step after the restart.
+        again = smpm("run", "--restart", self.dir / "s.partial.h5", "-o", self.dir / "r.h5", "-q",
+                     timeout=300)
+        self.assertEqual(one_line(self, again, 3), line)
+
+
+def last_frame_name(path):
+    with h5py.File(path, "r") as f:
+        return sorted(f["particles"].keys())[-1]
 
 
 class DamagedRestart(Base):
@@ -1069,6 +1081,11 @@ class DamagedRestart(Base):
         line = self.damaged(shock, sets, nan_energy)
         self.assertIn("energy holds a value that is not finite", line)
 
+    def test_a_missing_state_group(self):
+        sets = ["time.end=8", "output.every=4"]
+        line = self.damaged(BAR, sets, lambda f, last: f["state"].__delitem__(last))
+        self.assertIn("/state/%s is missing" % last_frame_name(self.dir / "done.h5"), line)
+
     def test_non_finite_values_and_state(self):
         sets = ["time.end=8", "output.every=4", "step.velocity=FMPM", "step.order=2",
                 "step.periodic_cx=2"]
@@ -1100,3 +1117,43 @@ class EarlierNames(Base):
         self.assertRegex(line, r"^smpm: error: [^ ]*sch\.toml:\d+: step\.velocity = 4: expected a "
                                r"string$")
         self.assertEqual(line.count("sch.toml"), 1)
+
+
+class ManyFrames(Base):
+    """The run file is closed and opened again every 64 frames (emptying HDF5's metadata cache):
+    a run of 200 frames completes with every frame, and a restart from a frame past a reopening
+    continues bit for bit."""
+
+    def test_two_hundred_frames(self):
+        inp = self.dir / "four.toml"
+        inp.write_text("[grid]\ndim = 1\norigin = [0.0]\ncell_size = [1.0]\ncells = [10]\n\n"
+                       "[[material]]\nname = \"m\"\ndensity = 1.0\nyoungs = 1.0\n\n[[body]]\n"
+                       "material = \"m\"\nregion = \"box\"\nmin = [2.0]\nmax = [4.0]\nppc = [2]\n"
+                       "velocity = [\"0.01*sin(X)\"]\n\n[time]\ncourant = 0.1\nend = 20.0\n\n"
+                       "[step]\nshape = \"linear\"\n\n[output]\nevery = 0.1\n")
+        out = self.dir / "four.h5"
+        r = smpm("run", inp, "-o", out, "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(out, "r") as f:
+            self.assertEqual(f.attrs["status"], "completed")
+            self.assertEqual(len(f["particles"]), 201)
+            X = f["particles"]["000200"]["X"][...]
+            cut = self.dir / "cut.h5"
+            with h5py.File(cut, "w") as g:  # the run as killed after frame 130
+                for key, value in f.attrs.items():
+                    g.attrs[key] = value
+                g.attrs["status"] = "running"
+                for group in ("particles", "grid", "state"):
+                    g.create_group(group)
+                    for name in sorted(f[group].keys())[:131]:
+                        f.copy(f[group][name], g[group], name)
+                n = int(f["particles"]["000130"].attrs["step"])
+                g.create_group("series")
+                for name, data in f["series"].items():
+                    g["series"].create_dataset(name, data=data[:n + 1], maxshape=(None,) + data.shape[1:],
+                                               chunks=True)
+        r = smpm("run", "--restart", cut, "-o", self.dir / "again.h5", "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(self.dir / "again.h5", "r") as f:
+            self.assertEqual(len(f["particles"]), 201)
+            np.testing.assert_array_equal(f["particles"]["000200"]["X"][...], X)

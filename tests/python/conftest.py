@@ -29,26 +29,29 @@ def bar():
 
 
 class interrupting:
-    """Sends SIGINT to this process every `every` seconds while the `with` block runs, as a
-    user pressing Ctrl-C until the computation stops. Python's handler is replaced for the
-    block by one that records each signal in `seen` and, at the first, stops the sending and
-    raises KeyboardInterrupt (as Python's own does) when `raises`, or nothing otherwise."""
+    """Sends SIGINT to this process every `every` seconds while the `with` block runs (from when
+    `started`, an Event, is set, if given), as a user pressing Ctrl-C until the computation
+    stops. Python's handler is replaced for the block by one that records each signal in `seen`
+    and, at the first, raises KeyboardInterrupt (as Python's own does) when `raises`; the others
+    raise nothing, so a signal sent just before or after the computation does no harm."""
 
-    def __init__(self, every=0.2, raises=True):
-        self.every, self.raises, self.seen = every, raises, []
+    def __init__(self, every=0.2, raises=True, started=None):
+        self.every, self.raises, self.started, self.seen = every, raises, started, []
 
     def _handler(self, signum, frame):
         self.seen.append(signum)
-        if len(self.seen) == 1:
-            self._done.set()
-            if self.raises:
-                raise KeyboardInterrupt
+        if self.raises and len(self.seen) == 1:
+            raise KeyboardInterrupt
 
     def __enter__(self):
         self._done = threading.Event()
         self._previous = signal.signal(signal.SIGINT, self._handler)
 
         def send():
+            if self.started is not None:
+                while not self.started.wait(0.05):
+                    if self._done.is_set():
+                        return
             while not self._done.wait(self.every):
                 os.kill(os.getpid(), signal.SIGINT)
 

@@ -135,3 +135,18 @@ def test_the_conditions_of_another_grid_are_refused(bar_state):
     for call in (smpm.fmpm_velocity, smpm.exact_velocity):
         with pytest.raises(smpm.InputError, match="names node 1999999, not a node of this grid"):
             call(ops, p, bcs=big.bcs)
+
+
+def test_a_wall_of_ops_bcs_takes_the_time_of_the_product():
+    # ops.bcs selects the wall's nodes at the model's time; its value v(t) + grad v (s - s_w(t))
+    # is that of the time given to fmpm_velocity (the step's own copy is evaluated once, at the
+    # step's time).
+    path = SOURCE / "examples" / "two_block_compression.toml"
+    text = path.read_text()
+    k = text[:text.index("wall = {")].count("[[bc]]") - 1
+    model = smpm.Model.from_toml(str(path), {"bc.%d.wall.velocity" % k: "-2*t"})
+    ops = smpm.assemble(model)
+    p = ops.momentum(model.particles.V)
+    for t in (0.5, 1.5):  # the wall's nodes (a row of the 40 mm top, and those beyond it)
+        v = smpm.fmpm_velocity(ops, p, 1, bcs=ops.bcs, time=t)
+        assert np.isclose(v[:, 1], -2 * t, rtol=0, atol=1e-12).sum() >= 10

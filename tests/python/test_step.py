@@ -359,13 +359,18 @@ def test_a_stepper_belongs_to_one_thread(bar):
             stepper.step(other, 0.25)
         except smpm.UsageError as e:
             refused.append(str(e))
+        try:  # nor read its grid fields while the run resizes them
+            stepper.grid_velocity
+        except smpm.UsageError as e:
+            refused.append(str(e))
         tried.set()
 
     thread = threading.Thread(target=second)
     thread.start()
     stepper.advance(bar, end=25.0, callback=callback)
     thread.join()
-    assert refused and "a Stepper belongs to one thread at a time" in refused[0]
+    assert len(refused) == 2 and all("a Stepper belongs to one thread at a time" in m
+                                     for m in refused)
     assert other.step == 0 and bar.step == 100
     np.testing.assert_array_equal(bar.particles.V, reference.particles.V)
     np.testing.assert_array_equal(bar.particles.X, reference.particles.X)
@@ -382,9 +387,11 @@ def test_ctrl_c_stops_advance_after_the_step_in_progress(bar):
     # with KeyboardInterrupt and the model is left at that step.
     # At C = 0.1 (Δt = 0.05, see OVERRIDES) FLIP stays stable for the 10 million steps.
     end = 1e7 * 0.05
-    with interrupting():
+    started = threading.Event()  # Ctrl-C only once the run is under way
+    with interrupting(started=started):
         with pytest.raises(KeyboardInterrupt):
-            smpm.Stepper(bar.options).advance(bar, end=end, courant=0.1)
+            smpm.Stepper(bar.options).advance(bar, end=end, courant=0.1,
+                                              callback=lambda *a: started.set())
     assert 0 < bar.time < end and bar.step > 0
     assert bar.time == pytest.approx(0.05 * bar.step)
     assert np.isfinite(bar.particles.V).all()

@@ -44,6 +44,9 @@ struct AdvanceOptions {
   /// The total energy the failure test compares with; unset: that of the model on entry (a
   /// restart passes the energy at t = 0).
   std::optional<double> energy_start{};
+  /// The Courant time step failure.min_time_step_fraction compares with; unset: that of the
+  /// first step of this call (a restart passes the first step's of t = 0).
+  std::optional<double> time_step_start{};
   /// The observer may change the model (Python's callback gets it mutable): the signal speed of
   /// the next step is then taken from the model after the observer, not from the step's energies.
   bool observer_changes_model = false;

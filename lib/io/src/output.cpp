@@ -9,12 +9,14 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <sys/statvfs.h>
+#include <thread>
 
 namespace smpm {
 
@@ -168,6 +170,7 @@ void check_room(const std::string& path, double bytes) {
 
 void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool matrices,
                              const StepPreparation* prepared) {
+  ensure_open();
   check_room(path_, frame_bytes(model, prepared, matrices, pending_.size(), series_written_));
   // The frame is written under a staging name that no reader takes for a frame, flushed, and
   // only then given its name: a frame whose write fails all the same (the disk filled by another
@@ -203,19 +206,30 @@ void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool ma
   // since the file was opened, and each flush scans all of it (HDF5 1.10's
   // H5C_set_slist_enabled): frame n cost O(n), 10,000 frames of 4 particles slowed from 60 to
   // a few frames per second. Closing the file (clean: it was just flushed) and opening it again
-  // every kFramesPerOpen frames empties the cache.
-  if (frames_.size() % kFramesPerOpen == 0) {
-    h5::check(file_.close(), "close");
-    const h5::Id fapl = access_plist();
+  // every kFramesPerOpen frames empties the cache; the file is opened again when it is next
+  // written (ensure_open), so that a failure to open it is the next write's, not this frame's.
+  if (frames_.size() % kFramesPerOpen == 0)
+    file_.close();
+}
+
+void OutputFile::ensure_open() {
+  if (file_.is_open())
+    return;
+  const h5::Id fapl = access_plist();
+  // A reader that opened the file while it was closed holds HDF5's lock for a moment.
+  for (int attempt = 0; attempt < 200 && !file_.is_open(); ++attempt) {
+    if (attempt > 0)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
     file_ = File(H5Fopen(path_.c_str(), H5F_ACC_RDWR, fapl.get()));
-    if (!file_.is_open())
-      throw std::runtime_error("cannot open the run file again after frame " +
-                               std::to_string(frame));
   }
+  if (!file_.is_open())
+    throw std::runtime_error(path_ + ": cannot open the run file again (another program has "
+                                     "held it open for 2 s)");
 }
 
 void OutputFile::set_status(const std::string& status) noexcept {
   try {
+    ensure_open();
     if (!pending_.empty()) { // the series up to the last step, past the last frame
       append_series_rows(file_.get(), pending_, dim_);
       series_written_ += pending_.size();
@@ -239,6 +253,7 @@ void OutputFile::discard() noexcept {
 }
 
 void OutputFile::finish(const std::string& target) {
+  ensure_open();
   h5::set_attribute(file_.get(), "status", std::string("completed"));
   h5::check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush");
   h5::check(file_.close(), "close " + path_);

@@ -228,7 +228,15 @@ RunState read_state(const std::string& path, int frame);
 } // namespace
 
 RunState read_run_state(const std::string& path, int frame) {
-  return checked(read_state(path, frame), path, frame);
+  RunState state;
+  try {
+    state = read_state(path, frame);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) { // a missing or unreadable attribute
+    throw InputError(path + ": frame " + std::to_string(frame) + ": its state: " + e.what());
+  }
+  return checked(state, path, frame);
 }
 
 namespace {
@@ -240,7 +248,9 @@ RunState read_state(const std::string& path, int frame) {
     const hid_t f = open_for_reading(path);
     h5::Id file(f, H5Fclose);
     const std::string name = frame_name(frame);
-    if (h5::exists(f, "state") && h5::exists(f, "state/" + name)) {
+    if (h5::exists(f, "state") && !h5::exists(f, "state/" + name))
+      throw std::runtime_error("/state/" + name + " is missing (the state a restart continues)");
+    if (h5::exists(f, "state")) {
       h5::Id g = h5::open_group(f, "state/" + name);
       state.stepper.courant_budget = h5::get_double_attribute(g.get(), "courant_budget");
       state.stepper.friction_work = h5::get_double_attribute(g.get(), "friction_work");

@@ -91,7 +91,8 @@ public:
                              .stop_every = cfg_.output.every,
                              .land_on_stops = cfg_.time.land_on_frames,
                              .failure = {},
-                             .energy_start = e0_};
+                             .energy_start = e0_,
+                             .time_step_start = dt0_};
     return advance(cfg_.model, stepper_, adv, [&](const Model& m, const Energies& e, bool at_stop) {
       out_.add_series(row(m, e));
       if (at_stop)
@@ -114,6 +115,8 @@ private:
     Model first = cfg_.model;
     load_frame(partial_, 0, first);
     V0_ = first.particles.V;
+    // The first step's Courant time step, as the uninterrupted run's advance took it.
+    dt0_ = stable_time_step(first, cfg_.time.courant, signal_speed(first));
   }
 
   // The series row of the model after a step: energies, the velocity error of FMPM 2026 §3.1
@@ -173,6 +176,7 @@ private:
   std::string partial_;
   int next_frame_ = 0;
   std::optional<double> e0_;
+  std::optional<double> dt0_; // a restart: the first step's Courant time step (t = 0)
   OutputFile out_;
   Stepper stepper_;
   Field V0_;

@@ -126,6 +126,8 @@ private:
   /// The file is closed and opened again after this many frames (its metadata cache emptied).
   static constexpr size_t kFramesPerOpen = 64;
   OutputFile() = default;
+  /// Opens the file again if write_frame closed it (retrying for 2 s while a reader holds it).
+  void ensure_open();
   void initialize(const RunConfig& cfg);
   void write_xdmf_frame(size_t k);
   void write_xdmf_whole(const std::string& h5_path, const std::string& xmf_path) const;
