@@ -47,3 +47,16 @@ def test_module_and_cli_write_the_same_table(name, tmp_path):
         # FMPM 2026 Fig. 12B: pure FMPM(1) (α = 0) dissipates ~40% in five periods at C = 0.539
         # (vibrating_bar.toml: PIC ~40%), pure FMPM(4) (α = 1) under 0.01%; ±1% and the bound.
         assert loss[0.0] == pytest.approx(40.4, abs=1.0) and abs(loss[1.0]) < 0.01
+
+
+def test_the_licence_citation_and_changelog_name_this_release():
+    # CITATION.cff (Citation File Format 1.2.0) gives the module's version and the licence of
+    # LICENSE; the changelog has a section for the version.
+    import yaml
+    cff = yaml.safe_load((SOURCE / "CITATION.cff").read_text())
+    assert cff["cff-version"] == "1.2.0" and cff["type"] == "software"
+    assert cff["version"] == smpm.__version__
+    assert cff["license"] == "BSD-3-Clause"
+    assert (SOURCE / "LICENSE").read_text().startswith("BSD 3-Clause License")
+    assert all(r["title"] and r["authors"] for r in cff["references"])
+    assert f"## [{smpm.__version__}]" in (SOURCE / "CHANGELOG.md").read_text()
