@@ -1157,3 +1157,16 @@ class ManyFrames(Base):
         with h5py.File(self.dir / "again.h5", "r") as f:
             self.assertEqual(len(f["particles"]), 201)
             np.testing.assert_array_equal(f["particles"]["000200"]["X"][...], X)
+
+
+class Version(Base):
+    def test_the_version_names_the_commit(self):
+        # `smpm --version` printed a bare number; now the release and the checkout's commit.
+        git = subprocess.run(["git", "describe", "--always", "--dirty", "--abbrev=12"],
+                             cwd=SOURCE, capture_output=True, text=True)
+        commit = git.stdout.strip() if git.returncode == 0 and git.stdout.strip() else "unknown"
+        r = smpm("--version")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertRegex(r.stdout.strip(), r"^smpm \d+\.\d+\.\d+ \(commit [0-9a-z-]+\)$")
+        self.assertTrue(r.stdout.strip().endswith("(commit %s)" % commit), r.stdout)
+
