@@ -1170,3 +1170,33 @@ class Version(Base):
         self.assertRegex(r.stdout.strip(), r"^smpm \d+\.\d+\.\d+ \(commit [0-9a-z-]+\)$")
         self.assertTrue(r.stdout.strip().endswith("(commit %s)" % commit), r.stdout)
 
+
+
+class LiveRun(Base):
+    """A run in progress can be read: `smpm info` of its partial file lists the frames completed
+    so far (HDF5's file lock kept every reader out: "cannot be opened now")."""
+
+    def test_info_of_a_live_run(self):
+        out = self.dir / "live.h5"
+        p = subprocess.Popen([SMPM, "run", EXAMPLES / "block_impact.toml", "-o", out, "-q",
+                              "--set", "time.end=100", "--set", "output.every=0.01"],
+                             stderr=subprocess.PIPE, text=True)
+        partial = self.dir / "live.partial.h5"
+        try:
+            seen = 0
+            deadline = time.time() + 300
+            while seen < 3 and time.time() < deadline and p.poll() is None:
+                time.sleep(0.2)
+                if not partial.exists():
+                    continue
+                info = smpm("info", partial)
+                self.assertEqual(info.returncode, 0, info.stderr)
+                found = [int(l.split()[1]) for l in info.stdout.splitlines()
+                         if l.startswith("frames:")]
+                seen = found[0] if found else 0
+            self.assertIsNone(p.poll(), p.stderr.read() if p.poll() is not None else "")
+            self.assertGreaterEqual(seen, 3)
+        finally:
+            p.kill()
+            p.wait()
+            p.stderr.close()

@@ -8,9 +8,11 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/run_file.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace smpm {
@@ -23,7 +25,20 @@ namespace detail {
 // damaged).
 hid_t open_for_reading(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  // A live run holds HDF5's lock: its file is read without the lock. Its frames are flushed
+  // whole and named only then, so a reader sees the complete frames of the last flush; a read
+  // that meets a flush in progress is tried again. (The lock's setting must match that of a
+  // file this process already has open, as a restart in place does: hence the default first.)
+  if (f < 0 && held_by_writer(path)) {
+    const h5::Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    h5::check(H5Pset_file_locking(fapl.get(), false, true), "file access without locking");
+    f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get());
+    for (int attempt = 0; f < 0 && attempt < 20 && held_by_writer(path); ++attempt) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+      f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get());
+    }
+  }
   if (f >= 0)
     return f;
   if (H5Fis_hdf5(path.c_str()) <= 0)
