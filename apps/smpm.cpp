@@ -173,12 +173,13 @@ CLI::App* add_stability(CLI::App& app, smpm::app::StabilityArgs& st, Aliases& al
       ->capture_default_str();
   stab->add_option("-o,--output", st.output, "CSV table")->capture_default_str();
   stab->add_flag("-q,--quiet", st.quiet, "no progress lines");
-  stab->add_flag("!--no-exact", st.exact, "leave out the exact consistent-mass row");
+  stab->add_flag("--no-exact", st.no_exact, "leave out the exact consistent-mass row");
   stab->add_option("--position-alpha", st.position_alpha,
-                   "alpha of the position update (FMPM 2026 Eqs. 8-9) for every row");
+                   "alpha of the position update (FMPM 2026 Eqs. 8-9) for every row (default: "
+                   "the input's, else 1 for FLIP and 1/2 for the others)");
   stab->add_option("--max-energy-change", st.max_energy_change,
                    "simulation: also fail a run whose total energy changes by more than this "
-                   "fraction");
+                   "fraction (default: no limit)");
   aliases.add(stab, "--k", "--order", st.orders);
   aliases.add(stab, "--blend", "--blend-alpha and --blend-every", st.blends);
   aliases.add(stab, "--periodic", "--periodic-cx", st.periodic_cx);

@@ -112,7 +112,7 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
     for (int k : a.orders)
       if (k > 1)
         row(VelocityUpdate::FMPM, k, 1.0, 1, cx);
-  if (a.exact) {
+  if (!a.no_exact) {
     row(VelocityUpdate::Exact, base.fmpm.order, 1.0, 1, 0.0); // the input's exact_* options
     if (!rows.back().opt.exact_solver)
       rows.back().opt.exact_solver = cholmod_solver_factory();

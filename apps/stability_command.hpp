@@ -23,7 +23,7 @@ struct StabilityArgs {
   int frame_stride = 1;
   std::string output = "stability.csv";
   bool quiet = false;
-  bool exact = true;                    ///< also the exact consistent-mass row
+  bool no_exact = false;                ///< leave out the exact consistent-mass row
   double position_alpha = std::nan(""); ///< --position-alpha ...
   bool position_alpha_given = false;    ///< ... when given (else the input's, or each row's)
   double max_energy_change = std::numeric_limits<double>::infinity(); ///< simulation criterion

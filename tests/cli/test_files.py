@@ -1200,3 +1200,24 @@ class LiveRun(Base):
             p.kill()
             p.wait()
             p.stderr.close()
+
+
+class Help(Base):
+    def test_stability_help_shows_defaults(self):
+        # --help printed "--no-exact{false}" and no default for --position-alpha and
+        # --max-energy-change.
+        r = smpm("stability", "--help")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("{false}", r.stdout)
+        self.assertRegex(r.stdout, r"--no-exact +leave out the exact consistent-mass row")
+        self.assertRegex(r.stdout, r"--shifts INT=4 ")
+        self.assertIn("(default: the input's, else 1 for FLIP and 1/2 for the others)", r.stdout)
+        self.assertIn("(default: no limit)", r.stdout)
+        rows = []
+        for extra in ([], ["--no-exact"]):
+            out = self.dir / ("t%d.csv" % len(extra))
+            r = smpm("stability", BAR, "--order", "1", "--method", "spectral", "--shifts", "1",
+                     "-q", "-o", out, *extra)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            rows.append([l.split(",")[0] for l in out.read_text().splitlines()[1:]])
+        self.assertEqual(rows, [["FLIP", "FMPM", "exact"], ["FLIP", "FMPM"]])
