@@ -8,6 +8,7 @@ Run by ctest with SMPM and SMPM_SOURCE in the environment.
 import concurrent.futures
 import os
 import pathlib
+import re
 import subprocess
 import tempfile
 import unittest
@@ -100,6 +101,16 @@ class Shock(unittest.TestCase):
                 (t0, p0), (t1, p1) = frames[len(frames) // 2], frames[-1]
                 speed = (front(p0) - front(p1)) / (t1 - t0)
                 self.assertLess(abs(speed / US - 1), 0.02, speed)
+
+    def test_the_readme_states_the_example_as_it_runs(self):
+        # The README's description of the example: "(8,000 particles, N steps, ...)".
+        readme = (pathlib.Path(__file__).resolve().parents[2] / "README.md").read_text()
+        m = re.search(r"\(([\d,]+) particles,\s+(\d+) steps", readme)
+        self.assertIsNotNone(m)
+        with h5py.File(pathlib.Path(self.tmp.name) / "stick_flip.h5", "r") as f:
+            last = max(f["particles"].values(), key=lambda g: g.attrs["time"])
+            self.assertEqual(int(m.group(1).replace(",", "")), len(last["X"]))
+            self.assertEqual(int(m.group(2)), int(last.attrs["step"]))
 
     def test_stick_contact_reverts_to_single_material_mode(self):
         # FMPM 2026 Fig. 4: bonded stick contact reproduces single material mode for FLIP,
