@@ -75,7 +75,7 @@ def input_text(objects):
         "#              analysis/compaction.py (this packing with AG + CP, AG + DF and LR, and the",
         "#              interpenetration of each: the fraction of particles inside another object)",
         "# What to look at: the interpenetration at the end. Claimed (asserted by",
-        "# tests/cli/test_compaction.py): grid contact leaves 0.82% (AG normals, CP = 0.8) and",
+        "# tests/cli/test_compaction.py): grid contact leaves 0.72% (AG normals, CP = 0.8) and",
         "# 0.97% (AG, DF) of the particles inside another object, logistic regression none",
         "# (contact 2020 Fig. 6: LR removes the interpenetration of grid methods).",
         "[grid]", "dim = 2", "origin = [-4.0, -4.0]", f"cell_size = [{CELL}, {CELL}]",
