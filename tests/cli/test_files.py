@@ -1067,7 +1067,8 @@ class DamagedRestart(Base):
         r = smpm("run", "--restart", done, "-o", self.dir / "again.h5", "-q")
         line = one_line(self, r, 2)
         self.assertIn(str(done) + ": frame %d: " % int(last), line)
-        self.assertEqual(sorted(p.name for p in self.dir.iterdir()), ["done.h5", "done.xmf"])
+        self.assertEqual(sorted(p.name for p in self.dir.iterdir()),
+                         ["done.h5", "done.nodes.xmf", "done.xmf"])
         return line
 
     def test_a_mie_gruneisen_frame_without_energy(self):

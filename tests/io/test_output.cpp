@@ -105,8 +105,8 @@ TEST_CASE("a run file moved to another OutputFile keeps its state, frames and si
   std::ifstream xmf(xdmf_path(path));
   std::stringstream text;
   text << xmf.rdbuf();
-  CHECK(text.str().find("frame 000000") != std::string::npos);
-  CHECK(text.str().find("frame 000001") != std::string::npos);
+  CHECK(text.str().find("particles 000000") != std::string::npos);
+  CHECK(text.str().find("particles 000001") != std::string::npos);
   std::filesystem::remove(path);
   std::filesystem::remove(xdmf_path(path));
 }

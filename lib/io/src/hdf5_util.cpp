@@ -54,8 +54,14 @@ void write_doubles(hid_t group, const std::string& name, const double* data, hsi
   write_array(group, name, H5T_NATIVE_DOUBLE, data, rows, cols);
 }
 
-void write_ints(hid_t group, const std::string& name, const int* data, hsize_t n) {
-  write_array(group, name, H5T_NATIVE_INT, data, n, 0);
+void write_ints(hid_t group, const std::string& name, const int* data, hsize_t n, hsize_t cols) {
+  write_array(group, name, H5T_NATIVE_INT, data, n, cols);
+}
+
+hsize_t rows_of(hid_t group, const std::string& name) {
+  Id set(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
+  check(set.get(), "cannot open dataset " + name);
+  return dims_of(set.get())[0];
 }
 
 Field read_doubles(hid_t group, const std::string& name) {

@@ -48,7 +48,9 @@ bool exists(hid_t parent, const std::string& path);
 /// A row-major rows × cols array of doubles (cols = 0: 1D of length rows).
 void write_doubles(hid_t group, const std::string& name, const double* data, hsize_t rows,
                    hsize_t cols);
-void write_ints(hid_t group, const std::string& name, const int* data, hsize_t n);
+void write_ints(hid_t group, const std::string& name, const int* data, hsize_t n, hsize_t cols = 0);
+/// The first dimension of a dataset (its rows).
+hsize_t rows_of(hid_t group, const std::string& name);
 /// Reads a 1D or 2D double dataset into a row-major field (1D → rows × 1).
 Field read_doubles(hid_t group, const std::string& name);
 std::vector<int> read_ints(hid_t group, const std::string& name);

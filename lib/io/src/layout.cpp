@@ -32,6 +32,7 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/particles/<frame>/half_length", "N x d", "initial half-lengths r0 of the domains", ""},
       {"/particles/<frame>/material", "N", "material ids (index of [[material]])", ""},
       {"/particles/<frame>/energy", "N", "internal energy per unit mass U (mie-gruneisen)", ""},
+      {"/particles/<frame>/J", "N", "det F, the volume ratio V/V0", ""},
       {"/particles/<frame>/xyz", "N x 3", "positions with y = z = 0, for ParaView", "1D"},
       {"/particles/<frame>@time", "scalar", "the frame's time t", ""},
       {"/particles/<frame>@step", "scalar", "the frame's step", ""},
@@ -40,6 +41,9 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/grid/<frame>/m", "na", "lumped masses m = S^T M", ""},
       {"/grid/<frame>/p", "na x d", "momenta p = S^T M V (before contact)", ""},
       {"/grid/<frame>/v", "na x d", "velocities m^-1 p", ""},
+      {"/grid/<frame>/X", "na x d", "positions of the nodes", ""},
+      {"/grid/<frame>/xyz", "na x 3", "positions with y = z = 0, for ParaView", "1D"},
+      {"/grid/<frame>/field", "na", "velocity field a of each node", "contact"},
       {"/grid/<frame>@grid_nodes", "scalar", "n_g, the grid's nodes", ""},
       {"/grid/<frame>@velocity_fields", "scalar", "n_f, the velocity fields", ""},
       {"/grid/<frame>/contact_nodes", "nc", "grid index of each contact node", "contact"},
@@ -48,6 +52,9 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/grid/<frame>/contact_separation", "nc", "the separation of the detection (-1: none)",
        "contact"},
       {"/grid/<frame>/contact_approaching", "nc", "1 where the fields approach", "contact"},
+      {"/grid/<frame>/contact_X", "nc x d", "positions of the contact nodes", "contact"},
+      {"/grid/<frame>/contact_xyz", "nc x 3", "their positions with y = z = 0", "1D contact"},
+      {"/vertices/<n>", "n x 1", "0 ... n - 1: the sidecars' vertex cells of n points", ""},
       {"/matrices/<frame>/<matrix>/data", "nnz", "CSR values of S, G0, G1, G2, consistent_mass",
        "output.matrices"},
       {"/matrices/<frame>/<matrix>/indices", "nnz", "CSR column indices", "output.matrices"},
@@ -76,7 +83,10 @@ const std::vector<LayoutEntry>& run_file_layout() {
 }
 
 std::string layout_pattern(const std::string& path) {
-  static const std::regex frame("/[0-9]{6,}(/|@|$)"), matrix("/matrices/<frame>/[A-Za-z0-9_]+/");
+  static const std::regex frame("/[0-9]{6,}(/|@|$)"), matrix("/matrices/<frame>/[A-Za-z0-9_]+/"),
+      vertices("^/vertices/[0-9]+$");
+  if (std::regex_match(path, vertices))
+    return "/vertices/<n>";
   std::string p = std::regex_replace(path, frame, "/<frame>$1");
   return std::regex_replace(p, matrix, "/matrices/<frame>/<matrix>/");
 }
@@ -159,6 +169,16 @@ std::vector<FileObject> walk_run_file(const std::string& path) {
       visit(w, file.get(), g);
     else if (!frames.empty() && h5::exists(file.get(), g + "/" + frame_name(frames.back())))
       visit(w, file.get(), g + "/" + frame_name(frames.back()));
+  }
+  if (!frames.empty()) { // of the vertex lists, the one of the last frame's particles
+    const std::string x = "/particles/" + frame_name(frames.back()) + "/X";
+    const std::string v = h5::exists(file.get(), "vertices") && h5::exists(file.get(), x.substr(1))
+                              ? "/vertices/" + std::to_string(h5::rows_of(file.get(), x.substr(1)))
+                              : "";
+    if (!v.empty() && h5::exists(file.get(), v.substr(1))) {
+      const h5::Id set(H5Dopen2(file.get(), v.c_str(), H5P_DEFAULT), H5Dclose);
+      w.out.push_back({v, shape_of(set.get()), layout_entry(v)});
+    }
   }
   return w.out;
 }

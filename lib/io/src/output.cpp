@@ -77,6 +77,8 @@ const char* const kSeries[] = {
 
 OutputFile::OutputFile(const std::string& path, const RunConfig& cfg)
     : path_(path), dim_(cfg.model.grid.dim()), materials_(int(cfg.model.materials.size())) {
+  for (const Material& m : cfg.model.materials)
+    material_names_.push_back(m.name);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const h5::Id fapl = access_plist();
   errno = 0;
@@ -199,8 +201,7 @@ void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool ma
   }
   series_written_ += pending_.size();
   pending_.clear();
-  frames_.emplace_back(frame, model.time);
-  frame_particles_.push_back(model.particles.size());
+  frames_.push_back(record_of(file_.get(), frame));
   write_xdmf_frame(frames_.size() - 1);
   // The metadata cache, which never evicts (access_plist), keeps the metadata of every frame
   // since the file was opened, and each flush scans all of it (HDF5 1.10's
@@ -249,7 +250,8 @@ void OutputFile::discard() noexcept {
   file_.close();
   std::error_code ec;
   std::filesystem::remove(path_, ec);
-  std::filesystem::remove(xdmf_path(path_), ec);
+  for (const std::string& xmf : xdmf_paths(path_))
+    std::filesystem::remove(xmf, ec);
 }
 
 void OutputFile::finish(const std::string& target) {
@@ -257,12 +259,18 @@ void OutputFile::finish(const std::string& target) {
   h5::set_attribute(file_.get(), "status", std::string("completed"));
   h5::check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush");
   h5::check(file_.close(), "close " + path_);
-  const std::string partial_xmf = xdmf_path(path_);
-  std::filesystem::rename(path_, target);
-  write_xdmf_whole(target, xdmf_path(target));
   std::error_code ec;
-  if (!std::filesystem::equivalent(partial_xmf, xdmf_path(target), ec))
-    std::filesystem::remove(partial_xmf, ec);
+  const bool in_place = path_ == target || std::filesystem::equivalent(path_, target, ec);
+  std::filesystem::rename(path_, target);
+  // The target's sidecars, whole; a sidecar of an earlier run there that this run has not (the
+  // contact nodes of a multimaterial run, replaced by a single-material one) is removed, and so
+  // are the partial file's.
+  for (const std::string& xmf : xdmf_paths(target))
+    std::filesystem::remove(xmf, ec);
+  write_xdmf_whole(target);
+  if (!in_place)
+    for (const std::string& xmf : xdmf_paths(path_))
+      std::filesystem::remove(xmf, ec);
   path_ = target;
 }
 
@@ -348,12 +356,10 @@ OutputFile OutputFile::reopen(const std::string& path, RunConfig& cfg, int& next
   }
   out.series_written_ = keep_series_to(f, cfg.model.step, out.materials_, out.dim_);
   h5::set_attribute(f, "status", std::string("running"));
-  h5::Id parts = h5::open_group(f, "particles");
-  for (int k : frames) {
-    h5::Id fg = h5::open_group(parts.get(), frame_name(k));
-    out.frames_.emplace_back(k, h5::get_double_attribute(fg.get(), "time"));
-    out.frame_particles_.push_back(cfg.model.particles.size());
-  }
+  for (const Material& m : cfg.model.materials)
+    out.material_names_.push_back(m.name);
+  for (int k : frames)
+    out.frames_.push_back(record_of(f, k));
   h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flush");
   for (size_t k = 0; k < out.frames_.size(); ++k) // the sidecar of this file, from scratch
     out.write_xdmf_frame(k);

@@ -21,11 +21,12 @@ void write_contact_nodes(hid_t g, const StepPreparation& prep, const Field& p) {
   const int d = ops.dim;
   std::vector<int> node(static_cast<size_t>(nc)), pair(static_cast<size_t>(2 * nc)),
       approaching(static_cast<size_t>(nc), 0);
-  Field normal = Field::Zero(nc, d);
+  Field normal = Field::Zero(nc, d), position(nc, d);
   Eigen::VectorXd separation = Eigen::VectorXd::Constant(nc, -1);
   for (Index c = 0; c < nc; ++c) {
     const ContactNodes::Node& n = cn.nodes[size_t(c)];
     node[size_t(c)] = int(ops.grid.whole_node(n.node)); // the node's index in the grid
+    position.row(c) = ops.grid.node_position(n.node).head(d).transpose();
     pair[size_t(2 * c)] = n.a;
     pair[size_t(2 * c + 1)] = n.b;
     if (n.a < 0)
@@ -46,6 +47,9 @@ void write_contact_nodes(hid_t g, const StepPreparation& prep, const Field& p) {
   h5::write_doubles(g, "contact_normal", normal.data(), rows, hsize_t(d));
   h5::write_doubles(g, "contact_separation", separation.data(), rows, 0);
   h5::write_ints(g, "contact_approaching", approaching.data(), rows);
+  h5::write_doubles(g, "contact_X", position.data(), rows, hsize_t(d));
+  if (d == 1)
+    write_xyz(g, "contact_xyz", position);
 }
 
 } // namespace smpm::detail

@@ -33,9 +33,17 @@ hid_t open_for_reading(const std::string& path);
 /// Complete frames of an open file, ascending.
 std::vector<int> complete_frames(hid_t file);
 /// Writes the contact nodes of a multimaterial frame into its /grid group `g` (contact_nodes,
-/// contact_fields, contact_normal, contact_separation, contact_approaching) from the frame's
-/// preparation (prepare_step) and momenta p = SᵀMV (output_contact.cpp).
+/// contact_fields, contact_normal, contact_separation, contact_approaching, contact_X) from the
+/// frame's preparation (prepare_step) and momenta p = SᵀMV (output_contact.cpp).
 void write_contact_nodes(hid_t g, const StepPreparation& prep, const Field& p);
+/// `X` (n × d) with zeros to three columns as dataset `name` of group `g`: the geometry of a
+/// 1D frame in its sidecar (ParaView and meshio read two or three coordinates).
+void write_xyz(hid_t g, const std::string& name, const Field& X);
+/// /vertices/<n> = 0, 1, …, n − 1 (an n × 1 int dataset, written once per count n > 0): the
+/// connectivity of the sidecars' Polyvertex topology, one vertex cell per point.
+void write_vertices(hid_t file, Index n);
+/// `text` as XML character data: &, <, >, " and ' as entities (a file name may hold any).
+std::string xml_escaped(const std::string& text);
 /// The parts of a frame (output_frame.cpp): /particles/<name>, /grid/<name> (and
 /// /matrices/<name>) from the step preparation `prepared` or the frame's own, the series rows
 /// buffered since the last frame, /state/<name>.

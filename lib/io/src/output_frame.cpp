@@ -3,7 +3,10 @@
 
 #include "output_format.hpp"
 
+#include "sparsempm/material.hpp"
 #include "sparsempm/stages.hpp"
+
+#include <Eigen/LU> // Matrix3d::determinant
 
 #include <cmath>
 #include <string>
@@ -18,6 +21,27 @@ void write_csr(hid_t parent, const std::string& name, const SparseRowMatrix& A) 
   h5::write_ints(g.get(), "indptr", A.outerIndexPtr(), hsize_t(A.rows() + 1));
   const int shape[2] = {int(A.rows()), int(A.cols())};
   h5::write_ints(g.get(), "shape", shape, 2);
+}
+
+void write_xyz(hid_t g, const std::string& name, const Field& X) {
+  Field xyz = Field::Zero(X.rows(), 3);
+  xyz.leftCols(X.cols()) = X;
+  h5::write_doubles(g, name, xyz.data(), hsize_t(X.rows()), 3);
+}
+
+void write_vertices(hid_t file, Index n) {
+  if (n == 0)
+    return;
+  if (!h5::exists(file, "vertices"))
+    h5::create_group(file, "vertices");
+  h5::Id g = h5::open_group(file, "vertices");
+  const std::string name = std::to_string(n);
+  if (h5::exists(g.get(), name))
+    return;
+  std::vector<int> ids(static_cast<size_t>(n));
+  for (size_t k = 0; k < ids.size(); ++k)
+    ids[k] = int(k);
+  h5::write_ints(g.get(), name, ids.data(), hsize_t(n), 1);
 }
 
 // /particles/<name>: the particle fields of a frame.
@@ -38,11 +62,13 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
   h5::write_ints(g.get(), "material", P.material.data(), N);
   if (P.energy.size() == P.size()) // internal energy per unit mass (Mie–Grüneisen)
     h5::write_doubles(g.get(), "energy", P.energy.data(), N, 0);
-  if (P.dim == 1) { // ParaView needs three coordinates
-    Field xyz = Field::Zero(P.size(), 3);
-    xyz.col(0) = P.X.col(0);
-    h5::write_doubles(g.get(), "xyz", xyz.data(), N, 3);
-  }
+  Eigen::VectorXd J(P.size()); // det F, the volume ratio V/V₀
+  for (Index k = 0; k < P.size(); ++k)
+    J[k] = embed_3d(P.F.row(k).data(), P.dim).determinant();
+  h5::write_doubles(g.get(), "J", J.data(), N, 0);
+  if (P.dim == 1) // ParaView and meshio need at least two coordinates
+    write_xyz(g.get(), "xyz", P.X);
+  write_vertices(file, P.size());
   h5::set_attribute(g.get(), "time", model.time);
   h5::set_attribute(g.get(), "step", model.step);
 }
@@ -72,13 +98,16 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
     map_momentum(particle_operators(ops), P.V, p);
     lumped_solve(ops.m_inv, p, v);
     Eigen::VectorXi nodes = active_nodes(ops);
-    const Index na = nodes.size();
+    const Index na = nodes.size(), ng = ops.grid_node_count;
     Eigen::VectorXd m(na);
-    Field pa(na, P.dim), va(na, P.dim);
+    Eigen::VectorXi field(na);
+    Field pa(na, P.dim), va(na, P.dim), xa(na, P.dim);
     for (Index k = 0; k < na; ++k) {
       m[k] = ops.m[nodes[k]];
       pa.row(k) = p.row(nodes[k]);
       va.row(k) = v.row(nodes[k]);
+      xa.row(k) = ops.grid.node_position(nodes[k] % ng).head(P.dim).transpose();
+      field[k] = int(nodes[k] / ng);
       nodes[k] = int(ops.whole_node(nodes[k]));
     }
     h5::Id grid = h5::open_group(file, "grid");
@@ -88,10 +117,18 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
     h5::write_doubles(g.get(), "m", m.data(), n, 0);
     h5::write_doubles(g.get(), "p", pa.data(), n, d);
     h5::write_doubles(g.get(), "v", va.data(), n, d);
+    h5::write_doubles(g.get(), "X", xa.data(), n, d); // the nodes' positions
+    if (P.dim == 1)
+      write_xyz(g.get(), "xyz", xa);
+    if (fields > 1)
+      h5::write_ints(g.get(), "field", field.data(), n); // the velocity field of each row
+    write_vertices(file, na);
     h5::set_attribute(g.get(), "grid_nodes", long(model.grid.num_nodes()));
     h5::set_attribute(g.get(), "velocity_fields", long(fields));
-    if (fields > 1)
+    if (fields > 1) {
       detail::write_contact_nodes(g.get(), *prepared, p);
+      write_vertices(file, Index(prepared->contact.nodes.size()));
+    }
   }
   if (!matrices)
     return;
@@ -153,15 +190,17 @@ double frame_bytes(const Model& model, const StepPreparation* prepared, bool mat
                    size_t series_rows, size_t series_written) {
   const double N = double(model.particles.size()), d = model.grid.dim();
   const double fields = model.contact.fields();
-  // The particle fields: X, V, half-lengths (d each), σ, F (d² each), four scalars, the ids,
-  // and in 1D the three coordinates of ParaView.
-  double bytes = 8 * N * (3 * d + 2 * d * d + 4 + (d == 1 ? 3 : 0)) + 4 * N;
+  // The particle fields: X, V, half-lengths (d each), σ, F (d² each), five scalars, the ids,
+  // and in 1D the three coordinates of ParaView; the sidecar's vertex list of N.
+  double bytes = 8 * N * (3 * d + 2 * d * d + 5 + (d == 1 ? 3 : 0)) + 8 * N;
   // The grid fields of the nodes with mass and the contact nodes (of the step's preparation when
   // given, else every node of every field).
   const double nodes =
       prepared ? double(prepared->ops.active.count()) : double(model.grid.num_nodes()) * fields;
   const double contact = prepared ? double(prepared->contact.nodes.size()) : nodes;
-  bytes += 8 * nodes * (2 + 2 * d) + (fields > 1 ? 8 * contact * (4 + d) : 0.0);
+  // Their positions (and three coordinates in 1D), field numbers and vertex lists.
+  bytes += 8 * nodes * (2 + 3 * d + (d == 1 ? 3 : 0)) + 8 * nodes +
+           (fields > 1 ? 8 * contact * (5 + 2 * d + (d == 1 ? 3 : 0)) : 0.0);
   if (matrices) { // S and G_a (values, indices) and m̃, on the whole grid
     const double nnz = prepared ? double(prepared->ops.S.nonZeros()) : N * std::pow(4, d);
     bytes += 12 * nnz * (1 + d) + 12 * nnz * std::pow(3, d) + 8 * N * (2 + d) +

@@ -1,4 +1,13 @@
-// The XDMF sidecar of a run file, for ParaView (output.hpp).
+// The XDMF sidecars of a run file, for ParaView and meshio (output.hpp).
+//
+// Each sidecar is one temporal collection of uniform grids of one kind of points (particles,
+// grid nodes, contact nodes), every grid a Polyvertex topology with its connectivity
+// (/vertices/<n>: one vertex cell per point), the points' positions as its geometry and as an
+// attribute, and whole arrays as attributes (no HyperSlab): the layout ParaView's Xdmf3
+// readers, its legacy XDMF reader and meshio's TimeSeriesReader all read. The tensors σ and F
+// (d² columns, row-major) are "Matrix" attributes: the legacy reader reshapes a 2D "Tensor"
+// (fewer than 9 components) and Xdmf3 reorders a 3D one, which the transposes F
+// (tests/io/check_readers.py).
 
 #include "output_format.hpp"
 
@@ -6,6 +15,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -13,14 +23,23 @@ namespace smpm {
 
 using namespace detail;
 
-std::string xdmf_path(const std::string& h5_path) {
+namespace {
+constexpr std::array<const char*, 3> kSidecarSuffix{"", ".nodes", ".contact"};
+constexpr std::array<const char*, 3> kCollectionName{"particles", "grid nodes", "contact nodes"};
+} // namespace
+
+std::string xdmf_path(const std::string& h5_path, Sidecar which) {
   std::filesystem::path p(h5_path);
-  p.replace_extension(".xmf");
+  p.replace_extension(std::string(kSidecarSuffix[size_t(which)]) + ".xmf");
   return p.string();
 }
 
-namespace {
-// `text` as XML character data: &, <, >, " and ' as entities (a file name may hold any of them).
+std::vector<std::string> xdmf_paths(const std::string& h5_path) {
+  return {xdmf_path(h5_path, Sidecar::Particles), xdmf_path(h5_path, Sidecar::Nodes),
+          xdmf_path(h5_path, Sidecar::Contact)};
+}
+
+namespace detail {
 std::string xml_escaped(const std::string& text) {
   std::string out;
   for (const char c : text) {
@@ -46,93 +65,203 @@ std::string xml_escaped(const std::string& text) {
   }
   return out;
 }
+} // namespace detail
 
+namespace {
 const char* kXdmfTrailer = "  </Grid>\n </Domain>\n</Xdmf>\n";
 
-std::string xdmf_header() {
+// The sidecar's head: the data file's name and the material names (id: name) as Information
+// elements, and the opening of the temporal collection.
+std::string xdmf_header(Sidecar which, const std::string& h5_name,
+                        const std::vector<std::string>& materials) {
+  std::string names;
+  for (size_t m = 0; m < materials.size(); ++m)
+    names += (m ? "; " : "") + std::to_string(m) + ": " + materials[m];
   return "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
-         "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+         "  <Information Name=\"data\" Value=\"" +
+         xml_escaped(h5_name) +
+         "\"/>\n"
+         "  <Information Name=\"materials\" Value=\"" +
+         xml_escaped(names) + "\"/>\n  <Grid Name=\"" + kCollectionName[size_t(which)] +
+         "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
 }
 
-// The <Grid> of one frame: particle positions and fields as HDF DataItems of `h5_name`.
-std::string xdmf_frame(const std::string& h5_name, int frame, double time, Index N, int d) {
-  const char* axes = "xyz";
-  const std::string name = frame_name(frame), base = xml_escaped(h5_name) + ":/particles/" + name;
-  std::ostringstream x;
-  auto data = [&](const std::string& set, Index cols) {
+// One <Grid> of a sidecar: n points whose datasets are in group `base` of the HDF5 file.
+class GridBlock {
+public:
+  GridBlock(const std::string& h5_name, const std::string& base, Index n, int d)
+      : file_(xml_escaped(h5_name)), base_(file_ + ":" + base), n_(n), d_(d) {}
+
+  // The grid's opening: time (full precision), the Polyvertex topology and the geometry
+  // (dataset `geometry`, d columns; `geometry_1d` with three in 1D).
+  void open(const std::string& name, double time, const std::string& geometry,
+            const std::string& geometry_1d) {
+    x_.precision(std::numeric_limits<double>::max_digits10);
+    x_ << "   <Grid Name=\"" << name << "\" GridType=\"Uniform\">\n"
+       << "    <Time Value=\"" << time << "\"/>\n"
+       << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n_
+       << "\" NodesPerElement=\"1\">\n     <DataItem Dimensions=\"" << n_
+       << " 1\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << file_ << ":/vertices/" << n_
+       << "</DataItem>\n    </Topology>\n"
+       << "    <Geometry GeometryType=\"" << (d_ == 2 ? "XY" : "XYZ") << "\">\n     "
+       << item(d_ == 1 ? geometry_1d : geometry, d_ == 1 ? 3 : d_, "Float") << "\n"
+       << "    </Geometry>\n";
+  }
+  // An attribute of `cols` columns per point (0: a 1D dataset): a scalar, a vector of d, or a
+  // matrix (σ and F, d² columns in row-major order as in the run file).
+  void attribute(const std::string& name, const std::string& set, Index cols,
+                 const char* type = "Float") {
+    const char* kind = cols <= 1 ? "Scalar" : cols == d_ ? "Vector" : "Matrix";
+    x_ << "    <Attribute Name=\"" << name << "\" AttributeType=\"" << kind
+       << "\" Center=\"Node\">\n     " << item(set, cols, type) << "\n    </Attribute>\n";
+  }
+  std::string close() {
+    x_ << "   </Grid>\n";
+    return x_.str();
+  }
+
+private:
+  std::string item(const std::string& set, Index cols, const char* type) const {
     std::ostringstream s;
-    s << "<DataItem Dimensions=\"" << N << (cols ? " " + std::to_string(cols) : "")
-      << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << base << "/" << set
-      << "</DataItem>";
+    s << "<DataItem Dimensions=\"" << n_ << (cols ? " " + std::to_string(cols) : "")
+      << "\" NumberType=\"" << type << "\" Precision=\"" << (type[0] == 'I' ? 4 : 8)
+      << "\" Format=\"HDF\">" << base_ << "/" << set << "</DataItem>";
     return s.str();
-  };
-  auto column = [&](const std::string& label, const std::string& set, Index cols, Index c) {
-    x << "    <Attribute Name=\"" << label << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-      << "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"" << N << " 1\">\n"
-      << "      <DataItem Dimensions=\"3 2\" Format=\"XML\">0 " << c << " 1 1 " << N
-      << " 1</DataItem>\n      " << data(set, cols) << "\n     </DataItem>\n    </Attribute>\n";
-  };
-  x << "   <Grid Name=\"frame " << name << "\" GridType=\"Uniform\">\n"
-    << "    <Time Value=\"" << time << "\"/>\n"
-    << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
-    << "\" NodesPerElement=\"1\"/>\n"
-    << "    <Geometry GeometryType=\"" << (d == 2 ? "XY" : "XYZ") << "\">\n     "
-    << (d == 1 ? data("xyz", 3) : data("X", d)) << "\n    </Geometry>\n";
-  for (int a = 0; a < d; ++a)
-    column(std::string("v") + axes[a], "V", d, a);
-  for (int a = 0; a < d; ++a)
-    for (int b = a; b < d; ++b)
-      column(std::string("stress_") + axes[a] + axes[b], "stress", d * d, a * d + b);
-  for (const char* s : {"mass", "volume"})
-    x << "    <Attribute Name=\"" << s << "\" AttributeType=\"Scalar\" Center=\"Node\">\n     "
-      << data(s, 0) << "\n    </Attribute>\n";
-  x << "    <Attribute Name=\"material\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-    << "     <DataItem Dimensions=\"" << N << "\" NumberType=\"Int\" Precision=\"4\" "
-    << "Format=\"HDF\">" << base << "/material</DataItem>\n    </Attribute>\n";
-  x << "   </Grid>\n";
-  return x.str();
+  }
+  std::string file_, base_;
+  Index n_;
+  int d_;
+  std::ostringstream x_;
+};
+
+using FrameRecord = OutputFile::FrameRecord;
+
+// The <Grid> of one frame in a sidecar; empty when the frame has no such points.
+std::string xdmf_frame(Sidecar which, const std::string& h5_name, const FrameRecord& f, int d) {
+  const std::string name = frame_name(f.frame);
+  const Index dd = Index(d) * d;
+  if (which == Sidecar::Particles) {
+    if (f.particles == 0)
+      return {};
+    GridBlock g(h5_name, "/particles/" + name, f.particles, d);
+    g.open("particles " + name, f.time, "X", "xyz");
+    g.attribute("position", "X", d == 1 ? 0 : d);
+    g.attribute("velocity", "V", d == 1 ? 0 : d);
+    g.attribute("stress", "stress", d == 1 ? 0 : dd);
+    g.attribute("F", "F", d == 1 ? 0 : dd);
+    if (f.has_J)
+      g.attribute("J", "J", 0);
+    if (f.has_energy)
+      g.attribute("energy", "energy", 0);
+    for (const char* s : {"mass", "volume", "volume0"})
+      g.attribute(s, s, 0);
+    g.attribute("half_length", "half_length", d == 1 ? 0 : d);
+    g.attribute("material", "material", 0, "Int");
+    return g.close();
+  }
+  if (which == Sidecar::Nodes) {
+    if (f.nodes == 0)
+      return {};
+    GridBlock g(h5_name, "/grid/" + name, f.nodes, d);
+    g.open("grid nodes " + name, f.time, "X", "xyz");
+    g.attribute("position", "X", d == 1 ? 0 : d);
+    g.attribute("node", "nodes", 0, "Int");
+    if (f.fields > 1)
+      g.attribute("field", "field", 0, "Int");
+    g.attribute("mass", "m", 0);
+    g.attribute("momentum", "p", d == 1 ? 0 : d);
+    g.attribute("velocity", "v", d == 1 ? 0 : d);
+    return g.close();
+  }
+  if (f.contact == 0)
+    return {};
+  GridBlock g(h5_name, "/grid/" + name, f.contact, d);
+  g.open("contact nodes " + name, f.time, "contact_X", "contact_xyz");
+  g.attribute("position", "contact_X", d == 1 ? 0 : d);
+  g.attribute("node", "contact_nodes", 0, "Int");
+  g.attribute("normal", "contact_normal", d == 1 ? 0 : d);
+  g.attribute("separation", "contact_separation", 0);
+  g.attribute("approaching", "contact_approaching", 0, "Int");
+  return g.close();
+}
+
+// Whether a run has the sidecar at all: the contact nodes' only with two or more fields.
+bool has_sidecar(Sidecar which, const std::vector<FrameRecord>& frames) {
+  return which != Sidecar::Contact || (!frames.empty() && frames.front().fields > 1);
 }
 } // namespace
 
-// Appends frame k to the sidecar in place: the new <Grid> replaces the closing tags, which are
-// written again after it, so writing frame n costs the size of frame n.
-void OutputFile::write_xdmf_frame(size_t k) {
-  const std::string xmf = xdmf_path(path_);
-  const std::string h5_name = std::filesystem::path(path_).filename().string();
-  if (xmf_trailer_ < 0 || !std::filesystem::exists(xmf)) { // new, or removed meanwhile
-    std::ofstream out(xmf, std::ios::binary | std::ios::trunc);
-    std::string head = xdmf_header();
-    for (size_t j = 0; j < k; ++j)
-      head += xdmf_frame(h5_name, frames_[j].first, frames_[j].second, frame_particles_[j], dim_);
-    out << head;
-    if (!out.flush())
-      throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
-    xmf_trailer_ = long(head.size());
-  }
-  const std::string block =
-      xdmf_frame(h5_name, frames_[k].first, frames_[k].second, frame_particles_[k], dim_);
-  std::fstream out(xmf, std::ios::binary | std::ios::in | std::ios::out);
-  out.seekp(xmf_trailer_);
-  out << block << kXdmfTrailer;
-  if (!out.flush())
-    throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
-  xmf_trailer_ += long(block.size());
+OutputFile::FrameRecord OutputFile::record_of(long file, int frame) {
+  const std::string name = frame_name(frame);
+  FrameRecord r;
+  r.frame = frame;
+  h5::Id parts = h5::open_group(hid_t(file), "particles");
+  h5::Id pg = h5::open_group(parts.get(), name);
+  r.time = h5::get_double_attribute(pg.get(), "time");
+  r.particles = Index(h5::rows_of(pg.get(), "X"));
+  r.has_J = h5::exists(pg.get(), "J");
+  r.has_energy = h5::exists(pg.get(), "energy");
+  h5::Id grid = h5::open_group(hid_t(file), "grid");
+  if (!h5::exists(grid.get(), name))
+    return r;
+  h5::Id gg = h5::open_group(grid.get(), name);
+  r.fields = int(h5::get_long_attribute(gg.get(), "velocity_fields"));
+  if (h5::exists(gg.get(), "X")) // files of earlier versions have no node positions
+    r.nodes = Index(h5::rows_of(gg.get(), "nodes"));
+  if (h5::exists(gg.get(), "contact_X"))
+    r.contact = Index(h5::rows_of(gg.get(), "contact_nodes"));
+  return r;
 }
 
-// The whole sidecar of `h5_path` written to `xmf_path` (through a temporary file).
-void OutputFile::write_xdmf_whole(const std::string& h5_path, const std::string& xmf_path) const {
-  const std::string h5_name = std::filesystem::path(h5_path).filename().string();
-  const std::string tmp = xmf_path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << xdmf_header();
-    for (size_t k = 0; k < frames_.size(); ++k)
-      out << xdmf_frame(h5_name, frames_[k].first, frames_[k].second, frame_particles_[k], dim_);
-    out << kXdmfTrailer;
+// Appends frame k to each sidecar in place: the new <Grid> replaces the closing tags, which are
+// written again after it, so writing frame n costs the size of frame n.
+void OutputFile::write_xdmf_frame(size_t k) {
+  const std::string h5_name = std::filesystem::path(path_).filename().string();
+  for (const Sidecar which : {Sidecar::Particles, Sidecar::Nodes, Sidecar::Contact}) {
+    if (!has_sidecar(which, frames_))
+      continue;
+    const std::string xmf = xdmf_path(path_, which);
+    long& trailer = xmf_trailer_[size_t(which)];
+    if (trailer < 0 || !std::filesystem::exists(xmf)) { // new, or removed meanwhile
+      std::ofstream out(xmf, std::ios::binary | std::ios::trunc);
+      std::string head = xdmf_header(which, h5_name, material_names_);
+      for (size_t j = 0; j < k; ++j)
+        head += xdmf_frame(which, h5_name, frames_[j], dim_);
+      out << head << kXdmfTrailer;
+      if (!out.flush())
+        throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
+      trailer = long(head.size());
+    }
+    const std::string block = xdmf_frame(which, h5_name, frames_[k], dim_);
+    if (block.empty())
+      continue;
+    std::fstream out(xmf, std::ios::binary | std::ios::in | std::ios::out);
+    out.seekp(trailer);
+    out << block << kXdmfTrailer;
     if (!out.flush())
-      throw std::runtime_error("cannot write the ParaView sidecar " + xmf_path);
+      throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
+    trailer += long(block.size());
   }
-  std::filesystem::rename(tmp, xmf_path);
+}
+
+// The sidecars of `h5_path`, whole (each through a temporary file).
+void OutputFile::write_xdmf_whole(const std::string& h5_path) const {
+  const std::string h5_name = std::filesystem::path(h5_path).filename().string();
+  for (const Sidecar which : {Sidecar::Particles, Sidecar::Nodes, Sidecar::Contact}) {
+    if (!has_sidecar(which, frames_))
+      continue;
+    const std::string xmf = xdmf_path(h5_path, which), tmp = xmf + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      out << xdmf_header(which, h5_name, material_names_);
+      for (const FrameRecord& f : frames_)
+        out << xdmf_frame(which, h5_name, f, dim_);
+      out << kXdmfTrailer;
+      if (!out.flush())
+        throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
+    }
+    std::filesystem::rename(tmp, xmf);
+  }
 }
 
 } // namespace smpm

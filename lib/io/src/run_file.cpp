@@ -79,10 +79,13 @@ bool is_hdf5_or_sidecar(const std::string& path) {
 }
 
 // Whether an existing .xmf names `h5_name` as its data file (a sidecar of that run).
+// A sidecar names its data file in its first element (xdmf_header); one of an earlier version
+// in its first DataItem.
 bool is_sidecar_of(const std::string& xmf, const std::string& h5_name) {
-  const std::string head = file_head(xmf);
+  const std::string head = file_head(xmf), name = detail::xml_escaped(h5_name);
   return head.find("<Xdmf") != std::string::npos &&
-         head.find(">" + h5_name + ":/particles/") != std::string::npos;
+         (head.find("<Information Name=\"data\" Value=\"" + name + "\"/>") != std::string::npos ||
+          head.find(">" + name + ":/particles/") != std::string::npos);
 }
 } // namespace
 
@@ -209,14 +212,14 @@ void check_run_output(const std::string& path, const std::string& input, const s
     check_existing_output(path, p, input, option, restart);
   const std::string who = option + " " + path + ": ";
   std::error_code ec;
-  for (const std::string& p : {path, partial_path(path)}) {
-    const std::string xmf = xdmf_path(p);
-    if (!input.empty() && same_file(xmf, input))
-      throw InputError(who + "its ParaView sidecar " + xmf + " would overwrite the input file");
-    if (fs::exists(xmf, ec) && !is_sidecar_of(xmf, fs::path(p).filename().string()))
-      throw InputError(who + "its ParaView sidecar " + xmf +
-                       " exists and belongs to no run of this file; not overwritten");
-  }
+  for (const std::string& p : {path, partial_path(path)})
+    for (const std::string& xmf : xdmf_paths(p)) {
+      if (!input.empty() && same_file(xmf, input))
+        throw InputError(who + "its ParaView sidecar " + xmf + " would overwrite the input file");
+      if (fs::exists(xmf, ec) && !is_sidecar_of(xmf, fs::path(p).filename().string()))
+        throw InputError(who + "its ParaView sidecar " + xmf +
+                         " exists and belongs to no run of this file; not overwritten");
+    }
   const fs::path dir = fs::path(path).parent_path();
   if (!dir.empty() && !fs::is_directory(dir, ec))
     throw InputError(who + "the directory " + dir.string() +

@@ -13,6 +13,7 @@
 #include "sparsempm/step.hpp"
 #include "sparsempm/step_preparation.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -96,14 +97,25 @@ public:
   /// another failure is being reported.
   void set_status(const std::string& status) noexcept;
   /// Marks the run completed, closes the file and moves it (with a fresh sidecar) to `target`,
-  /// replacing what was there; the partial sidecar is removed.
+  /// replacing what was there; the partial sidecars are removed.
   void finish(const std::string& target);
-  /// Closes and removes the file and its sidecar: for a run whose first frame could not be
+  /// Closes and removes the file and its sidecars: for a run whose first frame could not be
   /// written (nothing to keep, and no file that looks like a run). Does not throw.
   void discard() noexcept;
   /// The state a restart needs, stored with the frames written from now on.
   void set_run_state(const RunState& state) { state_ = state; }
   const std::string& path() const { return path_; }
+
+  /// What the sidecars need of a written frame: its number, time and point counts (contact: 0
+  /// when the frame has no contact node or the run one velocity field), and whether its
+  /// particles have det F (files of earlier versions do not) and internal energy.
+  struct FrameRecord {
+    int frame = 0;
+    double time = 0;
+    Index particles = 0, nodes = 0, contact = 0;
+    int fields = 1;
+    bool has_J = true, has_energy = false;
+  };
 
 private:
   /// The open HDF5 file: closed by the destructor, left closed (−1) by a move.
@@ -130,17 +142,19 @@ private:
   void ensure_open();
   void initialize(const RunConfig& cfg);
   void write_xdmf_frame(size_t k);
-  void write_xdmf_whole(const std::string& h5_path, const std::string& xmf_path) const;
+  void write_xdmf_whole(const std::string& h5_path) const;
+  static FrameRecord record_of(long file, int frame);
   std::string path_;
   File file_;
   int dim_ = 1;
   int materials_ = 0; // columns of the per-material series
   RunState state_;
-  std::vector<std::pair<int, double>> frames_; // (frame, time) written so far
-  std::vector<Index> frame_particles_;
+  std::vector<FrameRecord> frames_; // the frames written so far
+  std::vector<std::string> material_names_;
   std::vector<SeriesRow> pending_;
   size_t series_written_ = 0; // rows of the series in the file
-  long xmf_trailer_ = -1;     // byte offset of the closing tags of the sidecar (−1: not written)
+  // Byte offsets of the closing tags of each sidecar (−1: not written).
+  std::array<long, 3> xmf_trailer_{-1, -1, -1};
 };
 
 /// The input text, overrides and frame list stored in a run file.
@@ -164,7 +178,14 @@ void load_frame(const std::string& path, int frame, Model& model);
 /// frame's courant_budget attribute and the series row of the frame's step.
 RunState read_run_state(const std::string& path, int frame);
 
-/// Name of the XDMF sidecar of an HDF5 path: "run.h5" → "run.xmf".
-std::string xdmf_path(const std::string& h5_path);
+/// The XDMF sidecars of a run file, each one temporal collection of one kind of points (so
+/// that every reader opens it: ParaView's Xdmf3 and legacy XDMF readers, meshio's
+/// TimeSeriesReader): the particles, the grid nodes with mass, the contact nodes (written for
+/// a multimaterial run).
+enum class Sidecar { Particles, Nodes, Contact };
+/// Name of a sidecar of an HDF5 path: "run.h5" → "run.xmf", "run.nodes.xmf", "run.contact.xmf".
+std::string xdmf_path(const std::string& h5_path, Sidecar which = Sidecar::Particles);
+/// Every sidecar name of an HDF5 path, particles first.
+std::vector<std::string> xdmf_paths(const std::string& h5_path);
 
 } // namespace smpm
