@@ -59,6 +59,7 @@ from ._sparsempm import (  # noqa: F401
     threads,
 )
 from ._sparsempm import _spectral_radius
+from .runfile import Run, read_run  # noqa: F401
 
 for _error in (InputError, NumericalError, UsageError):
     _error.__module__ = __name__  # tracebacks name sparsempm.InputError
