@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The build of the Python package: CMake configures the project and builds the extension
 `_sparsempm` (python/CMakeLists.txt), which setuptools puts beside sparsempm/__init__.py.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Compaction of elliptical objects in a box by a piston (contact 2020 §4, Fig. 6), at a
 resolution that runs in about a minute.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Contact 2020 Fig. 1B: the edge of a material against its extrapolated particle centre, and
 the power-law fit of the DF contact detection (Eq. 15).
 

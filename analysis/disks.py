@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The two-disk impact of FMPM 2026 §3.2.2 (examples/disk_impact.toml), as the figure scripts
 fig8.py, fig9.py and fig11.py run it: one `smpm run` with overrides, and what they read from its
 series."""

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 11: energy lost by the two-disk impact against cell size and Courant number.
 
     analysis/fig11.py [--smpm build/apps/smpm] [--cells 2,1,0.5] [--courants 0.1,0.2,0.4]

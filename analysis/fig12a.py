@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 12A: critical Courant number against FMPM order k.
 
     analysis/fig12a.py stability.csv [--low-dissipation low.csv] [-o fig12a.png]

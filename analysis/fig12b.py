@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 12B: energy dissipation of FMPM(4) blended with FMPM(1) against α at C = 0.539.
 
     analysis/fig12b.py [--input examples/vibrating_bar.toml] [--build build/python] [-o fig12b.png]

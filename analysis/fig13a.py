@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 13A: the convergence metrics of dynamic FMPM against the pass ℓ.
 
 One step in the middle of the block impact and of the shock.

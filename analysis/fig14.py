@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 14: the mean order dynamic FMPM(20) reaches against its convergence limit, on
 the two-block impact and on the shock.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 3: velocity error of the moving-wall manufactured solution (§3.1).
 
     analysis/fig3.py [--smpm build/apps/smpm] [--jobs 2] [--quick] [-o fig3]

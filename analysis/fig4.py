@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Figs. 4 and 5: a shock through a split nickel bar with stick and frictional contact.
 
     analysis/fig4.py [--smpm build/apps/smpm] [--jobs 2] [-o fig4]

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Contact 2020 Fig. 5: two identical blocks in uniaxial compression, multimaterial MPM with
 contact against single material mode.
 

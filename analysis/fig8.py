@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 8: centre-of-mass trajectories of two disks in an offset impact with friction.
 
     analysis/fig8.py [--smpm build/apps/smpm] [--cell 1.0] [--jobs 2] [-o fig8]

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 9: energy lost by an offset impact of two disks with Coulomb friction.
 
     analysis/fig9.py [--smpm build/apps/smpm] [--cell 1.0] [--jobs 2] [-o fig9]

@@ -1,4 +1,5 @@
 #!/usr/bin/pvbatch
+# SPDX-License-Identifier: BSD-3-Clause
 """A picture of a run's particles in ParaView, headless: opens RUN.xmf with ParaView's default
 reader (Xdmf3ReaderS, as File → Open does), shows frame at time T as points coloured by a field
 and writes a PNG. Runs under pvbatch (python3-paraview); without a display, under xvfb-run:

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Kinetic, strain and total energy of a run against time.
 
     analysis/plot_energy.py run.h5 [-o run_energy.png]

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Particles of one frame coloured by a field.
 
     analysis/plot_particles.py run.h5 --frame N --field stress_xx [-o out.png]

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Spectral radius ρ(T) of the linearised update over a (k, α) grid at a fixed Courant number.
 
     analysis/rho_map.py [--courant 0.4] [--input examples/vibrating_bar.toml] [--build build/python]

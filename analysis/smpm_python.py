@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The Python module sparsempm for the analysis scripts that can call the library directly.
 
 A script adds the options with add_arguments() and calls sparsempm(args): the module from

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Contact 2020 Fig. 4: three materials meeting at a node, compressed by 5%, by the lumping
 method (Eq. 50) against single material mode.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Truncation error of the FMPM(k) inverse against m̃⁻¹ (FMPM 2026 Eqs. 2, 5; §3.3 blending).
 
     analysis/truncation.py spectrum.csv [-o truncation.png]

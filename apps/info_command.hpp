@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // smpm info: what a run file holds (its description, energies and every object of its last
 // frame, walked against the layout of output.hpp), or with --layout the layout itself.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The notes of an input (RunConfig::notes: the earlier names it used, accepted in this release
 // only), one line each on standard error.

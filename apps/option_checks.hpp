@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The checks of the stability and spectrum options, before any work: the library's limits
 // (validate of step_options.hpp) in the words of the command line, "--option value: reason";

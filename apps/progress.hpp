@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Progress of a run: a bar on a terminal, a plain line every 10% otherwise.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // smpm: runs MPM simulations described by TOML input files and inspects their output.
 //
 //   smpm run input.toml [--set section.key=value ...] [-o out.h5] [--quiet]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // smpm spectrum: ρ(A), λ_min(m⁻¹m̃) and cond(m̃) at t = 0, and for every FMPM order and blending
 // the truncation error of FMPM(k) against the exact inverse and ρ(T(C)) (FMPM 2026 §2.2, §3.3).
 

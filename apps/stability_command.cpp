@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // smpm stability: the critical Courant numbers of FLIP, FMPM(k) (plain, blended, periodic) and
 // the exact inverse, by the spectral method over lattice shifts and frames and by simulation
 // (FMPM 2026 §3.3, Fig. 12A).

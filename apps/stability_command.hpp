@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // smpm stability and smpm spectrum: the stability study of FMPM 2026 §3.3 (Fig. 12).
 

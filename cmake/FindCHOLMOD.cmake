@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Finds CHOLMOD (SuiteSparse) and defines the imported target CHOLMOD::CHOLMOD.
 # Debian's libsuitesparse-dev ships neither a CMake package nor a pkg-config file for it.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Writes OUTPUT, a header defining SMPM_COMMIT: the checkout's commit (`git describe --always
 # --dirty`), or "unknown" outside a git checkout. Run at every build (apps/CMakeLists.txt); the
 # header is rewritten only when the commit changes, so nothing recompiles otherwise.

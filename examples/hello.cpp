@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // hello: MPM as matrices in one page.
 //
 // What it shows: the operators of one MPM step for four particles on a 1D grid of three cells

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // hello_step: one MPM time step as matrix expressions, checked against the library's Stepper.
 //
 // What it shows: a 1D elastic bar (linear shape functions, 2 particles per cell) advanced by

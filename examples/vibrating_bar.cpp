@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vibrating_bar: the free-vibrating bar of Yang & Sulsky, used in FMPM 2026 §3.3 (Fig. 12) to
 // find stability limits.
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs the build into a scratch prefix and imports the installed package with the system
 # interpreter from outside the build tree; checks that the site directory under the prefix
 # /usr/local is on that interpreter's sys.path (so `cmake --install build` needs no PYTHONPATH).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # `pip install --no-build-isolation .` as README says, into a scratch virtual environment that
 # sees the system's numpy and scipy: the package builds offline (setup.py drives CMake; with
 # the test build's flags, so that ccache serves its objects) and imports from the environment.

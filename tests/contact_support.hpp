@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Multimaterial test problems shared by the contact tests (tests/lib/test_contact.cpp,
 // test_contact_nodes.cpp) and the exact update's (tests/exact/test_exact.cpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared test helpers: one approx() and seeded random particle clouds.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """MPM as matrices from Python, and one point of FMPM 2026 Fig. 12A.
 Run: PYTHONPATH=build/python python3 examples/python/matrices.py (from the source tree).
 Look at: spec(A) lies in [0, 1); FMPM(4)'s critical Courant number by simulation is 0.543

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The consistent mass m̃ = Sᵀ diag(M) S (FMPM 2026 §2.1) written directly into its stencil
 // pattern, reused from step to step (operators.hpp, assemble_consistent_mass).
 

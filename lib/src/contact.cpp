@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Multimaterial contact (contact.hpp): the fields of the particles, the contact law of one node
 // (FMPM 2026 Eq. 18; contact 2020 Eqs. 14–16, 24) and the momentum corrections that apply it —
 // after P2G and after the momentum update (lumped, contact 2020 Eqs. 26, 33–34 and 50) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Helpers shared by the contact sources (internal to sparsempm): contact.cpp (nodes, laws, the
 // lumped and incremental corrections) and contact_exact.cpp (the exact update's contact).

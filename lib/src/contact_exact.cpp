@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The contact of the exact update in multimaterial mode (FMPM 2026 §3.2 at k → ∞): the fixed
 // point of the Net method, solved by active-set passes and conjugate gradients on the contact
 // compliance (contact.hpp, exact_contact).

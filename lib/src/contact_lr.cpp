@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Logistic-regression contact normals and separations (contact 2020 §3.1, Eqs. 19–25, and the
 // Appendix, Eqs. 53–57).
 

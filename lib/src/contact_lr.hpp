@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The Gauss–Newton fit of the logistic-regression contact plane (contact 2020 Eqs. 19–21,
 // Appendix Eqs. 53–57) over any point accessor, so that the step fits a node's particle cloud

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Contact nodes (contact.hpp, find_contact_nodes): the nodes two or more velocity fields share,
 // with their normals (AG, LR, the axes), separations (CP, DF, LR), contact areas and the
 // directions their velocity conditions leave free (contact 2020 §3.1–3.4, FMPM 2026 §3.2).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The one idiom of the library's enum names (internal): a table of (value, name, description)
 // next to each to_string, read both ways. The names are those of the input files; a parse

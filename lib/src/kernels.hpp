@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal helpers of the single-pass kernels (stages.cpp, products.cpp).
 

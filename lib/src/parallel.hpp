@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The OpenMP loops of the library (every parallel region is one of these). Their results do not
 // depend on the number of threads: each index is computed by one thread, sums run in a fixed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Internal helpers of the shape-function assembly (shape.cpp, shape_points.cpp): the 1D grid
 // functions and the fast path of the point-based families.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The fast paths of the tensor-product shape families (linear hat, quadratic B-spline, uGIMP):
 // dimension and family known at compile time, values written straight into the CSR arrays.
 

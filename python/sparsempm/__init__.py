@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """sparsempm: the Material Point Method with every operator of a step an explicit sparse matrix.
 
 The C++ library (S, G, M, m, the consistent mass m~ = S^T M S, S+ = m^-1 S^T M, A = I - S+ S,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Reading a run file of `smpm run` (its layout: `smpm info --layout`) into numpy and scipy.
 
     run = sparsempm.read_run("two_disks.h5")

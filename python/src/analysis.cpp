@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Spectra and stability from Python: the linearised step T (stability.hpp) with its
 // matrix-vector product for scipy's LinearOperator, ρ(T), the critical Courant numbers by the
 // spectral and the simulation methods (FMPM 2026 §3.3, Fig. 12) and the spectrum of the mass

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file bindings.hpp
 /// The objects the Python module adds around the library's, and the functions that bind each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file convert.hpp
 /// Eigen fields and sparse matrices to numpy arrays and scipy.sparse.csr_matrix, and back.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file interrupt.hpp
 /// Ctrl-C in a long computation that runs with the GIL released (advance, the stability

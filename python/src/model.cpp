@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // sparsempm.Grid, Particles and Model: the state of a run, read from a TOML input (the reader of
 // `smpm run`) or built from numpy arrays, with the tables of the input files (add_bc,
 // set_contact) read by the same reader.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The module _sparsempm: the library's operators, steps and analyses for Python (the package
 // sparsempm re-exports it). Errors come out as the exceptions of the command line, with its
 // messages: InputError (ValueError), NumericalError and UsageError (RuntimeError).

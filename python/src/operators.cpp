@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // sparsempm.assemble and sparsempm.Operators: S, G, M, m and the active nodes of one
 // configuration as scipy.sparse matrices and numpy arrays (views of the library's storage),
 // m̃, S⁺ and A on request, and the grid velocity of FMPM(k) and of the exact inverse.

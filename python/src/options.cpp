@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // sparsempm.StepOptions and sparsempm.Material: the options of a step and the materials, with
 // the names of the input files ([step] and [[material]] keys). Each constructor takes its keyword
 // arguments as the object's properties, so the constructor and the attributes have one list of

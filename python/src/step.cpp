@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // sparsempm.Stepper: the library's Stepper (one step) and advance() (the run loop of `smpm
 // run`), with the GIL released while they run.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Python values as the tables of the input files: the --set overrides of Model.from_toml and the
 // [[bc]] and [[contact]] tables of Model.add_bc and Model.set_contact, written as TOML text and
 // read by the input reader itself (the same checks and messages as `smpm run`).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Spectral stability of the linearised update (FMPM 2026 §3.3, Fig. 12) on the free-vibrating
 // bar: Spectra against a dense eigensolver, and the critical Courant numbers.
 

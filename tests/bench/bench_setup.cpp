@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Set-up and output costs a run pays outside its steps, as ratios to a baseline of the same
 // run: [[bc]] planes and boxes against the scan of every node, and a frame after thousands of
 // frames against the first frames of a file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Spectral analysis at scale (issue target: ρ(T) of FMPM(4) in under 30 s and ρ(A) in under
 // 5 s for a 2D plane-strain block of 10⁵ particles, on 2 cores): the matrix-free linearised
 // update (power iteration, then Spectra's Arnoldi solver when an eigenvalue stands out; a stable

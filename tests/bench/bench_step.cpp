@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cost of the matrix form of MPM against a lean matrix-free step measured in the same run
 // (FMPM 2026 §3.4, Eq. 3: relative time 1 + φ(k − 1)F).
 //

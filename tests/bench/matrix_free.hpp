@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The baseline of tests/bench/bench_step.cpp: one USL FLIP step written as plain loops over
 // particles and nodes, without stored operators (the matrix-free MPM that FMPM 2026 §3.4 compares

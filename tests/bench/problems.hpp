@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The problems of tests/bench/bench_step.cpp (its header lists them): blocks of particles on
 // grids of unit cells, and the block impact example.

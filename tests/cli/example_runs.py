@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """What the example-driven CLI tests share: a full `smpm run` of an example with overrides."""
 import os
 import pathlib

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """End-to-end tests of `smpm`: bad input, numerical failure, restart, a killed run, the CSR
 matrices loaded with scipy, the XDMF sidecar and the analysis scripts.
 

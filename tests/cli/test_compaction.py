@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Compaction of elliptical objects (contact 2020 Fig. 6) through analysis/compaction.py: grid
 contact against logistic regression on the packing of examples/compaction.toml.
 

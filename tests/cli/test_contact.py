@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Multimaterial contact from the input (examples/two_block_compression.toml, contact 2020
 Figs. 2 and 5): full runs against single material mode, and the [[contact]] input errors.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """An offset impact of two disks with Coulomb friction (examples/disk_impact.toml; FMPM 2026
 §3.2.2, Figs. 8-9): momentum, the energy lost by FLIP and FMPM(k), the frictional work, and
 the deflection against the coefficient of friction.

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """End-to-end tests of the file-safety promises of `smpm` (README, "What survives"): results are
 never destroyed by a rerun that fails, is killed or points at the wrong path; a full disk, a
 signal or a closed stdout end the run with a one-line message and a non-zero status; inputs that

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The moving-wall manufactured solution of FMPM 2026 §3.1 (examples/moving_wall_mms.toml):
 the paper's statements about Fig. 3 and the exact axial stress, on full runs.
 

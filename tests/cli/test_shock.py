@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """A shock through a split nickel bar (examples/shock_split_bar.toml; FMPM 2026 §3.2.1, Figs. 4-5;
 contact 2020 Eqs. 51-52): the Rankine-Hugoniot state, and multimaterial contact inside FLIP and
 FMPM(k) against single material mode.

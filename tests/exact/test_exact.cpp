@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The exact consistent-mass inverse with CHOLMOD: residual, reuse of the symbolic analysis,
 // FMPM(k) → m̃⁻¹ at the rate ρ(A)^k, the k → ∞ limit of the incremental BC method, and the
 // error for a singular m̃.

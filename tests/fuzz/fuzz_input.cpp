@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer target for the input reader: any text must either read or be rejected with an
 // InputError; any other exception, crash, leak or undefined behaviour is a finding.
 //   scripts/fuzz 600      (builds with clang and runs for 600 s on tests/fuzz/corpus)

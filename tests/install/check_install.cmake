@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs the built library into a scratch prefix, then configures, builds and runs a tiny
 # outside project that uses find_package(sparsempm) and links sparsempm::sparsempm.
 file(REMOVE_RECURSE ${WORK_DIR})

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Opens the XDMF sidecars of sparsempm runs in the readers researchers use and checks what they
 read against the run file itself (h5py): ParaView 5.11's three XDMF readers (Xdmf3ReaderS, the
 one OpenDataFile picks, Xdmf3ReaderT and the legacy XDMFReader), headless, and meshio's

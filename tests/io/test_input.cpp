@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reading runs from TOML: the example input round trip, --set overrides, and the one-line
 // messages for each class of bad input (file, line, key, value).
 

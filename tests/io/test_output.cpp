@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // HDF5 output: CSR matrices read back equal the in-memory operators (exactly), frames hold
 // the particle state, and restart loads the last frame.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The sidecars of a 1D, a 2D multimaterial (with contact nodes) and a 3D run, and of a run in
 progress, open in ParaView's three XDMF readers and meshio with the run file's arrays, shapes
 and times (check_readers.py)."""

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Expression boundary conditions in copies of a Model evaluated on two threads at once (the
 // simulation method of `smpm stability` runs one bisection per thread): each copy owns its
 // parser, so concurrent evaluations give exactly the serial values.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The run loop (advance.hpp): the Courant relation, the failure test, and stops that do not change
 // the dynamics of a constant-step run (FMPM 2026 §3.3).
 

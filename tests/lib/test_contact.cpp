@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Multimaterial MPM and contact (contact 2020 §2–3; FMPM 2026 §3.2, Eq. 18): the fields as
 // blocks of columns, reversion to single material mode, momentum conservation, the contact law
 // of one node, Coulomb friction on a sliding block, multimaterial XPIC and contact inside the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Contact nodes (find_contact_nodes; contact 2020 §3.1–3.4, FMPM 2026 §3.2): the normals and
 // Δp(0) of nodes with velocity conditions, the logistic-regression plane and d_LR, R_p, and the
 // DF edge fit and separation.

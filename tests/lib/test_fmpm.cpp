@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // FMPM(k) (Nairn 2026 §2.2, Table 1, Eqs. 4–6), blending (§3.3), velocity BC methods (§3.1),
 // dynamic FMPM (§3.4) and XPIC(m) (contact 2020 Eqs. 36, 41–43) against explicit matrix forms.
 

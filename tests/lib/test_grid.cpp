@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Grid numbering (Buzzi Eq. 21), particles set-up and boundary selection.
 
 #include "support.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Materials: closed forms of FMPM 2026 Eq. (14) and contact 2020 Eq. (18), hyperelastic
 // consistency τ = (∂W/∂F) Fᵀ by central differences, and the small-strain limit.
 

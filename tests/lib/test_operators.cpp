@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Matrix identities of the assembled operators (FMPM 2026 §2.1, Eq. 1): m = SᵀM, rows of
 // m̃ sum to m, m̃ symmetric positive semidefinite, spec(m⁻¹m̃) ⊂ (0, 1], spec(A) ⊂ [0, 1).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shape functions: partition of unity, linear completeness and gradient consistency
 // (Buzzi Eqs. 17–18; Sadeghirad et al. 2011 for CPDI), on seeded random clouds.
 

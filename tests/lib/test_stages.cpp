@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The single-pass kernels of the step (stages.hpp) equal the Eigen expressions they implement
 // (round-off: 1e-12 relative), on CPDI operators of random 1D, 2D and 3D clouds; a block of rows
 // (one material) gives the same products as the whole; the F update reproduces exp(L Δt) and

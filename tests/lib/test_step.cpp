@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The explicit step: exact transport of a rigid translation, the single-material-point
 // vibration of Buzzi §5 (Eqs. 32–33), and the boundary-condition ordering of Buzzi §5.5.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // FMPM(k), XPIC(m), periodic FMPM and the update schemes inside the time step
 // (FMPM 2026 §2.1, Fig. 1; §3.3), on the free-vibrating bar of §3.3.
 

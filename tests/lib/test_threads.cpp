@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Threads (threads.hpp, DESIGN.md "Threads"): the loops of the library give the same bits for
 // any number of threads, rethrow the error a serial loop would throw first, and whole runs of
 // the example problems with 1 and 2 threads end in identical particle states.

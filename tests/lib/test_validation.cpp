@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Whole-run validation on the 1D bars: Buzzi's continuum bar in its first mode (Eqs. 34–37,
 // §5.1) and the free-vibrating bar of FMPM 2026 §3.3.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Moving-wall velocity BCs (FMPM 2026 §3.1, Fig. 2, Table 2): the nodes a wall selects, one BC
 // value per step, superposition, and the incremental BC method of the FMPM loop on wall nodes.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Steps on the particles' window of the grid (StepOptions::nodes = NodeRange::Particles, the
 // default) against steps on every node of the grid: the same particle states bit for bit, for
 // the examples' BCs, moving walls, contact and shock physics and each velocity update.

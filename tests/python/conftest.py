@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Shared set-up of the Python module's tests: the vibrating-bar example, the `smpm` command
 (SMPM, set by ctest) and the source tree (SMPM_SOURCE)."""
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Spectra and stability from Python: the linearised step as a scipy LinearOperator, ρ(T) by
 scipy against the library, C* against `smpm stability`, ρ(A) against a dense eigensolver."""
 import csv

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Errors from Python are the command's: InputError with the message `smpm run` prints after
 "smpm: error: ", NumericalError with the one after "smpm: numerical failure: "."""
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """FMPM(k) and the exact inverse from Python against the same expressions in scipy
 (FMPM 2026 Eqs. 5-6, §3.3; the limit k → ∞, m̃⁻¹)."""
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The operators from Python: the invariants of FMPM 2026 §2.1 on the scipy matrices, the values
 of S for the README's four particles, and numpy views of the particle fields."""
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """sparsempm.read_run: a run file's frames, series and matrices as numpy and scipy, against the
 file itself (h5py) and the identities its arrays obey."""
 import h5py

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The analysis scripts that call the module (analysis/rho_map.py, analysis/fig12b.py) write the
 same tables through sparsempm as through the `smpm` command (--cli)."""
 import csv

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Steps from Python equal `smpm run` bit for bit; the run loop and its callback."""
 import re
 import threading

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Critical Courant numbers: spectral (ρ of the linearised step at one configuration) and by
 // simulation (bisection over full runs), FMPM 2026 §3.3, Fig. 12A.
 

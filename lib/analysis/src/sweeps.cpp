@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The spectral C* over configurations (lattice shifts, frames of a run) for families of step
 // options, on every core (FMPM 2026 §3.3, Fig. 12A: the minimum over configurations).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file advance.hpp
 /// The run loop and its criteria: the failure test and advance(), which steps a Model to an end

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file boundary.hpp
 /// Grid velocity boundary conditions (FMPM 2026 §3.1, Table 2, top block; Buzzi §5.5).

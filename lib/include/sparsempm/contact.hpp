@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file contact.hpp
 /// Multimaterial MPM with contact (contact 2020 §2–3; FMPM 2026 §3.2).

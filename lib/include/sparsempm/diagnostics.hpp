@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file diagnostics.hpp
 /// Energies and momentum of the particle state, and the Courant relation of the time step

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file errors.hpp
 /// The two kinds of failure a user can act on: bad input and numerical failure.

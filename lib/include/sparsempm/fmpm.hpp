@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file fmpm.hpp
 /// The approximate full-mass inverse FMPM(k) (Nairn 2026, §2.2, Table 1) and XPIC(m)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file grid.hpp
 /// Structured background grid in 1, 2 or 3 dimensions (dimension chosen at run time).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file material.hpp
 /// Elastic materials: Cauchy stress and strain energy as functions of F.

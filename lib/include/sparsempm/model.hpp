@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file model.hpp
 /// A simulation's state: grid, particles, materials, boundary conditions, clock.

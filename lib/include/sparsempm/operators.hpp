@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file operators.hpp
 /// The operators of one MPM time step as explicit sparse matrices (FMPM 2026 §2.1):

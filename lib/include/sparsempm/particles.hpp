@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file particles.hpp
 /// Material points as a structure of arrays (one row per particle).

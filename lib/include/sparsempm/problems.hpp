@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file problems.hpp
 /// Set-ups of the published validation problems, shared by tests and examples.

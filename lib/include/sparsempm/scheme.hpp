@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file scheme.hpp
 /// The stages of one explicit MPM step in the order of its scheme (FMPM 2026 Fig. 1: USL, USF,

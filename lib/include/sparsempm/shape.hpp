@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file shape.hpp
 /// Shape functions: the weights S_pi and gradient weights G_pi of GIMP theory

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file sparsempm.hpp
 /// Umbrella header: MPM operators as explicit sparse matrices.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file stages.hpp
 /// The kernels of an explicit MPM step: each product of the step (P2G, internal force, the FLIP

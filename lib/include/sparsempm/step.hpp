@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file step.hpp
 /// The Stepper, which advances a Model by explicit MPM time steps with the options of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file step_options.hpp
 /// The options of an explicit MPM time step, read by the Stepper (step.hpp), the stages

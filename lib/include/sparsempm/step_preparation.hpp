@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file step_preparation.hpp
 /// What a step needs from the particle configuration at its start, prepared by one function,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file threads.hpp
 /// The number of OpenMP threads the kernels of a step use. Results do not depend on it, bit for

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A muparser expression of named variables, for initial fields and boundary values.
 

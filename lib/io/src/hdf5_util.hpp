@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Small RAII helpers over the HDF5 C API (internal to sparsempm_io).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/input.hpp"
 #include "sparsempm/run_file.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [[contact]] tables: the velocity fields of the materials and the contact laws between them
 // (contact 2020 §2–3; FMPM 2026 §3.2).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The layout of a run file, stated once (output.hpp: run_file_layout), and the walk of a file
 // against it (smpm info).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/output.hpp"
 
 #include "hdf5_util.hpp"

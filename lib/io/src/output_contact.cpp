@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The contact nodes of a multimaterial frame in the run file (output.hpp).
 
 #include "output_format.hpp"

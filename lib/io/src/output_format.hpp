@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The layout of a run file shared by its writer (output.cpp, output_frame.cpp,
 // output_xdmf.cpp) and reader (output_read.cpp): frame names, series names, the file access

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What a frame of a run file holds (output.hpp): the particle fields, the grid fields of the
 // frame's step preparation, the matrices when asked, the series rows and the restart state.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reading run files: the description of a run (smpm info, --restart), its complete frames and
 // the state of one frame.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The XDMF sidecars of a run file, for ParaView and meshio (output.hpp).
 //
 // Each sidecar is one temporal collection of uniform grids of one kind of points (particles,

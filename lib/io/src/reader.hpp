@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The TOML reader's helper class and the readers of bodies and boundary conditions
 // (internal to sparsempm_io).

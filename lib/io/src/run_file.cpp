@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/run_file.hpp"
 
 #include "hdf5_util.hpp"

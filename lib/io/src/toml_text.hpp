@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Text-level helpers of the input reader: the schema of valid keys, key suggestions, the
 // non-ASCII check that keeps toml++ 3.3 away from undefined behaviour, and --set overrides.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Uses the installed library and its three components on the free-vibrating bar of FMPM 2026
 // §3.3: ρ(A) through sparsempm::analysis (0.75 for this lattice), the exact inverse through
 // sparsempm::exact (residual of m̃ v = p) and the input reader through sparsempm::io.

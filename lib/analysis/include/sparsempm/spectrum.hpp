@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file spectrum.hpp
 /// Spectra of the mass matrices (FMPM 2026 §2.2, §3.3): ρ(A), the smallest eigenvalue of

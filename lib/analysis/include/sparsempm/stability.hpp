@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file stability.hpp
 /// Temporal stability of the MPM update (FMPM 2026 §3.3, Fig. 12), by two methods:

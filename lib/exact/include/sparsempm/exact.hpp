@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file exact.hpp
 /// The exact consistent-mass inverse v = m̃⁻¹ p ("FMPM(∞)") with a CHOLMOD Cholesky factor

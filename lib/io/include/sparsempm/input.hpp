@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file input.hpp
 /// Reading a run from a TOML input file (toml++), with expressions (muparser).

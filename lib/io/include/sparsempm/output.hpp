@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file output.hpp
 /// HDF5 output of a run, one file per run, with an XDMF sidecar for ParaView. Its layout is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file run.hpp
 /// Driving a run from its configuration: the time loop (advance), frames, restart, and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file run_file.hpp
 /// Where a run writes, safely. A run claims its output path with a lock, writes a partial twin
