@@ -92,9 +92,11 @@ def main():
         axes[1].plot(courants, [res[("B", c, name, "USL")][0] for c in courants], "o-",
                      label=name)
     axes[0].set_xlabel("cell size (mm)")
-    axes[0].set_title("Fig. 11A: energy lost (%), C = 0.2")
+    axes[0].set_title("Fig. 11A: C = 0.2")
+    axes[0].set_ylabel("1 - (K + W + Q)/(K + W)(0)  (%)")
     axes[1].set_xlabel("Courant number C")
-    axes[1].set_title("Fig. 11B: energy lost (%), 1 mm cells")
+    axes[1].set_title("Fig. 11B: 1 mm cells")
+    axes[1].set_ylabel("1 - (K + W + Q)/(K + W)(0)  (%)")
     for ax in axes:
         ax.axhline(0, color="k", lw=0.6)
         ax.legend(fontsize=8)

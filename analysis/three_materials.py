@@ -89,15 +89,17 @@ def main():
         if name != "single material":
             axes[0].plot(s, 100 * (syy / ref - 1), "o-", label=name)
     axes[0].set_xlabel("axial strain (%)")
-    axes[0].set_ylabel("(MM - SMM)/SMM (%)")
+    axes[0].set_ylabel(r"mean $\sigma_{yy}$: (MM $-$ SMM)/SMM (%)")
     axes[0].legend(fontsize=8)
     lo = min(res[k][3].min() for k in ("lumping, LR", "single material"))
     for ax, name in zip(axes[1:], ("lumping, LR", "single material")):
         X, syy = res[name][2], res[name][3]
         sc = ax.scatter(X[:, 0], X[:, 1], c=syy, s=6, vmin=lo, vmax=0, cmap="viridis")
         ax.set_aspect("equal")
-        ax.set_title(f"sigma_yy at 5%: {name}")
-    fig.colorbar(sc, ax=axes[2])
+        ax.set_title(f"$\\sigma_{{yy}}$ at 5% strain: {name}")
+        ax.set_xlabel("x (mm)")
+        ax.set_ylabel("y (mm)")
+    fig.colorbar(sc, ax=axes[2]).set_label(r"$\sigma_{yy}$ (MPa)")
     save_figure(fig, a.out)
     return 0
 

@@ -61,3 +61,32 @@ def test_the_licence_citation_and_changelog_name_this_release():
     assert (SOURCE / "LICENSE").read_text().startswith("BSD 3-Clause License")
     assert all(r["title"] and r["authors"] for r in cff["references"])
     assert f"## [{smpm.__version__}]" in (SOURCE / "CHANGELOG.md").read_text()
+
+
+def test_figures_refuse_unlabelled_axes(tmp_path):
+    # analysis/figures.py's save_figure refuses a figure with an axis that shows tick labels
+    # but no label (a colour bar included); a shared, hidden y axis needs none.
+    import sys
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    sys.path.insert(0, str(SOURCE / "analysis"))
+    from figures import save_figure, unlabelled_axes
+
+    fig, axes = plt.subplots(1, 2, sharey=True)
+    for ax in axes:
+        ax.plot([0, 1], [0, 1])
+        ax.set_xlabel("x (mm)")
+    axes[0].set_ylabel("y (mm)")
+    assert unlabelled_axes(fig) == []
+    fig, ax = plt.subplots()
+    sc = ax.scatter([0, 1], [0, 1], c=[0, 1])
+    ax.set_xlabel("x (mm)")
+    bar = fig.colorbar(sc, ax=ax)
+    assert unlabelled_axes(fig) == ["axes: y", "<colorbar>: y"]
+    with pytest.raises(ValueError, match="axes without a label"):
+        save_figure(fig, str(tmp_path / "f"))
+    ax.set_ylabel("y (mm)")
+    bar.set_label("stress (MPa)")
+    save_figure(fig, str(tmp_path / "f"))
+    assert (tmp_path / "f.png").stat().st_size > 1000
