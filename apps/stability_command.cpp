@@ -35,7 +35,13 @@ struct Row {
   std::string spectral_status;
   double c_simulation = std::nan("");
   double energy_change = std::nan("");
+  bool simulated = false; // the simulation search ran (NaN then: no C in its bracket held)
   bool fmpm() const { return opt.velocity == VelocityUpdate::FMPM; }
+  /// C*(sim): "none" when every C of the search failed (unstable, or beyond
+  /// --max-energy-change, down to the bracket's lowest C), empty when not searched.
+  std::string simulation_cell() const {
+    return simulated && std::isnan(c_simulation) ? "none" : cell(c_simulation);
+  }
 };
 
 // The (m, α) pairs of the blended rows: every --blend-every with every --blend-alpha but 1 (the
@@ -140,7 +146,7 @@ void write_table(const std::vector<Row>& rows, const std::string& path,
     for (const std::string& c : option_cells(r))
       out << c << ",";
     out << cell(r.c_spectral) << "," << r.config << "," << r.spectral_status << ","
-        << cell(r.c_simulation) << "," << cell(r.energy_change) << "\n";
+        << r.simulation_cell() << "," << cell(r.energy_change) << "\n";
   }
   write_table_file(path, out.str(), inputs, "-o");
 }
@@ -153,7 +159,7 @@ void print_table(const std::vector<Row>& rows) {
     const std::vector<std::string> c = option_cells(r);
     std::printf(format, c[0].c_str(), c[1].c_str(), c[2].c_str(), c[3].c_str(), c[4].c_str(),
                 c[5].c_str(), cell(r.c_spectral).c_str(), r.config.c_str(),
-                cell(r.c_simulation).c_str(), cell(r.energy_change).c_str());
+                r.simulation_cell().c_str(), cell(r.energy_change).c_str());
   }
 }
 
@@ -212,6 +218,7 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
       const SimulationCourant c = simulation_courant(cfg.model, r.opt, sim);
       r.c_simulation = c.courant;
       r.energy_change = c.energy_change;
+      r.simulated = true;
     }
     if (!a.quiet) {
       const std::vector<std::string> c = option_cells(r);
@@ -222,7 +229,7 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
                    c[0].c_str(), c[1].empty() ? "-" : c[1].c_str(),
                    c[2].empty() ? "-" : c[2].c_str(), c[3].empty() ? "-" : c[3].c_str(),
                    c[4].empty() ? "-" : c[4].c_str(), cell(r.c_spectral).c_str(),
-                   cell(r.c_simulation).c_str());
+                   r.simulation_cell().c_str());
     }
   });
 }

@@ -64,6 +64,12 @@ from .runfile import Run, read_run  # noqa: F401
 
 for _error in (InputError, NumericalError, UsageError):
     _error.__module__ = __name__  # tracebacks name sparsempm.InputError
+InputError.__doc__ = ("Bad input (a ValueError): the one-line message of `smpm run`, naming the "
+                      "file, key and value.")
+NumericalError.__doc__ = ("A numerical failure (a RuntimeError): NaN, blow-up or a particle "
+                          "leaving the grid, naming the step and the particle or node.")
+UsageError.__doc__ = ("A call the object's state does not allow (a RuntimeError), e.g. a "
+                      "Stepper used from a second thread.")
 
 
 class LinearizedStepOperator(_LinearOperator):

@@ -41,9 +41,10 @@ void bind_linearized_step(py::module_& m) {
           py::init([](const PyModel& pm, const std::optional<StepOptions>& options,
                       double courant) { return linearized(pm, options_or(pm, options), courant); }),
           py::arg("model"), py::arg("options") = py::none(), py::arg("courant") = 0.5)
-      .def_property_readonly("rows", &LinearizedStep::rows)
-      .def_property_readonly("dt", &LinearizedStep::dt)
-      .def_property_readonly("steps_per_application", &LinearizedStep::steps_per_application)
+      .def_property_readonly("rows", &LinearizedStep::rows, "rows of T: the state x = (V, sigma)")
+      .def_property_readonly("dt", &LinearizedStep::dt, "the time step of T at its Courant number")
+      .def_property_readonly("steps_per_application", &LinearizedStep::steps_per_application,
+                             "steps s one product with T spans (rho per step: rho^(1/s))")
       .def(
           "matvec",
           [](const LinearizedStep& T,
@@ -80,31 +81,51 @@ void bind_linearized_step(py::module_& m) {
 }
 
 void bind_results(py::module_& m) {
-  py::class_<SpectralRadius>(m, "SpectralRadius")
-      .def_readonly("rho", &SpectralRadius::rho)
+  py::class_<SpectralRadius>(m, "SpectralRadius", "rho(T) and how it was found (stability.hpp).")
+      .def_readonly("rho", &SpectralRadius::rho, "rho(T), the largest |eigenvalue|")
       .def_property_readonly(
-          "status", [](const SpectralRadius& r) { return std::string(to_string(r.status)); })
+          "status", [](const SpectralRadius& r) { return std::string(to_string(r.status)); },
+          "converged | not converged | non-finite")
       .def("__float__", [](const SpectralRadius& r) { return r.rho; });
-  py::class_<CriticalCourant>(m, "CriticalCourant")
-      .def_readonly("courant", &CriticalCourant::courant)
-      .def_readonly("rho", &CriticalCourant::rho)
-      .def_readonly("evaluations", &CriticalCourant::evaluations)
-      .def_readonly("not_converged", &CriticalCourant::not_converged)
-      .def_readonly("non_finite", &CriticalCourant::non_finite)
+  py::class_<CriticalCourant>(
+      m, "CriticalCourant",
+      "The spectral critical Courant number C* and the search's counts (stability.hpp).")
+      .def_readonly("courant", &CriticalCourant::courant,
+                    "C*: the largest C found with rho(T(C)) <= 1 + tol (within the resolution)")
+      .def_readonly("rho", &CriticalCourant::rho, "rho(T) at C*")
+      .def_readonly("evaluations", &CriticalCourant::evaluations, "spectral radii computed")
+      .def_readonly("not_converged", &CriticalCourant::not_converged,
+                    "of them, Arnoldi runs that did not converge")
+      .def_readonly("non_finite", &CriticalCourant::non_finite,
+                    "of them, non-finite results (counted as unstable)")
       .def("__float__", [](const CriticalCourant& c) { return c.courant; });
-  py::class_<ConfigurationSweep>(m, "ConfigurationSweep")
-      .def_readonly("minimum", &ConfigurationSweep::minimum)
-      .def_readonly("configuration", &ConfigurationSweep::configuration)
-      .def_readonly("all", &ConfigurationSweep::all);
-  py::class_<SimulationCourant>(m, "SimulationCourant")
-      .def_readonly("courant", &SimulationCourant::courant)
-      .def_readonly("energy_change", &SimulationCourant::energy_change)
-      .def_readonly("runs", &SimulationCourant::runs);
-  py::class_<MassSpectrum>(m, "MassSpectrum")
-      .def_readonly("rho_A", &MassSpectrum::rho_A)
-      .def_readonly("min_eig_minv_mt", &MassSpectrum::min_eig_minv_mt)
-      .def_readonly("cond_mt", &MassSpectrum::cond_mt)
-      .def_readonly("active", &MassSpectrum::active);
+  py::class_<ConfigurationSweep>(
+      m, "ConfigurationSweep",
+      "C* over configurations (lattice shifts, frames): the smallest and each (stability.hpp).")
+      .def_readonly("minimum", &ConfigurationSweep::minimum,
+                    "the CriticalCourant of the configuration with the smallest C*")
+      .def_readonly("configuration", &ConfigurationSweep::configuration,
+                    "which configuration set it, e.g. 'shift 0.25'")
+      .def_readonly("all", &ConfigurationSweep::all,
+                    "every configuration and its C*, as (name, C*) pairs");
+  py::class_<SimulationCourant>(
+      m, "SimulationCourant",
+      "The simulation C*: the largest Courant number whose run does not fail (stability.hpp).")
+      .def_readonly(
+          "courant", &SimulationCourant::courant,
+          "simulation C*: the largest C whose run does not fail (NaN: none in the bracket)")
+      .def_readonly("energy_change", &SimulationCourant::energy_change,
+                    "(E_end - E_0)/E_0 of the run at C*")
+      .def_readonly("runs", &SimulationCourant::runs, "runs made by the search");
+  py::class_<MassSpectrum>(
+      m, "MassSpectrum",
+      "The spectrum of the mass matrices: rho(A), lambda_min(m^-1 m~), cond(m~) (spectrum.hpp).")
+      .def_readonly("rho_A", &MassSpectrum::rho_A,
+                    "rho(A) = 1 - lambda_min(m^-1 m~) on the active nodes")
+      .def_readonly("min_eig_minv_mt", &MassSpectrum::min_eig_minv_mt, "lambda_min(m^-1 m~)")
+      .def_readonly("cond_mt", &MassSpectrum::cond_mt,
+                    "lambda_max(m~)/lambda_min(m~) on the active nodes")
+      .def_readonly("active", &MassSpectrum::active, "number of active nodes");
 }
 
 // The critical Courant numbers: spectral at one configuration and over lattice shifts, and by

@@ -136,29 +136,35 @@ void bind_grid(py::module_& m) {
            py::arg("cells"), py::arg("cell_size") = std::vector<double>{},
            py::arg("origin") = std::vector<double>{},
            "Grid(cells, cell_size=[1, ...], origin=[0, ...]); the dimension is len(cells).")
-      .def_property_readonly("dim", &Grid::dim)
-      .def_property_readonly("num_nodes", &Grid::num_nodes)
-      .def_property_readonly("cells",
-                             [](const Grid& g) {
-                               std::vector<int> c;
-                               for (int a = 0; a < g.dim(); ++a)
-                                 c.push_back(g.cells(a));
-                               return c;
-                             })
-      .def_property_readonly("cell_size",
-                             [](const Grid& g) {
-                               std::vector<double> h;
-                               for (int a = 0; a < g.dim(); ++a)
-                                 h.push_back(g.cell_size(a));
-                               return h;
-                             })
-      .def_property_readonly("origin",
-                             [](const Grid& g) {
-                               std::vector<double> o;
-                               for (int a = 0; a < g.dim(); ++a)
-                                 o.push_back(g.origin(a));
-                               return o;
-                             })
+      .def_property_readonly("dim", &Grid::dim, "dimension d (1, 2 or 3)")
+      .def_property_readonly("num_nodes", &Grid::num_nodes, "number of grid nodes")
+      .def_property_readonly(
+          "cells",
+          [](const Grid& g) {
+            std::vector<int> c;
+            for (int a = 0; a < g.dim(); ++a)
+              c.push_back(g.cells(a));
+            return c;
+          },
+          "cells along each axis")
+      .def_property_readonly(
+          "cell_size",
+          [](const Grid& g) {
+            std::vector<double> h;
+            for (int a = 0; a < g.dim(); ++a)
+              h.push_back(g.cell_size(a));
+            return h;
+          },
+          "cell size along each axis")
+      .def_property_readonly(
+          "origin",
+          [](const Grid& g) {
+            std::vector<double> o;
+            for (int a = 0; a < g.dim(); ++a)
+              o.push_back(g.origin(a));
+            return o;
+          },
+          "position of node (0, 0, 0)")
       .def(
           "node_positions", [](const Grid& g) { return from_field(g.node_positions(), false); },
           "n × d node positions, one row per node (node i + nx (j + ny k)).");
@@ -198,7 +204,7 @@ void bind_particles(py::module_& m) {
       "material",
       [](py::object self) { return vector_view(self.cast<Particles&>().material, self); },
       "N material ids");
-  c.def_readonly("dim", &Particles::dim);
+  c.def_readonly("dim", &Particles::dim, "dimension d of the positions");
   c.def("__len__", &Particles::size);
   c.def("volume", &Particles::volume, "Current volumes det(F) V⁰.");
   c.def("jacobian", py::overload_cast<>(&Particles::jacobian, py::const_), "det F per particle.");
@@ -217,19 +223,25 @@ namespace {
 void bind_conditions(py::module_& m) {
   py::class_<BoundaryConditions>(m, "BoundaryConditions",
                                  "Grid velocity conditions and moving walls (boundary.hpp).")
-      .def_property_readonly("num_constrained", &BoundaryConditions::num_constrained)
+      .def_property_readonly("num_constrained", &BoundaryConditions::num_constrained,
+                             "velocity conditions: the (node, condition) pairs")
       .def("__len__", [](const BoundaryConditions& b) { return b.conditions.size(); })
       .def_property_readonly(
           "walls", [](const BoundaryConditions& b) { return b.walls.size(); }, "moving walls")
-      .def_property_readonly("driven", &BoundaryConditions::driven);
-  py::class_<Energies>(m, "Energies")
-      .def_readonly("kinetic", &Energies::kinetic)
-      .def_readonly("strain", &Energies::strain)
-      .def_readonly("total", &Energies::total)
-      .def_readonly("max_speed", &Energies::max_speed)
-      .def_property_readonly("momentum", [](const Energies& e) {
-        return std::vector<double>(e.momentum.data(), e.momentum.data() + 3);
-      });
+      .def_property_readonly("driven", &BoundaryConditions::driven,
+                             "whether a condition or wall prescribes a non-zero velocity");
+  py::class_<Energies>(m, "Energies",
+                       "Energies, momentum and largest speed of the particles (diagnostics.hpp).")
+      .def_readonly("kinetic", &Energies::kinetic, "K = 1/2 sum_p M_p |V_p|^2")
+      .def_readonly("strain", &Energies::strain, "W = sum_p V0_p W(F_p)")
+      .def_readonly("total", &Energies::total, "K + W")
+      .def_readonly("max_speed", &Energies::max_speed, "max_p |V_p|")
+      .def_property_readonly(
+          "momentum",
+          [](const Energies& e) {
+            return std::vector<double>(e.momentum.data(), e.momentum.data() + 3);
+          },
+          "sum_p M_p V_p (three entries; unused axes 0)");
 }
 
 PyModel from_toml(const std::string& path, const py::dict& overrides) {
@@ -245,7 +257,8 @@ PyModel from_toml(const std::string& path, const py::dict& overrides) {
 void bind_model_state(py::class_<PyModel>& c) {
   c.def_property_readonly(
       "particles", [](PyModel& pm) -> Particles& { return pm.model.particles; },
-      py::return_value_policy::reference_internal);
+      py::return_value_policy::reference_internal,
+      "the particles (a reference: changing its arrays changes the model)");
   c.def_property_readonly(
       "grid", [](const PyModel& pm) { return pm.model.grid; }, "A copy of the grid.");
   c.def_property(
@@ -254,7 +267,8 @@ void bind_model_state(py::class_<PyModel>& c) {
         for (const Material& mat : mats)
           validate(mat);
         pm.model.materials = mats;
-      });
+      },
+      "the materials, by material id");
   c.def_property_readonly(
       "bcs", [](PyModel& pm) -> BoundaryConditions& { return pm.model.bcs; },
       py::return_value_policy::reference_internal,
@@ -291,8 +305,11 @@ void bind_model_state(py::class_<PyModel>& c) {
       "simulated time t");
   c.def_property_readonly(
       "step", [](const PyModel& pm) { return pm.model.step; }, "steps taken");
-  c.def_property_readonly("dim", [](const PyModel& pm) { return pm.model.grid.dim(); });
-  c.def_property_readonly("source", [](const PyModel& pm) { return pm.source; });
+  c.def_property_readonly(
+      "dim", [](const PyModel& pm) { return pm.model.grid.dim(); }, "dimension d");
+  c.def_property_readonly(
+      "source", [](const PyModel& pm) { return pm.source; },
+      "the input file the model was read from ('' for a model made from arrays)");
 }
 
 void bind_model_tables(py::class_<PyModel>& c) {

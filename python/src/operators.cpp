@@ -147,7 +147,8 @@ void bind_matrices(py::class_<PyOperators>& c) {
 }
 
 void bind_numbering(py::class_<PyOperators>& c) {
-  c.def_property_readonly("dim", [](const PyOperators& o) { return o.ops().dim; })
+  c.def_property_readonly(
+       "dim", [](const PyOperators& o) { return o.ops().dim; }, "dimension d")
       .def_property_readonly(
           "fields", [](const PyOperators& o) { return o.ops().fields; },
           "velocity fields n_f: blocks of n_g columns of S (1 unless the model has [[contact]] "
@@ -166,12 +167,18 @@ void bind_numbering(py::class_<PyOperators>& c) {
             return a;
           },
           "N ints: the velocity field of each particle (the block of its row of S)")
-      .def_property_readonly("num_nodes", [](const PyOperators& o) { return o.ops().num_nodes(); })
-      .def_property_readonly("num_particles",
-                             [](const PyOperators& o) { return o.ops().num_particles(); })
-      .def_property_readonly("shape",
-                             [](const PyOperators& o) { return std::string(to_string(o.shape)); })
-      .def_property_readonly("grid", [](const PyOperators& o) { return o.grid(); })
+      .def_property_readonly(
+          "num_nodes", [](const PyOperators& o) { return o.ops().num_nodes(); },
+          "n: the nodes of the operators (columns of S, every velocity field's)")
+      .def_property_readonly(
+          "num_particles", [](const PyOperators& o) { return o.ops().num_particles(); },
+          "N: the particles (rows of S)")
+      .def_property_readonly(
+          "shape", [](const PyOperators& o) { return std::string(to_string(o.shape)); },
+          "the shape function: linear | gimp | bspline2 | cpdi | b2cpdi")
+      .def_property_readonly(
+          "grid", [](const PyOperators& o) { return o.grid(); },
+          "the grid window the operators live on")
       .def_property_readonly(
           "bcs", [](PyOperators& o) -> const BoundaryConditions& { return o.prep.bcs; },
           py::return_value_policy::reference_internal,

@@ -71,11 +71,14 @@ void bind_courant(py::module_& m) {
 } // namespace
 
 void bind_step(py::module_& m) {
-  py::class_<AdvanceReport>(m, "AdvanceReport")
-      .def_readonly("steps", &AdvanceReport::steps)
-      .def_readonly("energy_start", &AdvanceReport::energy_start)
-      .def_readonly("energy_end", &AdvanceReport::energy_end)
-      .def_readonly("wall_seconds", &AdvanceReport::wall_seconds);
+  py::class_<AdvanceReport>(
+      m, "AdvanceReport",
+      "What advance did: the steps, the total energy at start and end, the wall time.")
+      .def_readonly("steps", &AdvanceReport::steps, "steps taken")
+      .def_readonly("energy_start", &AdvanceReport::energy_start,
+                    "total energy the failure test compared with")
+      .def_readonly("energy_end", &AdvanceReport::energy_end, "total energy at the end")
+      .def_readonly("wall_seconds", &AdvanceReport::wall_seconds, "wall time of the loop (s)");
 
   py::class_<Stepper>(m, "Stepper",
                       "Advances a Model by explicit MPM steps with fixed options (step.hpp); "
@@ -97,7 +100,8 @@ void bind_step(py::module_& m) {
            "land_on_stops is False), NumericalError when the total energy exceeds "
            "energy_growth times its start; Ctrl-C stops it after the step in progress "
            "(KeyboardInterrupt, the model at that step).")
-      .def_property_readonly("options", &Stepper::options)
+      .def_property_readonly("options", &Stepper::options,
+                             "the StepOptions the stepper was made with")
       .def_property_readonly(
           "grid_velocity",
           [](const Stepper& s) {

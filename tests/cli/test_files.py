@@ -7,6 +7,7 @@ are not files, bad restart files and bad options are refused before any work.
 
 Run by ctest with SMPM (the binary) and SMPM_SOURCE (the source tree) in the environment.
 """
+import csv
 import hashlib
 import os
 import pathlib
@@ -1205,6 +1206,19 @@ class LiveRun(Base):
 
 
 class Help(Base):
+    def test_no_stable_courant_number_is_none(self):
+        # A simulation search where no C holds (an energy-change limit no run meets) says "none"
+        # in the table and the CSV (it left both empty, as for a row not searched).
+        out = self.dir / "st.csv"
+        r = smpm("stability", BAR, "--method", "simulation", "--order", "1", "--blend-alpha",
+                 "none", "--periodic-cx", "none", "--no-exact", "--max-energy-change", "1e-15",
+                 "-q", "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = list(csv.DictReader(open(out)))
+        self.assertEqual([row["c_simulation"] for row in rows], ["none", "none"])
+        self.assertEqual([row["c_spectral"] for row in rows], ["", ""])  # not searched
+        self.assertEqual(r.stdout.splitlines()[1].split()[-1], "none")
+
     def test_stability_help_shows_defaults(self):
         # --help printed "--no-exact{false}" and no default for --position-alpha and
         # --max-energy-change.
