@@ -264,8 +264,9 @@ TEST_CASE("with the default contact a block slides down an inclined, grid-unalig
   // is g(sin θ − μ cos θ) within 5% while it slides (μ = 0, 0.2: the least-squares slope of the
   // block's mean velocity along the slope over 0.1 ≤ t ≤ 0.3), and friction holds it when
   // μ = 1 > tan θ (it vibrates on the elastic slab, ±0.1; its mean velocity over the same window
-  // below 5% of the frictionless block's, g sin θ · 0.2), for FLIP and FMPM(4). With the earlier defaults (AG normals,
-  // the approaching criterion) the frictionless block at 30° reached half of g sin θ (−51%).
+  // below 5% of the frictionless block's, g sin θ · 0.2), for FLIP and FMPM(4). With the earlier
+  // defaults (AG normals, the approaching criterion) the frictionless block at 30° reached half of
+  // g sin θ (−51%).
   const double g = 10;
   for (const double degrees : {25.0, 35.0})
     for (const double mu : {0.0, 0.2, 1.0})
