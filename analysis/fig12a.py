@@ -32,7 +32,8 @@ PAPER = {
 
 
 def num(s):
-    return float(s) if s not in ("", None) else math.nan
+    """A table cell as a number: NaN where it is empty (not searched) or "none" (no C holds)."""
+    return float(s) if s not in ("", "none", None) else math.nan
 
 
 def read(path):
