@@ -90,3 +90,21 @@ def test_figures_refuse_unlabelled_axes(tmp_path):
     bar.set_label("stress (MPa)")
     save_figure(fig, str(tmp_path / "f"))
     assert (tmp_path / "f.png").stat().st_size > 1000
+
+
+def test_fig12a_reads_none_rows(tmp_path):
+    # A row where no C holds is "none" in smpm stability's table (as in scripts/run's
+    # low-dissipation table); fig12a.py failed on it ("could not convert string to float").
+    header = ("velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,c_spectral,"
+              "config_spectral,spectral_status,c_simulation,energy_change\n")
+    table = tmp_path / "st.csv"
+    table.write_text(header + "FLIP,,,,,1,0.7555,shift 0,converged,0.8612,3.98\n"
+                     "FMPM,4,1,1,,1,0.4508,shift 0.375,converged,0.5432,0.06\n")
+    low = tmp_path / "low.csv"
+    low.write_text(header + "FLIP,,,,,1,,,,none,\nFMPM,4,1,1,,1,,,,0.5403,0.0002\n")
+    out = tmp_path / "f.png"
+    r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "fig12a.py", table,
+                        "--low-dissipation", low, "-o", out], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert out.stat().st_size > 10000
