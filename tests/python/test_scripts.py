@@ -101,7 +101,8 @@ def test_fig12a_reads_none_rows(tmp_path):
     table.write_text(header + "FLIP,,,,,1,0.7555,shift 0,converged,0.8612,3.98\n"
                      "FMPM,4,1,1,,1,0.4508,shift 0.375,converged,0.5432,0.06\n")
     low = tmp_path / "low.csv"
-    low.write_text(header + "FLIP,,,,,1,,,,none,\nFMPM,4,1,1,,1,,,,0.5403,0.0002\n")
+    low.write_text(header + "FLIP,,,,,1,,,,none,\nFMPM,4,1,1,,1,,,,0.5403,0.0002\n"
+                   "FMPM,4,0.8,1,,1,,,,none,\n")
     out = tmp_path / "f.png"
     r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "fig12a.py", table,
                         "--low-dissipation", low, "-o", out], capture_output=True, text=True,
