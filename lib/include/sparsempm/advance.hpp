@@ -30,6 +30,8 @@ struct FailureTest {
 /// is not finite or exceeds test.energy_growth × e0.
 void check_energy(const Model& model, double e, double e0, const FailureTest& test);
 
+/// How advance() runs: the end time, the Courant number of every step, the stops (output
+/// frames) and the failure test.
 struct AdvanceOptions {
   double end = 0;       ///< simulated end time
   double courant = 0.5; ///< C of stable_time_step, evaluated before every step
@@ -41,7 +43,7 @@ struct AdvanceOptions {
   /// dynamics), a stop is reported at the first step that reaches it, and the run ends at the
   /// first step at or past `end`.
   bool land_on_stops = true;
-  FailureTest failure{};
+  FailureTest failure{}; ///< when the run has failed
   /// The total energy the failure test compares with; unset: that of the model on entry (a
   /// restart passes the energy at t = 0).
   std::optional<double> energy_start{};
@@ -59,6 +61,7 @@ struct AdvanceOptions {
 /// Called after every step with the model, its total energy and whether the step reached a stop.
 using StepObserver = std::function<void(const Model&, const Energies&, bool at_stop)>;
 
+/// What advance() did.
 struct AdvanceReport {
   long steps = 0;          ///< steps taken
   double energy_start = 0; ///< total energy the failure test compared with

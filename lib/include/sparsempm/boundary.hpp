@@ -22,6 +22,12 @@ namespace smpm {
 
 /// A moving wall's position s_w, velocity v and gradient ∇v at one time (MovingWall::at).
 struct WallState {
+  /// \var position
+  /// s_w, the wall's position along its normal n̂
+  /// \var velocity
+  /// v, its velocity along n̂
+  /// \var gradient
+  /// ∇v, the spatial gradient of that velocity along n̂
   double position = 0, velocity = 0, gradient = 0;
   /// FMPM 2026 §3.1: v + ∇v (x · n̂ − s_w).
   double value(const Eigen::Vector3d& normal, const Eigen::Vector3d& x) const {
@@ -29,6 +35,8 @@ struct WallState {
   }
 };
 
+/// One velocity condition (FMPM 2026 §3.1): on each of its nodes the velocity component along
+/// the unit n̂ is set to v_b(t, x), v_i ← v_i − (v_i · n̂) n̂ + v_b n̂.
 struct VelocityCondition {
   std::vector<Index> nodes;                                        ///< constrained nodes
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();            ///< unit n̂ (d entries used)
@@ -38,6 +46,7 @@ struct VelocityCondition {
   /// A wall's condition in one step (BoundaryConditions::step_conditions): v_b is the wall's
   /// value with this state (n̂ = direction, the wall's normal) and `value` is empty.
   std::optional<WallState> wall_state;
+  /// v_b(t, x): the wall's value with wall_state when set, else value(t, x), 0 without either.
   double value_at(double t, const Eigen::Vector3d& x) const {
     return wall_state ? wall_state->value(direction, x) : value ? value(t, x) : 0.0;
   }
@@ -67,7 +76,10 @@ struct MovingWall {
   bool selects(double t, const Eigen::Vector3d& x, double tolerance) const;
 };
 
+/// The velocity conditions of a model (FMPM 2026 §3.1, Table 2): each sets one direction of
+/// the velocity on its nodes; a moving wall's condition takes the nodes the wall selects.
 struct BoundaryConditions {
+  /// Every condition, the walls' included.
   std::vector<VelocityCondition> conditions;
   std::vector<MovingWall> walls; ///< their conditions are in `conditions` (wall ≥ 0)
 

@@ -61,21 +61,29 @@ enum class ContactFmpmMethod {
   Evolving ///< the law on the evolving corrected velocities; Δp(ℓ) corrects the increment
 };
 
-/// Names of the [[contact]] tables: law stick | frictionless | coulomb, normal AG | LR |
-/// specified, detection approaching | CP | DF | LR | always, fmpm_method net | evolving. The
-/// parsers throw InputError naming the valid choices.
+/// Name of a law in the [[contact]] tables (key `law`): stick | frictionless | coulomb.
 std::string_view to_string(ContactLaw law);
+/// Name of a normal in the [[contact]] tables (key `normal`): AG | LR | specified.
 std::string_view to_string(ContactNormal normal);
+/// Name of a detection in the [[contact]] tables (key `detection`): approaching | CP | DF | LR |
+/// always.
 std::string_view to_string(ContactDetection detection);
+/// Name of a method in the [[contact]] tables (key `fmpm_method`): net | evolving.
 std::string_view to_string(ContactFmpmMethod method);
+/// The law named `name`; throws InputError naming the valid choices.
 ContactLaw contact_law_from_string(std::string_view name);
+/// The normal named `name`; throws InputError naming the valid choices.
 ContactNormal contact_normal_from_string(std::string_view name);
+/// The detection named `name`; throws InputError naming the valid choices.
 ContactDetection contact_detection_from_string(std::string_view name);
+/// The method named `name`; throws InputError naming the valid choices.
 ContactFmpmMethod contact_fmpm_method_from_string(std::string_view name);
 
 /// The contact between two velocity fields.
 struct ContactPair {
-  int first = 0, second = 1; ///< the fields α < β
+  /// α, the first field of the pair
+  int first = 0, second = 1; ///< β, the second field (α < β)
+  /// The tangential law.
   ContactLaw law = ContactLaw::Frictionless;
   double friction = 0; ///< μ of Coulomb friction
   /// The defaults are contact 2020's recommendation (§5: "use logistic regression to find contact
@@ -84,6 +92,7 @@ struct ContactPair {
   /// and the approaching criterion it loses half of it (README, "Multimaterial MPM").
   ContactNormal normal = ContactNormal::LogisticRegression;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitY(); ///< SN: unit n̂ from α to β
+  /// When a node whose fields approach is in contact.
   ContactDetection detection = ContactDetection::LogisticRegression;
   double critical_separation = 0.8;        ///< δ_c of CP, in cells along n̂ (contact 2020 Eq. 16)
   double df_exponent = 0.5757166424934449; ///< r of the DF fit: ln 2 / ln(10/3)
@@ -115,8 +124,10 @@ struct Contact {
   std::vector<int> material_field;
   /// Contact laws of pairs of fields; a pair without one uses `fallback` if set.
   std::vector<ContactPair> pairs;
+  /// Whether pairs without a law of their own take `fallback` (a [[contact]] table without
+  /// `materials`); without it, such a pair is an InputError.
   bool has_fallback = false;
-  ContactPair fallback{};
+  ContactPair fallback{}; ///< the law of every pair not in `pairs` (when has_fallback)
 
   /// Number of velocity fields (1 + the largest field id).
   int fields() const;
@@ -137,7 +148,7 @@ struct ContactParticles {
 /// How a logistic-regression fit ended.
 struct LogisticFit {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< unit n̂ from class −1 to class +1
-  int iterations = 0;
+  int iterations = 0;                               ///< Gauss–Newton iterations taken
   bool converged = false; ///< 1 − n̂^(k+1)·n̂^(k) < 10⁻⁵ within 15 iterations
 };
 
@@ -160,9 +171,11 @@ double particle_radius_along(int dim, const double* F, const double* r0, const E
 /// corrections of the step (after P2G and after the momentum update): the nodes seen by two or
 /// more fields, their normals, separations and contact areas.
 struct ContactNodes {
+  /// A contact node: a grid node seen by two or more fields.
   struct Node {
-    Index node = 0;        ///< grid node i
-    int a = 0, b = 0;      ///< the two fields (a < b); a = b = −1 for a node of 3+ fields
+    Index node = 0; ///< grid node i
+    /// The first of its two fields (a < b); −1 for a node of 3+ fields.
+    int a = 0, b = 0;      ///< the second of its two fields; −1 for a node of 3+ fields
     Index first_side = -1; ///< 3+ fields: sides[first_side + α] is field α against the rest
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from a to b (d entries used)
     double separation = 0; ///< CP: (x^b − x^a)·n̂ − δ_c h_n; DF: Eq. 15; LR: d_LR; −1 otherwise
@@ -173,11 +186,11 @@ struct ContactNodes {
   /// One field against all the others lumped (contact 2020 §3.4, Eq. 50).
   struct Side {
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from the field to the rest
-    double separation = -1;
+    double separation = -1; ///< as Node::separation, along this normal; −1 without mass here
     const ContactPair* pair = nullptr; ///< the law with the heaviest other field
   };
-  std::vector<Node> nodes;
-  std::vector<Side> sides;
+  std::vector<Node> nodes; ///< the contact nodes of the step, by ascending grid node
+  std::vector<Side> sides; ///< nodes of 3+ fields: sides[first_side + α] for each field α
   /// Projectors onto the directions the velocity conditions of a node leave free
   /// (Node::constrained); find_contact_nodes projects the normals, and the contact laws Δp(0).
   std::vector<Eigen::Matrix3d> free;
@@ -186,12 +199,14 @@ struct ContactNodes {
   // LR point clouds: the particles (and their fields) whose shape functions reach each contact
   // node, cloud[cloud_offset[c] … cloud_offset[c + 1]) for nodes[c]; reused from step to step.
   std::vector<int> slot; ///< n_g: index of the node in `nodes`, or −1
+  /// nodes.size() + 1 offsets into `cloud`.
   std::vector<Index> cloud_offset;
   std::vector<std::pair<int, int>> cloud; ///< (particle, field)
   std::vector<Eigen::Vector3d> change;    ///< scratch of the lumped nodes
-  // The incremental contact of the FMPM loop (FMPM 2026 §3.2): per node of two fields, the
-  // Δp^(prior)(0) and Δp^(net) that the last lumped correction (apply_contact) initialised.
-  std::vector<Eigen::Vector3d> prior, net;
+  /// The incremental contact of the FMPM loop (FMPM 2026 §3.2), per node of two fields:
+  /// Δp^(prior)(0), which the last lumped correction (apply_contact) initialises and the
+  /// corrections of the loop (contact_increment) or of the exact update (exact_contact) update
+  std::vector<Eigen::Vector3d> prior, net; ///< Δp^(net), likewise (FMPM 2026 §3.2)
   /// Per node: the frictional work of its current net correction, when the last apply_contact
   /// was the momentum-update correction (0 otherwise); the loop replaces it (Net).
   std::vector<double> heat;

@@ -11,6 +11,8 @@
 
 namespace smpm {
 
+/// The energies, momentum and largest speed of the particles (energies()): the quantities the
+/// failure test, the energy series of a run and the Courant relation read.
 struct Energies {
   double kinetic = 0;                                 ///< ½ Σ_p M_p |V_p|²
   double strain = 0;                                  ///< Σ_p V_p^(0) W(F_p)

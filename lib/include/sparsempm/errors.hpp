@@ -23,8 +23,11 @@ public:
 /// can point at the line that set it. what() is "<key> = <value>: <reason>".
 class OptionError : public InputError {
 public:
+  /// The error of option `key` set to `value` (as text), `reason` saying what is wrong.
   OptionError(std::string key, const std::string& value, std::string reason);
+  /// The option's name as input files and Python spell it ("order", "blend_alpha", ...).
   const std::string& key() const { return key_; }
+  /// What is wrong with the value (the message without "<key> = <value>: ").
   const std::string& reason() const { return reason_; }
 
 private:
@@ -36,15 +39,17 @@ private:
 /// number when known (−1 otherwise).
 class NumericalError : public std::runtime_error {
 public:
+  /// The failure `what` at time step `step` (−1: not known).
   explicit NumericalError(const std::string& what, long step = -1);
+  /// The time step number at which it happened, −1 when not known.
   long step() const { return step_; }
 
 private:
   long step_;
 };
 
-/// `text` as quoted in a one-line message: control characters written as \n, \t or \xNN and at
-/// most `max` characters, followed by the full length when cut.
+/// `text` as quoted in a one-line message: control characters written as `\n`, `\t` or `\xNN`
+/// and at most `max` characters, followed by the full length when cut.
 std::string clip(std::string_view text, size_t max = 80);
 
 /// A number as a message shows it (ostream's default format: 6 significant digits).
@@ -58,7 +63,9 @@ NumericalError at_step(const NumericalError& e, long step, double time);
 /// `interrupt` flag is an atomic a signal handler sets to the signal's number (0: none).
 class Interrupted : public std::runtime_error {
 public:
+  /// Stopped by the signal number `signal`; `what` says by which signal and where.
   Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal_(signal) {}
+  /// The number of the signal that asked to stop (SIGINT, SIGTERM).
   int signal() const { return signal_; }
 
 private:
@@ -86,6 +93,8 @@ public:
 };
 
 namespace detail {
+/// What SMPM_VERIFY calls when its condition fails: throws UsageError with `message`, the
+/// failed `condition` and its source location `file`:`line`.
 [[noreturn]] void usage_failure(const char* condition, const std::string& message, const char* file,
                                 int line);
 } // namespace detail

@@ -31,20 +31,26 @@ enum class ConvergenceMetric {
   Changes ///< mean over active nodes of |Δv_i(ℓ)| / (|v⁺_i(ℓ)| + ε), ε = 1% of max_i |v⁺_i(ℓ)|
 };
 
+/// Name used in input files: incremental | lumped | velocity | combined.
 std::string_view to_string(BCMethod m);
+/// Inverse of to_string; throws InputError naming the valid choices.
 BCMethod bc_method_from_string(std::string_view name);
+/// Name used in input files: none | means | changes.
 std::string_view to_string(ConvergenceMetric m);
+/// Inverse of to_string; throws InputError naming the valid choices.
 ConvergenceMetric convergence_metric_from_string(std::string_view name);
 
 /// Largest order k of FMPM(k) (m of XPIC(m)) and blending period accepted by validate.
 inline constexpr int kMaxFmpmOrder = 100000;
 
+/// The options of the FMPM(k) loop of FMPM 2026 Table 1 (and the order m of XPIC(m)): the
+/// order k, blending (§3.3), the velocity-BC method (§3.1) and dynamic FMPM (§3.4).
 struct FmpmOptions {
   int order = 1;            ///< k, the number of terms (the maximum order when dynamic)
   double blend_alpha = 1.0; ///< α of the blended recursion (FMPM 2026 §3.3); 1: no blending
   int blend_every = 1;      ///< m: scale by α when ℓ mod m = 1 or m = 1 (FMPM 2026 §3.3)
-  BCMethod bc_method = BCMethod::Incremental;
-  ConvergenceMetric metric = ConvergenceMetric::None;
+  BCMethod bc_method = BCMethod::Incremental;         ///< velocity BCs in the loop (§3.1)
+  ConvergenceMetric metric = ConvergenceMetric::None; ///< dynamic FMPM (§3.4); None: run to k
   double dynamic_limit = 0; ///< stop at the first ℓ whose metric is below this
 };
 
@@ -57,7 +63,7 @@ double blend_factor(const FmpmOptions& opt, int ell);
 
 /// What the velocity BCs of the loop need.
 struct LoopConstraints {
-  const Grid* grid = nullptr;
+  const Grid* grid = nullptr;              ///< the grid of the loop's nodes (Operators::grid)
   const BoundaryConditions* bcs = nullptr; ///< null: no velocity BCs
   double time = 0;                         ///< time at which BC values are evaluated
 };
@@ -70,7 +76,8 @@ struct FmpmReport {
 
 /// Scratch storage of the loop (n × d each).
 struct FmpmWorkspace {
-  Field prev, next;
+  /// Δv(ℓ), the increment of the pass in hand (XPIC: v*_k)
+  Field prev, next;            ///< the next increment, then swapped with prev (XPIC: S⁺S v*_k)
   Field dv;                    ///< XPIC's Δv*_k (multimaterial)
   std::vector<double> metrics; ///< metric of passes ℓ = 2, 3, ... of the last loop (dynamic FMPM)
 };

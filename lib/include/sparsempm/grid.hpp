@@ -23,16 +23,23 @@ class Grid {
 public:
   /// A 1D grid of one unit cell at the origin (a placeholder to be assigned over).
   Grid() : Grid(1, {0, 0, 0}, {1, 1, 1}, {1, 1, 1}) {}
-  /// Throws InputError unless 1 ≤ dim ≤ 3, every cell size is positive and finite, every cell
-  /// count is 1 to kMaxCells and the grid has at most kMaxNodes nodes (so that no count of
-  /// nodes or node index overflows).
+  /// Most cells along an axis (2³⁰).
   static constexpr int kMaxCells = 1 << 30;
+  /// Most nodes of a grid (2⁵⁰).
   static constexpr Index kMaxNodes = Index(1) << 50;
+  /// A grid of `cells[a]` cells of size `cell_size[a]` from `origin` along each axis a < dim
+  /// (the entries of unused axes are ignored). Throws InputError unless 1 ≤ dim ≤ 3, every
+  /// cell size is positive and finite, every origin is finite, every cell count is 1 to
+  /// kMaxCells and the grid has at most kMaxNodes nodes (so that no count of nodes or node
+  /// index overflows).
   Grid(int dim, const std::array<double, 3>& origin, const std::array<double, 3>& cell_size,
        const std::array<int, 3>& cells);
 
+  /// The dimension d: 1, 2 or 3.
   int dim() const { return dim_; }
+  /// Coordinate along an axis of node (0, 0, 0) of the whole grid (0 for unused axes).
   double origin(int axis) const { return origin_[axis]; }
+  /// Cell size h_a along an axis (1 for unused axes).
   double cell_size(int axis) const { return h_[axis]; }
   /// Cells of the whole grid along an axis (0 for unused axes).
   int cells(int axis) const { return axis < dim_ ? cells_[axis] : 0; }

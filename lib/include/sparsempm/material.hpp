@@ -15,6 +15,7 @@
 
 namespace smpm {
 
+/// The constitutive laws of a Material.
 enum class MaterialModel {
   Linear,     ///< σ = λ tr(ε) I + 2Gε, ε = sym(F) − I (1D: σ = E (F − 1))
   NeoHookean, ///< σ = (λ/2)(J − 1/J) I + (G/J)(F Fᵀ − I)   (FMPM 2026 Eq. 14)
@@ -31,29 +32,34 @@ std::string_view to_string(MaterialModel m);
 /// Inverse of to_string; throws InputError naming the valid choices.
 MaterialModel material_model_from_string(std::string_view name);
 
-/// An isotropic elastic material given by density, Young's modulus and Poisson's ratio.
 /// The most materials a model takes: the contact laws are a table over pairs of velocity
 /// fields (10⁶ entries at this cap).
 inline constexpr int kMaxMaterials = 1000;
 
+/// An isotropic elastic material given by density, Young's modulus and Poisson's ratio (a
+/// Mie–Grüneisen material by its bulk and shear moduli and its equation of state instead).
 struct Material {
-  std::string name;
-  MaterialModel model = MaterialModel::Linear;
-  double density = 1;
-  double youngs = 1;
-  double poisson = 0;
-  // Mie–Grüneisen (contact 2020 Eqs. 51–52): K and G given directly (G = 0: a fluid), γ₀ and the
-  // slope S₁ of the linear U_s–u_p Hugoniot, the coefficients A₁, A₂ of the viscosity q.
-  double bulk = 0, shear = 0;
-  double gruneisen = 0, hugoniot_slope = 0;
-  double av_linear = 0, av_quadratic = 0;
+  std::string name;                            ///< [[material]] name: messages, bodies, contact
+  MaterialModel model = MaterialModel::Linear; ///< the stress law
+  double density = 1;                          ///< ρ₀, the density of the undeformed material
+  double youngs = 1;                           ///< E, Young's modulus (not for Mie–Grüneisen)
+  double poisson = 0;                          ///< ν, Poisson's ratio (not for Mie–Grüneisen)
+  /// Mie–Grüneisen (contact 2020 Eqs. 51–52): K, the bulk modulus, given directly
+  double bulk = 0, shear = 0; ///< Mie–Grüneisen: G, the shear modulus (0: a fluid)
+  /// Mie–Grüneisen: γ₀, the Grüneisen parameter of Eq. (51)
+  double gruneisen = 0, hugoniot_slope = 0; ///< Mie–Grüneisen: S₁ of U_s = c₀ + S₁ u_p
+  /// Mie–Grüneisen: A₁, the linear coefficient of the artificial viscosity q (Eq. 52)
+  double av_linear = 0, av_quadratic = 0; ///< Mie–Grüneisen: A₂, q's quadratic coefficient
 
+  /// G: the shear modulus given (Mie–Grüneisen), else E / (2 (1 + ν)).
   double shear_modulus() const {
     return model == MaterialModel::MieGruneisen ? shear : youngs / (2 * (1 + poisson));
   }
+  /// K: the bulk modulus given (Mie–Grüneisen), else E / (3 (1 − 2ν)).
   double bulk_modulus() const {
     return model == MaterialModel::MieGruneisen ? bulk : youngs / (3 * (1 - 2 * poisson));
   }
+  /// Lamé's λ = K − 2G/3 (Mie–Grüneisen), else E ν / ((1 + ν)(1 − 2ν)).
   double lame_lambda() const {
     return model == MaterialModel::MieGruneisen
                ? bulk - 2 * shear / 3

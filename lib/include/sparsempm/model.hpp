@@ -14,11 +14,12 @@
 
 namespace smpm {
 
+/// A simulation's state: what an input file describes and a Stepper advances.
 struct Model {
-  Grid grid;
-  Particles particles;
-  std::vector<Material> materials;
-  BoundaryConditions bcs;
+  Grid grid;                       ///< the whole background grid
+  Particles particles;             ///< the material points
+  std::vector<Material> materials; ///< indexed by Particles::material
+  BoundaryConditions bcs;          ///< velocity conditions and moving walls
   Contact contact; ///< velocity fields of the materials and their contact laws (contact.hpp)
   /// The uniform body acceleration B of every particle ([loads] gravity), d entries used: the
   /// body force per unit mass of FMPM 2026 task 2, f += Sᵀ M B.

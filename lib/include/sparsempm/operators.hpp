@@ -43,6 +43,7 @@ enum class NodeRange {
 
 /// Names of StepOptions::nodes: particles | grid.
 std::string_view to_string(NodeRange r);
+/// The node range named `name`; throws InputError naming the valid choices.
 NodeRange node_range_from_string(std::string_view name);
 
 /// Everything a time step needs from the particle configuration, assembled once per step.
@@ -59,6 +60,7 @@ NodeRange node_range_from_string(std::string_view name);
 struct Operators {
   NodeRange node_range = NodeRange::Grid; ///< chosen by the caller before assembling
   Grid grid;                              ///< the grid whose nodes the columns are
+  /// d, the grid's dimension.
   int dim = 1;
   int fields = 1;                   ///< velocity fields (blocks of columns)
   Index grid_node_count{};          ///< n_g, nodes of `grid`
@@ -75,7 +77,9 @@ struct Operators {
   ColumnIndex columns;                    ///< S's pattern by columns
   std::array<int, 3> grid_nodes{1, 1, 1}; ///< nodes per axis of `grid`
   long pattern_version = 0; ///< a new process-unique number whenever S's pattern changes
+  /// N, the rows of S (one per particle).
   Index num_particles() const { return S.rows(); }
+  /// n = fields · n_g, the columns of S (one per node of each velocity field).
   Index num_nodes() const { return S.cols(); }
   /// The index of column c in the numbering of the whole grid (α n_g + i for node i of field α,
   /// n_g the grid's nodes): what files and messages name.

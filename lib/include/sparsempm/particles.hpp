@@ -13,7 +13,7 @@ namespace smpm {
 /// N material points in dimension d. Tensors are stored one particle per row, the d × d
 /// tensor flattened row-major: column a d + b holds component (a, b).
 struct Particles {
-  int dim = 1;
+  int dim = 1;              ///< d: the columns of X and V (d² of F and stress)
   Field X;                  ///< N × d positions
   Field V;                  ///< N × d velocities
   Field F;                  ///< N × d² deformation gradients
@@ -26,6 +26,7 @@ struct Particles {
   /// Mie–Grüneisen particles (material.hpp), 0 for other materials. Empty: all 0.
   Eigen::VectorXd energy;
 
+  /// N, the number of particles (rows of X).
   Index size() const { return X.rows(); }
   /// Resizes to N particles of dimension d with F = I and every other field zero.
   void resize(int d, Index N);

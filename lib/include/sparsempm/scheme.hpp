@@ -40,6 +40,8 @@ struct ParticleFields {
 class StrainUpdate {
 public:
   virtual ~StrainUpdate() = default;
+  /// Updates F and σ of the particles of `op` (the rows of `fields`) over dt from the grid
+  /// velocities v (n × d).
   virtual void update(const ParticleOperators& op, const Field& v, double dt,
                       ParticleFields& fields) = 0;
 };
@@ -49,7 +51,11 @@ public:
 struct ShockState {
   Eigen::VectorXd* energy = nullptr;      ///< N internal energies per unit mass U (updated)
   double dx = 0;                          ///< Δx of contact 2020 Eq. (52): the smallest cell size
-  Eigen::VectorXd J_old, p_old, pressure; ///< scratch, reused from step to step
+  Eigen::VectorXd J_old, p_old, pressure; ///< N: p + q after the strain update (scratch)
+  /// \var J_old
+  /// N: det F of each particle before the strain update (scratch, reused from step to step)
+  /// \var p_old
+  /// N: p + q of each Mie–Grüneisen particle before the strain update (scratch)
   double viscous_work = 0; ///< the viscosity's work Σ_p −q ΔJ V⁽⁰⁾ of the last update
 };
 
@@ -64,6 +70,8 @@ public:
                        const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind,
                        ShockState* shock = nullptr, Eigen::VectorXd* density = nullptr)
       : materials_(materials), material_(material), kind_(kind), shock_(shock), density_(density) {}
+  /// F ← (I + L Δt) F or exp(L Δt) F (update_deformation), then σ = σ(F) (update_stress);
+  /// with `shock`, the Mie–Grüneisen stresses and energies (update_shock_stress).
   void update(const ParticleOperators& op, const Field& v, double dt,
               ParticleFields& fields) override;
 
@@ -77,10 +85,12 @@ private:
 
 /// What the stages read besides the particle fields; fixed during the step.
 struct StepContext {
+  /// The step's options: scheme, velocity update, FMPM options, α.
   const StepOptions* options = nullptr;
   const Operators* ops = nullptr;      ///< S, G, M, m at the start of the step
   const SparseRowMatrix* mt = nullptr; ///< m̃ (required when uses_consistent_mass)
   MassSolver* solver = nullptr;        ///< required by VelocityUpdate::Exact
+  /// The grid of the operators' nodes (Operators::grid).
   const Grid* grid = nullptr;
   /// Velocity BCs, with one value and one node set per step: every use (the momentum reset
   /// after P2G, the reaction force of task 2.a, the FMPM loop, the exact solve, BC3) takes
@@ -91,16 +101,25 @@ struct StepContext {
   /// and separations, found at the start of the step; null in single material mode.
   ContactNodes* contact_nodes = nullptr;
   double time = 0; ///< t at the start of the step
+  /// Δt, the length of the step.
   double dt = 0;
   bool grid_update = false; ///< update particles from grid velocities (false: FLIP)
 };
 
 /// Scratch of the step, reused from step to step.
 struct StepBuffers {
-  GridState g;
-  FmpmWorkspace fmpm;
+  GridState g;                         ///< the grid fields of the step
+  FmpmWorkspace fmpm;                  ///< scratch of the FMPM loop and of XPIC
   FmpmReport report;                   ///< how the last FMPM loop ended
-  Field v_strain, p_re, v_re, xpic, L; ///< n × d and N × d² scratch
+  Field v_strain, p_re, v_re, xpic, L; ///< N × d² scratch (scheme_step itself leaves it unused)
+  /// \var v_strain
+  /// n × d: v with the BC velocities set, for the strain update only (BC3, improper ordering)
+  /// \var p_re
+  /// n × d: the momenta re-extrapolated after the particle update (task 4.a of USL+, USAVG+)
+  /// \var v_re
+  /// n × d: m̃_k⁻¹ p of the strain updates from the first momenta (task 1.c) or from p_re (4.c)
+  /// \var xpic
+  /// n × d: XPIC's grid velocity m (v − v*) + a Δt of the particle update (contact 2020 Eq. 35)
   Field contact_dv; ///< Δv^α = m⁻¹Δp^α of the contact after P2G (multimaterial XPIC, Eq. 37)
   Field p_contact;  ///< p with the contact impulses of the exact update (multimaterial)
 };

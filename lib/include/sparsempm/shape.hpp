@@ -30,8 +30,9 @@ Shape shape_from_string(std::string_view name);
 
 /// Per-particle node box (first node and count per axis) that fixes the sparsity pattern.
 struct ShapeSupport {
-  std::array<int, 3> first{0, 0, 0};
-  std::array<int, 3> count{1, 1, 1};
+  std::array<int, 3> first{0, 0, 0}; ///< (i, j, k) of the box's first node in the whole grid
+  std::array<int, 3> count{1, 1, 1}; ///< nodes of the box along each axis (1 for unused axes)
+  /// The same box: a particle whose box is unchanged keeps its row of the pattern.
   bool operator==(const ShapeSupport&) const = default;
 };
 

@@ -27,7 +27,7 @@ namespace smpm {
 /// masses M of particles [first, first + rows), as raw CSR arrays. A view: the Operators it
 /// was taken from must outlive it and keep its pattern.
 struct ParticleOperators {
-  int dim = 1;
+  int dim = 1;                      ///< d: the G_b used (b < d), the columns of node fields
   Index rows = 0;                   ///< particles in the block
   Index nodes = 0;                  ///< n, the columns
   const int* outer = nullptr;       ///< rows + 1 offsets into inner, S and G (absolute)
@@ -82,7 +82,9 @@ enum class DeformationUpdate {
   Linear,     ///< F ← (I + L Δt) F (USL notes; Buzzi Eq. 30)
   Exponential ///< F ← exp(L Δt) F (FMPM 2026 task 5): exact for a constant L
 };
+/// Name used in input files: linear | exponential.
 std::string_view to_string(DeformationUpdate u);
+/// Inverse of to_string; throws InputError naming the valid choices.
 DeformationUpdate deformation_update_from_string(std::string_view name);
 
 /// L_p = Σ_i v_i ⊗ G_pi and F_p ← (I + L_p Δt) F_p or exp(L_p Δt) F_p, one pass over the G_b.

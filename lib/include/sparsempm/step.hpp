@@ -41,6 +41,8 @@ public:
   /// throws UsageError when another thread holds it.
   class Exclusive {
   public:
+    /// Takes `stepper` for the calling thread (a nested hold by the thread that holds it takes
+    /// nothing); throws UsageError when another thread holds it.
     explicit Exclusive(const Stepper& stepper);
     ~Exclusive();
     Exclusive(const Exclusive&) = delete;
@@ -53,7 +55,10 @@ public:
   /// Validates the options (validate) and makes the exact solver when one is needed.
   explicit Stepper(const StepOptions& options);
   ~Stepper();
+  /// Takes over the options, solver, preparation and buffers of a Stepper, which may then only
+  /// be destroyed or assigned to.
   Stepper(Stepper&&) noexcept;
+  /// Move assignment, as the move constructor.
   Stepper& operator=(Stepper&&) noexcept;
 
   /// One step of length dt: prepares the step at the current configuration (prepare_step:
@@ -75,6 +80,7 @@ public:
   /// energies(model).
   Energies energies(const Model& model) const;
 
+  /// The options of every step (validated).
   const StepOptions& options() const { return opt_; }
   /// The operators assembled for the last step (configuration at its start), or for the next one
   /// after prepare(). Their nodes are those of the particles' window of the model's grid,
@@ -100,8 +106,11 @@ public:
   const std::vector<double>& last_fmpm_metrics() const;
   /// The state accumulated since the start of the run (or the last restore).
   const StepperState& state() const { return state_; }
+  /// Sets the accumulated state back to `state` (a restart, from the frame's RunState).
   void restore(const StepperState& state) { state_ = state; }
+  /// Work of Coulomb friction since the start of the run (StepperState::friction_work).
   double friction_work() const { return state_.friction_work; }
+  /// Work of the artificial viscosity since the start of the run (StepperState::viscous_work).
   double viscous_work() const { return state_.viscous_work; }
 
 private:

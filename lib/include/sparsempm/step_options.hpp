@@ -43,8 +43,11 @@ enum class BCOrdering {
 /// Names of the input files: USL | USF | USL+ | USAVG | USAVG+ and FLIP | PIC | FMPM | XPIC |
 /// exact; the parsers throw InputError naming the valid choices.
 std::string_view to_string(UpdateScheme s);
+/// Name used in input files: FLIP | PIC | FMPM | XPIC | exact.
 std::string_view to_string(VelocityUpdate v);
+/// The scheme named `name`; throws InputError naming the valid choices.
 UpdateScheme update_scheme_from_string(std::string_view name);
+/// The velocity update named `name`; throws InputError naming the valid choices.
 VelocityUpdate velocity_update_from_string(std::string_view name);
 
 /// The settings of the exact consistent-mass inverse (VelocityUpdate::Exact; exact.hpp and the
@@ -64,6 +67,8 @@ struct ExactOptions {
 class MassSolver {
 public:
   virtual ~MassSolver() = default;
+  /// v = m̃⁻¹ p (n × d) with m̃ = `mt` (n × n) on the active nodes of `ops` and the velocity BCs
+  /// of `bc` imposed; v = 0 on the other nodes.
   virtual void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
                      const Field& p, Field& v) = 0;
   /// The response v = m̃⁻¹ r to a momentum change r with the matrix of the last solve and
@@ -75,13 +80,18 @@ public:
 /// which the input reader and the Python module choose).
 using MassSolverFactory = std::function<std::unique_ptr<MassSolver>(const ExactOptions&)>;
 
+/// The options of an explicit MPM time step (FMPM 2026 Fig. 1): shape functions, scheme,
+/// velocity update with its FMPM or XPIC options, α, BC ordering, F update, exact solver and
+/// the nodes of the step. validate(const StepOptions&) holds their limits.
 struct StepOptions {
   Shape shape = Shape::CPDI; ///< the default of the input files (CPDI1, Sadeghirad et al. 2011)
+  /// The order of the stages: when the stress is updated.
   UpdateScheme scheme = UpdateScheme::USL;
+  /// How particle velocities follow the grid: FLIP, PIC, FMPM(k), XPIC(m) or the exact inverse.
   VelocityUpdate velocity = VelocityUpdate::FLIP;
   /// α of FMPM 2026 Eqs. (8)–(9); unset: default_position_alpha(velocity).
   std::optional<double> position_alpha{};
-  BCOrdering bc_ordering = BCOrdering::Correct;
+  BCOrdering bc_ordering = BCOrdering::Correct; ///< where velocity BCs act (Buzzi §5.5)
   FmpmOptions fmpm{};     ///< order k (FMPM) or m (XPIC), blending, BC method, dynamic
   double periodic_cx = 0; ///< C_X of periodic FMPM (§3.3); 0: FMPM on every step
   DeformationUpdate deformation = DeformationUpdate::Linear; ///< F ← (I + LΔt)F or exp(LΔt)F

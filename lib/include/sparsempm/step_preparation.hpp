@@ -18,6 +18,8 @@
 
 namespace smpm {
 
+/// The preparation of one step (this file's list), made by prepare_step and reused, storage
+/// and all, by the next preparation.
 struct StepPreparation {
   /// S, G, M, m and the active nodes of the configuration; set ops.node_range (the particles'
   /// window of the grid or the whole grid) before the first prepare_step.

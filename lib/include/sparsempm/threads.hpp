@@ -27,6 +27,7 @@ int threads_from_environment();
 /// the threads costs more than the work (default 1024). 0 runs every kernel on all threads,
 /// which tests use to exercise the parallel paths on small problems.
 Index parallel_threshold();
+/// Sets parallel_threshold() to `rows` for the whole process (UsageError for rows < 0).
 void set_parallel_threshold(Index rows);
 
 } // namespace smpm

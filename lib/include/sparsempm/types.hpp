@@ -6,8 +6,12 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+/// Every public name of sparsempm and of its components (exact, analysis, io): the MPM
+/// operators as explicit sparse matrices, the step made of them, its analysis, input and output.
 namespace smpm {
 
+/// Eigen's signed index type (std::ptrdiff_t): counts and indices of particles, nodes and
+/// matrix entries.
 using Index = Eigen::Index;
 
 /// A dense field with one row per particle (N × d, N × d²) or per node (n × d). Row-major,

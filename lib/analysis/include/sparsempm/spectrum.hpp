@@ -9,6 +9,7 @@
 
 namespace smpm {
 
+/// The spectrum of the mass matrices of one configuration (mass_spectrum; FMPM 2026 §2.2).
 struct MassSpectrum {
   double rho_A = 0;           ///< ρ(A) = 1 − λ_min(m⁻¹m̃) on the active nodes
   double min_eig_minv_mt = 0; ///< λ_min(m⁻¹m̃)

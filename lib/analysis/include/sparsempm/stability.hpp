@@ -34,19 +34,23 @@ namespace smpm {
 /// concept is Spectra's: rows(), cols(), perform_op(x, y).
 class LinearizedStep {
 public:
-  using Scalar = double;
+  using Scalar = double; ///< the scalar of Spectra's operator concept
   /// Validates the options (validate of step.hpp); throws InputError for dynamic FMPM, whose
   /// state-dependent order is not a linear map.
   LinearizedStep(const Model& model, const StepOptions& options, double dt);
   ~LinearizedStep();
+  /// Takes over the frozen configuration and its operators.
   LinearizedStep(LinearizedStep&&) noexcept;
 
   /// Changes Δt (and so C) keeping every assembled operator.
   void set_dt(double dt);
+  /// The time step Δt of T.
   double dt() const;
   /// Time steps spanned by one application of T (1, or ceil(C_X / C) for periodic FMPM).
   int steps_per_application() const;
+  /// N d + N d², the entries of x = (V, σ).
   Index rows() const;
+  /// rows(): T is square.
   Index cols() const { return rows(); }
   /// y = T x. Throws NumericalError when the stages meet a non-finite value.
   void perform_op(const double* x, double* y) const;
@@ -66,11 +70,13 @@ enum class SpectralStatus {
   NotConverged, ///< Arnoldi did not converge: rho is the measured growth per application
   NonFinite     ///< the iteration overflowed or met NaN: rho = +inf (never "stable")
 };
+/// Name in tables: converged | not converged | non-finite.
 std::string_view to_string(SpectralStatus s);
 
+/// A spectral radius ρ(T) and how it was obtained (spectral_radius).
 struct SpectralRadius {
-  double rho = std::numeric_limits<double>::quiet_NaN();
-  SpectralStatus status = SpectralStatus::Converged;
+  double rho = std::numeric_limits<double>::quiet_NaN(); ///< ρ(T); +inf when NonFinite
+  SpectralStatus status = SpectralStatus::Converged;     ///< how rho was obtained
 };
 
 /// ρ(T): dense Eigen eigenvalues when T has at most `dense_limit` rows. Above, matrix-free:
@@ -80,6 +86,7 @@ struct SpectralRadius {
 /// returns the dominant |λ| (status NotConverged with the measured growth if it fails).
 SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit = 1500);
 
+/// The critical Courant number of critical_courant, with the cost of its search.
 struct CriticalCourant {
   double courant = 0;    ///< largest C found with ρ(T(C)) ≤ 1 + tol (within `resolution`)
   double rho = 0;        ///< ρ(T) at that C
@@ -104,6 +111,7 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
 /// conditions stay on their nodes. Throws NumericalError if a particle leaves the grid.
 Model shifted(const Model& model, const std::array<double, 3>& shift);
 
+/// C* over a set of particle configurations: the smallest and that of each configuration.
 struct ConfigurationSweep {
   CriticalCourant minimum;   ///< the smallest C* found
   std::string configuration; ///< which configuration set it, e.g. "shift 0.25"
@@ -112,21 +120,22 @@ struct ConfigurationSweep {
 
 /// A uniform shift of the particle lattice relative to the grid, in cells along each axis.
 struct LatticeShift {
-  std::array<double, 3> cells{0, 0, 0};
-  std::string name; ///< e.g. "shift 0.125" (in cells along x)
+  std::array<double, 3> cells{0, 0, 0}; ///< the shift along each axis, in cells
+  std::string name;                     ///< e.g. "shift 0.125" (in cells along x)
 };
 
+/// Most shifts of lattice_shifts.
+inline constexpr int kMaxLatticeShifts = 1000;
 /// The shifts of sweep_shifts: j/shifts (j = 0 … shifts − 1) of the particle spacing 2r⁰ (the
 /// lattice's period) along every axis at once. Throws InputError unless 1 ≤ shifts ≤
 /// kMaxLatticeShifts.
-inline constexpr int kMaxLatticeShifts = 1000;
 std::vector<LatticeShift> lattice_shifts(const Model& model, int shifts);
 
 /// A particle configuration the spectral C* is computed at, with its name in tables ("shift
 /// 0.125", "frame 12").
 struct Configuration {
-  Model model;
-  std::string name;
+  Model model;      ///< the model in that configuration
+  std::string name; ///< its name in tables
 };
 
 /// The model at each of lattice_shifts (shifted), named by the shift.
@@ -139,8 +148,8 @@ std::vector<Configuration> lattice_configurations(const Model& model, int shifts
 /// (periodic FMPM, whose T(C) spans ⌈C_X/C⌉ steps, a count that jumps with C, so that its
 /// stability need not be monotone in C), every search starts from scratch.
 struct CourantSeries {
-  std::vector<StepOptions> options;
-  bool hinted = true;
+  std::vector<StepOptions> options; ///< searched in this order at each configuration
+  bool hinted = true;               ///< start each search from the previous option's C*
 };
 
 /// The spectral C* of every option of every series at every configuration, and its minimum over
@@ -180,10 +189,11 @@ struct SimulationCourantOptions {
   const std::atomic<int>* interrupt = nullptr;
 };
 
+/// The critical Courant number of simulation_courant.
 struct SimulationCourant {
   double courant = std::numeric_limits<double>::quiet_NaN();       ///< NaN: unstable even at lo
   double energy_change = std::numeric_limits<double>::quiet_NaN(); ///< (E_end − E_0)/E_0 there
-  int runs = 0;
+  int runs = 0;                                                    ///< full runs made
 };
 
 /// Relative change of total energy of one run at Courant number C, or NaN when it fails (a

@@ -31,14 +31,18 @@ public:
   CholmodSolver(const CholmodSolver&) = delete;
   CholmodSolver& operator=(const CholmodSolver&) = delete;
 
+  /// v = m̃⁻¹ p by the equations above, one set per group of components with the same free
+  /// nodes (v = 0 on inactive nodes). Throws NumericalError when m̃_FF is not positive definite.
   void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
              const Field& p, Field& v) override;
   /// m̃_FF x_F = r_F with the factors of the last solve, x = 0 off F (no refactorisation).
   void solve_again(const Field& r, Field& v) override;
 
+  /// The settings the solver was made with.
   const ExactOptions& options() const { return options_; }
-  /// Number of symbolic analyses and numeric factorisations so far.
+  /// Number of symbolic analyses (cholmod_analyze) so far: one per change of pattern.
   long analyses() const;
+  /// Number of numeric factorisations (cholmod_factorize) so far.
   long factorizations() const;
   /// CHOLMOD's reciprocal condition estimate (min diag L / max diag L)² of the last factor.
   double last_rcond() const;

@@ -16,6 +16,7 @@
 
 namespace smpm {
 
+/// The [time] table of an input file: the clock of a run.
 struct TimeSettings {
   double courant = 0.5; ///< C in Δt = C Δx_min / max(c_wave, max|V_p|) (FMPM 2026 §3.3)
   double end = 0;       ///< simulated end time
@@ -24,6 +25,7 @@ struct TimeSettings {
   bool land_on_frames = true;
 };
 
+/// The [output] table of an input file.
 struct OutputSettings {
   std::string file;      ///< HDF5 output path
   double every = 0;      ///< simulated time between frames
@@ -38,10 +40,10 @@ struct RunConfig {
   /// One line for each name of the earlier vocabulary the input used ([scheme] for [step],
   /// step.update for step.scheme), accepted in this release only.
   std::vector<std::string> notes;
-  Model model;
-  StepOptions step;
-  TimeSettings time;
-  OutputSettings output;
+  Model model;           ///< the model at t = 0 ([grid], [[material]], bodies, [[bc]], ...)
+  StepOptions step;      ///< the options of every step ([step])
+  TimeSettings time;     ///< [time]
+  OutputSettings output; ///< [output]
 };
 
 /// Parses `text` (the contents of the file `source`) after applying `overrides`, each

@@ -20,15 +20,15 @@
 
 namespace smpm {
 
-/// One object of a run file's layout: its path (<frame> stands for every frame's name,
-/// <matrix> for S, G0, G1, G2 and consistent_mass, "@name" for an attribute), its shape (N
+/// One object of a run file's layout: its path (`<frame>` stands for every frame's name,
+/// `<matrix>` for S, G0, G1, G2 and consistent_mass, "@name" for an attribute), its shape (N
 /// particles, na nodes with mass, nc contact nodes, d dimensions), what it holds, and the runs
 /// that write it ("": every run).
 struct LayoutEntry {
-  const char* path;
-  const char* shape;
-  const char* what;
-  const char* when;
+  const char* path;  ///< e.g. "/particles/<frame>/X", "/particles/<frame>@time"
+  const char* shape; ///< e.g. "N x d", "na", "scalar", "text"
+  const char* what;  ///< what it holds
+  const char* when;  ///< the runs that write it ("1D", "contact", ...; "": every run)
 };
 /// The layout of a run file.
 const std::vector<LayoutEntry>& run_file_layout();
@@ -39,9 +39,9 @@ const LayoutEntry* layout_entry(const std::string& path);
 
 /// An object found in a run file: its path, its shape (datasets) and its layout entry.
 struct FileObject {
-  std::string path;
-  std::string shape;
-  const LayoutEntry* entry = nullptr;
+  std::string path;                   ///< its path in the file ("@name": an attribute)
+  std::string shape;                  ///< a dataset's dimensions, as the layout writes them
+  const LayoutEntry* entry = nullptr; ///< its layout entry; null when the layout lacks it
 };
 /// The root's attributes, the series and the last complete frame of a run file (every frame
 /// holds the same objects), walked with HDF5 (H5Ovisit). Throws InputError for a file that is
@@ -50,9 +50,9 @@ std::vector<FileObject> walk_run_file(const std::string& path);
 
 /// One row of the energy series.
 struct SeriesRow {
-  long step = 0;
-  double t = 0;
-  Energies e;
+  long step = 0; ///< the steps taken (0: the state at t = 0)
+  double t = 0;  ///< the time after them
+  Energies e;    ///< the energies and momentum of the particles
   /// √((1/N) Σ_p |V_p(t) − V_p(0)|²): the per-step RMS of FMPM 2026 §3.1's velocity error,
   /// measured against the velocities at t = 0.
   double velocity_change = 0;
@@ -65,12 +65,14 @@ struct SeriesRow {
 
 /// What a restart continues besides the particles and clock of a frame: the Stepper's state
 /// and the running sum of the velocity change (SeriesRow::velocity_change_sum). Stored with
-/// every frame (/state/<frame>).
+/// every frame (`/state/<frame>`).
 struct RunState {
-  StepperState stepper;
-  double velocity_change_sum = 0;
+  StepperState stepper;           ///< Stepper::state() at the frame
+  double velocity_change_sum = 0; ///< SeriesRow::velocity_change_sum at the frame
 };
 
+/// A run's HDF5 file while it is written: the frames, the energy series, the XDMF sidecars
+/// and the run's status; for a restart, reopened at its last complete frame.
 class OutputFile {
 public:
   /// Creates `path` (truncating it) for the run `cfg`. Throws InputError naming the path when
@@ -83,6 +85,7 @@ public:
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
+  /// Takes over the open file (the moved-from object holds none).
   OutputFile(OutputFile&&) noexcept = default;
 
   /// Buffers one row of the series (written with the next frame).
@@ -105,17 +108,25 @@ public:
   void discard() noexcept;
   /// The state a restart needs, stored with the frames written from now on.
   void set_run_state(const RunState& state) { state_ = state; }
+  /// The path being written (a run's partial twin).
   const std::string& path() const { return path_; }
 
   /// What the sidecars need of a written frame: its number, time and point counts (contact: 0
   /// when the frame has no contact node or the run one velocity field), and whether its
   /// particles have det F (files of earlier versions do not) and internal energy.
   struct FrameRecord {
-    int frame = 0;
-    double time = 0;
+    int frame = 0;   ///< the frame's number
+    double time = 0; ///< its time t
+    /// \var particles
+    /// N, its particles
+    /// \var nodes
+    /// na, its nodes with mass (0 when a file of an earlier version lacks their positions)
+    /// \var contact
+    /// nc, its contact nodes (0 without contact nodes or with one velocity field)
     Index particles = 0, nodes = 0, contact = 0;
-    int fields = 1;
-    bool has_J = true, has_energy = false;
+    int fields = 1; ///< n_f, the run's velocity fields
+    /// Whether the particles have J = det F (files of earlier versions do not).
+    bool has_J = true, has_energy = false; ///< whether they have the internal energy U
   };
 
 private:
@@ -160,11 +171,12 @@ private:
 
 /// The input text, overrides and frame list stored in a run file.
 struct StoredRun {
-  std::string input;
-  std::vector<std::string> overrides;
-  std::string version, status;
-  std::vector<double> frame_times;
-  std::vector<SeriesRow> series;
+  std::string input;                  ///< the input text, with the --set overrides appended
+  std::vector<std::string> overrides; ///< the --set overrides
+  /// The sparsempm version that wrote the file.
+  std::string version, status;     ///< running | completed | failed: ... | interrupted: ...
+  std::vector<double> frame_times; ///< the time of each complete frame, ascending
+  std::vector<SeriesRow> series;   ///< the energy series, one row per step from t = 0
 };
 /// Reads the description of a run file (for `smpm info` and `--restart`).
 StoredRun read_stored_run(const std::string& path);

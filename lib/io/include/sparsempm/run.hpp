@@ -14,6 +14,7 @@
 
 namespace smpm {
 
+/// How run() runs a configuration: the output path, the run to restart, the interrupt flag.
 struct RunOptions {
   /// Output path; empty: cfg.output.file, or for a restart the final path of the restart file.
   std::string output;
@@ -26,6 +27,7 @@ struct RunOptions {
   const std::atomic<int>* interrupt = nullptr;
 };
 
+/// What run() did.
 struct RunReport {
   long steps = 0;          ///< steps taken by this invocation
   double wall_seconds = 0; ///< wall time of the time loop

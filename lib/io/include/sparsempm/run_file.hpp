@@ -65,6 +65,8 @@ void check_regular_file(const std::string& path, long long max_bytes, const std:
 /// the claim ends; one left by a killed run holds no lock and is taken over.
 class OutputLock {
 public:
+  /// Claims `path`: creates "<path>.lock" and locks it. Throws InputError when another claim
+  /// holds it, or when "<path>.lock" is a link or a non-empty file (left untouched).
   explicit OutputLock(const std::string& path);
   ~OutputLock();
   OutputLock(const OutputLock&) = delete;
