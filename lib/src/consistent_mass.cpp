@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The consistent mass m̃ = Sᵀ diag(M) S (FMPM 2026 §2.1) written directly into its stencil
-// pattern, reused from step to step (operators.hpp, assemble_consistent_mass).
+// pattern, reused from step to step (operators.hpp, assemble_consistent_mass), and the consistent
+// capacity c̃ = Sᵀ diag(M C_V) S of heat transport on the grid's nodes (transport.hpp), the same
+// product with other particle weights and the velocity fields folded.
 
 #include "sparsempm/operators.hpp"
+#include "sparsempm/transport.hpp"
 
 #include "parallel.hpp"
+
+#include "sparsempm/errors.hpp"
 
 #include <algorithm>
 #include <array>
@@ -20,11 +25,26 @@ inline void stencil(int i, int w, int nodes, int& lo, int& count) {
 } // namespace
 
 namespace {
-// Whether m̃'s stencil pattern can be kept: the same operators with the same pattern of S, or
+// The product Sᵀ diag(w) S of one assembly: the operators' S, the particle weights w (M for m̃,
+// M C_V for c̃) and its rows: every column of S (n), or with `fold` the n_g grid nodes, column
+// α n_g + i of field α adding into node i (c̃ = Σ_α c̃^α).
+struct StencilProduct {
+  const Operators& ops;
+  const double* weight; // N
+  bool fold;
+  Index rows() const { return fold ? ops.grid_node_count : ops.num_nodes(); }
+  // The rows of a product with several fields repeat per field block (m̃ is block diagonal).
+  Index block() const { return ops.grid_node_count; }
+  // Row of entry k of particle p's row of S.
+  Index row(int column) const { return fold ? column % ops.grid_node_count : column; }
+};
+
+// Whether the stencil pattern can be kept: the same operators with the same pattern of S, or
 // the same stencil half-width, nodes per axis and touched nodes. Records the new width and touched
 // set.
-bool keep_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
-  const Index n = ops.num_nodes();
+bool keep_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
+  const Operators& ops = product.ops;
+  const Index n = product.rows();
   if (mt.source == &ops && mt.source_version == ops.pattern_version && mt.matrix.rows() == n)
     return true;
   std::array<int, 3> w{0, 0, 0};
@@ -34,7 +54,7 @@ bool keep_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
   std::vector<char> touched(size_t(n), 0);
   const int* inner = ops.S.innerIndexPtr();
   for (Index k = 0; k < ops.S.nonZeros(); ++k)
-    touched[size_t(inner[k])] = 1;
+    touched[size_t(product.row(inner[k]))] = 1;
   // The same numbers of rows can be a window of another shape (8 × 16 and 16 × 8 nodes).
   const bool keep = w == mt.half_width && ops.grid_nodes == mt.grid_nodes &&
                     touched == mt.touched && mt.matrix.rows() == n;
@@ -47,8 +67,9 @@ bool keep_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
 }
 
 // The stencil pattern: row i of a touched node holds every node within the half-width.
-void build_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
-  const Index n = ops.num_nodes(), ng = ops.grid_node_count;
+void build_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
+  const Operators& ops = product.ops;
+  const Index n = product.rows(), ng = product.block();
   const auto& nodes = ops.grid_nodes;
   const auto& w = mt.half_width;
   // Row i of field α (i = α n_g + j) couples j to its stencil within the same field: m̃ is
@@ -92,15 +113,16 @@ void build_stencil_pattern(const Operators& ops, ConsistentMass& mt) {
 // Adds particle p's M_p S_pa S_pb (a, b in its box) to the rows of the box's nodes in [r0, r1).
 // place(i, a0, a1, a2, stride) returns where p's box starts in row i (its node a) and sets the
 // row's strides along y and z. Box sizes C0 × C1 × C2 are compile-time constants when nonzero.
+// `off` is subtracted from the columns of S to give rows (a field's block folded onto the grid).
 template <int C0, int C1, int C2, class Place>
 inline void scatter_box(const std::array<int, 3>& count, const double* sb, const int* ib, double M,
-                        Index r0, Index r1, Place&& place) {
+                        Index off, Index r0, Index r1, Place&& place) {
   const int c0 = C0 ? C0 : count[0], c1 = C1 ? C1 : count[1], c2 = C2 ? C2 : count[2];
   int qa = 0;
   for (int a2 = 0; a2 < c2; ++a2)
     for (int a1 = 0; a1 < c1; ++a1)
       for (int a0 = 0; a0 < c0; ++a0, ++qa) {
-        const Index i = ib[qa];
+        const Index i = ib[qa] - off;
         const double wa = M * sb[qa];
         if (i < r0 || i >= r1 || wa == 0)
           continue;
@@ -119,6 +141,7 @@ inline void scatter_box(const std::array<int, 3>& count, const double* sb, const
 // The scatter of m̃ = Σ_p M_p S_pᵀ S_p into its stencil pattern, one particle at a time, the
 // rows [r0, r1) of one thread.
 struct StencilScatter {
+  const StencilProduct& product;
   const Operators& ops;
   const std::array<int, 3>& w; // stencil half-widths
   const int* ro;               // row offsets of m̃
@@ -129,10 +152,10 @@ struct StencilScatter {
   // Box sizes up to kMaxBox = 12 per axis: one hexadecimal digit each; the common sizes at
   // compile time.
   template <class Place>
-  static void interior(const ShapeSupport& s, const double* sb, const int* ib, double M, Index r0,
-                       Index r1, Place&& place) {
+  static void interior(const ShapeSupport& s, const double* sb, const int* ib, double M, Index off,
+                       Index r0, Index r1, Place&& place) {
     auto kernel = [&]<int C0, int C1, int C2>() {
-      scatter_box<C0, C1, C2>(s.count, sb, ib, M, r0, r1, place);
+      scatter_box<C0, C1, C2>(s.count, sb, ib, M, off, r0, r1, place);
     };
     switch ((s.count[0] << 8) | (s.count[1] << 4) | s.count[2]) {
     case 0x221:
@@ -156,10 +179,14 @@ struct StencilScatter {
     const int* outer = ops.S.outerIndexPtr();
     const int begin = outer[p], end = outer[p + 1];
     const int* ib = ops.S.innerIndexPtr() + begin;
-    if (begin == end || ib[0] >= r1 || ib[end - begin - 1] < r0)
+    if (begin == end)
+      return;
+    // Folded: the columns of p's field block minus the block's first column are rows.
+    const Index off = product.fold ? ib[0] - product.row(ib[0]) : 0;
+    if (ib[0] - off >= r1 || ib[end - begin - 1] - off < r0)
       return; // no row of p's box is in this range (columns ascend along a row of S)
     const ShapeSupport& s = ops.support[size_t(p)];
-    const double *sb = ops.S.valuePtr() + begin, M = ops.M[p];
+    const double *sb = ops.S.valuePtr() + begin, M = product.weight[p];
     const auto& nodes = ops.grid_nodes;
     // The box's first node in the numbering of ops.grid (a window starts at `origin`).
     const int first[3] = {s.first[0] - origin[0], s.first[1] - origin[1], s.first[2] - origin[2]};
@@ -167,7 +194,7 @@ struct StencilScatter {
     for (size_t d = 0; d < 3; ++d)
       inside = inside && first[d] >= w[d] && first[d] + s.count[d] - 1 + w[d] < nodes[d];
     if (inside) { // row a's full stencil starts w before node a: the box sits at w − a
-      interior(s, sb, ib, M, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
+      interior(s, sb, ib, M, off, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
         stride[0] = full[0];
         stride[1] = full[0] * full[1];
         return val + ro[i] + ((w[2] - a2) * full[1] + (w[1] - a1)) * full[0] + (w[0] - a0);
@@ -176,7 +203,7 @@ struct StencilScatter {
     }
     // Near the grid's edges: each row's stencil is clipped to the grid.
     scatter_box<0, 0, 0>(
-        s.count, sb, ib, M, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
+        s.count, sb, ib, M, off, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
           const int ijk[3] = {first[0] + a0, first[1] + a1, first[2] + a2};
           int lo[3], c[3];
           for (int d = 0; d < 3; ++d)
@@ -196,17 +223,19 @@ struct StencilScatter {
 // stream from memory); the rows they write are those of neighbouring nodes. A box whose nodes
 // all have unclipped stencils (away from the grid's edges) lies at a fixed offset in each row,
 // and the common box sizes have compile-time loops.
-void gather_consistent_mass(const Operators& ops, ConsistentMass& mt) {
+void gather_stencil_product(const StencilProduct& product, ConsistentMass& mt) {
+  const Operators& ops = product.ops;
   const auto& w = mt.half_width;
   SparseRowMatrix& A = mt.matrix;
   const StencilScatter scatter{
+      product,
       ops,
       w,
       A.outerIndexPtr(),
       A.valuePtr(),
       {2 * w[0] + 1, 2 * w[1] + 1, 2 * w[2] + 1},
       {ops.grid.first_node(0), ops.grid.first_node(1), ops.grid.first_node(2)}};
-  const Index n = ops.num_nodes(), N = ops.S.rows();
+  const Index n = product.rows(), N = ops.S.rows();
   const Index parts = std::max<Index>(1, std::min<Index>(threads(), n));
   detail::parallel_for(
       parts,
@@ -218,13 +247,24 @@ void gather_consistent_mass(const Operators& ops, ConsistentMass& mt) {
       },
       N);
 }
+
+void assemble_stencil_product(const StencilProduct& product, ConsistentMass& mt) {
+  mt.pattern_reused = keep_stencil_pattern(product, mt);
+  if (!mt.pattern_reused)
+    build_stencil_pattern(product, mt);
+  gather_stencil_product(product, mt);
+}
 } // namespace
 
 void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
-  mt.pattern_reused = keep_stencil_pattern(ops, mt);
-  if (!mt.pattern_reused)
-    build_stencil_pattern(ops, mt);
-  gather_consistent_mass(ops, mt);
+  assemble_stencil_product({ops, ops.M.data(), false}, mt);
+}
+
+void assemble_consistent_capacity(const Operators& ops, const Eigen::VectorXd& capacity,
+                                  ConsistentMass& ct) {
+  SMPM_VERIFY(capacity.size() == ops.num_particles(),
+              "assemble_consistent_capacity: one capacity per particle");
+  assemble_stencil_product({ops, capacity.data(), ops.fields > 1}, ct);
 }
 
 } // namespace smpm

@@ -238,9 +238,12 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, size_t c, double dt, Fi
     const bool touching =
         contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]);
     in_contact = touching || in_contact;
-    if (touching && force)
-      cn.friction_work +=
+    if (touching && force) {
+      const double work =
           contact_friction_work(dp0, cn.change[size_t(f)], side.normal, ma * mb / (ma + mb));
+      cn.friction_work += work;
+      cn.heat[c] += work;
+    }
   }
   for (int f = 0; f < nf; ++f)
     if (const Index r = f * ng + i; ops.active[r]) {
@@ -320,6 +323,7 @@ void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field&
     if (node.pair->fmpm_method == ContactFmpmMethod::Evolving) {
       cn.prior[c] = dp0 - dp;
       cn.friction_work += work;
+      cn.heat[c] += work;
     } else {
       correction = dp - cn.net[c]; // Δp^(eff)(ℓ)
       cn.prior[c] = dp0;

@@ -24,6 +24,8 @@ void Particles::resize(int d, Index N) {
   material.setZero(N);
   half_length.setZero(N, d);
   energy.setZero(N);
+  temperature.resize(0);
+  heat_source.resize(0);
 }
 
 Eigen::VectorXd Particles::jacobian() const {
@@ -67,12 +69,25 @@ void Particles::append(const Particles& o) {
   stack(volume0, o.volume0);
   stack(material, o.material);
   stack(half_length, o.half_length);
-  const Index n0 = size() - o.size(); // an empty energy column is all 0
-  const Eigen::VectorXd e0 = energy.size() == n0 ? energy : Eigen::VectorXd::Zero(n0);
-  const Eigen::VectorXd e1 =
-      o.energy.size() == o.size() ? o.energy : Eigen::VectorXd::Zero(o.size());
-  energy.resize(n0 + o.size());
-  energy << e0, e1;
+  const Index n0 = size() - o.size();
+  // An optional column (empty: absent) of both sets, an absent one counting as zeros.
+  auto stack_optional = [&](Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    if (a.size() != n0 && b.size() != o.size())
+      return;
+    const Eigen::VectorXd a0 = a.size() == n0 ? a : Eigen::VectorXd::Zero(n0);
+    const Eigen::VectorXd b0 = b.size() == o.size() ? b : Eigen::VectorXd::Zero(o.size());
+    a.resize(n0 + o.size());
+    a << a0, b0;
+  };
+  if (energy.size() != n0 && o.energy.size() != o.size()) { // both absent: all 0
+    energy.setZero(n0 + o.size());
+  } else {
+    stack_optional(energy, o.energy);
+  }
+  SMPM_VERIFY((temperature.size() == n0) == (o.temperature.size() == o.size()),
+              "append: particles with temperatures and particles without");
+  stack_optional(temperature, o.temperature);
+  stack_optional(heat_source, o.heat_source);
 }
 
 Particles make_block(const Grid& grid, const std::array<double, 3>& lo,

@@ -4,6 +4,7 @@
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
+#include "sparsempm/transport.hpp"
 
 #include <Eigen/LU>
 
@@ -44,11 +45,15 @@ struct Stages {
   ParticleFields& fields;
   StrainUpdate& strain;
   StepBuffers& b;
-  const bool full_mass; // this step uses m̃
+  const bool full_mass;         // this step uses m̃
+  const TransportContext* heat; // heat transport, or null
 
   Stages(const StepContext& context, ParticleFields& f, StrainUpdate& s, StepBuffers& buffers)
       : c(context), opt(*context.options), op(particle_operators(*context.ops)), fields(f),
-        strain(s), b(buffers), full_mass(uses_consistent_mass(opt, context.grid_update)) {}
+        strain(s), b(buffers), full_mass(uses_consistent_mass(opt, context.grid_update)),
+        heat(context.transport && context.transport->update != TransportUpdate::Off
+                 ? context.transport
+                 : nullptr) {}
 
   bool correct_bcs() const { return opt.bc_ordering == BCOrdering::Correct; }
 
@@ -191,6 +196,56 @@ struct Stages {
       strain_update(b.g.v_plus, dt_last);
     }
   }
+
+  // Transport, task 1: τ = Sᵀ 𝗖 T, and the nodal temperatures of the conduction, T = c⁻¹ τ with
+  // the temperature conditions set (NairnMPM's TransportBCsAndGradients); τ itself stays as
+  // extrapolated, so that the conditions' reaction heat (task 2.a) includes the step to them.
+  void heat_content() {
+    const TransportOperators& t = *heat->ops;
+    TransportState& h = b.heat;
+    map_heat(*c.ops, t, *heat->temperature, h.tau);
+    lumped_solve(t.nodes.m_inv, h.tau, h.T);
+    if (heat->bcs)
+      heat->bcs->constrain_velocity(t.nodes.grid, c.time, h.T, &t.nodes.active);
+  }
+
+  // Transport, tasks 2–3 (after the velocity solve, whose contact corrections do the frictional
+  // work): q = −K T + Sᵀ M r + q_c with q_c the frictional heat of each contact node over Δt,
+  // τ⁺ = τ + q Δt, the temperature conditions on τ⁺ with their reaction heat added to q
+  // (task 2.a), and θ⁺ = c̃_k⁻¹ τ⁺ (task 3.b): updated_velocity on the transport nodes (c in the
+  // place of m, the loop of Table 1 on c̃ with the conditions' increments zeroed) or the exact
+  // solve; Ṫ = c⁻¹ q for the FLIP update.
+  void heat_update() {
+    const TransportOperators& t = *heat->ops;
+    TransportState& h = b.heat;
+    temperature_gradient(*c.ops, h.T, h.gradient);
+    heat_flow(*c.ops, t, h.gradient, h.q);
+    if (c.contact_nodes) {
+      const ContactNodes& cn = *c.contact_nodes;
+      for (size_t k = 0; k < cn.heat.size(); ++k)
+        h.q(cn.nodes[k].node, 0) += cn.heat[k] / c.dt;
+    }
+    h.tau_plus.noalias() = h.tau + c.dt * h.q;
+    const LoopConstraints bc{&t.nodes.grid, heat->bcs, c.time};
+    if (heat->update == TransportUpdate::Exact) {
+      if (heat->bcs)
+        heat->bcs->constrain_update(t.nodes.grid, t.nodes.m, c.time, c.dt, h.tau_plus, h.q);
+      heat->solver->solve(t.nodes, *heat->ct, bc, h.tau_plus, h.theta);
+    } else {
+      updated_velocity(t.nodes, heat->ct, heat->fmpm, bc, true, c.dt, h.tau_plus, &h.q, h.theta,
+                       h.fmpm);
+    }
+    lumped_solve(t.nodes.m_inv, h.q, h.rate);
+  }
+
+  // Transport, task 4: T_p += Δt S Ṫ (lumped; Eq. 8 with T for V) or T_p = S θ⁺ (FMPM, exact;
+  // Eq. 9).
+  void heat_particles() {
+    if (heat->update == TransportUpdate::Lumped)
+      update_temperature_flip(*c.ops, b.heat.rate, c.dt, *heat->temperature);
+    else
+      update_temperature_grid(*c.ops, b.heat.theta, *heat->temperature);
+  }
 };
 
 } // namespace
@@ -205,9 +260,24 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
               "scheme_step: the exact update needs a MassSolver (context.solver)");
   buffers.report = FmpmReport{};
   buffers.fmpm.metrics.clear(); // a step without a loop has no trace
+  if (s.heat) {
+    SMPM_VERIFY(s.heat->ops && s.heat->temperature &&
+                    s.heat->temperature->size() == context.ops->num_particles(),
+                "scheme_step: heat transport needs its operators and one temperature per particle");
+    SMPM_VERIFY(!uses_consistent_capacity(*context.options) || s.heat->ct,
+                "scheme_step: this transport update needs c~ (TransportContext::ct)");
+    SMPM_VERIFY(s.heat->update != TransportUpdate::Exact || s.heat->solver,
+                "scheme_step: the exact transport update needs a MassSolver");
+  }
   s.momentum();
+  if (s.heat)
+    s.heat_content();
   s.forces_and_velocity();
+  if (s.heat)
+    s.heat_update();
   s.particle_update();
+  if (s.heat)
+    s.heat_particles();
   s.stresses_last();
 }
 

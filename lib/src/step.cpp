@@ -16,6 +16,8 @@ namespace smpm {
 
 struct Stepper::Buffers {
   StepBuffers step;
+  TransportContext transport;              ///< the transport stages' context (heat transport)
+  std::unique_ptr<MassSolver> heat_solver; ///< the exact transport update's solver
   ShockState shock;
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
   std::atomic<std::thread::id> owner{}; ///< the thread holding the Stepper (Exclusive); none: {}
@@ -44,6 +46,8 @@ Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_uni
   prep_.ops.node_range = opt_.nodes;
   if (opt_.velocity == VelocityUpdate::Exact)
     solver_ = opt_.exact_solver(opt_.exact);
+  if (opt_.transport.update == TransportUpdate::Exact)
+    buf_->heat_solver = opt_.exact_solver(opt_.exact);
 }
 
 Stepper::~Stepper() = default;
@@ -53,6 +57,26 @@ Stepper& Stepper::operator=(Stepper&&) noexcept = default;
 Energies Stepper::energies(const Model& model) const {
   const bool stored = buf_->density.size() == model.particles.size();
   return smpm::energies(model, stored ? &buf_->density : nullptr);
+}
+
+bool Stepper::heat() const {
+  return opt_.transport.update != TransportUpdate::Off;
+}
+
+const TransportContext& Stepper::transport_context(Model& model) {
+  TransportContext& t = buf_->transport;
+  t.update = opt_.transport.update;
+  t.fmpm = transport_fmpm_options(opt_);
+  t.ops = &prep_.transport;
+  t.ct = uses_consistent_capacity(opt_) ? &prep_.consistent_capacity() : nullptr;
+  t.solver = buf_->heat_solver.get();
+  t.bcs = &prep_.temperature_bcs;
+  t.temperature = &model.particles.temperature;
+  return t;
+}
+
+const TransportState& Stepper::transport_state() const {
+  return buf_->step.heat;
 }
 
 const GridState& Stepper::grid_state() const {
@@ -78,7 +102,7 @@ const StepPreparation& Stepper::prepare(const Model& model) {
   const Exclusive hold(*this);
   prepared_ = {};
   try {
-    prepare_step(model, opt_.shape, prep_);
+    prepare_step(model, opt_.shape, prep_, opt_.transport.update);
   } catch (const NumericalError& e) { // the next step's failure
     throw at_step(e, model.step + 1, model.time);
   }
@@ -96,8 +120,10 @@ void Stepper::step(Model& model, double dt) {
   try {
     const bool prepared = prepared_.model && prepared_ == prepared_of(model);
     prepared_ = {};
+    if (heat() && P.temperature.size() != P.size()) // no temperatures yet: T_ref
+      set_reference_temperatures(P, model.materials);
     if (!prepared)
-      prepare_step(model, opt_.shape, prep_);
+      prepare_step(model, opt_.shape, prep_, opt_.transport.update);
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.
     grid_update_ = opt_.velocity != VelocityUpdate::FLIP;
@@ -116,7 +142,8 @@ void Stepper::step(Model& model, double dt) {
         .contact_nodes = contact ? &prep_.contact : nullptr,
         .time = model.time,
         .dt = dt,
-        .grid_update = grid_update_};
+        .grid_update = grid_update_,
+        .transport = heat() ? &transport_context(model) : nullptr};
     ParticleFields fields{P.X, P.V, P.F, P.stress, P.volume0};
     const bool shock = uses_shock_physics(model.materials);
     if (shock) {

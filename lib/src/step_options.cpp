@@ -59,6 +59,34 @@ void validate(const StepOptions& opt) {
     throw OptionError("position_alpha", number_text(alpha), "must lie in [0, 1]");
   SMPM_VERIFY(opt.velocity != VelocityUpdate::Exact || opt.exact_solver,
               "the exact velocity update needs StepOptions::exact_solver (see exact.hpp)");
+  const TransportOptions& t = opt.transport;
+  if (t.order < 0 || t.order > kMaxFmpmOrder)
+    throw OptionError("transport_order", std::to_string(t.order),
+                      "must be an integer from 1 to " + std::to_string(kMaxFmpmOrder) +
+                          " (0: the order of the velocity update)");
+  const bool has_order =
+      opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::XPIC;
+  if (t.update == TransportUpdate::FMPM && t.order == 0 && !has_order)
+    throw OptionError("transport_order", "0",
+                      "is required with transport = FMPM unless the velocity update is FMPM or "
+                      "XPIC (whose order it takes)");
+  SMPM_VERIFY(t.update != TransportUpdate::Exact || opt.exact_solver,
+              "the exact transport update needs StepOptions::exact_solver (see exact.hpp)");
+}
+
+FmpmOptions transport_fmpm_options(const StepOptions& opt) {
+  FmpmOptions f = opt.fmpm;
+  f.order = opt.transport.update != TransportUpdate::FMPM ? 1
+            : opt.transport.order > 0                     ? opt.transport.order
+                                                          : opt.fmpm.order;
+  f.metric = ConvergenceMetric::None;
+  f.dynamic_limit = 0;
+  return f;
+}
+
+bool uses_consistent_capacity(const StepOptions& opt) {
+  return opt.transport.update == TransportUpdate::Exact ||
+         (opt.transport.update == TransportUpdate::FMPM && transport_fmpm_options(opt).order > 1);
 }
 
 bool uses_consistent_mass(const StepOptions& opt, bool grid_update) {

@@ -18,6 +18,15 @@ const SparseRowMatrix& StepPreparation::consistent_mass() {
   return mt_.matrix;
 }
 
+const SparseRowMatrix& StepPreparation::consistent_capacity() {
+  SMPM_VERIFY(transport_, "StepPreparation: c~ needs a preparation with heat transport");
+  if (!ct_current_) {
+    assemble_consistent_capacity(ops, transport.capacity, ct_);
+    ct_current_ = true;
+  }
+  return ct_.matrix;
+}
+
 namespace {
 
 // Masses and initial volumes must stay positive and finite (a program, or Python through the
@@ -34,11 +43,13 @@ void check_amounts(const Eigen::VectorXd& amount, const char* name) {
 
 } // namespace
 
-void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
+void prepare_step(const Model& model, Shape shape, StepPreparation& s, TransportUpdate transport) {
   const Particles& P = model.particles;
   check_amounts(P.mass, "mass");
   check_amounts(P.volume0, "volume0");
   s.mt_current_ = false;
+  s.ct_current_ = false;
+  s.transport_ = false;
   const int nf = model.contact.fields();
   if (nf > 1) { // multimaterial: the fields as blocks of columns of S (contact.hpp)
     model.contact.particle_fields(P.material, s.field);
@@ -57,6 +68,13 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
     const ContactParticles cp{P.X, P.F, P.half_length, s.volume};
     find_contact_nodes(s.ops.grid, s.ops, particle_operators(s.ops), model.contact, cp, s.contact,
                        &s.bcs);
+  }
+  if (transport != TransportUpdate::Off) {
+    prepare_transport(s.ops, P, model.materials, s.transport,
+                      transport == TransportUpdate::Exact ? kMassTolerance : 0.0);
+    model.temperature_bcs.step_conditions(s.ops.grid, s.transport.nodes.active, model.time,
+                                          s.temperature_bcs);
+    s.transport_ = true;
   }
 }
 

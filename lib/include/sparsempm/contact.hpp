@@ -207,8 +207,11 @@ struct ContactNodes {
   /// Δp^(prior)(0), which the last lumped correction (apply_contact) initialises and the
   /// corrections of the loop (contact_increment) or of the exact update (exact_contact) update
   std::vector<Eigen::Vector3d> prior, net; ///< Δp^(net), likewise (FMPM 2026 §3.2)
-  /// Per node: the frictional work of its current net correction, when the last apply_contact
-  /// was the momentum-update correction (0 otherwise); the loop replaces it (Net).
+  /// Per node: the frictional work of the step at that node, when the last apply_contact was
+  /// the momentum-update correction (0 otherwise): of its net correction, which the loop
+  /// replaces (Net), or of all its corrections, which the loop adds to (Evolving; the fields of
+  /// a node of three or more summed). Σ heat = friction_work of the step; heat transport turns
+  /// it into heat at the node (transport.hpp).
   std::vector<double> heat;
   /// The frictional work of the step's momentum-update correction (apply_contact with a
   /// force; contact_friction_work) and of the corrections that follow it in the FMPM loop or

@@ -50,6 +50,12 @@ struct Material {
   double gruneisen = 0, hugoniot_slope = 0; ///< Mie–Grüneisen: S₁ of U_s = c₀ + S₁ u_p
   /// Mie–Grüneisen: A₁, the linear coefficient of the artificial viscosity q (Eq. 52)
   double av_linear = 0, av_quadratic = 0; ///< Mie–Grüneisen: A₂, q's quadratic coefficient
+  // Heat transport (transport.hpp; FMPM 2026 §3.5).
+  double heat_capacity = 0; ///< C_V, heat capacity per unit mass (> 0 with transport)
+  double conductivity = 0;  ///< κ, isotropic thermal conductivity (0: no conduction)
+  /// T_ref, the stress-free absolute temperature: the particles' initial temperature and the
+  /// origin of the thermal energy, entropy and free energy (> 0 with transport)
+  double reference_temperature = 0;
 
   /// G: the shear modulus given (Mie–Grüneisen), else E / (2 (1 + ν)).
   double shear_modulus() const {

@@ -20,6 +20,9 @@ struct Model {
   Particles particles;             ///< the material points
   std::vector<Material> materials; ///< indexed by Particles::material
   BoundaryConditions bcs;          ///< velocity conditions and moving walls
+  /// Temperature conditions (Dirichlet, heat transport): each a condition on a node field of
+  /// one column (direction x̂) whose value v_b(t, x) is the prescribed temperature.
+  BoundaryConditions temperature_bcs;
   Contact contact; ///< velocity fields of the materials and their contact laws (contact.hpp)
   /// The uniform body acceleration B of every particle ([loads] gravity), d entries used: the
   /// body force per unit mass of FMPM 2026 task 2, f += Sᵀ M B.

@@ -25,10 +25,15 @@ struct Particles {
   /// N internal energies per unit mass U: the work of pressure and artificial viscosity of
   /// Mie–Grüneisen particles (material.hpp), 0 for other materials. Empty: all 0.
   Eigen::VectorXd energy;
+  /// N absolute temperatures T_p (heat transport, transport.hpp); empty: no temperature.
+  Eigen::VectorXd temperature;
+  /// N heat sources r_p, power per unit mass (heat transport); empty: none.
+  Eigen::VectorXd heat_source;
 
   /// N, the number of particles (rows of X).
   Index size() const { return X.rows(); }
-  /// Resizes to N particles of dimension d with F = I and every other field zero.
+  /// Resizes to N particles of dimension d with F = I and every other field zero (temperature
+  /// and heat_source empty).
   void resize(int d, Index N);
   /// Current volumes V_p = det(F_p) V_p^(0), one entry per particle.
   Eigen::VectorXd volume() const;
@@ -38,7 +43,9 @@ struct Particles {
   double det_F(Index p) const;
   /// det F_p for every particle, written into J (resized to N).
   void jacobian(Eigen::VectorXd& J) const;
-  /// Appends the particles of `other` (same dimension) after the existing ones.
+  /// Appends the particles of `other` (same dimension) after the existing ones; an empty energy
+  /// or heat-source column counts as zeros. Throws UsageError when one set has temperatures and
+  /// the other none.
   void append(const Particles& other);
 };
 

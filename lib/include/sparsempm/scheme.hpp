@@ -83,6 +83,20 @@ private:
   Eigen::VectorXd* density_;
 };
 
+/// Heat transport in one step (transport.hpp; FMPM 2026 §3.5): what the transport stages read
+/// besides the step's operators, and the particle temperatures they update.
+struct TransportContext {
+  TransportUpdate update = TransportUpdate::Off; ///< lumped (FLIP), FMPM(k) or exact
+  FmpmOptions fmpm{};                            ///< FMPM(k) on c̃ (transport_fmpm_options)
+  const TransportOperators* ops = nullptr;       ///< capacities, conductances, c on the nodes
+  const SparseRowMatrix* ct = nullptr;           ///< c̃ (required when uses_consistent_capacity)
+  MassSolver* solver = nullptr;                  ///< required by TransportUpdate::Exact
+  /// Temperature conditions of the step on the transport nodes (values at t, as the velocity
+  /// BCs).
+  const BoundaryConditions* bcs = nullptr;
+  Eigen::VectorXd* temperature = nullptr; ///< N particle temperatures, updated by the step
+};
+
 /// What the stages read besides the particle fields; fixed during the step.
 struct StepContext {
   /// The step's options: scheme, velocity update, FMPM options, α.
@@ -104,6 +118,20 @@ struct StepContext {
   /// Δt, the length of the step.
   double dt = 0;
   bool grid_update = false; ///< update particles from grid velocities (false: FLIP)
+  /// Heat transport; null for an isothermal step.
+  const TransportContext* transport = nullptr;
+};
+
+/// The grid fields of the transport stages (n_g × 1, N × d for the gradients).
+struct TransportState {
+  Field tau;      ///< τ = Sᵀ 𝗖 T, the nodal heat content (task 1)
+  Field T;        ///< T = c⁻¹ τ with the temperature conditions set: the conduction's field
+  Field gradient; ///< N × d: ∇T_p = Σ_i G_pi T_i
+  Field q;        ///< heat flow −K T + Sᵀ M r + contact heat, then + the conditions' reaction
+  Field tau_plus; ///< τ⁺ = τ + q Δt (task 2), with the conditions set (task 2.a)
+  Field theta;    ///< θ⁺ = c̃_k⁻¹ τ⁺: the updated nodal temperatures (task 3.b)
+  Field rate;     ///< Ṫ = c⁻¹ q, the FLIP rate of the particle update
+  FmpmWorkspace fmpm; ///< scratch of the FMPM loop on c̃
 };
 
 /// Scratch of the step, reused from step to step.
@@ -122,6 +150,7 @@ struct StepBuffers {
   /// n × d: XPIC's grid velocity m (v − v*) + a Δt of the particle update (contact 2020 Eq. 35)
   Field contact_dv; ///< Δv^α = m⁻¹Δp^α of the contact after P2G (multimaterial XPIC, Eq. 37)
   Field p_contact;  ///< p with the contact impulses of the exact update (multimaterial)
+  TransportState heat; ///< the transport stages' fields
 };
 
 /// One step of the scheme context.options->scheme (FMPM 2026 Fig. 1):
@@ -132,7 +161,15 @@ struct StepBuffers {
 ///   task 3  v⁺ = m̃_k⁻¹ p⁺ (task 3.b): lumped, FMPM(k) (fmpm_velocity) or exact;
 ///   task 4  particle update: FLIP (Eq. 8), PIC/FMPM/exact (Eq. 9) or XPIC (contact 2020 Eq. 35);
 ///   task 5  USL: strain update from v⁺; USL+/USAVG+: from re-extrapolated velocities (4.c).
-/// Throws NumericalError naming the particle when a kernel finds NaN or det F ≤ 0.
+/// Heat transport (context.transport) runs beside tasks 1–4 in every scheme, as NairnMPM's
+/// TransportTask: τ = Sᵀ 𝗖 T and T = c⁻¹ τ with the temperature conditions for the conduction
+/// (task 1); q = −K T + Sᵀ M r + the contact nodes' frictional heat / Δt, τ⁺ = τ + q Δt, the
+/// conditions on τ⁺ with their reaction heat in q (task 2.a, after the velocity solve, whose
+/// contact corrections do the frictional work); θ⁺ = c̃_k⁻¹ τ⁺ by updated_velocity on the
+/// transport nodes (task 3.b: the same loop, hooks and BC method as the velocities) or the exact
+/// solve; T_p += Δt S c⁻¹ q (lumped) or T_p = S θ⁺ (task 4).
+/// Throws NumericalError naming the particle when a kernel finds NaN or det F ≤ 0, or a
+/// temperature that is not positive.
 void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdate& strain,
                  StepBuffers& buffers);
 

@@ -21,5 +21,6 @@
 #include "sparsempm/step.hpp"
 #include "sparsempm/step_options.hpp"
 #include "sparsempm/step_preparation.hpp"
+#include "sparsempm/transport.hpp"
 #include "sparsempm/types.hpp"
 #include "sparsempm/version.hpp"

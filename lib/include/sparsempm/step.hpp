@@ -16,7 +16,9 @@
 
 namespace smpm {
 
-struct GridState; // scheme.hpp
+struct GridState;        // scheme.hpp
+struct TransportState;   // scheme.hpp
+struct TransportContext; // scheme.hpp
 
 /// What a Stepper accumulates over a run besides the model: the state a restart sets back
 /// (Stepper::restore) to continue bit for bit.
@@ -91,6 +93,9 @@ public:
   /// The grid fields of the last step, on the nodes of its operators (those of operators() until
   /// prepare() prepares the next step); v_plus is the velocity used by the particle update.
   const GridState& grid_state() const;
+  /// The transport fields of the last step (heat transport; empty otherwise): τ, the nodal
+  /// temperatures, the heat flow q, θ⁺ on the transport nodes of operators().grid.
+  const TransportState& transport_state() const;
   /// m̃ of the last step (assembled only when the step used it).
   const ConsistentMass& consistent_mass_storage() const { return prep_.consistent_mass_storage(); }
   /// Whether the last step updated particles from grid velocities (PIC, FMPM, XPIC, exact)
@@ -114,6 +119,8 @@ public:
   double viscous_work() const { return state_.viscous_work; }
 
 private:
+  bool heat() const; // heat transport is on
+  const TransportContext& transport_context(Model& model);
   struct Buffers;
   StepOptions opt_;
   std::unique_ptr<MassSolver> solver_;

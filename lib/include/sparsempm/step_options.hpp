@@ -10,6 +10,7 @@
 #include "sparsempm/operators.hpp"
 #include "sparsempm/shape.hpp"
 #include "sparsempm/stages.hpp"
+#include "sparsempm/transport.hpp"
 
 #include <functional>
 #include <memory>
@@ -104,6 +105,9 @@ struct StepOptions {
   /// the particles and the nodes they reach) or every node of the grid. The results are the same
   /// bits either way; only the numbering of the grid fields differs (Stepper::operators()).
   NodeRange nodes = NodeRange::Particles;
+  /// Heat transport (transport.hpp): off (isothermal, the default), lumped, FMPM(k) on c̃ or
+  /// the exact consistent-capacity solve.
+  TransportOptions transport{};
 };
 
 /// α of Eqs. (8)–(9) when the options leave it unset: 1 for FLIP (the usual choice, FMPM 2026
@@ -115,10 +119,19 @@ double position_alpha(const StepOptions& options);
 /// Throws OptionError (an InputError naming the option) unless ε ∈ [0, 1] and τ ∈ [0, 1).
 void validate(const ExactOptions& options);
 /// Throws OptionError for option values outside their ranges (validate of FmpmOptions and of
-/// ExactOptions, α ∈ [0, 1], C_X ≥ 0 and finite) and UsageError for Exact without a solver
-/// factory. The one check of StepOptions, and so the one set of limits: the Stepper, the
-/// linearised step, the input reader, the command line and the Python module call it.
+/// ExactOptions, α ∈ [0, 1], C_X ≥ 0 and finite, the transport order, which transport = FMPM
+/// needs unless the velocity update is FMPM or XPIC) and UsageError for an exact update
+/// (velocity or transport) without a solver factory. The one check of StepOptions, and so the one
+/// set of limits: the Stepper, the linearised step, the input reader, the command line and the
+/// Python module call it.
 void validate(const StepOptions& options);
+
+/// The FMPM options of the transport loop on c̃: the order of TransportOptions (the mechanics'
+/// order when it is 0; 1 for the lumped update), the mechanics' blending and BC method, no
+/// dynamic stopping.
+FmpmOptions transport_fmpm_options(const StepOptions& options);
+/// Whether a step assembles c̃: heat transport by FMPM(k) of order > 1 or the exact solve.
+bool uses_consistent_capacity(const StepOptions& options);
 
 /// Whether a step assembles m̃ (FMPM 2026 §2.2): on steps that update particles from grid
 /// velocities (`grid_update`) with the exact inverse, or with FMPM(k) or XPIC(m) of order > 1.

@@ -9,12 +9,15 @@
 ///   - the velocity BCs of the step: the model's conditions with the walls' nodes at the
 ///     model's time (FMPM 2026 §3.1), apart from the model's, which stay as they were given;
 ///   - the contact nodes with their normals, separations and areas (contact 2020 §2.3, §3.1);
-///   - m̃ = Sᵀ M S, assembled on first use (only the steps that use it pay for it).
+///   - m̃ = Sᵀ M S, assembled on first use (only the steps that use it pay for it);
+///   - with heat transport, the transport operators (capacities, conductances, c on the grid's
+///     nodes), the temperature conditions of the step and c̃, assembled on first use.
 
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/contact.hpp"
 #include "sparsempm/model.hpp"
 #include "sparsempm/operators.hpp"
+#include "sparsempm/transport.hpp"
 
 namespace smpm {
 
@@ -40,17 +43,36 @@ struct StepPreparation {
   /// The storage of m̃ as the last assembly left it (its pattern, whether it was reused).
   const ConsistentMass& consistent_mass_storage() const { return mt_; }
 
+  /// Heat transport: the transport operators of the configuration (when prepared with
+  /// transport) ...
+  TransportOperators transport;
+  /// ... and the model's temperature conditions on the transport nodes with capacity, their
+  /// values those of the model's conditions (as `bcs`).
+  BoundaryConditions temperature_bcs;
+  /// Whether the transport operators were prepared.
+  bool has_transport() const { return transport_; }
+  /// c̃ = Sᵀ diag(𝗖) S on the transport nodes (assemble_consistent_capacity), assembled on the
+  /// first call after each prepare_step with transport.
+  const SparseRowMatrix& consistent_capacity();
+
 private:
-  friend void prepare_step(const Model& model, Shape shape, StepPreparation& prep);
+  friend void prepare_step(const Model& model, Shape shape, StepPreparation& prep,
+                           TransportUpdate transport);
   ConsistentMass mt_;
   bool mt_current_ = false;
+  ConsistentMass ct_;
+  bool ct_current_ = false;
+  bool transport_ = false;
 };
 
 /// Prepares `prep` for a step from the model's configuration with the shape functions `shape`:
 /// assembly (reusing the pattern and storage of the previous preparation where the particles'
-/// node boxes allow), the walls' nodes, the contact nodes. Throws NumericalError naming the
+/// node boxes allow), the walls' nodes, the contact nodes and, with heat transport, the
+/// transport operators (prepare_transport: every node with capacity active, kMassTolerance for
+/// the exact solve) and the temperature conditions. Throws NumericalError naming the
 /// particle when a particle's support leaves the grid, and InputError when conditions meet at
-/// an angle on a node (FMPM 2026 Table 2).
-void prepare_step(const Model& model, Shape shape, StepPreparation& prep);
+/// an angle on a node (FMPM 2026 Table 2) or a material cannot carry heat.
+void prepare_step(const Model& model, Shape shape, StepPreparation& prep,
+                  TransportUpdate transport = TransportUpdate::Off);
 
 } // namespace smpm
