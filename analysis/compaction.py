@@ -3,7 +3,8 @@
 """Compaction of elliptical objects in a box by a piston (contact 2020 §4, Fig. 6), at a
 resolution that runs in about a minute.
 
-    analysis/compaction.py [--smpm build/apps/smpm] [--objects 12] [--seed 1] [--jobs 2] [-o compaction]
+    analysis/compaction.py [--smpm build/apps/smpm] [--objects 15] [--seed 1] [--jobs 2]
+                           [--set section.key=value ...] [-o compaction]
 
 Places `objects` random, non-overlapping, axis-aligned ellipses (semi-axes 2.5-6 mm) in a
 40 x 40 mm box, each its own material (the hyperelastic material of contact 2020 Eq. 18,
@@ -13,7 +14,10 @@ same packing with grid contact (AG normals with CP = 0.8, and with DF) and with 
 regression (LR normals and d_LR), and reports for each the piston's mean axial stress (mean sigma_yy of the particles)
 and the interpenetration: the fraction of particles whose centre lies inside the deformed
 domain (the ellipse inscribed in the initial domain, carried by F) of a particle of another
-object. Writes <out>.toml (the input), <out>.csv and <out>.png (the final particles).
+object. Writes PREFIX.toml (the input), PREFIX.csv and PREFIX.png (the final particles, x and
+y in mm, coloured by object; a trailing .png of -o is dropped), and keeps the runs as
+PREFIX_0.h5, PREFIX_1.h5, PREFIX_2.h5. --set changes an entry of every run (after the method's
+own; --set time.end=0.2 for a short run).
 """
 import argparse
 import concurrent.futures
@@ -23,13 +27,10 @@ import sys
 
 import h5py
 import numpy as np
-import matplotlib
 from scipy.spatial import cKDTree
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 from figures import run_smpm  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -127,8 +128,9 @@ def run(smpm, src, out, sets):
         g = max(f["particles"].values(), key=lambda g: g.attrs["time"])
         X, F, r0, mat = g["X"][:], g["F"][:], g["half_length"][:], g["material"][:]
         stress = g["stress"][:, 3].mean()
+        t = g.attrs["time"]
     return {"stress": stress, "interpenetration": interpenetration(X, F, r0, mat),
-            "seconds": secs, "X": X, "mat": mat}
+            "seconds": secs, "X": X, "mat": mat, "compaction": SPEED * t / BOX}
 
 
 def main():
@@ -137,15 +139,18 @@ def main():
     ap.add_argument("--objects", type=int, default=15)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("-o", "--out", default="compaction")
+    figures.add_sets(ap)
+    figures.add_output(ap, "compaction", "PREFIX.toml, PREFIX.csv and PREFIX.png")
     a = ap.parse_args()
+    a.out = figures.output_prefix(a.out)
     src = pathlib.Path(a.out + ".toml")
     src.write_text(input_text(packing(a.objects, a.seed)))
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = {k: pool.submit(run, a.smpm, src, pathlib.Path(f"{a.out}_{i}.h5"), v)
+        futures = {k: pool.submit(run, a.smpm, src, pathlib.Path(f"{a.out}_{i}.h5"), v + a.sets)
                    for i, (k, v) in enumerate(METHODS.items())}
         results = {k: f.result() for k, f in futures.items()}
-    print(f"{a.objects} objects compacted by {100 * STRAIN:.0f}%:")
+    compaction = min(r["compaction"] for r in results.values())
+    print(f"{a.objects} objects compacted by {100 * compaction:.0f}%:")
     print(f"{'method':16s} {'mean sigma_yy':>14s} {'interpenetration':>17s} {'run (s)':>8s}")
     with open(a.out + ".csv", "w", newline="") as fh:
         w = csv.writer(fh)
@@ -153,14 +158,23 @@ def main():
         for k, r in results.items():
             print(f"{k:16s} {r['stress']:14.2f} {100 * r['interpenetration']:16.2f}% {r['seconds']:8.1f}")
             w.writerow([k, f"{r['stress']:.6g}", f"{r['interpenetration']:.6g}", f"{r['seconds']:.2f}"])
-    fig, axes = plt.subplots(1, len(results), figsize=(5 * len(results), 5))
+    plt = figures.style()
+    height = 4.1 * (1 - compaction) + 1.3  # panels as high as the compacted box, and titles
+    fig, axes = plt.subplots(1, len(results), figsize=(4.6 * len(results), height), sharey=True)
     for ax, (k, r) in zip(np.atleast_1d(axes), results.items()):
-        ax.scatter(r["X"][:, 0], r["X"][:, 1], c=r["mat"] % 10, cmap="tab10", s=2)
+        ax.scatter(r["X"][:, 0], r["X"][:, 1], c=r["mat"] % 10, cmap="tab10", vmin=0, vmax=9, s=2)
+        piston = BOX * (1 - r["compaction"])
+        ax.plot([0, 0, BOX, BOX], [piston, 0, 0, piston], color="k", lw=1)  # box on rollers
+        ax.plot([0, BOX], [piston, piston], color="gray", lw=3)  # the piston
         ax.set_aspect("equal")
-        ax.set_title(f"{k}: {100 * r['interpenetration']:.1f}% interpenetrating")
-    fig.tight_layout()
-    fig.savefig(a.out + ".png", dpi=110)
-    print(f"{a.out}.toml, {a.out}.csv, {a.out}.png")
+        ax.grid(False)
+        ax.set_title(f"{k}: {100 * r['interpenetration']:.2f}% interpenetrating,\n"
+                     f"mean $\\sigma_{{yy}}$ = {r['stress']:.3g} MPa")
+        ax.set_xlabel("$x$ (mm)")
+    np.atleast_1d(axes)[0].set_ylabel("$y$ (mm)")
+    fig.suptitle(f"{a.objects} objects (colours) compacted by {100 * compaction:.0f}% "
+                 "(contact 2020 Fig. 6)")
+    figures.save_figure(fig, a.out, tables=[f"{a.out}.toml", f"{a.out}.csv"])
     return 0
 
 

@@ -13,17 +13,18 @@ NairnMPM's power law d(s) = 1 - 2 (-s/L)^r with L = 1 + l_p (the node's support 
 centres at s = -L). The script reports r fitted by least squares and r pinned so the fit is
 exact where the edge sits on the node (d = 0), the point that decides contact between two
 like materials, with the largest error of each, and plots both beside the exact curve.
-Writes <out>.csv and <out>.png.
+Writes PREFIX.csv and PREFIX.png (a trailing .png of -o is dropped).
 """
 import argparse
 import csv
+import pathlib
+import sys
 
 import numpy as np
-import matplotlib
 from scipy.optimize import minimize_scalar
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 
 
 def ugimp(x, lp):
@@ -53,8 +54,9 @@ def fit(s, r, L):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--ppc", type=int, default=2)
-    ap.add_argument("-o", "--out", default="df_fit")
+    figures.add_output(ap, "df_fit", "PREFIX.csv and PREFIX.png")
     a = ap.parse_args()
+    a.out = figures.output_prefix(a.out)
     s, d, L = exact_curve(a.ppc)
     r_ls = minimize_scalar(lambda r: np.sum((fit(s, r, L) - d) ** 2), bounds=(0.05, 5),
                            method="bounded").x
@@ -71,16 +73,19 @@ def main():
         w.writerow(["s", "d_exact", "d_least_squares", "d_pinned"])
         for row in zip(s, d, fit(s, r_ls, L), fit(s, r_pin, L)):
             w.writerow([f"{v:.6f}" for v in row])
-    fig, ax = plt.subplots(figsize=(5, 4))
+    plt = figures.style()
+    fig, (ax, eax) = plt.subplots(2, 1, figsize=(5.5, 6), sharex=True, height_ratios=[2, 1])
     ax.plot(s, d, "k", label="exact (uGIMP)")
-    ax.plot(s, fit(s, r_ls, L), "--", label=f"power law, r = {r_ls:.3f} (least squares)")
-    ax.plot(s, fit(s, r_pin, L), ":", label=f"power law, r = {r_pin:.3f} (exact at d = 0)")
-    ax.set_xlabel("extrapolated centre $(x_i^\\alpha - x_i)/\\Delta x$")
-    ax.set_ylabel("edge position $d/\\Delta x$")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(a.out + ".png", dpi=150)
-    print(f"{a.out}.csv, {a.out}.png")
+    for r, ls, name in ((r_ls, "--", "least squares"), (r_pin, ":", "exact at $d$ = 0")):
+        ax.plot(s, fit(s, r, L), ls, label=f"power law, $r$ = {r:.3f} ({name})")
+        eax.plot(s, fit(s, r, L) - d, ls, label=f"$r$ = {r:.3f}")
+    ax.set_ylabel("edge position $d$ (cells)")
+    ax.set_title(f"DF detection: edge against centre, uGIMP, {a.ppc} particles per cell")
+    ax.legend()
+    eax.axhline(0, color="k", lw=0.8)
+    eax.set_xlabel("extrapolated centre $s = (x_i^\\alpha - x_i)/\\Delta x$ (cells)")
+    eax.set_ylabel("fit $-$ exact (cells)")
+    figures.save_figure(fig, a.out, tables=[a.out + ".csv"])
 
 
 if __name__ == "__main__":

@@ -3,14 +3,15 @@
 """FMPM 2026 Fig. 11: energy lost by the two-disk impact against cell size and Courant number.
 
     analysis/fig11.py [--smpm build/apps/smpm] [--cells 2,1,0.5] [--courants 0.1,0.2,0.4]
-                      [--jobs 2] [-o fig11]
+                      [--jobs 2] [--set section.key=value ...] [-o fig11]
 
 Runs examples/disk_impact.toml (mu = 0.3) with `smpm run`: A, at C = 0.2 for each cell size
 (mm; the grid keeps its extent) with FLIP and FMPM(4), each by USL and USL+; B, at 1 mm cells
 for each Courant number with FLIP and FMPM(4) by USL. The energy lost is
 1 - (K + W + Q_friction)(end) / (K + W)(0) in % (negative: the run gained energy). Writes
-<out>.csv and <out>.png. The paper's finest cells (0.05 mm) are out of reach here; add 0.333
-to --cells for the paper's standard resolution (about 30 s a run).
+PREFIX.csv and PREFIX.png (a trailing .png of -o is dropped); --set changes an input entry of
+every run (--set time.end=0.02 for a short run). The paper's finest cells (0.05 mm) are out of
+reach here; add 0.333 to --cells for the paper's standard resolution (about 30 s a run).
 """
 import argparse
 import concurrent.futures
@@ -19,14 +20,10 @@ import pathlib
 import sys
 import tempfile
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import disks  # noqa: E402
 from disks import ROOT, grid, velocity  # noqa: E402
+import figures  # noqa: E402
 from figures import save_figure  # noqa: E402
 
 UPDATES = {name: velocity(name) for name in ("FLIP", "FMPM(4)")}
@@ -47,8 +44,10 @@ def main():
     ap.add_argument("--cells", default="2,1,0.5")
     ap.add_argument("--courants", default="0.1,0.2,0.4")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("-o", "--out", default="fig11")
+    figures.add_sets(ap)
+    figures.add_output(ap, "fig11", "PREFIX.csv and PREFIX.png")
     a = ap.parse_args()
+    a.out = figures.output_prefix(a.out)
     cells = [float(c) for c in a.cells.split(",")]
     courants = [float(c) for c in a.courants.split(",")]
     todo = {}
@@ -61,7 +60,7 @@ def main():
             todo[("B", c, name, "USL")] = sets + [f"time.courant={c}"]
     with tempfile.TemporaryDirectory() as work, \
             concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = {k: pool.submit(run, a.smpm, work, f"r{i}", v)
+        futures = {k: pool.submit(run, a.smpm, work, f"r{i}", v + a.sets)
                    for i, (k, v) in enumerate(todo.items())}
         res = {k: f.result() for k, f in futures.items()}
     rows = []
@@ -84,23 +83,24 @@ def main():
         w.writerow(["panel", "cell_or_courant", "velocity", "scheme", "energy_lost_percent",
                     "error"])
         w.writerows(rows)
+    plt = figures.style()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    for name in UPDATES:
+    for i, name in enumerate(UPDATES):  # a colour per update, a line style per scheme
         for update, style in (("USL", "o-"), ("USL+", "s--")):
             axes[0].plot(cells, [res[("A", c, name, update)][0] for c in cells], style,
-                         label=f"{name} {update}")
+                         color=f"C{i}", label=f"{name} {update}")
         axes[1].plot(courants, [res[("B", c, name, "USL")][0] for c in courants], "o-",
-                     label=name)
-    axes[0].set_xlabel("cell size (mm)")
-    axes[0].set_title("Fig. 11A: C = 0.2")
-    axes[0].set_ylabel("1 - (K + W + Q)/(K + W)(0)  (%)")
-    axes[1].set_xlabel("Courant number C")
-    axes[1].set_title("Fig. 11B: 1 mm cells")
-    axes[1].set_ylabel("1 - (K + W + Q)/(K + W)(0)  (%)")
+                     color=f"C{i}", label=f"{name} USL")
+    axes[0].set_xlabel("cell size $\\Delta x$ (mm)")
+    axes[0].set_title("Fig. 11A: $C$ = 0.2, $\\mu$ = 0.3")
+    axes[0].set_ylabel("energy lost $1 - (K + W + Q)/(K + W)_0$ (%)")
+    axes[1].set_xlabel("Courant number $C$")
+    axes[1].set_title("Fig. 11B: 1 mm cells, USL, $\\mu$ = 0.3")
+    axes[1].set_ylabel("energy lost $1 - (K + W + Q)/(K + W)_0$ (%)")
     for ax in axes:
         ax.axhline(0, color="k", lw=0.6)
-        ax.legend(fontsize=8)
-    save_figure(fig, a.out)
+        ax.legend()
+    save_figure(fig, a.out, tables=[a.out + ".csv"])
     return 0
 
 

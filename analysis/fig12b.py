@@ -2,11 +2,13 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 12B: energy dissipation of FMPM(4) blended with FMPM(1) against α at C = 0.539.
 
-    analysis/fig12b.py [--input examples/vibrating_bar.toml] [--build build/python] [-o fig12b.png]
+    analysis/fig12b.py [--input examples/vibrating_bar.toml] [--build build/python]
+                       [--courant 0.539] [--set section.key=value ...] [-o fig12b]
 
 Runs the bar for α = 0, 0.1, …, 1 (five periods) with the Python module sparsempm (the run loop
 of `smpm run`), or with `smpm run` (--smpm) when the module does not import or with --cli, and
-writes fig12b.csv and the PNG.
+writes PREFIX.csv and PREFIX.png (a trailing .png of -o is dropped). --set changes an input
+entry of every run (--set time.end=80: one period).
 """
 import argparse
 import csv
@@ -16,20 +18,19 @@ import sys
 import tempfile
 
 import h5py
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 import smpm_python  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
 def settings(args, alpha):
-    """The input entries of the run at α (output.every: one stop, at the end)."""
+    """The input entries of the run at α (output.every: one stop, at the end), then --set's."""
     return {"step.velocity": "FMPM", "step.order": 4, "step.blend_alpha": alpha,
-            "step.blend_every": 1, "time.courant": args.courant, "output.every": 400.0}
+            "step.blend_every": 1, "time.courant": args.courant, "output.every": 400.0,
+            **figures.set_values(args.sets)}
 
 
 def loss_module(smpm, args, alpha):
@@ -61,9 +62,11 @@ def main():
     ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
     ap.add_argument("--input", default=str(ROOT / "examples" / "vibrating_bar.toml"))
     ap.add_argument("--courant", type=float, default=0.539)
-    ap.add_argument("-o", "--output", default="fig12b.png")
+    figures.add_sets(ap)
+    figures.add_output(ap, "fig12b", "PREFIX.csv and PREFIX.png")
     smpm_python.add_arguments(ap)
     args = ap.parse_args()
+    prefix = figures.output_prefix(args.out)
     smpm = smpm_python.sparsempm(args)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -75,19 +78,19 @@ def main():
                 loss = loss_cli(args, alpha, pathlib.Path(tmp) / f"a{i}.h5")
             rows.append((alpha, loss))
             print(f"alpha = {alpha:.1f}: energy loss {loss:.3f}%", file=sys.stderr)
-    table = pathlib.Path(args.output).with_suffix(".csv")
+    table = prefix + ".csv"
     with open(table, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["blend_alpha", "energy_loss_percent"])
         w.writerows(rows)
+    plt = figures.style()
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot([r[0] for r in rows], [r[1] for r in rows], "-o")
-    ax.set_xlabel("fraction of FMPM(4), α (blended with FMPM(1))")
-    ax.set_ylabel("energy loss after five periods (%)")
-    ax.set_title(f"Free-vibrating bar, C = {args.courant} (FMPM 2026 Fig. 12B)")
-    fig.tight_layout()
-    fig.savefig(args.output, dpi=120)
-    print(f"{args.output} and {table} ({'sparsempm ' + smpm.__version__ if smpm else args.smpm})")
+    ax.set_xlabel("fraction of FMPM(4), $\\alpha$ (blended with FMPM(1))")
+    ax.set_ylabel("energy lost at the end, $(E_0 - E)/E_0$ (%)")
+    ax.set_title(f"Free-vibrating bar, $C$ = {args.courant} (FMPM 2026 Fig. 12B)")
+    png = figures.save_figure(fig, prefix, report=False)
+    print(f"{png} and {table} ({'sparsempm ' + smpm.__version__ if smpm else args.smpm})")
 
 
 if __name__ == "__main__":

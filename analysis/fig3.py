@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 3: velocity error of the moving-wall manufactured solution (§3.1).
 
-    analysis/fig3.py [--smpm build/apps/smpm] [--jobs 2] [--quick] [-o fig3]
+    analysis/fig3.py [--smpm build/apps/smpm] [--jobs 2] [--quick] [--orders 1,2,3,4,6,8,12]
+                     [--depths 0.5,1,1.5,2] [--set section.key=value ...] [-o fig3]
 
 Runs examples/moving_wall_mms.toml with `smpm run` for FLIP, FMPM(k) with the new
 (incremental) and the prior combined BC method, and the exact consistent-mass inverse
@@ -14,26 +15,27 @@ shape functions, two runs at a time. Each run's error is the paper's
 
 V_end = 10 edot, read from the run's series (velocity_change_sum); sigma_xx of the interior
 particles (|X| < 8 m) is compared with 2G(2 + edot t) edot t / (2(1 + edot t)). Writes
-<out>.csv, <out>a.png (error against k, CPDI, d = 1 cell: Fig. 3A) and <out>b.png (error against
+PREFIX.csv, PREFIXa.png (error against k, CPDI, d = 1 cell: Fig. 3A) and PREFIXb.png (error against
 d for FLIP and k = 1, 2, 4, 8, CPDI solid and B2CPDI dashed, the combined method for k = 4, 8:
-Fig. 3B). --quick runs only what Fig. 3A needs.
+Fig. 3B; colours the methods, line styles the shapes); a trailing .png of -o is dropped. --quick
+runs only what Fig. 3A needs (CPDI, d = 1); --orders and --depths choose k and d (Fig. 3A is
+drawn at d = 1 when it is among them, else at the first depth); --set changes an input entry of
+every run (--set time.end=10 for a short run).
 """
 import argparse
 import concurrent.futures
 import csv
 import math
 import pathlib
-import subprocess
 import sys
 import tempfile
 import time
 
 import h5py
 import numpy as np
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 EDOT, G = 3e-3, 0.375
@@ -41,21 +43,22 @@ ORDERS = [1, 2, 3, 4, 6, 8, 12]
 DEPTHS = [0.5, 1.0, 1.5, 2.0]
 
 
-def cases(quick):
+def cases(quick, orders=ORDERS, depths=DEPTHS):
     """(shape, depth, method, k) of every run; method FLIP | new | combined | exact."""
     shapes = ["cpdi"] if quick else ["cpdi", "b2cpdi"]
-    depths = [1.0] if quick else DEPTHS
+    depths = [1.0] if quick else depths
     for shape in shapes:
         for d in depths:
             yield shape, d, "FLIP", 1
             yield shape, d, "exact", 0
-            for k in ORDERS:
+            for k in orders:
                 yield shape, d, "new", k
                 if k > 2:  # k <= 2: the combined method is the new one (FMPM 2026 §3.1)
                     yield shape, d, "combined", k
 
 
-def run(smpm, workdir, case):
+def run(smpm, workdir, case, extra=()):
+    """One run of `case` with the overrides `extra` after the case's own; its table row."""
     shape, d, method, k = case
     out = pathlib.Path(workdir) / f"{shape}_{d}_{method}_{k}.h5"
     sets = [f"step.shape={shape}", "output.every=66.66666666666667",
@@ -67,12 +70,9 @@ def run(smpm, workdir, case):
     else:
         sets += ["step.velocity=FMPM", f"step.order={k}",
                  "step.bc_method=" + ("incremental" if method == "new" else "combined")]
-    args = [smpm, "run", ROOT / "examples" / "moving_wall_mms.toml", "-o", out, "-q"]
-    for s in sets:
-        args += ["--set", s]
-    start = time.time()
-    r = subprocess.run(list(map(str, args)), capture_output=True, text=True)
-    row = {"shape": shape, "depth_cells": d, "method": method, "order": k, "seconds": round(time.time() - start, 2)}
+    r, seconds = figures.run_smpm(smpm, ROOT / "examples" / "moving_wall_mms.toml", out,
+                                  sets + list(extra))
+    row = {"shape": shape, "depth_cells": d, "method": method, "order": k, "seconds": round(seconds, 2)}
     if r.returncode != 0:
         row.update(error_percent="", sigma_rel_error="", steps="", note=r.stderr.strip().replace(",", ";")[:160])
         return row
@@ -102,42 +102,57 @@ def plot(rows, prefix):
                 return num(r["error_percent"])
         return math.nan
 
+    orders = sorted({int(r["order"]) for r in rows if r["method"] == "new"})
+    depths = sorted({float(r["depth_cells"]) for r in rows})
+    d1 = 1.0 if 1.0 in depths else depths[0]
+    plt = figures.style()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for method, style in (("new", "-o"), ("combined", "-s")):
-        ks = [k for k in ORDERS if method == "new" or k > 2]
-        ax.plot(ks, [err("cpdi", 1.0, method, k) for k in ks], style, label=f"FMPM(k), {method} BC method")
-    ax.axhline(err("cpdi", 1.0, "FLIP", 1), color="k", ls="--", label="FLIP")
-    ex = err("cpdi", 1.0, "exact", 0)
+        ks = [k for k in orders if method == "new" or k > 2]
+        if ks:
+            ax.plot(ks, [err("cpdi", d1, method, k) for k in ks], style,
+                    label=f"FMPM($k$), {method} BC method")
+    ax.axhline(err("cpdi", d1, "FLIP", 1), color="k", ls="--", label="FLIP")
+    ex = err("cpdi", d1, "exact", 0)
     if not math.isnan(ex):
-        ax.axhline(ex, color="purple", ls=":", label="exact (1 − ε)m̃ + εm, ε = 1e-4 (k → ∞)")
+        ax.axhline(ex, color="purple", ls=":",
+                   label="exact $(1 - \\varepsilon)\\tilde m + \\varepsilon m$, "
+                         "$\\varepsilon = 10^{-4}$ ($k \\to \\infty$)")
     ax.set_yscale("log")
-    ax.set_xlabel("FMPM order k")
-    ax.set_ylabel("<Velocity Error> (%)")
-    ax.set_title("Moving-wall MMS, CPDI, d = 1 cell (FMPM 2026 Fig. 3A)")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(f"{prefix}a.png", dpi=120)
+    ax.set_xlabel("FMPM order $k$")
+    ax.set_ylabel("$\\langle$Velocity Error$\\rangle$ (%)")
+    ax.set_title(f"Moving-wall MMS, CPDI, $d$ = {d1:g} cell (FMPM 2026 Fig. 3A)")
+    ax.legend()
+    figures.save_figure(fig, f"{prefix}a", report=False)
 
-    depths = sorted({float(r["depth_cells"]) for r in rows})
     if len(depths) < 2:
-        return
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for shape, ls in (("cpdi", "-"), ("b2cpdi", "--")):
-        ax.plot(depths, [err(shape, d, "FLIP", 1) for d in depths], ls, color="k", marker="o",
-                label=f"FLIP, {shape}")
-        for i, k in enumerate((1, 2, 4, 8)):
-            ax.plot(depths, [err(shape, d, "new", k) for d in depths], ls, color=f"C{i}", marker="o",
-                    label=f"FMPM({k}) new, {shape}")
-    for k, c in ((4, "r"), (8, "m")):
-        ax.plot(depths, [err("cpdi", d, "combined", k) for d in depths], "-", color=c, marker="s",
-                label=f"FMPM({k}) combined, cpdi")
+        return False
+    from matplotlib.lines import Line2D
+    fig, ax = plt.subplots(figsize=(7, 4.8))
+    # Colours: the methods (FLIP, FMPM(k) new, FMPM(k) combined); line styles: the shapes.
+    methods = [("FLIP", 1, "k", "o", "FLIP")]
+    methods += [("new", k, f"C{i}", "o", f"FMPM({k}), new") for i, k in
+                enumerate(k for k in (1, 2, 4, 8) if k in orders)]
+    methods += [("combined", k, f"C{4 + i}", "s", f"FMPM({k}), combined") for i, k in
+                enumerate(k for k in (4, 8) if k in orders)]
+    shapes = (("cpdi", "-", "CPDI"), ("b2cpdi", "--", "B2CPDI"))
+    for method, k, colour, marker, _ in methods:
+        for shape, ls, _ in shapes:
+            if method != "combined" or shape == "cpdi":
+                ax.plot(depths, [err(shape, d, method, k) for d in depths], ls, color=colour,
+                        marker=marker)
     ax.set_yscale("log")
-    ax.set_xlabel("wall depth d (cells)")
-    ax.set_ylabel("<Velocity Error> (%)")
+    ax.set_xlabel("wall depth $d$ (cells)")
+    ax.set_ylabel("$\\langle$Velocity Error$\\rangle$ (%)")
     ax.set_title("Moving-wall MMS against wall depth (FMPM 2026 Fig. 3B)")
-    ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(f"{prefix}b.png", dpi=120)
+    first = ax.legend(handles=[Line2D([], [], color=c, marker=m, label=n) for _, _, c, m, n in methods],
+                      title="velocity update, BC method", loc="upper left",
+                      bbox_to_anchor=(1.01, 1.0))
+    ax.add_artist(first)
+    ax.legend(handles=[Line2D([], [], color="k", ls=ls, label=n) for _, ls, n in shapes],
+              title="shape functions", loc="lower left", bbox_to_anchor=(1.01, 0.0))
+    figures.save_figure(fig, f"{prefix}b", report=False)
+    return True
 
 
 def main():
@@ -145,22 +160,28 @@ def main():
     ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--quick", action="store_true", help="only the runs of Fig. 3A")
-    ap.add_argument("-o", "--output", default="fig3")
+    ap.add_argument("--orders", default=",".join(map(str, ORDERS)), help="FMPM orders k")
+    ap.add_argument("--depths", default=",".join(f"{d:g}" for d in DEPTHS),
+                    help="wall depths d in cells")
+    figures.add_sets(ap)
+    figures.add_output(ap, "fig3", "PREFIX.csv, PREFIXa.png and PREFIXb.png")
     args = ap.parse_args()
+    prefix = figures.output_prefix(args.out)
     if not pathlib.Path(args.smpm).exists():
         sys.exit(f"fig3.py: {args.smpm}: no smpm binary (build it, or give --smpm)")
     start = time.time()
-    todo = list(cases(args.quick))
+    todo = list(cases(args.quick, [int(k) for k in args.orders.split(",")],
+                      [float(d) for d in args.depths.split(",")]))
     with tempfile.TemporaryDirectory() as work, concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        rows = list(pool.map(lambda c: run(args.smpm, work, c), todo))
+        rows = list(pool.map(lambda c: run(args.smpm, work, c, args.sets), todo))
     fields = ["shape", "depth_cells", "method", "order", "error_percent", "sigma_rel_error", "steps", "seconds", "note"]
-    with open(f"{args.output}.csv", "w", newline="") as f:
+    with open(f"{prefix}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields)
         w.writeheader()
         w.writerows(rows)
-    plot(rows, args.output)
-    print(f"{len(rows)} runs in {time.time() - start:.0f} s; {args.output}.csv, {args.output}a.png"
-          + ("" if args.quick else f", {args.output}b.png"))
+    both = plot(rows, prefix)
+    print(f"{len(rows)} runs in {time.time() - start:.0f} s; {prefix}.csv, {prefix}a.png"
+          + (f", {prefix}b.png" if both else ""))
 
 
 if __name__ == "__main__":

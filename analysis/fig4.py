@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Figs. 4 and 5: a shock through a split nickel bar with stick and frictional contact.
 
-    analysis/fig4.py [--smpm build/apps/smpm] [--jobs 2] [-o fig4]
+    analysis/fig4.py [--smpm build/apps/smpm] [--jobs 2] [--set section.key=value ...] [-o fig4]
 
 Runs examples/shock_split_bar.toml with `smpm run` for each case below, two at a time, and takes
 the pressure along the bar at the end (the front near 34 mm, the wall at 46 mm): the particles'
@@ -16,8 +16,11 @@ the bonded interface with and without the contact term of its Eq. (37).
 For each case the table gives the plateau pressure behind the front (mean over 37-44 mm, against
 the Rankine-Hugoniot 118.4 GPa), the front position (where p crosses half of it), and the
 plateau's and the largest difference from single material mode by the same update, in % of the
-plateau and of the Rankine-Hugoniot pressure. Writes
-<out>.csv (the profiles) and <out>.png.
+plateau and of the Rankine-Hugoniot pressure. The legends say which curves coincide to plotting
+precision (figures.coincidences). Writes
+PREFIX.csv (the profiles) and PREFIX.png (a trailing .png of -o is dropped). --set changes an
+input entry of every run (--set time.end=0.5e-3 for a short run: the front is then near the
+wall, and the plateau and front are blank where the profile does not reach them).
 """
 import argparse
 import concurrent.futures
@@ -28,12 +31,9 @@ import tempfile
 
 import h5py
 import numpy as np
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 from figures import run_smpm, save_figure  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -101,6 +101,8 @@ def summary(prof):
     centre = 0.5 * (BINS[:-1] + BINS[1:])
     plateau = np.nanmean(prof[(centre > 37) & (centre < 44)])
     above = np.nonzero(prof > 0.5 * RH)[0]
+    if len(above) == 0 or above[0] == 0:  # no front inside the bins
+        return plateau, np.nan
     k = above[0]
     front = np.interp(0.5 * RH, [prof[k - 1], prof[k]], [centre[k - 1], centre[k]])
     return plateau, front
@@ -110,11 +112,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("-o", "--out", default="fig4")
+    figures.add_sets(ap)
+    figures.add_output(ap, "fig4", "PREFIX.csv and PREFIX.png")
     a = ap.parse_args()
+    a.out = figures.output_prefix(a.out)
     with tempfile.TemporaryDirectory() as work, \
             concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = {k: pool.submit(run, a.smpm, work, k, v[1]) for k, v in CASES.items()}
+        futures = {k: pool.submit(run, a.smpm, work, k, v[1] + a.sets) for k, v in CASES.items()}
         results = {k: f.result() for k, f in futures.items()}
     print(f"Rankine-Hugoniot pressure {RH:.1f} GPa; the front should be near 34.2 mm")
     print(f"{'case':28s} {'plateau GPa':>11s} {'front mm':>9s} {'plateau vs single %':>20s} "
@@ -139,21 +143,28 @@ def main():
         centre = 0.5 * (BINS[:-1] + BINS[1:])
         for name, fig, prof in rows:
             for x, p in zip(centre, prof):
-                w.writerow([name, fig, f"{x:.3f}", f"{p:.4f}"])
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4), sharey=True)
+                w.writerow([name, fig, f"{x:.3f}", f"{p:.6g}"])
+    plt = figures.style()
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.5), sharey=True)
     centre = 0.5 * (BINS[:-1] + BINS[1:])
-    for name, f, prof in rows:
-        if f in (4, 5, 7):
-            axes[{4: 0, 5: 1, 7: 2}[f]].plot(centre, prof, label=name, lw=1)
+    for panel, ax in ((4, axes[0]), (5, axes[1]), (7, axes[2])):
+        curves = {name: (centre, prof) for name, f, prof in rows if f == panel}
+        same = figures.coincidences(curves)  # e.g. Net and Evolving under bonded stick
+        for i, (name, (x, y)) in enumerate(curves.items()):
+            if name in same:  # over the curve it coincides with: open markers, no line
+                ax.plot(x, y, ls="none", marker="o", ms=3 + 1.5 * i, mfc="none", markevery=3,
+                        color=f"C{i % 9}", label=f"{name} (coincides with {same[name]})")
+            else:
+                ax.plot(x, y, lw=1, color=f"C{i % 9}", label=name)
     for ax, title in zip(axes, ["Fig. 4: stick contact", "Fig. 5: frictional contact",
                                 "contact 2020 Fig. 7: multimaterial XPIC(5)"]):
         ax.axhline(RH, color="k", ls=":", lw=0.8)
         ax.axvline(40, color="k", ls="--", lw=0.6)
         ax.set_title(title)
-        ax.set_xlabel("x (mm)")
+        ax.set_xlabel("$x$ (mm)")
         ax.legend(fontsize=7)
-    axes[0].set_ylabel("pressure (GPa)")
-    save_figure(fig, a.out)
+    axes[0].set_ylabel("pressure $p$ (GPa)")
+    save_figure(fig, a.out, tables=[a.out + ".csv"])
     return 0
 
 

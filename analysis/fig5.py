@@ -3,14 +3,18 @@
 """Contact 2020 Fig. 5: two identical blocks in uniaxial compression, multimaterial MPM with
 contact against single material mode.
 
-    analysis/fig5.py [--smpm build/apps/smpm] [--jobs 2] [-o fig5]
+    analysis/fig5.py [--smpm build/apps/smpm] [--jobs 2] [--set section.key=value ...] [-o fig5]
 
 Runs examples/two_block_compression.toml with `smpm run` in single material mode (the two
 materials in one velocity field, law = "single-field") and in multimaterial mode for each
 contact normal and detection method available, two runs at a time. For each frame (every 1%
 strain) it takes the mean axial stress of the particles, sigma_yy, and reports the paper's
-proportional error (MM - SMM)/SMM in % at 1, 5, 10 and 20% strain. Writes <out>.csv (every
-frame) and <out>.png (error against strain, as Fig. 5A).
+proportional error (MM - SMM)/SMM in % at 1, 5, 10 and 20% strain. Writes PREFIX.csv (every
+frame) and PREFIX.png (error against strain, as Fig. 5A; a trailing .png of -o is dropped).
+Several methods give the same curve: the legend says which coincide, "(coincides with ...)",
+found from the data (figures.coincidences: every frame within 0.2% of the plot's range;
+printed too). --set
+changes an input entry of every run (--set time.end=2.1: to 2% strain).
 """
 import argparse
 import concurrent.futures
@@ -21,12 +25,9 @@ import tempfile
 
 import h5py
 import numpy as np
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 from figures import run_smpm  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -67,16 +68,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("-o", "--out", default="fig5")
+    figures.add_sets(ap)
+    figures.add_output(ap, "fig5", "PREFIX.csv and PREFIX.png")
     a = ap.parse_args()
+    prefix = figures.output_prefix(a.out)
     results = {}
     with tempfile.TemporaryDirectory() as work, \
             concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = {k: pool.submit(run, a.smpm, work, k, v) for k, v in METHODS.items()}
+        futures = {k: pool.submit(run, a.smpm, work, k, v + a.sets) for k, v in METHODS.items()}
         for k, fut in futures.items():
             results[k] = fut.result()
     strain, ref, _ = results["single material"]
-    with open(a.out + ".csv", "w", newline="") as fh:
+    with open(prefix + ".csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["method", "strain_percent", "sigma_yy", "error_percent", "seconds"])
         for k, (s, syy, secs) in results.items():
@@ -91,20 +94,29 @@ def main():
             i = int(np.argmin(abs(s - p)))
             row.append(100 * (syy[i] - ref[i]) / ref[i])
         print(f"{k:26s}" + "".join(f"{x:10.3f}" for x in row) + f"{secs:10.1f}")
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for k, (s, syy, _) in results.items():
-        if k == "single material":
-            continue
-        ok = ref != 0
-        ax.plot(s[ok], 100 * (syy[ok] - ref[ok]) / ref[ok], marker="o", ms=3, label=k)
+    ok = ref != 0
+    curves = {k: (s[ok], 100 * (syy[ok] - ref[ok]) / ref[ok])
+              for k, (s, syy, _) in results.items() if k != "single material"}
+    same = figures.coincidences(curves)
+    for k, other in same.items():
+        print(f"coincides to plotting precision: {k} with {other}")
+    plt = figures.style()
+    fig, ax = plt.subplots(figsize=(11, 4.8))
+    repeats = {}
+    for i, (k, (x, y)) in enumerate(curves.items()):
+        colour = f"C{i % 9}"
+        if k in same:  # drawn over the curve it coincides with: open markers, growing, no line
+            n = repeats[same[k]] = repeats.get(same[k], 0) + 1
+            ax.plot(x, y, ls="none", marker="o", ms=3 + 2.5 * n, mfc="none", mew=1.2,
+                    color=colour, label=f"{k} (coincides with {same[k]})")
+        else:
+            ax.plot(x, y, marker="o", ms=3, color=colour, label=k)
     ax.axhline(0, color="k", lw=0.8)
     ax.set_xlabel("axial strain (%)")
-    ax.set_ylabel("(MM - SMM)/SMM (%)")
+    ax.set_ylabel("mean $\\sigma_{yy}$: (MM $-$ SMM)/SMM (%)")
     ax.set_title("Two blocks in uniaxial compression (contact 2020 Fig. 5)")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(a.out + ".png", dpi=120)
-    print(f"{a.out}.csv, {a.out}.png")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    figures.save_figure(fig, prefix, tables=[prefix + ".csv"])
     return 0
 
 

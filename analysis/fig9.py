@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 9: energy lost by an offset impact of two disks with Coulomb friction.
 
-    analysis/fig9.py [--smpm build/apps/smpm] [--cell 1.0] [--jobs 2] [-o fig9]
+    analysis/fig9.py [--smpm build/apps/smpm] [--cell 1.0] [--jobs 2] [--set section.key=value ...]
+                     [-o fig9]
 
 Runs examples/disk_impact.toml with `smpm run` at cell size `cell` (mm; the grid keeps its
 extent) for mu = 0, 0.3, 0.6 with FLIP, FMPM(1), FMPM(2) and FMPM(4) (Fig. 9A), and for
@@ -10,7 +11,9 @@ mu = 0.3 with FMPM(k), k = 1 ... 8 (Fig. 9B), two runs at a time. For each run i
 energy lost, 1 - (K + W + Q_friction)(end) / (K + W)(0) in % (the paper's U + K without heat
 conduction: the frictional work stays as heat), the frictional work in % of the initial energy,
 and the left disk's centre-of-mass displacement at the end (the deflection grows with mu).
-Writes <out>.csv and <out>.png. The trajectories of Fig. 8 are analysis/fig8.py.
+Writes PREFIX.csv and PREFIX.png (a trailing .png of -o is dropped). --set changes an input
+entry of every run (--set time.end=0.02 for a short run). The trajectories of Fig. 8 are
+analysis/fig8.py.
 """
 import argparse
 import concurrent.futures
@@ -19,14 +22,10 @@ import pathlib
 import sys
 import tempfile
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import disks  # noqa: E402
 from disks import ROOT, velocity  # noqa: E402
+import figures  # noqa: E402
 from figures import save_figure  # noqa: E402
 
 
@@ -43,11 +42,11 @@ def cases():
     return out
 
 
-def job(smpm, work, key, sets, cell):
+def job(smpm, work, key, sets, cell, extra=()):
     mu, name = key
     out = pathlib.Path(work) / f"mu{mu}_{name.replace('(', '').replace(')', '')}.h5"
     try:
-        return disks.run(smpm, out, sets + disks.grid(cell))
+        return disks.run(smpm, out, sets + disks.grid(cell) + list(extra))
     except RuntimeError as e:
         raise RuntimeError(f"{key}: {e}") from None
 
@@ -57,12 +56,14 @@ def main():
     ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
     ap.add_argument("--cell", type=float, default=1.0)
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("-o", "--out", default="fig9")
+    figures.add_sets(ap)
+    figures.add_output(ap, "fig9", "PREFIX.csv and PREFIX.png")
     a = ap.parse_args()
+    a.out = figures.output_prefix(a.out)
     todo = cases()
     with tempfile.TemporaryDirectory() as work, \
             concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = {k: pool.submit(job, a.smpm, work, k, v, a.cell) for k, v in todo.items()}
+        futures = {k: pool.submit(job, a.smpm, work, k, v, a.cell, a.sets) for k, v in todo.items()}
         res = {k: f.result() for k, f in futures.items()}
     print(f"cell {a.cell} mm: energy lost 1 - (K + W + Q_friction)/E0 in %")
     print(f"{'mu':>4s} {'update':8s} {'lost %':>8s} {'friction %':>11s} {'left disk dx, dy (mm)':>24s}"
@@ -79,21 +80,22 @@ def main():
         w.writerow(["mu", "update", "energy_lost_percent", "friction_percent", "left_dx_mm",
                     "left_dy_mm"])
         w.writerows(rows)
+    plt = figures.style()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
     for mu in (0.0, 0.3, 0.6):
         axes[0].plot(NAMES, [res[(mu, n)]["lost"] for n in NAMES], "o-", label=f"$\\mu$ = {mu}")
-    axes[0].set_title("Fig. 9A: loss of K + W + Q")
+    axes[0].set_title("Fig. 9A: energy lost by each update")
     axes[0].set_xlabel("velocity update")
-    axes[0].set_ylabel("1 - (K + W + Q)/(K + W)(0)  (%)")
-    axes[0].legend(fontsize=8)
+    axes[0].set_ylabel("energy lost $1 - (K + W + Q)/(K + W)_0$ (%)")
+    axes[0].legend()
     ks = list(range(1, 9))
     axes[1].plot(ks, [res[(0.3, f"FMPM({k})")]["lost"] for k in ks], "o-", label="FMPM(k)")
     axes[1].axhline(res[(0.3, "FLIP")]["lost"], color="k", lw=0.8, label="FLIP")
-    axes[1].set_title("Fig. 9B: FMPM(k), $\\mu$ = 0.3")
-    axes[1].set_xlabel("FMPM order k")
-    axes[1].set_ylabel("1 - (K + W + Q)/(K + W)(0)  (%)")
-    axes[1].legend(fontsize=8)
-    save_figure(fig, a.out)
+    axes[1].set_title("Fig. 9B: FMPM($k$), $\\mu$ = 0.3")
+    axes[1].set_xlabel("FMPM order $k$")
+    axes[1].set_ylabel("energy lost $1 - (K + W + Q)/(K + W)_0$ (%)")
+    axes[1].legend()
+    save_figure(fig, a.out, tables=[a.out + ".csv"])
     return 0
 
 

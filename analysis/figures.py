@@ -1,5 +1,144 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""What the figure scripts of analysis/ share."""
+"""What the figure scripts of analysis/ share: one style, one meaning of -o, one way to save.
+
+Every script calls style() before it draws, takes its output with add_output(), and writes its
+PNG through save_figure(), which refuses a figure drawn without the style or with an axis (or
+colour bar) that has no label.
+
+    -o PREFIX   writes PREFIX.png (and PREFIX.csv where the script writes a table; fig3.py
+                PREFIXa.png and PREFIXb.png). A trailing .png is dropped: -o fig12a.png is
+                -o fig12a.
+"""
+import os
+import pathlib
+
+# Paul Tol's "muted" qualitative colours (chosen to stay distinct to colour-blind readers),
+# ordered so that neighbours in the cycle differ most.
+COLOURS = ["#332288", "#CC6677", "#117733", "#AA4499", "#44AA99", "#999933", "#882255",
+           "#88CCEE", "#DDCC77"]
+
+# The rcParams of every figure: sizes a printed page keeps legible, a light grid, the colours
+# above and the resolution of the PNGs.
+RC = {
+    "font.size": 10,
+    "axes.titlesize": 10,
+    "axes.labelsize": 10,
+    "xtick.labelsize": 9,
+    "ytick.labelsize": 9,
+    "legend.fontsize": 8,
+    "legend.framealpha": 0.9,
+    "figure.titlesize": 11,
+    "axes.grid": True,
+    "grid.alpha": 0.35,
+    "grid.linewidth": 0.6,
+    "lines.linewidth": 1.5,
+    "lines.markersize": 5,
+    "image.cmap": "viridis",
+    "figure.dpi": 100,
+    "savefig.dpi": 150,
+    "savefig.bbox": "tight",  # legends placed outside the axes stay in the picture
+    "savefig.pad_inches": 0.05,
+}
+
+# The units of the quantities the scripts plot, for the unit systems of the examples: "input"
+# (whatever consistent units the input uses: the vibrating bar's are dimensionless), "mm-ms-g"
+# (mm, ms, g, MPa: the contact and shock examples) and "SI".
+UNITS = {
+    "input": dict.fromkeys(("length", "time", "velocity", "stress", "energy", "mass", "volume",
+                            "momentum"), "input units"),
+    "mm-ms-g": {"length": "mm", "time": "ms", "velocity": "m/s", "stress": "MPa", "energy": "mJ",
+                "mass": "g", "volume": "mm$^3$", "momentum": "g m/s"},
+    "SI": {"length": "m", "time": "s", "velocity": "m/s", "stress": "Pa", "energy": "J",
+           "mass": "kg", "volume": "m$^3$", "momentum": "kg m/s"},
+}
+
+_styled = False
+
+
+def style():
+    """Sets the shared rcParams (RC, with COLOURS as the colour cycle) on matplotlib's Agg
+    backend; returns matplotlib.pyplot. Call it before drawing."""
+    global _styled
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from cycler import cycler
+    plt.rcParams.update(RC)
+    plt.rcParams["axes.prop_cycle"] = cycler(color=COLOURS)
+    _styled = True
+    return plt
+
+
+def output_prefix(path):
+    """The prefix named by -o: `path` without a trailing .png (fig12a.png → fig12a)."""
+    text = str(path)
+    return text[:-4] if text.lower().endswith(".png") else text
+
+
+def add_output(ap, default, what="PREFIX.png"):
+    """Adds -o/--output (also spelt --out) to the parser `ap`: the output prefix (`default`
+    when not given; `what` says the files written), read back as args.out, to which the
+    script applies output_prefix()."""
+    ap.add_argument("-o", "--output", "--out", dest="out", default=default, metavar="PREFIX",
+                    help=f"output prefix: writes {what}; a trailing .png is dropped"
+                         + (f" (default: {default})" if default else ""))
+
+
+def add_sets(ap):
+    """Adds --set section.key=value (repeatable): entries of the input changed in every run a
+    script makes, after its own (e.g. --set time.end=1 for a short run)."""
+    ap.add_argument("--set", dest="sets", action="append", default=[], metavar="SECTION.KEY=VALUE",
+                    help="change an input entry in every run, as smpm run --set (repeatable)")
+
+
+def add_units(ap):
+    """Adds --units (a key of UNITS) to the parser `ap`."""
+    ap.add_argument("--units", choices=sorted(UNITS), default="input",
+                    help="the input's unit system, for the axis labels (default: input, "
+                         "labelled 'input units'; mm-ms-g: mm, ms, g, MPa; SI)")
+
+
+def set_values(sets):
+    """--set texts as the {key: value} overrides of sparsempm.Model.from_toml: each value read
+    as a TOML value (numbers, booleans, arrays), else kept as a string."""
+    import tomllib
+    out = {}
+    for s in sets:
+        key, sep, value = s.partition("=")
+        if not sep:
+            raise SystemExit(f"--set {s}: expected section.key=value")
+        try:
+            out[key.strip()] = tomllib.loads(f"v = {value}")["v"]
+        except tomllib.TOMLDecodeError:
+            out[key.strip()] = value
+    return out
+
+
+# Two curves coincide to plotting precision when they differ by less than this fraction of the
+# plot's range at every point (a line is about 0.5% of the axis high).
+COINCIDE = 0.002
+
+
+def coincidences(curves):
+    """{name: the earlier name whose curve it coincides with} for the curves (name: (x, y), in
+    drawing order) that lie on an earlier one at every point, to COINCIDE of the range of all
+    the y (NaN, a gap, where the other has one too)."""
+    import numpy as np
+    ys = np.concatenate([np.asarray(y, float) for _, y in curves.values()] or [np.zeros(1)])
+    tol = COINCIDE * max(np.nanmax(ys) - np.nanmin(ys), 1e-12) if np.isfinite(ys).any() else 0
+    first, same = [], {}
+    for name, (x, y) in curves.items():
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        for other in first:
+            xo, yo = (np.asarray(v, float) for v in curves[other])
+            if len(x) == len(xo) and np.allclose(x, xo) and \
+                    np.array_equal(np.isnan(y), np.isnan(yo)) and \
+                    np.nanmax(np.abs(y - yo), initial=0) <= tol:
+                same[name] = other
+                break
+        else:
+            first.append(name)
+    return same
 
 
 def unlabelled_axes(fig):
@@ -22,15 +161,32 @@ def unlabelled_axes(fig):
     return missing
 
 
-def save_figure(fig, out):
-    """Writes <out>.png from `fig` and names the two files a script wrote (<out>.csv too).
-    Refuses (ValueError) a figure with an unlabelled axis (unlabelled_axes)."""
+def save_figure(fig, prefix, tables=(), report=True):
+    """Writes <prefix>.png from `fig`, prints the files written (the `tables` first; not with
+    report=False) and returns the PNG's name.
+    Refuses (ValueError) a figure drawn before style() or with an unlabelled axis
+    (unlabelled_axes). With SMPM_FIGURE_DUMP=dir in the environment it also pickles the figure
+    to dir/<name of prefix>.pickle, for tests that inspect it through matplotlib."""
+    png = f"{prefix}.png"
+    if not _styled:
+        raise ValueError(f"{png}: drawn without figures.style()")
     missing = unlabelled_axes(fig)
     if missing:
-        raise ValueError(f"{out}.png: axes without a label: {', '.join(missing)}")
+        raise ValueError(f"{png}: axes without a label: {', '.join(missing)}")
     fig.tight_layout()
-    fig.savefig(out + ".png", dpi=130)
-    print(f"{out}.csv, {out}.png")
+    from matplotlib.legend import Legend
+    legends = [a for ax in fig.axes for a in ax.get_children() if isinstance(a, Legend)]
+    # The picture holds what matplotlib counts (titles, labels, ...) and every legend beside
+    # the axes, also those added with add_artist, which it leaves out.
+    fig.savefig(png, bbox_extra_artists=fig.get_default_bbox_extra_artists() + legends)
+    dump = os.environ.get("SMPM_FIGURE_DUMP")
+    if dump:
+        import pickle
+        with open(pathlib.Path(dump) / (pathlib.Path(prefix).name + ".pickle"), "wb") as f:
+            pickle.dump(fig, f)
+    if report:
+        print(", ".join([str(t) for t in tables] + [png]))
+    return png
 
 
 def run_smpm(smpm, src, out, sets):
@@ -38,7 +194,6 @@ def run_smpm(smpm, src, out, sets):
 
     The scripts run --jobs of these at a time to use the cores, so each run takes one thread
     unless SMPM_THREADS is set (the results do not depend on it)."""
-    import os
     import subprocess
     import time
     args = [smpm, "run", str(src), "-o", str(out), "-q"]

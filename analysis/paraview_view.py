@@ -6,11 +6,18 @@ and writes a PNG. Runs under pvbatch (python3-paraview); without a display, unde
 
     xvfb-run -a pvbatch analysis/paraview_view.py two_disks.xmf --time 2.4 \\
         --field stress --component 0 --label "stress xx" \\
-        -o docs/paraview_two_disks.png
+        -o docs/paraview_two_disks
+
+-o PREFIX writes PREFIX.png (default: the .xmf's name without .xmf), as every script of
+analysis/ takes it; a trailing .png is dropped (-o docs/paraview_two_disks.png is the same).
 """
 
 import argparse
 import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from figures import output_prefix  # noqa: E402
 
 from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction,
                              GetScalarBar, OpenDataFile, ResetCamera, SaveScreenshot, Show)
@@ -22,7 +29,9 @@ ap.add_argument("--field", default="velocity", help="the array to colour by (def
 ap.add_argument("--component", type=int, default=-1,
                 help="its component (default: the magnitude; stress and F are row-major)")
 ap.add_argument("--label", default="", help="the colour bar's title (default: the field's)")
-ap.add_argument("-o", "--output", default="", help="PNG file (default: <xmf without .xmf>.png)")
+ap.add_argument("-o", "--output", "--out", dest="out", default="", metavar="PREFIX",
+                help="output prefix: writes PREFIX.png; a trailing .png is dropped "
+                     "(default: the .xmf's name without .xmf)")
 args = ap.parse_args()
 
 reader = OpenDataFile(os.path.abspath(args.xmf))  # Xdmf3 needs a directory in the name
@@ -46,6 +55,6 @@ view.CameraPosition = [0, 0, 1]
 view.CameraFocalPoint = [0, 0, 0]
 view.CameraViewUp = [0, 1, 0]
 ResetCamera(view)
-out = args.output or os.path.splitext(args.xmf)[0] + ".png"
+out = output_prefix(args.out or os.path.splitext(args.xmf)[0]) + ".png"
 SaveScreenshot(out, view, ImageResolution=[800, 600])
 print(f"wrote {out} (t = {args.time}, {args.field})")

@@ -1,27 +1,31 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: BSD-3-Clause
-"""Kinetic, strain and total energy of a run against time.
+"""Kinetic, strain and total energy of a run against time, and the change of the total.
 
-    analysis/plot_energy.py run.h5 [-o run_energy.png]
+    analysis/plot_energy.py run.h5 [--units input|mm-ms-g|SI] [-o PREFIX]
 
-Reads /series/{t, kinetic, strain, total} of a file written by `smpm run` and writes a PNG
-(default: the run's name with _energy.png). Prints the total-energy change in percent.
+Reads /series/{t, kinetic, strain, total} of a file written by `smpm run` and writes PREFIX.png
+(default: the run's name with _energy: run_energy.png; a trailing .png of -o is dropped): the
+energies above, and below them the relative change of the total, (E(t) − E(0))/E(0) in %, so
+that a change of 0.04% is visible (the absolute change E(t) − E(0) when E(0) = 0). Prints the
+steps and the total energy at the start and the end with its change in percent ("n/a" when
+E(0) = 0, with the absolute change).
 """
 import argparse
 import pathlib
 import sys
 
 import h5py
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run", help="HDF5 file written by smpm run")
-    ap.add_argument("-o", "--output", help="PNG to write")
+    figures.add_output(ap, None, "PREFIX.png (default: the run's name with _energy)")
+    figures.add_units(ap)
     args = ap.parse_args()
     try:
         f = h5py.File(args.run, "r")
@@ -31,19 +35,32 @@ def main():
         s = f["series"]
         t, kin, strain, total = (s[k][:] for k in ("t", "kinetic", "strain", "total"))
         status = f.attrs.get("status", "")
-    out = pathlib.Path(args.output or pathlib.Path(args.run).with_suffix("").as_posix() + "_energy.png")
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(t, kin, label="kinetic")
-    ax.plot(t, strain, label="strain")
-    ax.plot(t, total, label="total", color="k")
-    ax.set_xlabel("time")
-    ax.set_ylabel("energy")
+    default = pathlib.Path(args.run).with_suffix("").as_posix() + "_energy"
+    prefix = figures.output_prefix(args.out or default)
+    unit = figures.UNITS[args.units]
+    plt = figures.style()
+    fig, (ax, dax) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True, height_ratios=[2, 1])
+    ax.plot(t, kin, label="kinetic $K$")
+    ax.plot(t, strain, label="strain $W$")
+    ax.plot(t, total, label="total $E = K + W$", color="k")
+    ax.set_ylabel(f"energy ({unit['energy']})")
     ax.set_title(f"{pathlib.Path(args.run).name} ({status})")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    change = 100 * (total[-1] - total[0]) / abs(total[0]) if total[0] != 0 else 0.0
-    print(f"{out}: {len(t)} steps, total energy {total[0]:.6g} -> {total[-1]:.6g} ({change:+.4f}%)")
+    ax.legend(loc="center right")
+    e0 = total[0]
+    if e0 != 0:
+        dax.plot(t, 100 * (total - e0) / abs(e0), color="k")
+        dax.set_ylabel("$(E - E_0)/E_0$ (%)")
+        change = f"{100 * (total[-1] - e0) / abs(e0):+.4f}%"
+    else:  # no relative change of nothing: the absolute one
+        dax.plot(t, total - e0, color="k")
+        dax.set_ylabel(f"$E - E_0$ ({unit['energy']})")
+        change = f"n/a; change {total[-1] - e0:+.6g}"
+    dax.axhline(0, color="gray", lw=0.8)
+    dax.plot(t[-1:], dax.lines[0].get_ydata()[-1:], "o", color="k", ms=4)
+    dax.set_title(f"change of the total energy: {change} at t = {t[-1]:g}")
+    dax.set_xlabel(f"time $t$ ({unit['time']})")
+    png = figures.save_figure(fig, prefix, report=False)
+    print(f"{png}: {len(t) - 1} steps, total energy {e0:.6g} -> {total[-1]:.6g} ({change})")
 
 
 if __name__ == "__main__":

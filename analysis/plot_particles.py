@@ -2,23 +2,39 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Particles of one frame coloured by a field.
 
-    analysis/plot_particles.py run.h5 --frame N --field stress_xx [-o out.png]
+    analysis/plot_particles.py run.h5 --frame N --field stress_xx [--units input|mm-ms-g|SI]
+                               [-o PREFIX]
 
 Fields: vx, vy, vz, speed, stress_xx, stress_xy, stress_yy, ..., pressure, mass, volume,
-material, J (det F). 1D runs are drawn as field against x.
+material, J (det F). 1D runs are drawn as field against x, others as points coloured by the
+field. Writes PREFIX.png (default: <run>_<frame>_<field>.png; a trailing .png of -o is
+dropped); --units names the input's units in the labels.
 """
 import argparse
 import pathlib
 import sys
 
 import h5py
-import matplotlib
 import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
 
 AXES = "xyz"
+
+
+def label(name, units):
+    """The axis or colour-bar label of a field: its symbol and unit."""
+    u = figures.UNITS[units]
+    if name == "speed":
+        return f"speed $|v|$ ({u['velocity']})"
+    if len(name) == 2 and name[0] == "v":
+        return f"velocity $v_{name[1]}$ ({u['velocity']})"
+    if name.startswith("stress_"):
+        return f"stress $\\sigma_{{{name[7:]}}}$ ({u['stress']})"
+    return {"pressure": f"pressure $-\\mathrm{{tr}}\\,\\sigma/3$ ({u['stress']})",
+            "mass": f"mass $m_p$ ({u['mass']})", "volume": f"volume $V_p$ ({u['volume']})",
+            "material": "material id", "J": "volume ratio $J = \\det F$"}[name]
 
 
 def field(g, name, d):
@@ -45,7 +61,8 @@ def main():
     ap.add_argument("run")
     ap.add_argument("--frame", type=int, default=-1, help="frame number (default: the last)")
     ap.add_argument("--field", default="speed")
-    ap.add_argument("-o", "--output")
+    figures.add_output(ap, None, "PREFIX.png (default: <run>_<frame>_<field>)")
+    figures.add_units(ap)
     args = ap.parse_args()
     try:
         f = h5py.File(args.run, "r")
@@ -64,22 +81,25 @@ def main():
         except KeyError:
             sys.exit(f"plot_particles.py: unknown field '{args.field}' for a {d}D run")
         t = g.attrs["time"]
-    out = pathlib.Path(args.output or f"{pathlib.Path(args.run).with_suffix('').as_posix()}_{name}_{args.field}.png")
+    prefix = figures.output_prefix(
+        args.out or f"{pathlib.Path(args.run).with_suffix('').as_posix()}_{name}_{args.field}")
+    length = figures.UNITS[args.units]["length"]
+    plt = figures.style()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     if d == 1:
         ax.plot(X[:, 0], c, ".")
-        ax.set_xlabel("x")
-        ax.set_ylabel(args.field)
+        ax.set_xlabel(f"$x$ ({length})")
+        ax.set_ylabel(label(args.field, args.units))
     else:
-        sc = ax.scatter(X[:, 0], X[:, 1], c=c, s=4, cmap="viridis")
+        sc = ax.scatter(X[:, 0], X[:, 1], c=c, s=4)
         ax.set_aspect("equal")
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
-        fig.colorbar(sc, ax=ax, label=args.field)
+        ax.set_xlabel(f"$x$ ({length})")
+        ax.set_ylabel(f"$y$ ({length})")
+        ax.grid(False)
+        fig.colorbar(sc, ax=ax, label=label(args.field, args.units))
     ax.set_title(f"{pathlib.Path(args.run).name}, frame {name}, t = {t:g}")
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    print(f"{out}: {len(c)} particles, {args.field} in [{c.min():.4g}, {c.max():.4g}]")
+    png = figures.save_figure(fig, prefix, report=False)
+    print(f"{png}: {len(c)} particles, {args.field} in [{c.min():.4g}, {c.max():.4g}]")
 
 
 if __name__ == "__main__":

@@ -223,10 +223,15 @@ class RunFiles(Base):
         self.assertEqual(block, r.stdout)
 
     def test_analysis_scripts_write_pngs(self):
+        # -o is an output prefix (p writes p.png); a trailing .png is the same prefix.
         for script, args in (("plot_energy.py", []), ("plot_particles.py", ["--frame", "1", "--field", "stress_xx"])):
-            r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / script, self.disks, "-o", self.dir / "p.png", *args], capture_output=True, text=True)
-            self.assertEqual(r.returncode, 0, r.stderr)
-            self.assertGreater((self.dir / "p.png").stat().st_size, 10000)
+            for out in ("p.png", "q"):
+                r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / script, self.disks, "-o", self.dir / out, *args], capture_output=True, text=True)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertGreater((self.dir / (out.removesuffix(".png") + ".png")).stat().st_size, 10000)
+            self.assertFalse((self.dir / "p.png.png").exists() or (self.dir / "q").exists())
+            for f in ("p.png", "q.png"):
+                (self.dir / f).unlink()
 
 
 class Restart(Base):

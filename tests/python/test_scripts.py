@@ -71,8 +71,9 @@ def test_figures_refuse_unlabelled_axes(tmp_path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     sys.path.insert(0, str(SOURCE / "analysis"))
-    from figures import save_figure, unlabelled_axes
+    from figures import save_figure, style, unlabelled_axes
 
+    style()
     fig, axes = plt.subplots(1, 2, sharey=True)
     for ax in axes:
         ax.plot([0, 1], [0, 1])

@@ -1,0 +1,630 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""Every figure script of analysis/ draws its figure on a tiny case, and the README's tour
+prints what its runs print.
+
+Each script runs as a user runs it (its own /usr/bin/python3 process, from a scratch
+directory), two at a time with one thread each, on a case made small by its options (--set
+time.end=..., fewer orders, cells or objects). figures.save_figure refuses a figure drawn
+without the shared style or with an axis or colour bar that has no label, so a zero exit status
+and the PNG are the first check. save_figure also pickles each figure here (SMPM_FIGURE_DUMP),
+and the tests open it through matplotlib: every axis is labelled (with a unit, or named as a
+dimensionless quantity), the legends say what the data say, and each script's table has its
+rows and columns.
+"""
+import concurrent.futures
+import csv
+import dataclasses
+import os
+import pathlib
+import pickle
+import re
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+import pytest
+
+import sparsempm as smpm
+
+from conftest import BAR, SOURCE
+from conftest import SMPM as SMPM_NAME
+
+import matplotlib
+matplotlib.use("Agg")
+from matplotlib.legend import Legend  # noqa: E402
+
+ANALYSIS = SOURCE / "analysis"
+sys.path.insert(0, str(ANALYSIS))
+import figures  # noqa: E402
+
+BUILD = pathlib.Path(smpm.__file__).resolve().parents[1]  # the directory holding the package
+# The scripts run in scratch directories: a path to smpm is made absolute.
+SMPM = str(pathlib.Path(SMPM_NAME).resolve()) if os.sep in SMPM_NAME else SMPM_NAME
+EXAMPLES = SOURCE / "examples"
+PNG = b"\x89PNG\r\n\x1a\n"
+# Scripts of analysis/ that draw no matplotlib figure: helpers, and paraview_view.py, which
+# ParaView draws under pvbatch (with a display).
+HELPERS = {"figures.py", "disks.py", "smpm_python.py", "paraview_view.py"}
+
+
+def env(dump=None):
+    """The environment of every process here: one thread each (two run at a time)."""
+    e = dict(os.environ, SMPM_THREADS="1", OMP_NUM_THREADS="1")
+    if dump:
+        e["SMPM_FIGURE_DUMP"] = str(dump)
+    return e
+
+
+def run_smpm(*args, cwd):
+    """`smpm args...` run in `cwd`; its standard output (it must succeed)."""
+    r = subprocess.run([SMPM, *map(str, args)], capture_output=True, text=True, cwd=cwd,
+                       env=env(), timeout=120)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+def rows(path):
+    """The rows of a CSV table (lines starting with # left out)."""
+    with open(path) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+# Each case: the script's arguments, after what it needs is prepared in its directory `w`, the
+# PNGs it must write and the tables (CSV) it must write.
+
+def case_plot_energy(w):
+    (w / "smpm.out").write_text(run_smpm("run", BAR, "-o", w / "bar.h5", cwd=w))
+    return [w / "bar.h5", "-o", w / "energy.png"], ["energy"], []  # -o with .png, as before
+
+
+def case_plot_particles(w):
+    run_smpm("run", EXAMPLES / "two_disks.toml", "-o", w / "disks.h5", "-q", "--set",
+             "time.end=0.3", cwd=w)
+    return ([w / "disks.h5", "--frame", "2", "--field", "stress_xx", "-o", w / "particles"],
+            ["particles"], [])
+
+
+def case_rho_map(w):  # the default Courant number
+    return ["--smpm", SMPM, "--build", BUILD, "--input", BAR, "-o", w / "rho_map"], \
+        ["rho_map"], ["rho_map"]
+
+
+def case_fig12b(w):
+    return ["--smpm", SMPM, "--build", BUILD, "--input", BAR, "--set", "time.end=80", "-o",
+            w / "fig12b"], ["fig12b"], ["fig12b"]
+
+
+def case_fig12a(w):
+    # The rows scripts/run draws (FLIP, FMPM(k), both blends, periodic, exact) over one period.
+    common = [BAR, "--order", "1,4", "--set", "time.end=80", "-q"]
+    run_smpm("stability", *common, "--shifts", "1", "--method", "both", "-o", w / "st.csv", cwd=w)
+    run_smpm("stability", *common, "--method", "simulation", "--max-energy-change", "0.001",
+             "-o", w / "low.csv", cwd=w)
+    return [w / "st.csv", "--low-dissipation", w / "low.csv", "-o", w / "fig12a.png"], \
+        ["fig12a"], []
+
+
+def case_truncation(w):
+    run_smpm("spectrum", BAR, "-o", w / "spectrum.csv", cwd=w)
+    return [w / "spectrum.csv", "-o", w / "truncation"], ["truncation"], []
+
+
+def case_fig3(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--orders", "4", "--depths", "1,2", "--set",
+            "time.end=0.5", "--set", "output.every=0.5", "-o", w / "fig3"], \
+        ["fig3a", "fig3b"], ["fig3"]
+
+
+def case_fig4(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--set", "time.end=1.5e-4", "-o", w / "fig4"], \
+        ["fig4"], ["fig4"]
+
+
+def case_fig5(w):  # to 2% strain: two frames
+    return ["--smpm", SMPM, "--jobs", "1", "--set", "time.end=2.1", "-o", w / "fig5"], \
+        ["fig5"], ["fig5"]
+
+
+def case_fig8(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--cell", "4", "--set", "time.end=0.02", "-o",
+            w / "fig8"], ["fig8"], ["fig8"]
+
+
+def case_fig9(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--cell", "4", "--set", "time.end=0.02", "-o",
+            w / "fig9"], ["fig9"], ["fig9"]
+
+
+def case_fig11(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--cells", "4", "--courants", "0.4", "--set",
+            "time.end=0.02", "-o", w / "fig11"], ["fig11"], ["fig11"]
+
+
+def case_fig13a(w):
+    return ["--build", BUILD, "--order", "5", "--set", "time.end=0.0002", "-o", w / "fig13a"], \
+        ["fig13a"], ["fig13a"]
+
+
+def case_fig14(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--limits", "0.01,0.001", "--set", "time.end=0.0002",
+            "-o", w / "fig14"], ["fig14"], ["fig14"]
+
+
+def case_compaction(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--objects", "3", "--set", "time.end=0.1", "-o",
+            w / "compaction"], ["compaction"], ["compaction"]
+
+
+def case_three_materials(w):
+    return ["--smpm", SMPM, "--set", "time.end=0.2", "-o", w / "three_materials"], \
+        ["three_materials"], ["three_materials"]
+
+
+def case_df_fit(w):
+    return ["-o", w / "df_fit.png"], ["df_fit"], ["df_fit"]
+
+
+# Longest first, so that two workers finish together.
+CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
+         "fig3.py": case_fig3, "compaction.py": case_compaction, "rho_map.py": case_rho_map,
+         "fig12a.py": case_fig12a, "fig8.py": case_fig8, "fig13a.py": case_fig13a,
+         "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
+         "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
+         "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
+         "df_fit.py": case_df_fit}
+
+
+@dataclasses.dataclass
+class Render:
+    """What one script did: exit status, output, its directory, PNGs, tables and figures."""
+    returncode: int
+    stdout: str
+    stderr: str
+    seconds: float
+    dir: pathlib.Path
+    pngs: list
+    tables: list
+    figures: list
+
+    def figure(self, i=0):
+        return self.figures[i]
+
+
+def render(name, root):
+    """Prepares the case of script `name` and runs the script; what it did (a failure to
+    prepare the case is reported as the script's failure, for that case alone)."""
+    w = root / name.removesuffix(".py")
+    w.mkdir()
+    start = time.time()
+    try:
+        args, pngs, tables = CASES[name](w)
+    except (AssertionError, OSError, subprocess.SubprocessError) as e:
+        return Render(-1, "", f"preparing the case: {e!r}", time.time() - start, w, [], [], [])
+    r = subprocess.run(["/usr/bin/python3", ANALYSIS / name, *map(str, args)], capture_output=True,
+                       text=True, cwd=w, env=env(dump=w), timeout=300)
+    figs = []
+    for p in pngs:
+        dump = w / (p + ".pickle")
+        if dump.exists():
+            with open(dump, "rb") as f:
+                figs.append(pickle.load(f))
+    return Render(r.returncode, r.stdout, r.stderr, time.time() - start, w,
+                  [w / (p + ".png") for p in pngs], [w / (t + ".csv") for t in tables], figs)
+
+
+@pytest.fixture(scope="module")
+def renders(tmp_path_factory):
+    """Every case, rendered two at a time."""
+    root = tmp_path_factory.mktemp("figures")
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        futures = {name: pool.submit(render, name, root) for name in CASES}
+        done = {name: f.result() for name, f in futures.items()}
+    print("\n" + "\n".join(f"{n}: {r.seconds:.1f} s" for n, r in done.items()))
+    return done
+
+
+def legend_texts(ax):
+    """The entries of every legend of `ax` (a panel may have several)."""
+    return [t.get_text() for a in ax.get_children() if isinstance(a, Legend)
+            for t in a.get_texts()]
+
+
+def all_legend_texts(fig):
+    return [t for ax in fig.axes for t in legend_texts(ax)]
+
+
+def colour_bar_label(fig):
+    """The label of the figure's colour bar (its axes' y label)."""
+    bars = [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
+    assert len(bars) == 1
+    return bars[0].get_ylabel()
+
+
+# A label ends with its unit in parentheses, or names one of these dimensionless quantities.
+DIMENSIONLESS = ("FMPM order", "FMPM pass", "velocity update", "Courant number", "fraction",
+                 "convergence limit", "relative error", "spectral radius", "mean FMPM order",
+                 "material id", "volume ratio")
+
+
+def labels(fig):
+    """Every axis and colour-bar label the figure shows."""
+    fig.canvas.draw()  # the tick labels are set when drawn
+    out = []
+    for ax in fig.axes:
+        if not ax.axison:
+            continue
+        for axis, text in ((ax.xaxis, ax.get_xlabel()), (ax.yaxis, ax.get_ylabel())):
+            if any(t.get_visible() and t.get_text() for t in axis.get_ticklabels()):
+                out.append(text)
+    return out
+
+
+# The checks of each script beyond its labels.
+
+def check_plot_energy(r):
+    fig = r.figure()
+    energies, change = fig.axes
+    assert "%" in change.get_ylabel() and "E_0" in change.get_ylabel()
+    # The numbers the run printed, printed again by the script.
+    ran = re.search(r"completed (\d+) steps .*total energy (\S+) -> (\S+) \((\S+%)\)",
+                    (r.dir / "smpm.out").read_text())
+    printed = re.search(r"energy\.png: (\d+) steps, total energy (\S+) -> (\S+) \((\S+%)\)",
+                        r.stdout)
+    assert printed and ran and printed.groups() == ran.groups()
+    # The lower panel is the relative change of the total, in %, to its last point.
+    with h5py.File(r.dir / "bar.h5") as f:
+        total = f["series"]["total"][:]
+    y = change.get_lines()[0].get_ydata()
+    np.testing.assert_allclose(y, 100 * (total - total[0]) / total[0], rtol=1e-12)
+    assert f"{y[-1]:+.4f}%" == printed.group(4)
+
+
+def check_plot_particles(r):
+    label = colour_bar_label(r.figure())
+    assert "sigma_{xx}" in label and "(input units)" in label
+    with h5py.File(r.dir / "disks.h5") as f:
+        n = len(f["particles"]["000002"]["X"])
+    assert f": {n} particles, stress_xx in [" in r.stdout
+
+
+def check_rho_map(r):
+    table = rows(r.tables[0])
+    assert len(table) == 80 and {row["courant"] for row in table} == {"0.6"}
+    rho = np.array([float(row["rho_T"]) for row in table])
+    # The default Courant number draws the frontier: stable and unstable cells (1e-6 is the
+    # tolerance of critical_courant's ρ ≤ 1 + tol), as the title counts them.
+    stable = int((rho <= 1 + 1e-6).sum())
+    assert 10 < stable < 70
+    assert f"{stable} of 80 stable" in r.figure().axes[0].get_title()
+    readme = " ".join((SOURCE / "README.md").read_text().split())
+    assert f"{stable} of its 80 (k, α) cells are stable" in readme
+    assert "rho(T)" in colour_bar_label(r.figure())
+    assert r.stdout.rstrip().endswith(f"(sparsempm {smpm.__version__})")
+
+
+def check_fig12b(r):
+    loss = {float(row["blend_alpha"]): float(row["energy_loss_percent"])
+            for row in rows(r.tables[0])}
+    assert sorted(loss) == [i / 10 for i in range(11)]
+    assert loss[0.0] > loss[0.5] > loss[1.0]  # FMPM(1) dissipates, FMPM(4) hardly
+    x, y = r.figure().axes[0].get_lines()[0].get_data()
+    np.testing.assert_allclose(y, [loss[a] for a in x])
+
+
+def check_fig12a(r):
+    fig = r.figure()
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title()[:3] for ax in panels] == ["(A)", "(B)"]
+    a, b = panels
+    for ax in panels:  # a legend of the series and one of the methods, each short
+        legends = [c for c in ax.get_children() if isinstance(c, Legend)]
+        assert len(legends) == 2 and all(len(lg.get_texts()) <= 5 for lg in legends)
+    assert any("FLIP" in t for t in legend_texts(a)) and any("exact" in t for t in legend_texts(a))
+    assert {"spectral", "simulation", "simulation, low dissipation", "paper (simulation)"} <= \
+        set(legend_texts(a))
+    text_b = " ".join(legend_texts(b))
+    assert "FMPM(1)" in text_b and "FMPM(2)" in text_b and "periodic" in text_b
+
+    def points(ax):
+        return {(round(float(x), 9), round(float(y), 9)) for line in ax.get_lines()
+                for x, y in zip(*line.get_data())}
+
+    def level(ax):  # the heights of the horizontal lines
+        return {round(float(line.get_ydata()[0]), 9) for line in ax.get_lines()
+                if len(line.get_ydata()) == 2 and line.get_ydata()[0] == line.get_ydata()[1]}
+
+    # Every number of both tables is drawn, on its panel; "none" (no C holds) is not.
+    drawn = 0
+    for table, columns in ((r.dir / "st.csv", ("c_spectral", "c_simulation")),
+                           (r.dir / "low.csv", ("c_simulation",))):
+        for row in rows(table):
+            for col in columns:
+                if row[col] in ("", "none"):
+                    continue
+                v = round(float(row[col]), 9)
+                if row["velocity"] in ("FLIP", "exact"):
+                    assert v in level(a), (row, col)
+                else:
+                    unblended = row["blend_alpha"] == "1" and row["periodic_cx"] == ""
+                    assert (int(row["order"]), v) in points(a if unblended else b), (row, col)
+                drawn += 1
+    # 7 rows × 2 columns, and 5 of the 7 rows of the low-dissipation table (no C keeps
+    # FMPM(1) or its blend within 0.1%: "none", as FMPM 2026 §3.3 finds).
+    assert drawn == 19
+    assert any(row["c_simulation"] == "none" for row in rows(r.dir / "low.csv"))
+
+
+def check_truncation(r):
+    table = rows(r.dir / "spectrum.csv")
+    groups = {(row["blend_alpha"], row["blend_every"]) for row in table}
+    texts = legend_texts(r.figure().axes[0])
+    assert len(texts) == len(groups) + 1 and "rho(A)^k" in texts[-1]
+    assert f"{len(table)} rows" in r.stdout
+
+
+def check_fig3(r):
+    table = rows(r.tables[0])
+    assert len(table) == 2 * 2 * 4  # shapes × depths × (FLIP, exact, new, combined)
+    assert all(row["error_percent"] for row in table), table
+    assert "$d$ = 1 cell" in r.figure(0).axes[0].get_title()
+    shapes = [t for t in all_legend_texts(r.figure(1)) if t in ("CPDI", "B2CPDI")]
+    assert shapes == ["CPDI", "B2CPDI"]
+
+
+def assert_legend_says_which_coincide(texts, curves):
+    """The legend entries `texts` of the curves {name: y} (in drawing order) say "(coincides
+    with Y)" exactly where a curve lies on an earlier one, Y, to figures.COINCIDE of the range
+    of all the y (the tables hold 4 digits: 1e-3 more); the number of such entries."""
+    ys = np.concatenate(list(curves.values()))
+    tol = figures.COINCIDE * (np.nanmax(ys) - np.nanmin(ys))
+
+    def apart(a, b):  # the largest difference, NaN (a gap) only where both have one
+        if not np.array_equal(np.isnan(a), np.isnan(b)):
+            return np.inf
+        return np.nanmax(np.abs(a - b), initial=0)
+
+    assert [t.split(" (coincides with ")[0] for t in texts] == list(curves)
+    plain = []
+    for t in texts:
+        m = re.fullmatch(r"(.+) \(coincides with (.+)\)", t)
+        if m:  # it lies on the curve it names, to the plot's precision
+            assert m[2] in plain and apart(curves[m[1]], curves[m[2]]) <= tol + 1e-3, t
+        else:  # and a curve the legend does not say coincides lies on no earlier one
+            for other in plain:
+                assert apart(curves[t], curves[other]) > tol, (t, other)
+            plain.append(t)
+    return len(texts) - len(plain)
+
+
+def check_fig4(r):
+    import fig4
+    table = rows(r.tables[0])
+    assert {row["case"] for row in table} == set(fig4.CASES)
+    assert len(table) == len(fig4.CASES) * (len(fig4.BINS) - 1)
+    panels = [ax for ax in r.figure().axes if ax.get_title()]
+    assert len(panels) == 3
+    for ax, figure in zip(panels, ("4", "5", "7")):
+        curves = {}
+        for row in table:
+            if row["figure"] == figure:
+                curves.setdefault(row["case"], []).append(float(row["pressure_GPa"]))
+        assert_legend_says_which_coincide(legend_texts(ax), {k: np.array(v) for k, v in
+                                                             curves.items()})
+
+
+def check_fig5(r):
+    import fig5
+    table = rows(r.tables[0])
+    assert {row["method"] for row in table} == set(fig5.METHODS)
+    curves = {}
+    for row in table:
+        curves.setdefault(row["method"], []).append(float(row["error_percent"]))
+    ref = np.array([float(row["sigma_yy"]) for row in table if row["method"] == "single material"])
+    curves = {k: np.array(v)[ref != 0] for k, v in curves.items()}  # frame 0: no stress yet
+    del curves["single material"]
+    # The tiny case has coinciding curves too.
+    assert assert_legend_says_which_coincide(legend_texts(r.figure().axes[0]), curves) > 0
+    assert "coincides to plotting precision" in r.stdout
+
+
+def check_fig8(r):
+    table = rows(r.tables[0])
+    assert len(table) == 3 * 4  # μ × updates
+    assert len(legend_texts(r.figure().axes[0])) == 3
+
+
+def check_fig9(r):
+    assert len(rows(r.tables[0])) == 3 * 4 + 5  # μ × updates, and FMPM(3, 5, 6, 7, 8) at μ = 0.3
+
+
+def check_fig11(r):
+    table = rows(r.tables[0])
+    assert len(table) == 4 + 2 and not any(row["error"] for row in table)
+
+
+def check_fig13a(r):
+    table = rows(r.tables[0])
+    assert len(table) == 2 * 2 * 4  # problems × metrics × passes ℓ = 2 … 5
+    assert r.figure().axes[0].get_yscale() == "log"
+
+
+def check_fig14(r):
+    table = rows(r.tables[0])
+    assert len(table) == 2 * 2 * 2  # problems × metrics × limits
+    assert all(1 <= float(row["mean_order"]) <= 20 for row in table)
+
+
+def check_compaction(r):
+    table = rows(r.tables[0])
+    assert [row["method"] for row in table] == ["AG, CP = 0.8", "AG, DF", "LR, d_LR"]
+    axes = r.figure().axes
+    assert [ax.get_xlabel() for ax in axes] == ["$x$ (mm)"] * 3
+    assert axes[0].get_ylabel() == "$y$ (mm)"
+    assert (r.dir / "compaction.toml").exists()
+
+
+def check_three_materials(r):
+    assert {row["variant"] for row in rows(r.tables[0])} == \
+        {"single material", "lumping, LR", "lumping, AG", "two fields (left = right), LR"}
+    assert colour_bar_label(r.figure()) == r"$\sigma_{yy}$ (MPa)"
+
+
+def check_df_fit(r):
+    assert len(rows(r.tables[0])) == 2000
+    assert "r = 0.5757 (exact at d = 0)" in r.stdout  # the library's default exponent
+
+
+CHECKS = {name: globals()["check_" + name.removesuffix(".py")] for name in CASES}
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_figure_is_drawn_labelled_and_says_what_its_data_say(name, renders):
+    r = renders[name]
+    assert r.returncode == 0, r.stderr
+    for png in r.pngs:
+        data = png.read_bytes()
+        assert data[:8] == PNG and len(data) > 20000, png
+    for table in r.tables:
+        assert rows(table), table
+    assert len(r.figures) == len(r.pngs)
+    for fig in r.figures:
+        assert figures.unlabelled_axes(fig) == []
+        for label in labels(fig):
+            assert label.endswith(")") or any(d in label for d in DIMENSIONLESS), label
+    CHECKS[name](r)
+
+
+def test_every_figure_script_has_a_case():
+    # A new script is drawn here too; each draws with the shared style and saves through
+    # save_figure (no savefig of its own), and takes -o as a prefix (add_output).
+    scripts = {p.name for p in ANALYSIS.glob("*.py")} - HELPERS
+    assert scripts == set(CASES)
+    for name in scripts:
+        text = (ANALYSIS / name).read_text()
+        assert "figures.style()" in text and "save_figure(" in text, name
+        assert ".savefig(" not in text and "figures.add_output(" in text, name
+
+
+def test_output_prefix():
+    assert figures.output_prefix("fig12a.png") == "fig12a"
+    assert figures.output_prefix("out/fig3") == "out/fig3"
+    assert figures.output_prefix("a.b.PNG") == "a.b"
+
+
+def test_save_figure_refuses_a_figure_drawn_without_the_style(tmp_path):
+    code = ("import matplotlib; matplotlib.use('Agg'); import matplotlib.pyplot as plt; "
+            "import figures; fig, ax = plt.subplots(); ax.set_xlabel('x (m)'); "
+            "ax.set_ylabel('y (m)'); figures.save_figure(fig, 'f')")
+    r = subprocess.run(["/usr/bin/python3", "-c", code], capture_output=True, text=True,
+                       cwd=tmp_path, env=dict(env(), PYTHONPATH=str(ANALYSIS)), timeout=60)
+    assert r.returncode != 0 and "drawn without figures.style()" in r.stderr
+    assert not (tmp_path / "f.png").exists()
+
+
+def test_plot_energy_of_a_run_from_rest(tmp_path):
+    # E(0) = 0: no relative change ("n/a", not "+0.0000%"); the lower panel is E − E(0).
+    with h5py.File(tmp_path / "rest.h5", "w") as f:
+        s = f.create_group("series")
+        s["t"] = [0.0, 1.0, 2.0]
+        s["kinetic"] = [0.0, 0.5, 1.0]
+        s["strain"] = [0.0, 0.0, 0.25]
+        s["total"] = [0.0, 0.5, 1.25]
+    r = subprocess.run(["/usr/bin/python3", ANALYSIS / "plot_energy.py", tmp_path / "rest.h5"],
+                       capture_output=True, text=True, cwd=tmp_path, env=env(dump=tmp_path),
+                       timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip().endswith("2 steps, total energy 0 -> 1.25 (n/a; change +1.25)")
+    assert (tmp_path / "rest_energy.png").stat().st_size > 20000
+    with open(tmp_path / "rest_energy.pickle", "rb") as f:
+        lower = pickle.load(f).axes[1]
+    assert lower.get_ylabel() == "$E - E_0$ (input units)"
+    np.testing.assert_array_equal(lower.get_lines()[0].get_ydata(), [0.0, 0.5, 1.25])
+
+
+# The README's five-minute tour, step 2: its commands, what they print, and its sentences.
+
+def tour_step_2():
+    """(the commands, the printed block, the prose) of step 2 of the README's tour."""
+    readme = (SOURCE / "README.md").read_text()
+    tour = readme[readme.index("## A five-minute tour"):]
+    tour = tour[:tour.index("\n## ", 5)]
+    step = tour[tour.index("\n2. "):tour.index("\n3. ")]
+    blocks = re.findall(r"```(\w*)\n(.*?)```", step, re.S)
+    commands = [line.split("#")[0].split() for line in blocks[0][1].splitlines() if line.strip()]
+    assert blocks[0][0] == "sh" and len(blocks) == 2
+    printed = " ".join(line.strip() for line in blocks[1][1].splitlines() if line.strip())
+    prose = " ".join(step[step.rindex("```") + 3:].split())
+    return commands, printed, prose, blocks[0][1]
+
+
+def command(words):
+    """A README command line as run from the source tree, with this build's smpm."""
+    out = []
+    for i, w in enumerate(words):
+        if i == 0 and w == "build/apps/smpm":
+            out.append(SMPM)
+        elif i == 0 and w.startswith("analysis/"):
+            out += ["/usr/bin/python3", str(SOURCE / w)]
+        elif w.startswith("examples/"):
+            out.append(str(SOURCE / w))
+        else:
+            out.append(w)
+    return out
+
+
+RUN_LINE = (r"completed (\d+) steps in [\d.]+ s \(\d+ steps/s\); total energy (\S+) -> (\S+) "
+            r"\(([-+]\d+\.\d+)%\);? (\d+) frames in (\S+) \(ParaView: (\S+)\)")
+
+
+def test_the_tour_prints_the_readme_numbers(tmp_path):
+    commands, printed, prose, block = tour_step_2()
+    assert [c[:2] for c in commands] == [["build/apps/smpm", "run"], ["analysis/plot_energy.py",
+                                                                      "vibrating_bar.h5"]]
+    outputs = []
+    for words in commands:
+        r = subprocess.run(command(words), capture_output=True, text=True, cwd=tmp_path,
+                           env=env(), timeout=120)
+        assert r.returncode == 0, r.stderr
+        outputs.append(r.stdout)
+    # The run prints the README's block: steps, energies and change exactly, the time aside.
+    readme = re.fullmatch(RUN_LINE, printed)
+    ran = re.search(RUN_LINE, " ".join(outputs[0].split()))
+    assert readme and ran, (printed, outputs[0])
+    assert readme.groups() == ran.groups()
+    steps, e0, e1, change = ran[1], ran[2], ran[3], float(ran[4])
+    # plot_energy.py writes the file its comment names and prints the same numbers.
+    png = re.search(r"# writes (\S+\.png)", block)[1]
+    assert (tmp_path / png).stat().st_size > 20000
+    assert f"{png}: {steps} steps, total energy {e0} -> {e1} ({change:+.4f}%)" in outputs[1]
+    # "after five periods the total is within 0.041% of its start": the change, rounded.
+    within = re.search(r"within (\d+\.\d+)% of its start", prose)[1]
+    assert within == f"{abs(change):.{len(within.split('.')[1])}f}"
+    # "the total swings by up to 0.99%": the largest |E(t) − E(0)|/E(0) of the series.
+    with h5py.File(tmp_path / "vibrating_bar.h5") as f:
+        total = f["series"]["total"][:]
+    swing = re.search(r"swings by up to (\d+\.\d+)%", prose)[1]
+    assert swing == f"{100 * np.max(np.abs(total / total[0] - 1)):.{len(swing.split('.')[1])}f}"
+
+
+def test_the_tour_pic_and_unstable_claims(tmp_path):
+    _, _, prose, _ = tour_step_2()
+    run = command(["build/apps/smpm", "run", "examples/vibrating_bar.toml"])
+    # "`--set step.velocity=PIC` shows FMPM(1) dissipating 43% of it"
+    m = re.search(r"`--set step\.velocity=PIC` shows\s+FMPM\(1\) dissipating (\d+)% of it", prose)
+    assert m, prose
+    r = subprocess.run(run + ["--set", "step.velocity=PIC", "-o", "pic.h5"], capture_output=True,
+                       text=True, cwd=tmp_path, env=env(), timeout=120)
+    assert r.returncode == 0, r.stderr
+    change = float(re.search(RUN_LINE, " ".join(r.stdout.split()))[4])
+    assert change < 0 and m[1] == f"{-change:.0f}"
+    # "`--set time.courant=1.5` shows the run stopping with the step, time and particle where
+    # it became unstable (exit status 3)"
+    assert re.search(r"`--set time\.courant=1\.5` shows the run stopping with the step, time "
+                     r"and\s+particle where it became unstable \(exit status 3\)", prose), prose
+    r = subprocess.run(run + ["--set", "time.courant=1.5", "-o", "unstable.h5", "-q"],
+                       capture_output=True, text=True, cwd=tmp_path, env=env(), timeout=120)
+    assert r.returncode == 3
+    assert re.fullmatch(r"smpm: numerical failure: step \d+ \(t = [\d.e+-]+\): particle \d+ .+\n",
+                        r.stderr), r.stderr
