@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -94,11 +95,20 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   const double wave = shock ? 0 : max_wave_speed(model.materials, model.particles);
   double speed = signal_speed(model);
   double dt0 = o.time_step_start.value_or(0); // the first step's Courant time step
+  // Heat transport: the explicit conduction limit F Δx² / D_max (the materials do not change).
+  if (!(o.fourier >= 0) || !std::isfinite(o.fourier))
+    throw InputError("the Fourier number must be positive (0: the default), got " +
+                     number_text(o.fourier));
+  const double conduction = stepper.options().transport.update == TransportUpdate::Off
+                                ? std::numeric_limits<double>::infinity()
+                                : (o.fourier > 0 ? o.fourier : default_fourier(model.grid.dim())) *
+                                      diffusion_time(model.grid, model.materials, model.particles);
   while (model.time < o.end - eps) {
     double dt = stable_time_step(model, o.courant, speed);
     if (report.steps == 0 && !o.time_step_start)
       dt0 = dt;
     check_time_step(model, dt, dt0, o.failure);
+    dt = std::min(dt, conduction);
     if (o.land_on_stops)
       dt = std::min(dt, stop - model.time);
     stepper.step(model, dt);

@@ -106,6 +106,20 @@ void BoundaryConditions::zero_directions(const Grid& grid, Field& v) const {
       conditions, grid, 0.0, v, nullptr, [](Index) { return 0.0; }, [](Index, const auto&) {});
 }
 
+void BoundaryConditions::check_one_condition_per_node() const {
+  pairs_.clear();
+  for (size_t k = 0; k < conditions.size(); ++k)
+    for (Index node : conditions[k].nodes)
+      pairs_.emplace_back(node, Index(k));
+  std::sort(pairs_.begin(), pairs_.end());
+  for (size_t k = 1; k < pairs_.size(); ++k)
+    if (pairs_[k].first == pairs_[k - 1].first)
+      throw InputError("node " + std::to_string(pairs_[k].first) + " is held by both '" +
+                       conditions[size_t(pairs_[k - 1].second)].label + "' and '" +
+                       conditions[size_t(pairs_[k].second)].label +
+                       "' (a node takes one temperature condition)");
+}
+
 WallState MovingWall::at(double t) const {
   const WallState s{position(t), velocity ? velocity(t) : 0.0, gradient ? gradient(t) : 0.0};
   const std::pair<const char*, double> values[] = {

@@ -84,6 +84,39 @@ double courant_of(const Model& model, double dt) {
   return dt * signal_speed(model) / model.grid.min_cell_size();
 }
 
+ThermalSums thermal_sums(const Model& model, double strain) {
+  const Particles& P = model.particles;
+  SMPM_VERIFY(P.temperature.size() == P.size(), "thermal_sums: the particles have no temperatures");
+  // Σ M C, Σ M C T, Σ M C (T − T_ref), Σ M C ln(T/T_ref), Σ T M C ln(T/T_ref)
+  double s[5];
+  detail::ordered_reduce_blocks(
+      P.size(), 5, 0.0, s,
+      [&](Index begin, Index end, double* out) {
+        for (Index p = begin; p < end; ++p) {
+          const Material& m = model.materials[size_t(P.material[p])];
+          const double T = P.temperature[p], C = P.mass[p] * m.heat_capacity;
+          const double log = std::log(T / m.reference_temperature);
+          out[0] += C;
+          out[1] += C * T;
+          out[2] += C * (T - m.reference_temperature);
+          out[3] += C * log;
+          out[4] += T * C * log;
+        }
+      },
+      [](double a, double b) { return a + b; });
+  ThermalSums t;
+  if (P.size() == 0)
+    return t;
+  t.temperature_min = P.temperature.minCoeff(); // min and max: the same in any order
+  t.temperature_max = P.temperature.maxCoeff();
+  t.temperature_mean = s[0] > 0 ? s[1] / s[0] : std::nan("");
+  t.heat = s[2];
+  t.internal = strain + s[2];
+  t.entropy = s[3];
+  t.helmholtz = strain + s[2] - s[4];
+  return t;
+}
+
 void material_sums(const Model& model, std::vector<double>& out) {
   const Particles& P = model.particles;
   const int d = P.dim, w = 1 + 2 * d;

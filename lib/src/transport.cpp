@@ -272,4 +272,8 @@ double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
   return h * h / D;
 }
 
+double default_fourier(int dim) {
+  return 0.1 / dim;
+}
+
 } // namespace smpm

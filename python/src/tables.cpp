@@ -85,8 +85,16 @@ py::list axis_names(const py::handle& fixed) {
 }
 
 Index add_bc(PyModel& pm, const py::dict& table) {
-  const BoundaryConditions bcs =
+  const ConditionTables read =
       read_bc_tables(toml_tables("bc", {table}), pm.source + " (add_bc)", pm.model.grid);
+  if (!read.temperature.conditions.empty()) { // a temperature condition: one per node
+    BoundaryConditions all = pm.model.temperature_bcs;
+    all.append(read.temperature);
+    all.check_one_condition_per_node();
+    pm.model.temperature_bcs = std::move(all);
+    return read.temperature.num_constrained();
+  }
+  const BoundaryConditions& bcs = read.velocity;
   const Index nodes = bcs.num_constrained();
   BoundaryConditions all = pm.model.bcs;
   all.append(bcs);

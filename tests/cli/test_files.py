@@ -195,6 +195,14 @@ class Restart(Base):
             "xpic": ["step.velocity=XPIC", "step.order=4", "time.courant=0.3"],
             "exact": ["step.velocity=exact", "time.courant=0.1"],
         }
+        # Heat transport: the temperatures and the thermal series continue too (FMPM(3) on c~,
+        # the lumped FLIP update and the exact solve), with a held end and a source.
+        heat = ["material.bar.heat_capacity=2.0", "material.bar.conductivity=40.0",
+                "material.bar.reference_temperature=300.0", 'body.0.temperature="300 + X"',
+                "body.0.heat_source=0.5", "time.fourier=0.5"]
+        variants["heat FMPM"] = heat + ["step.transport=FMPM", "step.transport_order=3"]
+        variants["heat lumped"] = heat + ["step.transport=lumped"]
+        variants["heat exact"] = heat + ["step.transport=exact"]
         for name, sets in variants.items():
             with self.subTest(variant=name):
                 full = self.completed(name + ".h5", *sets)
@@ -205,10 +213,12 @@ class Restart(Base):
                 with h5py.File(full, "r") as a, h5py.File(self.dir / (name + "_cut.h5"), "r") as b:
                     self.assertEqual(sorted(a["particles"]), sorted(b["particles"]))
                     for frame in a["particles"]:
-                        for field in ("X", "V", "F", "stress"):
+                        fields = ("X", "V", "F", "stress") + (("temperature",) if "heat" in name else ())
+                        for field in fields:
                             self.assertTrue(np.array_equal(a["particles"][frame][field][:], b["particles"][frame][field][:]),
                                             f"{frame}/{field}")
-                    for s in ("step", "t", "total"):
+                    series = ("step", "t", "total") + (("heat", "entropy", "temperature_max") if "heat" in name else ())
+                    for s in series:
                         self.assertTrue(np.array_equal(a["series"][s][:], b["series"][s][:]), s)
 
     def test_inconsistent_restart_file_is_refused(self):

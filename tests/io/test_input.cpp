@@ -216,3 +216,77 @@ TEST_CASE("each class of bad input has a one-line message with file, line and ke
   // Every message is one line.
   CHECK(error_of(replace(bar, "end = 400.0", "")).find('\n') == std::string::npos);
 }
+
+TEST_CASE("heat transport: material, body, condition and step keys, and their messages",
+          "[input][transport]") {
+  const std::string bar = example("vibrating_bar.toml");
+  // The bar with conduction: C_V, κ, T_ref on the material, a temperature expression on the
+  // body, a temperature held at x = 0, FMPM(3) transport, F = 0.05.
+  std::string heat = replace(bar, "poisson = 0.0",
+                             "poisson = 0.0\nheat_capacity = 2.0\nconductivity = 0.5\n"
+                             "reference_temperature = 290.0");
+  heat = replace(heat, "ppc = [2]", "ppc = [2]\ntemperature = \"300 + X\"\nheat_source = 0.25");
+  heat = replace(heat, "[time]",
+                 "[[bc]]\nplane = { axis = \"x\", at = 40.0 }\ntemperature = 350.0\n\n[time]");
+  heat = replace(heat, "\n[output]", "transport = \"FMPM\"\ntransport_order = 3\n\n[output]");
+  heat = replace(heat, "end = 400.0", "end = 400.0\nfourier = 0.05");
+  const RunConfig cfg = read_input(heat, "bar.toml");
+  const Material& m = cfg.model.materials[0];
+  CHECK(m.heat_capacity == 2.0);
+  CHECK(m.conductivity == 0.5);
+  CHECK(m.reference_temperature == 290.0);
+  CHECK(cfg.step.transport.update == TransportUpdate::FMPM);
+  CHECK(cfg.step.transport.order == 3);
+  CHECK(cfg.time.fourier == 0.05);
+  const Particles& P = cfg.model.particles;
+  REQUIRE(P.temperature.size() == P.size());
+  for (Index p = 0; p < P.size(); ++p)
+    CHECK(P.temperature[p] == approx(300 + P.X(p, 0), 1e-12));
+  CHECK(P.heat_source.size() == P.size());
+  CHECK(P.heat_source.maxCoeff() == 0.25);
+  REQUIRE(cfg.model.temperature_bcs.conditions.size() == 1);
+  CHECK(cfg.model.temperature_bcs.conditions[0].nodes == std::vector<Index>{42}); // x = 40
+  CHECK(cfg.model.temperature_bcs.conditions[0].value_at(0, Eigen::Vector3d::Zero()) == 350.0);
+  CHECK(cfg.model.bcs.conditions.size() == 1); // the velocity condition stays apart
+  // Without a temperature on the body: the material's reference temperature.
+  const RunConfig plain = read_input(replace(heat, "temperature = \"300 + X\"\n", ""), "bar.toml");
+  CHECK(plain.model.particles.temperature.maxCoeff() == 290.0);
+  CHECK(plain.model.particles.temperature.minCoeff() == 290.0);
+
+  // Messages: one line naming the file, line, key and value.
+  CHECK_THAT(error_of(replace(heat, "heat_capacity = 2.0\n", "")),
+             Catch::Contains(at(heat, "[[material]]") +
+                             "material.bar.heat_capacity: is required with step.transport = FMPM"));
+  CHECK_THAT(error_of(replace(heat, "reference_temperature = 290.0", "reference_temperature = 0")),
+             Catch::Contains("material.bar.reference_temperature = 0: must be positive"));
+  CHECK_THAT(error_of(replace(heat, "conductivity = 0.5", "conductivity = -0.5")),
+             Catch::Contains("material.bar.conductivity = -0.5: must be non-negative"));
+  CHECK_THAT(error_of(replace(heat, "\"300 + X\"", "\"300 - 10*X\"")),
+             Catch::Contains("body.0.temperature") && Catch::Contains("at particle") &&
+                 Catch::Contains("positive"));
+  CHECK_THAT(error_of(replace(heat, "temperature = 350.0", "temperature = -5.0")),
+             Catch::Contains("bc.1.temperature = -5.0: must be positive"));
+  CHECK_THAT(error_of(replace(heat, "transport_order = 3", "transport_order = -1")),
+             Catch::Contains("step.transport_order = -1"));
+  CHECK_THAT(error_of(replace(heat, "transport_order = 3\n", "")),
+             Catch::Contains("step.transport_order") &&
+                 Catch::Contains("required with transport = FMPM"));
+  CHECK_THAT(error_of(replace(heat, "transport = \"FMPM\"", "transport = \"FLIP\"")),
+             Catch::Contains("step.transport = 'FLIP'") && Catch::Contains("lumped"));
+  CHECK_THAT(error_of(replace(heat, "fourier = 0.05", "fourier = 0.0")),
+             Catch::Contains("time.fourier = 0.0: must be positive"));
+  // A temperature asked for without transport: the forgotten step.transport is named.
+  const std::string off = replace(heat, "transport = \"FMPM\"\ntransport_order = 3\n", "");
+  CHECK_THAT(error_of(off),
+             Catch::Contains("body.0.temperature") && Catch::Contains("needs step.transport"));
+  CHECK_THAT(error_of(replace(off, "temperature = \"300 + X\"\nheat_source = 0.25", "")),
+             Catch::Contains("bc.1.temperature: needs step.transport"));
+  // A node held by two temperature conditions; a table with a temperature and velocities.
+  CHECK_THAT(error_of(replace(heat, "[time]",
+                              "[[bc]]\nbox = { min = [39.0], max = [41.0] }\n"
+                              "temperature = 360.0\n\n[time]")),
+             Catch::Contains("[[bc]]: node 42 is held by both 'bc.1.temperature' and "
+                             "'bc.2.temperature'"));
+  CHECK_THAT(error_of(replace(heat, "temperature = 350.0", "temperature = 350.0\nfixed = [\"x\"]")),
+             Catch::Contains("bc.1.fixed") && Catch::Contains("separate tables"));
+}

@@ -35,6 +35,9 @@ void check_energy(const Model& model, double e, double e0, const FailureTest& te
 struct AdvanceOptions {
   double end = 0;       ///< simulated end time
   double courant = 0.5; ///< C of stable_time_step, evaluated before every step
+  /// With heat transport (the stepper's options), no step is longer than F Δx_min² / D_max, the
+  /// Fourier number F of conduction (diffusion_time); 0: default_fourier(d).
+  double fourier = 0;
   /// > 0: report a stop at every multiple of this time (output frames); the observer is told
   /// which steps reach one.
   double stop_every = 0;

@@ -104,6 +104,9 @@ struct BoundaryConditions {
                        double t, BoundaryConditions& step) const;
   /// Throws InputError unless the conditions sharing a node are parallel or perpendicular.
   void check_superposition() const;
+  /// Throws InputError naming the node and both conditions when a node is in two conditions:
+  /// temperature conditions hold a value, they do not superpose.
+  void check_one_condition_per_node() const;
   /// Whether any condition prescribes a non-zero velocity (a value function or a wall): the
   /// BCs then do work on the particles.
   bool driven() const;

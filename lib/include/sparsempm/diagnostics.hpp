@@ -38,6 +38,27 @@ double stable_time_step(const Model& model, double courant);
 /// C = Δt max(c_wave, max_p |V_p|) / Δx_min: the Courant number of a time step.
 double courant_of(const Model& model, double dt);
 
+/// The thermodynamic sums of a model whose particles have temperatures (heat transport), with
+/// the free energy per particle Ψ_p = V_p⁽⁰⁾ W(F_p) + M_p C_V ((T_p − T_ref) − T_p ln(T_p/T_ref)):
+/// the elastic energy and the heat capacity's own (C_V constant, no thermal expansion), whose
+/// entropy is −∂Ψ/∂T = M_p C_V ln(T_p/T_ref) and internal energy Ψ + T S = W + M_p C_V (T_p −
+/// T_ref). For an adiabatic body U + K is conserved and ΔA returns to 0 between equilibrium
+/// states (FMPM 2026 Figs. 9, 10).
+struct ThermalSums {
+  double temperature_min = 0; ///< min_p T_p
+  double temperature_max = 0; ///< max_p T_p
+  /// Σ M_p C_V T_p / Σ M_p C_V: the capacity-weighted mean, which conduction conserves
+  double temperature_mean = 0;
+  double heat = 0;     ///< Q = Σ M_p C_V (T_p − T_ref), the thermal energy
+  double internal = 0; ///< U = W + Q, W the strain energy (Energies::strain)
+  double entropy = 0;  ///< S = Σ M_p C_V ln(T_p / T_ref)
+  double helmholtz = 0; ///< A = U − Σ T_p S_p = W + Σ M_p C_V ((T_p − T_ref) − T_p ln(T_p/T_ref))
+};
+/// The sums of ThermalSums over the particles (in the fixed order of the library's reductions),
+/// `strain` the strain energy W of the same state (Energies::strain). Throws UsageError unless
+/// every particle has a temperature.
+ThermalSums thermal_sums(const Model& model, double strain);
+
 /// Mass, momentum and centre of mass of each material's particles (one body per material in
 /// multimaterial runs), one pass: for material k, out[k(1 + 2d) + 0] = Σ M_p,
 /// out[… + 1 + a] = Σ M_p V_pa, out[… + 1 + d + a] = Σ M_p X_pa / Σ M_p (NaN without

@@ -116,5 +116,8 @@ SparseMatrix folded_columns(const Operators& ops, const SparseRowMatrix& A);
 /// capacity and F = 1/(6d) with the consistent one); +∞ when no material conducts.
 double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
                       const Particles& particles);
+/// The Fourier number of runs that do not choose one ([time] fourier, AdvanceOptions::fourier):
+/// 0.1/d, below 1/(6d), the explicit limit of the consistent capacity with linear shape functions.
+double default_fourier(int dim);
 
 } // namespace smpm

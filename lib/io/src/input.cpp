@@ -102,6 +102,20 @@ void read_mie_gruneisen(const Reader& r, const toml::table& t, const std::string
   m.poisson = (3 * m.bulk - 2 * m.shear) / (2 * (3 * m.bulk + m.shear));
 }
 
+// Heat transport: C_V > 0, κ ≥ 0, T_ref > 0 (each optional here; transport checks that every
+// material has C_V and T_ref).
+void read_heat_properties(const Reader& r, const toml::table& t, const std::string& key,
+                          Material& m) {
+  if (t.get("heat_capacity"))
+    m.heat_capacity = r.positive(t, "heat_capacity", key + "heat_capacity", std::nullopt);
+  m.conductivity = r.number(t, "conductivity", key + "conductivity", 0.0);
+  if (!(m.conductivity >= 0))
+    r.fail(t.get("conductivity"), key + "conductivity", "must be non-negative");
+  if (t.get("reference_temperature"))
+    m.reference_temperature =
+        r.positive(t, "reference_temperature", key + "reference_temperature", std::nullopt);
+}
+
 std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
   std::vector<Material> mats;
   const std::vector<const toml::table*> tables = r.tables(root, "material", true);
@@ -124,6 +138,7 @@ std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
       r.fail(t->get("model"), key + "model", e.what());
     }
     m.density = r.positive(*t, "density", key + "density", std::nullopt);
+    read_heat_properties(r, *t, key, m);
     if (m.model == MaterialModel::MieGruneisen) {
       read_mie_gruneisen(r, *t, key, m);
       if (!std::isfinite(m.wave_speed(3)))
@@ -199,6 +214,10 @@ void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
   step.deformation =
       r.choice(t, "deformation", "step.deformation", "linear", &deformation_update_from_string);
   step.xpic_contact_term = r.boolean(t, "xpic_contact_term", "step.xpic_contact_term", true);
+  step.transport.update =
+      r.choice(t, "transport", "step.transport", "off", &transport_update_from_string);
+  if (const auto k = integer(r, t, "transport_order", "step.transport_order"))
+    step.transport.order = *k;
   read_fmpm(r, t, step);
   // The library's limits (validate of step_options.hpp), at the line of the key they name.
   try {
@@ -262,7 +281,39 @@ TimeSettings read_time(const Reader& r, const toml::table& root) {
   t.courant = r.positive(*time, "courant", "time.courant", 0.5);
   t.end = r.positive(*time, "end", "time.end", std::nullopt);
   t.land_on_frames = r.boolean(*time, "land_on_frames", "time.land_on_frames", true);
+  if (time->get("fourier"))
+    t.fourier = r.positive(*time, "fourier", "time.fourier", std::nullopt);
   return t;
+}
+
+// Heat transport: every material has C_V and T_ref; without transport no body, material or
+// condition asks for temperatures (a forgotten step.transport), and the particles carry none.
+void check_heat(const Reader& r, const toml::table& root, RunConfig& cfg) {
+  Model& m = cfg.model;
+  const bool on = cfg.step.transport.update != TransportUpdate::Off;
+  if (!on) {
+    const std::string off = "needs step.transport (lumped | FMPM | exact): heat transport is off";
+    const std::vector<const toml::table*> bodies = r.tables(root, "body", true);
+    for (size_t k = 0; k < bodies.size(); ++k)
+      for (const char* key : {"temperature", "heat_source"})
+        if (bodies[k]->get(key))
+          r.fail(bodies[k]->get(key), "body." + std::to_string(k) + "." + key, off);
+    if (!m.temperature_bcs.conditions.empty())
+      r.fail(nullptr, m.temperature_bcs.conditions[0].label, off);
+    m.particles.temperature.resize(0);
+    m.particles.heat_source.resize(0);
+    return;
+  }
+  const std::vector<const toml::table*> tables = r.tables(root, "material", true);
+  for (size_t k = 0; k < m.materials.size(); ++k) {
+    const std::string key = "material." + m.materials[k].name + ".";
+    const std::string why = std::string("is required with step.transport = ") +
+                            std::string(to_string(cfg.step.transport.update));
+    if (!(m.materials[k].heat_capacity > 0))
+      r.fail(tables[k], key + "heat_capacity", why);
+    if (!(m.materials[k].reference_temperature > 0))
+      r.fail(tables[k], key + "reference_temperature", why);
+  }
 }
 
 // The shape functions of every particle must fit in the grid (checked on the particles' window:
@@ -280,8 +331,8 @@ void check_supports(const RunConfig& cfg) {
 
 } // namespace
 
-BoundaryConditions read_bc_tables(const std::string& text, const std::string& source,
-                                  const Grid& grid) {
+ConditionTables read_bc_tables(const std::string& text, const std::string& source,
+                               const Grid& grid) {
   const Reader r(source);
   return read_bcs(r, parse_tables(r, text, source, "bc"), grid);
 }
@@ -323,7 +374,9 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
     if (!std::isfinite(P.mass[p]))
       r.fail(nullptr, "material." + cfg.model.materials[size_t(P.material[p])].name + ".density",
              "gives particle " + std::to_string(p) + " an infinite mass");
-  cfg.model.bcs = read_bcs(r, root, grid);
+  ConditionTables conditions = read_bcs(r, root, grid);
+  cfg.model.bcs = std::move(conditions.velocity);
+  cfg.model.temperature_bcs = std::move(conditions.temperature);
 
   cfg.time = read_time(r, root);
   read_step(r, root, cfg.step);
@@ -333,6 +386,7 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
     cfg.model.gravity = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);
   }
   cfg.output = read_output(r, root, source, cfg.time.end);
+  check_heat(r, root, cfg);
   check_supports(cfg);
   return cfg;
 }

@@ -151,6 +151,37 @@ void body_velocity(const Reader& r, const toml::table& t, const std::string& key
   }
 }
 
+// Heat transport: temperature (a number or an expression of X, Y, Z; default the material's
+// reference temperature) and heat_source (power per unit mass, a number; default none).
+void body_heat(const Reader& r, const toml::table& t, const std::string& key, const Material& mat,
+               Particles& P) {
+  P.temperature.setConstant(P.size(), mat.reference_temperature);
+  if (const toml::node* n = t.get("temperature")) {
+    if (auto num = n->value<double>(); num && !n->is_string()) {
+      P.temperature.setConstant(*num);
+    } else if (n->is_string()) {
+      const Expression expr(*n->value<std::string>(), {"X", "Y", "Z"},
+                            r.where(n, key + "temperature"));
+      for (Index p = 0; p < P.size(); ++p) {
+        double x[3] = {0, 0, 0};
+        for (int b = 0; b < P.dim; ++b)
+          x[b] = P.X(p, b);
+        P.temperature[p] = expr(x);
+      }
+    } else {
+      r.fail(n, key + "temperature", "expected a number or an expression of X, Y, Z");
+    }
+    for (Index p = 0; p < P.size(); ++p)
+      if (!(P.temperature[p] > 0) || !std::isfinite(P.temperature[p]))
+        r.fail(n, key + "temperature",
+               "is " + number_text(P.temperature[p]) + " at particle " + std::to_string(p) +
+                   " (temperatures are absolute: positive and finite)");
+  }
+  if (t.get("heat_source"))
+    P.heat_source.setConstant(P.size(),
+                              r.number(t, "heat_source", key + "heat_source", std::nullopt));
+}
+
 } // namespace
 
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
@@ -168,6 +199,7 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
     if (P.size() == 0)
       r.fail(t->get("region"), key + "region", "holds no particle");
     body_velocity(r, *t, key, P);
+    body_heat(r, *t, key, mats[size_t(id)], P);
     all.append(P);
   }
   return all;
@@ -200,32 +232,43 @@ std::vector<Index> bc_nodes(const Reader& r, const toml::table& t, const std::st
   }
 }
 
+// A condition's value: a number or an expression of t, x, y, z (held by value: a copy of the
+// condition, of the Model, evaluates its own parser). A temperature (`absolute`) must be
+// positive.
+VelocityCondition value_condition(const Reader& r, const toml::node* vn, const std::string& name,
+                                  bool absolute) {
+  VelocityCondition c;
+  c.label = name;
+  if (vn->is_string()) {
+    c.value = [expr = Expression(*vn->value<std::string>(), {"t", "x", "y", "z"},
+                                 r.where(vn, name))](double time, const Eigen::Vector3d& x) {
+      const double v[4] = {time, x[0], x[1], x[2]};
+      return expr(v);
+    };
+  } else if (auto num = vn->value<double>(); num && !vn->is_boolean()) {
+    const double value = *num;
+    if (!std::isfinite(value))
+      r.fail(vn, name, "must be finite");
+    if (absolute && !(value > 0))
+      r.fail(vn, name, "must be positive (temperatures are absolute)");
+    c.value = [value](double, const Eigen::Vector3d&) { return value; };
+  } else {
+    r.fail(vn, name, "expected a number or an expression of t, x, y, z");
+  }
+  return c;
+}
+
 // velocity = {direction, value}: a number or an expression of t, x, y, z.
 VelocityCondition velocity_condition(const Reader& r, const toml::table& vel,
                                      const std::string& key, int d) {
   r.check_keys(vel, "bc.velocity");
-  VelocityCondition c;
+  const toml::node* vn = r.node(vel, "value", key + "velocity.value", true);
+  VelocityCondition c = value_condition(r, vn, key + "velocity.value", false);
   c.direction = r.unit_vector(vel, "direction", key + "velocity.direction", d);
   c.label = key + "velocity";
-  const toml::node* vn = r.node(vel, "value", key + "velocity.value", true);
-  if (vn->is_string()) {
-    // Held by value: a copy of the condition (of the Model) evaluates its own parser.
-    c.value = [expr = Expression(*vn->value<std::string>(), {"t", "x", "y", "z"},
-                                 r.where(vn, key + "velocity.value"))](double time,
-                                                                       const Eigen::Vector3d& x) {
-      const double v[4] = {time, x[0], x[1], x[2]};
-      return expr(v);
-    };
-  } else if (auto num = vn->value<double>()) {
-    const double value = *num;
-    if (!std::isfinite(value))
-      r.fail(vn, key + "velocity.value", "must be finite");
-    c.value = [value](double, const Eigen::Vector3d&) { return value; };
-  } else {
-    r.fail(vn, key + "velocity.value", "expected a number or an expression of t, x, y, z");
-  }
   return c;
 }
+
 // A function of t from a number or an expression of t (held by value: copies re-parse).
 std::function<double(double)> time_function(const Reader& r, const toml::table& t,
                                             const std::string& key, const std::string& name,
@@ -270,15 +313,16 @@ MovingWall moving_wall(const Reader& r, const toml::table& w, const std::string&
 
 } // namespace
 
-BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid& g) {
+ConditionTables read_bcs(const Reader& r, const toml::table& root, const Grid& g) {
   const int d = g.dim();
-  BoundaryConditions bcs;
+  ConditionTables out;
+  BoundaryConditions& bcs = out.velocity;
   int index = 0;
   for (const toml::table* t : r.tables(root, "bc", false)) {
     r.check_keys(*t, "bc");
     const std::string key = "bc." + std::to_string(index++) + ".";
     if (const toml::table* w = r.table(*t, "wall", key + "wall", false)) {
-      for (const char* other : {"plane", "box", "fixed", "velocity"})
+      for (const char* other : {"plane", "box", "fixed", "velocity", "temperature"})
         if (t->get(other))
           r.fail(t->get(other), key + other,
                  "a wall selects its own nodes and values; give wall = {...} alone");
@@ -286,6 +330,16 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
       continue;
     }
     const std::vector<Index> nodes = bc_nodes(r, *t, key, g);
+    if (const toml::node* tn = t->get("temperature")) {
+      for (const char* other : {"fixed", "velocity"})
+        if (t->get(other))
+          r.fail(t->get(other), key + other,
+                 "a [[bc]] sets a temperature or velocities; give them in separate tables");
+      VelocityCondition c = value_condition(r, tn, key + "temperature", true);
+      c.nodes = nodes;
+      out.temperature.conditions.push_back(std::move(c));
+      continue;
+    }
     const toml::node* fixed = t->get("fixed");
     const toml::table* vel = r.table(*t, "velocity", key + "velocity", false);
     if (bool(fixed) == bool(vel))
@@ -314,7 +368,12 @@ BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid
   } catch (const InputError& e) {
     throw InputError(r.source_ + ": [[bc]]: " + e.what());
   }
-  return bcs;
+  try {
+    out.temperature.check_one_condition_per_node();
+  } catch (const InputError& e) {
+    throw InputError(r.source_ + ": [[bc]]: " + e.what());
+  }
+  return out;
 }
 
 } // namespace smpm::detail

@@ -114,6 +114,9 @@ void OutputFile::initialize(const RunConfig& cfg) {
     h5::create_series(series.get(), s, 0);
   h5::create_series(series.get(), "momentum", hsize_t(dim_));
   create_material_series(series.get(), materials_, dim_);
+  if (cfg.step.transport.update != TransportUpdate::Off)
+    for (const char* s : kThermalSeries)
+      h5::create_series(series.get(), s, 0);
   h5::check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush");
 }
 
@@ -327,6 +330,9 @@ hsize_t keep_series_to(hid_t file, long step, int materials, int dim) {
     make_missing(kMaterialSeries[s], material_width(s, materials, dim));
     h5::truncate_series(series.get(), kMaterialSeries[s], keep);
   }
+  for (const char* s : kThermalSeries) // heat transport's, when the run has them
+    if (h5::exists(series.get(), s))
+      h5::truncate_series(series.get(), s, keep);
   return keep;
 }
 

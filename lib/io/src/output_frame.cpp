@@ -63,6 +63,8 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
   h5::write_ints(g.get(), "material", P.material.data(), N);
   if (P.energy.size() == P.size()) // internal energy per unit mass (Mie–Grüneisen)
     h5::write_doubles(g.get(), "energy", P.energy.data(), N, 0);
+  if (P.temperature.size() == P.size()) // heat transport
+    h5::write_doubles(g.get(), "temperature", P.temperature.data(), N, 0);
   Eigen::VectorXd J(P.size()); // det F, the volume ratio V/V₀
   for (Index k = 0; k < P.size(); ++k)
     J[k] = embed_3d(P.F.row(k).data(), P.dim).determinant();
@@ -169,6 +171,13 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
     for (int a = 0; a < dim; ++a)
       mom[r * size_t(dim) + size_t(a)] = rows[r].e.momentum[a];
   h5::append_series(series.get(), "momentum", mom.data(), k, hsize_t(dim));
+  // Heat transport: the thermal sums, one series each.
+  if (k > 0 && !rows[0].thermal.empty())
+    for (size_t s = 0; s < std::size(kThermalSeries); ++s) {
+      for (size_t r = 0; r < k; ++r)
+        col[r] = rows[r].thermal.size() > s ? rows[r].thermal[s] : std::nan("");
+      h5::append_series(series.get(), kThermalSeries[s], col.data(), k, 0);
+    }
   // Per material: material_sums lays out (mass, momentum d, centre d) per material.
   if (k == 0 || rows[0].materials.empty())
     return;

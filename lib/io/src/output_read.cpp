@@ -149,6 +149,8 @@ void check_frame_shapes(const Particles& P, int d) {
   expect("half_length", P.half_length.rows(), P.half_length.cols(), d);
   expect("material", P.material.rows(), 1, 1);
   expect("energy", P.energy.rows(), 1, 1);
+  if (P.temperature.size() > 0)
+    expect("temperature", P.temperature.rows(), 1, 1);
 }
 
 // Throws std::runtime_error naming the dataset unless every value a step reads is in its range:
@@ -162,6 +164,10 @@ void check_frame_values(const Particles& P, const Model& model) {
       throw std::runtime_error(std::string(name) + " holds a value that is not finite");
   if (!P.energy.allFinite())
     throw std::runtime_error("energy holds a value that is not finite");
+  for (Index p = 0; p < P.temperature.size(); ++p)
+    if (!(P.temperature[p] > 0) || !std::isfinite(P.temperature[p]))
+      throw std::runtime_error("temperature holds " + number_text(P.temperature[p]) +
+                               " (temperatures are absolute: positive and finite)");
   const std::pair<const char*, const double*> positive[] = {{"mass", P.mass.data()},
                                                             {"volume0", P.volume0.data()},
                                                             {"half_length", P.half_length.data()}};
@@ -201,6 +207,14 @@ void load_frame_from(hid_t file, int frame, Model& model) {
     throw std::runtime_error("energy is missing (the Mie-Gruneisen materials need it)");
   else
     P.energy.setZero(P.X.rows());
+  // Heat transport: the temperatures of the frame; the heat sources are the input's (the model
+  // holds them for the same particles).
+  if (h5::exists(g.get(), "temperature"))
+    P.temperature = h5::read_doubles(g.get(), "temperature").col(0);
+  else if (model.particles.temperature.size() > 0)
+    throw std::runtime_error("temperature is missing (the run has heat transport)");
+  if (model.particles.heat_source.size() == P.X.rows())
+    P.heat_source = model.particles.heat_source;
   const std::vector<int> mat = h5::read_ints(g.get(), "material");
   P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
   P.dim = model.grid.dim();

@@ -154,6 +154,8 @@ std::string xdmf_frame(Sidecar which, const std::string& h5_name, const FrameRec
       g.attribute("J", "J", 0);
     if (f.has_energy)
       g.attribute("energy", "energy", 0);
+    if (f.has_temperature)
+      g.attribute("temperature", "temperature", 0);
     for (const char* s : {"mass", "volume", "volume0"})
       g.attribute(s, s, 0);
     g.attribute("half_length", "half_length", d == 1 ? 0 : d);
@@ -202,6 +204,7 @@ OutputFile::FrameRecord OutputFile::record_of(long file, int frame) {
   r.particles = Index(h5::rows_of(pg.get(), "X"));
   r.has_J = h5::exists(pg.get(), "J");
   r.has_energy = h5::exists(pg.get(), "energy");
+  r.has_temperature = h5::exists(pg.get(), "temperature");
   h5::Id grid = h5::open_group(hid_t(file), "grid");
   if (!h5::exists(grid.get(), name))
     return r;

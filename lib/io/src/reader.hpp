@@ -4,6 +4,7 @@
 // (internal to sparsempm_io).
 
 #include "sparsempm/errors.hpp"
+#include "sparsempm/input.hpp"
 #include "sparsempm/model.hpp"
 #include "toml_text.hpp"
 
@@ -220,7 +221,7 @@ public:
 int axis_index(const Reader& r, const toml::node* n, const std::string& name, int dim);
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
                       const std::vector<Material>& mats);
-BoundaryConditions read_bcs(const Reader& r, const toml::table& root, const Grid& g);
+ConditionTables read_bcs(const Reader& r, const toml::table& root, const Grid& g);
 Contact read_contact(const Reader& r, const toml::table& root, const std::vector<Material>& mats,
                      int dim);
 

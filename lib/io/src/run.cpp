@@ -89,6 +89,7 @@ public:
     }
     const AdvanceOptions adv{.end = cfg_.time.end,
                              .courant = cfg_.time.courant,
+                             .fourier = cfg_.time.fourier,
                              .stop_every = cfg_.output.every,
                              .land_on_stops = cfg_.time.land_on_frames,
                              .failure = {},
@@ -136,6 +137,12 @@ private:
       change_sum_ += r.velocity_change;
     r.velocity_change_sum = change_sum_;
     r.friction = stepper_.friction_work();
+    if (m.particles.temperature.size() == N &&
+        stepper_.options().transport.update != TransportUpdate::Off) {
+      const ThermalSums t = thermal_sums(m, e.strain);
+      r.thermal = {t.temperature_min, t.temperature_max, t.temperature_mean, t.heat,
+                   t.internal,        t.entropy,         t.helmholtz};
+    }
     r.viscous = stepper_.viscous_work();
     r.fmpm_order = m.step > 0 && stepper_.last_step_was_fmpm() &&
                            stepper_.options().velocity == VelocityUpdate::FMPM

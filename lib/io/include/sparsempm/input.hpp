@@ -23,6 +23,10 @@ struct TimeSettings {
   /// Shorten the step before each output frame to land on it (frames at multiples of
   /// output.every); false: constant Courant steps, frames at the first step past each multiple.
   bool land_on_frames = true;
+  /// F in Δt ≤ F Δx_min² / D_max, the Fourier number of conduction (heat transport; D = κ/(ρ C_V),
+  /// diffusion_time); 0: the default 0.1/d, below the explicit limit of the consistent capacity
+  /// with linear shape functions, 1/(6d).
+  double fourier = 0;
 };
 
 /// The [output] table of an input file.
@@ -51,11 +55,17 @@ struct RunConfig {
 /// tables are addressed by name or index, e.g. "material.bar.youngs=3"). Throws InputError.
 RunConfig read_input(const std::string& text, const std::string& source,
                      const std::vector<std::string>& overrides = {});
+/// The conditions of [[bc]] tables: velocity conditions and moving walls (Model::bcs), and
+/// temperature conditions (Model::temperature_bcs).
+struct ConditionTables {
+  BoundaryConditions velocity;    ///< fixed = [...], velocity = {...} and wall = {...}
+  BoundaryConditions temperature; ///< temperature = value (heat transport)
+};
 /// Reads [[bc]] tables given as TOML text (as they stand in an input file; the Python module's
 /// Model.add_bc writes them) into conditions on `grid`, with the checks and messages of
 /// read_input ("source:line: bc.0.wall.depth = ...: ..."). Throws InputError.
-BoundaryConditions read_bc_tables(const std::string& text, const std::string& source,
-                                  const Grid& grid);
+ConditionTables read_bc_tables(const std::string& text, const std::string& source,
+                               const Grid& grid);
 /// Reads [[contact]] tables given as TOML text against the model's materials (by name), as
 /// read_input does: the velocity fields of the materials and the laws between them.
 Contact read_contact_tables(const std::string& text, const std::string& source,

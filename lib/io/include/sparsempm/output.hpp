@@ -61,7 +61,15 @@ struct SeriesRow {
   double viscous = 0;             ///< work of the artificial viscosity since t = 0 (part of strain)
   double fmpm_order = 0;          ///< the FMPM(k) loop's order ℓ reached on the step (0: none)
   std::vector<double> materials;  ///< material_sums: mass, momentum, centre of each material
+  /// Heat transport: T min, max and mean, heat, internal energy, entropy and free energy of the
+  /// state (ThermalSums, in the order of kThermalSeries); empty without transport.
+  std::vector<double> thermal;
 };
+
+/// The series of heat transport, in the order of SeriesRow::thermal.
+inline constexpr const char* kThermalSeries[] = {
+    "temperature_min", "temperature_max", "temperature_mean", "heat",
+    "internal",        "entropy",         "helmholtz"};
 
 /// What a restart continues besides the particles and clock of a frame: the Stepper's state
 /// and the running sum of the velocity change (SeriesRow::velocity_change_sum). Stored with
@@ -127,6 +135,7 @@ public:
     int fields = 1; ///< n_f, the run's velocity fields
     /// Whether the particles have J = det F (files of earlier versions do not).
     bool has_J = true, has_energy = false; ///< whether they have the internal energy U
+    bool has_temperature = false;          ///< whether they have temperatures (heat transport)
   };
 
 private:
