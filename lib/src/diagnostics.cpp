@@ -87,20 +87,28 @@ double courant_of(const Model& model, double dt) {
 ThermalSums thermal_sums(const Model& model, double strain) {
   const Particles& P = model.particles;
   SMPM_VERIFY(P.temperature.size() == P.size(), "thermal_sums: the particles have no temperatures");
-  // Σ M C, Σ M C T, Σ M C (T − T_ref), Σ M C ln(T/T_ref), Σ T M C ln(T/T_ref)
-  double s[5];
+  // Σ M C, Σ M C T, Σ M C (T − T_ref), U − W, S, Σ T S (per particle: S_p = M C ln(T/T_ref) +
+  // Ω c with c the coupling of thermal_coupling; U_p − Ω W_p = M C (T − T_ref) + T Ω c, but for a
+  // Mie–Grüneisen particle, whose U (in the strain energy) holds its heat).
+  double s[6];
   detail::ordered_reduce_blocks(
-      P.size(), 5, 0.0, s,
+      P.size(), 6, 0.0, s,
       [&](Index begin, Index end, double* out) {
         for (Index p = begin; p < end; ++p) {
           const Material& m = model.materials[size_t(P.material[p])];
           const double T = P.temperature[p], C = P.mass[p] * m.heat_capacity;
-          const double log = std::log(T / m.reference_temperature);
+          const bool shock = m.model == MaterialModel::MieGruneisen;
+          const double c =
+              shock || m.thermal_expansion != 0
+                  ? P.volume0[p] * thermal_coupling(m, P.dim, embed_3d(P.F.row(p).data(), P.dim), T)
+                  : 0.0;
+          const double S = C * std::log(T / m.reference_temperature) + c;
           out[0] += C;
           out[1] += C * T;
           out[2] += C * (T - m.reference_temperature);
-          out[3] += C * log;
-          out[4] += T * C * log;
+          out[3] += shock ? 0.0 : C * (T - m.reference_temperature) + T * c;
+          out[4] += S;
+          out[5] += T * S;
         }
       },
       [](double a, double b) { return a + b; });
@@ -111,9 +119,9 @@ ThermalSums thermal_sums(const Model& model, double strain) {
   t.temperature_max = P.temperature.maxCoeff();
   t.temperature_mean = s[0] > 0 ? s[1] / s[0] : std::nan("");
   t.heat = s[2];
-  t.internal = strain + s[2];
-  t.entropy = s[3];
-  t.helmholtz = strain + s[2] - s[4];
+  t.internal = strain + s[3];
+  t.entropy = s[4];
+  t.helmholtz = t.internal - s[5];
   return t;
 }
 

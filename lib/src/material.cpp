@@ -47,8 +47,14 @@ void validate(const Material& mat) {
     for (const auto& [key, value] : nonnegative)
       if (!(value >= 0) || !std::isfinite(value))
         throw InputError(who + key + " must be non-negative, got " + std::to_string(value));
+    if (mat.thermal_expansion != 0)
+      throw InputError(who + "thermal_expansion is not for mie-gruneisen (its thermal pressure "
+                             "is gruneisen rho0 U)");
     return;
   }
+  if (!std::isfinite(mat.thermal_expansion))
+    throw InputError(who + "thermal_expansion must be finite, got " +
+                     std::to_string(mat.thermal_expansion));
   if (!(mat.youngs > 0) || !std::isfinite(mat.youngs))
     throw InputError(who + "youngs must be positive, got " + std::to_string(mat.youngs));
   if (!(mat.poisson > -1 && mat.poisson < 0.5))
@@ -209,6 +215,49 @@ double artificial_viscosity(const Material& mat, double rho, double C, double dx
   return rho * dx * d * (mat.av_linear * C + mat.av_quadratic * dx * d);
 }
 
+Eigen::Matrix3d thermoelastic_stress(const Material& mat, int dim, const Eigen::Matrix3d& F,
+                                     double T, double& W, double& c) {
+  const double alpha = mat.thermal_expansion, dT = T - mat.reference_temperature;
+  if (alpha == 0 || mat.model == MaterialModel::MieGruneisen) {
+    W = strain_energy_density(mat, dim, F);
+    c = 0;
+    return cauchy_stress(mat, dim, F);
+  }
+  if (mat.model == MaterialModel::Linear) { // ε_e = ε − αΔT I
+    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+    if (dim == 1) { // the bar in uniaxial stress
+      Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+      const double strain = F(0, 0) - 1 - alpha * dT;
+      s(0, 0) = mat.youngs * strain;
+      W = 0.5 * s(0, 0) * strain;
+      c = alpha * s(0, 0);
+      return s;
+    }
+    const Eigen::Matrix3d eps = 0.5 * (F + F.transpose()) - I - alpha * dT * I; // F₃₃ = 1
+    const Eigen::Matrix3d s = mat.lame_lambda() * eps.trace() * I + 2 * mat.shear_modulus() * eps;
+    W = 0.5 * (s.array() * eps.array()).sum();
+    c = alpha * s.trace();
+    return s;
+  }
+  const double theta = std::exp(alpha * dT), JT = theta * theta * theta; // F_T = θ I
+  const Eigen::Matrix3d Fe = F / theta;
+  const Eigen::Matrix3d s = cauchy_stress(mat, dim, Fe);
+  const double We = strain_energy_density(mat, dim, Fe);
+  W = JT * We;
+  c = alpha * JT * (Fe.determinant() * s.trace() - 3 * We);
+  return s;
+}
+
+double thermal_coupling(const Material& mat, int dim, const Eigen::Matrix3d& F, double T) {
+  if (mat.model == MaterialModel::MieGruneisen)
+    return mat.density * mat.heat_capacity * mat.gruneisen * (F.determinant() - 1);
+  if (mat.thermal_expansion == 0)
+    return 0;
+  double W, c;
+  (void)thermoelastic_stress(mat, dim, F, T, W, c);
+  return c;
+}
+
 Eigen::Matrix3d embed_3d(const double* F, int d) {
   Eigen::Matrix3d F3 = Eigen::Matrix3d::Identity();
   for (int a = 0; a < d; ++a)
@@ -239,7 +288,7 @@ void check_compression(const Material& mat, double J, Index p) {
 
 void update_stress(const std::vector<Material>& materials,
                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
-                   FieldRef stress, Eigen::VectorXd* density) {
+                   FieldRef stress, Eigen::VectorXd* density, const Eigen::VectorXd* temperature) {
   const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
   SMPM_VERIFY(d * d == d2 && stress.cols() == d2 && stress.rows() == F.rows() &&
                   material.size() == F.rows(),
@@ -250,6 +299,17 @@ void update_stress(const std::vector<Material>& materials,
     const Material& mat = material_of(materials, material[p], p);
     const double* Fp = F.data() + p * F.outerStride();
     double* sigma = stress.data() + p * stress.outerStride();
+    if (temperature && mat.thermal_expansion != 0) { // thermoelastic (heat transport)
+      double W, c;
+      const Eigen::Matrix3d s =
+          thermoelastic_stress(mat, d, embed_3d(Fp, d), (*temperature)[p], W, c);
+      for (int a = 0; a < d; ++a)
+        for (int b = 0; b < d; ++b)
+          sigma[a * d + b] = s(a, b);
+      if (density)
+        (*density)[p] = W;
+      return;
+    }
     if (mat.model == MaterialModel::Linear) {
       linear_stress_energy(mat, d, Fp, sigma, density ? density->data() + p : nullptr);
       return;
@@ -328,8 +388,10 @@ double update_shock_stress(const std::vector<Material>& materials,
                            const Eigen::Ref<const Eigen::VectorXd>& J_old,
                            const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
                            Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
-                           FieldRef stress) {
+                           FieldRef stress, Eigen::VectorXd* work) {
   const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
+  if (work)
+    work->setZero(F.rows());
   // The viscous work −Σ_p q ΔJ Ω_p, summed in the fixed order of ordered_sum.
   return detail::ordered_sum(F.rows(), [&](Index p) {
     const Material& mat = material_of(materials, material[p], p);
@@ -355,6 +417,8 @@ double update_shock_stress(const std::vector<Material>& materials,
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
         sigma[a * d + b] = s(a, b) - (a == b ? P + q : 0.0);
+    if (work)
+      (*work)[p] = -q * dJ * volume0[p];
     return -q * dJ * volume0[p];
   });
 }

@@ -10,11 +10,61 @@
 
 namespace smpm {
 
+// c of every particle at its F and temperature (thermal_coupling; 0 without a coupling).
+void MaterialStrainUpdate::couplings(const ConstFieldRef& F, Eigen::VectorXd& c) const {
+  const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
+  const Eigen::VectorXd& T = *thermal_->temperature;
+  c.resize(F.rows());
+  detail::parallel_for(F.rows(), [&](Index p) {
+    const Material& mat = materials_[size_t(material_[p])];
+    c[p] = thermal_coupling(mat, d, embed_3d(F.data() + p * F.outerStride(), d), T[p]);
+  });
+}
+
+// The isentropic temperature of the step's deformation (FMPM 2026 §3.2.2's compressive heating;
+// NairnMPM's dT_q0): the entropy ρ₀ C_V ln(T/T_ref) + c(F, T) of each coupled particle kept,
+//     ρ₀ C_V ln(T₁/T₀) + c(F₁, T₁) − c(F₀, T₀) = 0,
+// solved by Newton's method from T₀ e^{−(c(F₁, T₀) − c(F₀, T₀))/(ρ₀ C_V)} (exact when c does not
+// depend on T, as for the Grüneisen solid: T₁ = T₀ e^{−γ₀ ΔJ}), with ∂c/∂T by a central
+// difference; c(F₀, T₀) is thermal_->coupling.
+void MaterialStrainUpdate::reversible_heating(const ConstFieldRef& F) const {
+  const int d2 = int(F.cols()), d = d2 == 1 ? 1 : (d2 == 4 ? 2 : 3);
+  Eigen::VectorXd& T = *thermal_->temperature;
+  const Eigen::VectorXd& c0 = thermal_->coupling;
+  detail::parallel_for(F.rows(), [&](Index p) {
+    const Material& mat = materials_[size_t(material_[p])];
+    const bool shock = mat.model == MaterialModel::MieGruneisen;
+    if (mat.thermal_expansion == 0 && !shock)
+      return;
+    const Eigen::Matrix3d F1 = embed_3d(F.data() + p * F.outerStride(), d);
+    const double rhoC = mat.density * mat.heat_capacity, T0 = T[p];
+    auto c = [&](double temp) { return thermal_coupling(mat, d, F1, temp); };
+    double T1 = T0 * std::exp(-(c(T0) - c0[p]) / rhoC);
+    for (int k = 0; k < 8 && !shock; ++k) {
+      const double g = rhoC * std::log(T1 / T0) + c(T1) - c0[p];
+      const double h = 1e-6 * T1, dg = rhoC / T1 + (c(T1 + h) - c(T1 - h)) / (2 * h);
+      const double step = g / dg;
+      T1 -= step;
+      if (std::abs(step) <= 1e-13 * T1)
+        break;
+    }
+    if (!(T1 > 0) || !std::isfinite(T1))
+      throw NumericalError("particle " + std::to_string(p) + " has temperature " + number_text(T1) +
+                           " after its thermoelastic heating");
+    T[p] = T1;
+  });
+}
+
 void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, double dt,
                                   ParticleFields& fields) {
+  const Eigen::VectorXd* T = thermal_ ? thermal_->temperature : nullptr;
+  if (thermal_)
+    couplings(fields.F, thermal_->coupling);
   if (!shock_) {
     update_deformation(op, v, dt, kind_, fields.F); // L, F, det F > 0
-    update_stress(materials_, material_, fields.F, fields.stress, density_);
+    if (thermal_)
+      reversible_heating(fields.F);
+    update_stress(materials_, material_, fields.F, fields.stress, density_, T);
     return;
   }
   // Mie–Grüneisen: J and p + q before the step, then the new F, the elastic stresses, and the
@@ -30,9 +80,20 @@ void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, d
   });
   shock_pressure(materials_, material_, fields.F, fields.stress, s.p_old);
   update_deformation(op, v, dt, kind_, fields.F);
-  update_stress(materials_, material_, fields.F, fields.stress, density_);
+  if (thermal_)
+    reversible_heating(fields.F);
+  update_stress(materials_, material_, fields.F, fields.stress, density_, T);
   s.viscous_work += update_shock_stress(materials_, material_, fields.F, fields.volume0, s.J_old,
-                                        s.p_old, dt, s.dx, *s.energy, s.pressure, fields.stress);
+                                        s.p_old, dt, s.dx, *s.energy, s.pressure, fields.stress,
+                                        thermal_ ? &thermal_->viscous : nullptr);
+  if (thermal_) { // the viscosity's work is heat: ΔT = w / (M C_V) = w / (ρ₀ C_V Ω)
+    Eigen::VectorXd& Tm = *thermal_->temperature;
+    detail::parallel_for(N, [&](Index p) {
+      const Material& mat = materials_[size_t(material_[p])];
+      if (thermal_->viscous[p] != 0)
+        Tm[p] += thermal_->viscous[p] / (mat.density * mat.heat_capacity * fields.volume0[p]);
+    });
+  }
 }
 
 namespace {
@@ -240,11 +301,24 @@ struct Stages {
 
   // Transport, task 4: T_p += Δt S Ṫ (lumped; Eq. 8 with T for V) or T_p = S θ⁺ (FMPM, exact;
   // Eq. 9).
+  // A Mie–Grüneisen particle's internal energy U takes the heat it receives, C_V ΔT (its
+  // pressure's thermal part ρ₀γ₀U; NairnMPM's e = W + Q).
   void heat_particles() {
+    Eigen::VectorXd& T = *heat->temperature;
+    const bool shock = heat->energy && heat->materials && uses_shock_physics(*heat->materials);
+    if (shock)
+      b.heat.before = T;
     if (heat->update == TransportUpdate::Lumped)
-      update_temperature_flip(*c.ops, b.heat.rate, c.dt, *heat->temperature);
+      update_temperature_flip(*c.ops, b.heat.rate, c.dt, T);
     else
-      update_temperature_grid(*c.ops, b.heat.theta, *heat->temperature);
+      update_temperature_grid(*c.ops, b.heat.theta, T);
+    if (!shock)
+      return;
+    const Eigen::VectorXi& id = *heat->material;
+    for (Index p = 0; p < T.size(); ++p)
+      if (const Material& m = (*heat->materials)[size_t(id[p])];
+          m.model == MaterialModel::MieGruneisen)
+        (*heat->energy)[p] += m.heat_capacity * (T[p] - b.heat.before[p]);
   }
 };
 

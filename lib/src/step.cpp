@@ -17,6 +17,7 @@ namespace smpm {
 struct Stepper::Buffers {
   StepBuffers step;
   TransportContext transport;              ///< the transport stages' context (heat transport)
+  ThermalStrainState thermal;              ///< the strain update's couplings (heat transport)
   std::unique_ptr<MassSolver> heat_solver; ///< the exact transport update's solver
   ShockState shock;
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
@@ -72,6 +73,9 @@ const TransportContext& Stepper::transport_context(Model& model) {
   t.solver = buf_->heat_solver.get();
   t.bcs = &prep_.temperature_bcs;
   t.temperature = &model.particles.temperature;
+  t.energy = uses_shock_physics(model.materials) ? &model.particles.energy : nullptr;
+  t.materials = &model.materials;
+  t.material = &model.particles.material;
   return t;
 }
 
@@ -154,8 +158,10 @@ void Stepper::step(Model& model, double dt) {
       buf_->shock.viscous_work = 0;
     }
     buf_->density.resize(0);
+    buf_->thermal.temperature = &P.temperature;
     MaterialStrainUpdate strain(model.materials, P.material, opt_.deformation,
-                                shock ? &buf_->shock : nullptr, &buf_->density);
+                                shock ? &buf_->shock : nullptr, &buf_->density,
+                                heat() ? &buf_->thermal : nullptr);
     scheme_step(context, fields, strain, buf_->step);
     if (contact)
       state_.friction_work += prep_.contact.friction_work;

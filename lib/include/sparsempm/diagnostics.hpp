@@ -38,12 +38,14 @@ double stable_time_step(const Model& model, double courant);
 /// C = Δt max(c_wave, max_p |V_p|) / Δx_min: the Courant number of a time step.
 double courant_of(const Model& model, double dt);
 
-/// The thermodynamic sums of a model whose particles have temperatures (heat transport), with
-/// the free energy per particle Ψ_p = V_p⁽⁰⁾ W(F_p) + M_p C_V ((T_p − T_ref) − T_p ln(T_p/T_ref)):
-/// the elastic energy and the heat capacity's own (C_V constant, no thermal expansion), whose
-/// entropy is −∂Ψ/∂T = M_p C_V ln(T_p/T_ref) and internal energy Ψ + T S = W + M_p C_V (T_p −
-/// T_ref). For an adiabatic body U + K is conserved and ΔA returns to 0 between equilibrium
-/// states (FMPM 2026 Figs. 9, 10).
+/// The thermodynamic sums of a model whose particles have temperatures (heat transport), from
+/// the free energy of each particle Ψ_p = Ω_p Ψ_e(F_p, T_p) + M_p C_V ((T_p − T_ref) − T_p ln(T_p /
+/// T_ref)) (thermoelastic_stress; Ψ_e = W without thermal expansion): entropy S_p = −∂Ψ/∂T =
+/// M_p C_V ln(T_p/T_ref) + Ω_p c_p and internal energy U_p = Ψ_p + T_p S_p = Ω_p W_p +
+/// M_p C_V (T_p − T_ref) + T_p Ω_p c_p (c = thermal_coupling, 0 without expansion). A
+/// Mie–Grüneisen particle's internal energy is its M U (which takes the heat it receives) and its
+/// entropy that of the Grüneisen solid, M C_V (ln(T/T_ref) + γ₀ (J − 1)). For an adiabatic body
+/// U + K is conserved and ΔA returns to 0 between equilibrium states (FMPM 2026 Figs. 9, 10).
 struct ThermalSums {
   double temperature_min = 0; ///< min_p T_p
   double temperature_max = 0; ///< max_p T_p

@@ -56,6 +56,9 @@ struct Material {
   /// T_ref, the stress-free absolute temperature: the particles' initial temperature and the
   /// origin of the thermal energy, entropy and free energy (> 0 with transport)
   double reference_temperature = 0;
+  /// α, the linear coefficient of thermal expansion from T_ref (0: none; not for Mie–Grüneisen,
+  /// whose thermal pressure is γ₀ρ₀U): thermoelastic_stress
+  double thermal_expansion = 0;
 
   /// G: the shear modulus given (Mie–Grüneisen), else E / (2 (1 + ν)).
   double shear_modulus() const {
@@ -102,6 +105,26 @@ Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3
 /// large-strain models and W = ½ σ : ε for the linear one.
 double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d& F);
 
+/// Thermoelasticity at the absolute temperature T (heat transport), for a material with thermal
+/// expansion α from T_ref: returns σ(F, T) (3 × 3, as cauchy_stress) and sets W, the strain energy
+/// per unit reference volume, and the coupling c = −∂Ψ_e/∂T of the elastic free energy Ψ_e (the
+/// elastic part of the entropy per unit reference volume). The free energy is
+///     Ψ = Ψ_e(F, T) + ρ₀ C_V ((T − T_ref) − T ln(T / T_ref)),
+/// with, for the large-strain models, the multiplicative split F = F_e F_T, F_T = e^{αΔT} I (the
+/// restrained directions of plane strain and of the 1D uniaxial strain included; Lu & Pister
+/// 1975): Ψ_e = J_T W(F_e), σ = σ(F_e), c = α J_T (tr τ_e − 3 W(F_e)) with τ_e = det F_e σ(F_e);
+/// and for the linear model ε_e = ε − αΔT I: Ψ_e = ½ σ : ε_e, c = α tr σ (the 1D bar in uniaxial
+/// stress: σ = E (F − 1 − αΔT), c = α σ). With α = 0: cauchy_stress, W = strain_energy_density,
+/// c = 0. The reversible (isentropic) temperature change of a step follows from the entropy
+/// ρ₀ C_V ln(T/T_ref) + c: ΔT = −T Δc / (ρ₀ C_V) (the thermoelastic effect; small strain:
+/// −(3αK T/(ρ₀ C_V)) Δε_v = −γ T ΔV/V, NairnMPM's dT_q0 with γ = 3αK/(ρ C_V)).
+Eigen::Matrix3d thermoelastic_stress(const Material& mat, int dim, const Eigen::Matrix3d& F,
+                                     double T, double& W, double& c);
+/// The coupling c = −∂Ψ_e/∂T of thermoelastic_stress, and for a Mie–Grüneisen particle
+/// c = ρ₀ C_V γ₀ (J − 1), the entropy of the Grüneisen solid s = C_V (ln(T/T_ref) + γ₀ (J − 1)),
+/// whose isentropic heating is ΔT = −γ₀ T ΔJ (NairnMPM's HEMGEOSMaterial); 0 without expansion.
+double thermal_coupling(const Material& mat, int dim, const Eigen::Matrix3d& F, double T);
+
 /// A d × d tensor stored row-major (d² entries) as a 3 × 3 matrix with the identity in the unused
 /// rows and columns: the form cauchy_stress takes.
 Eigen::Matrix3d embed_3d(const double* F, int d);
@@ -110,9 +133,12 @@ Eigen::Matrix3d embed_3d(const double* F, int d);
 /// id (N). With `density`, also W(F_p) of each particle (resized to N; the same bits as
 /// strain_energy_density), so that the energies of the step need no second pass over F. Throws
 /// InputError for a material id without a material.
+/// With `temperature` (N absolute temperatures, heat transport), the particles of materials with
+/// thermal expansion take thermoelastic_stress (their W too).
 void update_stress(const std::vector<Material>& materials,
                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
-                   FieldRef stress, Eigen::VectorXd* density = nullptr);
+                   FieldRef stress, Eigen::VectorXd* density = nullptr,
+                   const Eigen::VectorXd* temperature = nullptr);
 /// Total strain energy Σ_p V_p^(0) W(F_p); for Mie–Grüneisen particles the internal energy
 /// M_p U_p plus the elastic shear energy V_p^(0) (G/2)(I₁/J^{2/3} − 3). With `density` (W(F_p)
 /// of each particle, as update_stress stores it) W is not evaluated again: the same bits.
@@ -131,14 +157,15 @@ double max_wave_speed(const std::vector<Material>& materials, const Particles& p
 /// unit mass by the implicit trapezoidal rule (solved exactly: p is linear in U), so that a
 /// closed cycle without viscosity returns U to 0 to second order. NairnMPM evaluates p with
 /// U_old (first order). The shear term's energy is elastic and stays out of U. `pressure`
-/// receives p + q. Returns the work of the viscosity, Σ_p −q_p ΔJ_p V_p^(0) (heat, ≥ 0).
+/// receives p + q. Returns the work of the viscosity, Σ_p −q_p ΔJ_p V_p^(0) (heat, ≥ 0); with
+/// `work`, also each particle's (N; 0 for other materials).
 double update_shock_stress(const std::vector<Material>& materials,
                            const Eigen::Ref<const Eigen::VectorXi>& material,
                            const ConstFieldRef& F, const Eigen::Ref<const Eigen::VectorXd>& volume0,
                            const Eigen::Ref<const Eigen::VectorXd>& J_old,
                            const Eigen::Ref<const Eigen::VectorXd>& p_old, double dt, double dx,
                            Eigen::Ref<Eigen::VectorXd> energy, Eigen::Ref<Eigen::VectorXd> pressure,
-                           FieldRef stress);
+                           FieldRef stress, Eigen::VectorXd* work = nullptr);
 /// The pressure p + q of every Mie–Grüneisen particle from its stress and F: −(1/d) Σ_a
 /// (σ_aa − s_aa) with s the shear term at F (the in-plane components carry p in 2D plane
 /// strain); 0 for other materials.

@@ -59,17 +59,31 @@ struct ShockState {
   double viscous_work = 0; ///< the viscosity's work Σ_p −q ΔJ V⁽⁰⁾ of the last update
 };
 
+/// The state heat transport carries through a strain update: the particles' temperatures, which
+/// the couplings of the materials change reversibly, ΔT = −T Δc / (ρ₀ C_V) with c their
+/// thermal_coupling (thermal expansion; the Grüneisen solid: ΔT = −γ₀ T ΔJ), and the artificial
+/// viscosity's work heats, ΔT = w / (M C_V) (NairnMPM's dT_q0 and dissipated energy); scratch.
+struct ThermalStrainState {
+  Eigen::VectorXd* temperature = nullptr; ///< N absolute temperatures (updated)
+  Eigen::VectorXd coupling;               ///< scratch: c of each particle before the step
+  Eigen::VectorXd viscous;                ///< scratch: the viscosity's work of each particle
+};
+
 /// The simulation's strain update: F from the velocity gradient (update_deformation), then
 /// σ = σ(F) by each particle's material (update_stress); with `shock` and Mie–Grüneisen
 /// materials, their pressure, artificial viscosity and internal energy (update_shock_stress).
 class MaterialStrainUpdate final : public StrainUpdate {
 public:
   /// With `density`, each stress update also stores W(F_p) of every particle there
-  /// (update_stress), for the energies of the step.
+  /// (update_stress), for the energies of the step. With `thermal` (heat transport) the
+  /// particles' temperatures take the couplings' heating and the stresses their thermal
+  /// expansion (ThermalStrainState).
   MaterialStrainUpdate(const std::vector<Material>& materials,
                        const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind,
-                       ShockState* shock = nullptr, Eigen::VectorXd* density = nullptr)
-      : materials_(materials), material_(material), kind_(kind), shock_(shock), density_(density) {}
+                       ShockState* shock = nullptr, Eigen::VectorXd* density = nullptr,
+                       ThermalStrainState* thermal = nullptr)
+      : materials_(materials), material_(material), kind_(kind), shock_(shock), density_(density),
+        thermal_(thermal) {}
   /// F ← (I + L Δt) F or exp(L Δt) F (update_deformation), then σ = σ(F) (update_stress);
   /// with `shock`, the Mie–Grüneisen stresses and energies (update_shock_stress).
   void update(const ParticleOperators& op, const Field& v, double dt,
@@ -81,6 +95,9 @@ private:
   DeformationUpdate kind_;
   ShockState* shock_;
   Eigen::VectorXd* density_;
+  ThermalStrainState* thermal_;
+  void couplings(const ConstFieldRef& F, Eigen::VectorXd& c) const;
+  void reversible_heating(const ConstFieldRef& F) const;
 };
 
 /// Heat transport in one step (transport.hpp; FMPM 2026 §3.5): what the transport stages read
@@ -95,6 +112,11 @@ struct TransportContext {
   /// BCs).
   const BoundaryConditions* bcs = nullptr;
   Eigen::VectorXd* temperature = nullptr; ///< N particle temperatures, updated by the step
+  /// Mie–Grüneisen particles: their internal energies U (N), which take the heat received, with
+  /// the materials and the particles' material ids; null without such particles.
+  Eigen::VectorXd* energy = nullptr;
+  const std::vector<Material>* materials = nullptr; ///< the model's materials
+  const Eigen::VectorXi* material = nullptr;        ///< N material ids
 };
 
 /// What the stages read besides the particle fields; fixed during the step.
@@ -131,7 +153,8 @@ struct TransportState {
   Field tau_plus; ///< τ⁺ = τ + q Δt (task 2), with the conditions set (task 2.a)
   Field theta;    ///< θ⁺ = c̃_k⁻¹ τ⁺: the updated nodal temperatures (task 3.b)
   Field rate;     ///< Ṫ = c⁻¹ q, the FLIP rate of the particle update
-  FmpmWorkspace fmpm; ///< scratch of the FMPM loop on c̃
+  FmpmWorkspace fmpm;     ///< scratch of the FMPM loop on c̃
+  Eigen::VectorXd before; ///< N: temperatures before the particle update (Mie–Grüneisen U)
 };
 
 /// Scratch of the step, reused from step to step.

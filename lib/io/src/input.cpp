@@ -114,6 +114,10 @@ void read_heat_properties(const Reader& r, const toml::table& t, const std::stri
   if (t.get("reference_temperature"))
     m.reference_temperature =
         r.positive(t, "reference_temperature", key + "reference_temperature", std::nullopt);
+  m.thermal_expansion = r.number(t, "thermal_expansion", key + "thermal_expansion", 0.0);
+  if (m.thermal_expansion != 0 && m.model == MaterialModel::MieGruneisen)
+    r.fail(t.get("thermal_expansion"), key + "thermal_expansion",
+           "not for model = \"mie-gruneisen\" (its thermal pressure is gruneisen rho0 U)");
 }
 
 std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
@@ -300,6 +304,11 @@ void check_heat(const Reader& r, const toml::table& root, RunConfig& cfg) {
           r.fail(bodies[k]->get(key), "body." + std::to_string(k) + "." + key, off);
     if (!m.temperature_bcs.conditions.empty())
       r.fail(nullptr, m.temperature_bcs.conditions[0].label, off);
+    const std::vector<const toml::table*> mats = r.tables(root, "material", true);
+    for (size_t k = 0; k < mats.size(); ++k)
+      if (m.materials[k].thermal_expansion != 0)
+        r.fail(mats[k]->get("thermal_expansion"),
+               "material." + m.materials[k].name + ".thermal_expansion", off);
     m.particles.temperature.resize(0);
     m.particles.heat_source.resize(0);
     return;
