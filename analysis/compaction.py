@@ -25,13 +25,12 @@ import csv
 import pathlib
 import sys
 
-import h5py
 import numpy as np
 from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
-from figures import run_smpm  # noqa: E402
+from figures import read_run, run_smpm  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 BOX, CELL, SPEED, STRAIN = 40.0, 1.0, 10.0, 0.45
@@ -124,11 +123,10 @@ def run(smpm, src, out, sets):
     r, secs = run_smpm(smpm, src, out, sets)
     if r.returncode != 0:
         raise RuntimeError(r.stderr.strip())
-    with h5py.File(out, "r") as f:
-        g = max(f["particles"].values(), key=lambda g: g.attrs["time"])
-        X, F, r0, mat = g["X"][:], g["F"][:], g["half_length"][:], g["material"][:]
-        stress = g["stress"][:, 3].mean()
-        t = g.attrs["time"]
+    g = read_run(out).particles(-1)  # the last frame
+    X, F, r0, mat = g["X"], g["F"], g["half_length"], g["material"]
+    stress = g["stress"][:, 3].mean()
+    t = g["@time"]
     return {"stress": stress, "interpenetration": interpenetration(X, F, r0, mat),
             "seconds": secs, "X": X, "mat": mat, "compaction": SPEED * t / BOX}
 

@@ -4,10 +4,9 @@ fig8.py, fig9.py and fig11.py run it: one `smpm run` with overrides, and what th
 series."""
 import pathlib
 
-import h5py
 import numpy as np
 
-from figures import run_smpm
+from figures import read_run, run_smpm
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "disk_impact.toml"
@@ -37,11 +36,9 @@ def run(smpm, out, sets):
     if r.returncode != 0:
         raise RuntimeError(r.stderr.strip().splitlines()[-1] if r.stderr.strip() else
                            f"exit {r.returncode}")
-    with h5py.File(out, "r") as f:
-        s = f["series"]
-        e = s["kinetic"][:] + s["strain"][:]
-        friction = s["friction"][:]
-        return {"lost": 100 * (1 - (e[-1] + friction[-1]) / e[0]),
-                "friction": 100 * friction[-1] / e[0], "centre": s["material_centre"][:],
-                "time": s["t"][:], "momentum": np.abs(s["momentum"][:]).max(),
-                "seconds": seconds}
+    s = read_run(out).series
+    e = s["kinetic"] + s["strain"]
+    friction = s["friction"]
+    return {"lost": 100 * (1 - (e[-1] + friction[-1]) / e[0]),
+            "friction": 100 * friction[-1] / e[0], "centre": s["material_centre"],
+            "time": s["t"], "momentum": np.abs(s["momentum"]).max(), "seconds": seconds}

@@ -17,8 +17,6 @@ import subprocess
 import sys
 import tempfile
 
-import h5py
-
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
 import smpm_python  # noqa: E402
@@ -52,8 +50,7 @@ def loss_cli(args, alpha, out):
         cmd += ["--set", f"{key}={value}"]
     if subprocess.run(cmd, capture_output=True, text=True).returncode != 0:
         return float("nan")
-    with h5py.File(out, "r") as f:
-        total = f["series"]["total"][:]
+    total = figures.read_run(out).series["total"]
     return 100 * (total[0] - total[-1]) / total[0]
 
 

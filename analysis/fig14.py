@@ -19,11 +19,9 @@ import pathlib
 import sys
 import tempfile
 
-import h5py
-
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
-from figures import run_smpm, save_figure  # noqa: E402
+from figures import read_run, run_smpm, save_figure  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PROBLEMS = {"block impact": ("block_impact.toml", []),
@@ -39,8 +37,7 @@ def mean_order(smpm, work, tag, problem, metric, limit, extra=()):
                             f"step.dynamic_limit={limit}"] + list(extra))
     if r.returncode != 0:
         raise RuntimeError(f"{problem} {metric} {limit}: {r.stderr.strip()}")
-    with h5py.File(out, "r") as f:
-        return float(f["series"]["fmpm_order"][1:].mean())
+    return float(read_run(out).series["fmpm_order"][1:].mean())
 
 
 def main():

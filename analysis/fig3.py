@@ -31,7 +31,6 @@ import sys
 import tempfile
 import time
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
@@ -76,15 +75,15 @@ def run(smpm, workdir, case, extra=()):
     if r.returncode != 0:
         row.update(error_percent="", sigma_rel_error="", steps="", note=r.stderr.strip().replace(",", ";")[:160])
         return row
-    with h5py.File(out, "r") as f:
-        s = f["series"]
-        steps = len(s["t"]) - 1
-        err = 100 * s["velocity_change_sum"][-1] / (steps * 10 * EDOT)
-        g = f["particles"][sorted(f["particles"])[-1]]
-        e = EDOT * g.attrs["time"]
-        exact = 2 * G * (2 + e) * e / (2 * (1 + e))
-        inner = np.abs(g["X"][:, 0]) < 8
-        sig = float(np.abs(g["stress"][inner, 0] / exact - 1).max())
+    result = figures.read_run(out)
+    s = result.series
+    steps = len(s["t"]) - 1
+    err = 100 * s["velocity_change_sum"][-1] / (steps * 10 * EDOT)
+    p = result.particles(-1)  # the last frame
+    e = EDOT * p["@time"]
+    exact = 2 * G * (2 + e) * e / (2 * (1 + e))
+    inner = np.abs(p["X"][:, 0]) < 8
+    sig = float(np.abs(p["stress"][inner, 0] / exact - 1).max())
     out.unlink()
     out.with_suffix(".xmf").unlink(missing_ok=True)
     row.update(error_percent=f"{err:.6g}", sigma_rel_error=f"{sig:.3g}", steps=steps, note="")

@@ -29,12 +29,11 @@ import pathlib
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
-from figures import run_smpm, save_figure  # noqa: E402
+from figures import read_run, run_smpm, save_figure  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "shock_split_bar.toml"
@@ -87,10 +86,9 @@ def run(smpm, work, name, sets):
     r, seconds = run_smpm(smpm, INPUT, out, sets)
     if r.returncode != 0:
         return None, seconds, r.stderr.strip().splitlines()[-1]
-    with h5py.File(out, "r") as f:
-        g = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])[-1]
-        x = g["X"][:, 0]
-        p = -(g["stress"][:, 0] + g["stress"][:, 3]) / 2 / 1000
+    g = read_run(out).particles(-1)  # the last frame
+    x = g["X"][:, 0]
+    p = -(g["stress"][:, 0] + g["stress"][:, 3]) / 2 / 1000
     idx = np.digitize(x, BINS) - 1
     prof = np.array([p[idx == b].mean() if np.any(idx == b) else np.nan
                      for b in range(len(BINS) - 1)])

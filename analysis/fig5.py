@@ -23,12 +23,11 @@ import pathlib
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
-from figures import run_smpm  # noqa: E402
+from figures import read_run, run_smpm  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "two_block_compression.toml"
@@ -57,10 +56,10 @@ def run(smpm, work, name, sets):
     r, seconds = run_smpm(smpm, INPUT, out, sets)
     if r.returncode != 0:
         raise RuntimeError(f"{name}: {r.stderr.strip()}")
-    with h5py.File(out, "r") as f:
-        frames = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])
-        strain = np.array([100 * RATE * g.attrs["time"] for g in frames])
-        syy = np.array([g["stress"][:, 3].mean() for g in frames])
+    result = read_run(out)
+    strain = 100 * RATE * result.times
+    syy = np.array([result.particles(k)["stress"][:, 3].mean()
+                    for k in range(len(result.frames))])
     return strain, syy, seconds
 
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""What the figure scripts of analysis/ share: one style, one meaning of -o, one way to save.
+"""What the figure scripts of analysis/ share: one style, one meaning of -o, one way to save,
+one reader of run files.
 
 Every script calls style() before it draws, takes its output with add_output(), and writes its
 PNG through save_figure(), which refuses a figure drawn without the style or with an axis (or
@@ -8,9 +9,16 @@ colour bar) that has no label.
     -o PREFIX   writes PREFIX.png (and PREFIX.csv where the script writes a table; fig3.py
                 PREFIXa.png and PREFIXb.png). A trailing .png is dropped: -o fig12a.png is
                 -o fig12a.
+
+Every script reads the files of `smpm run` with read_run(path): sparsempm.read_run (frames and
+times, series, particles(k), grid(k), matrices(k); complete frames only) when the package
+imports, and otherwise the same reader, python/sparsempm/runfile.py of this checkout, loaded by
+its path (it needs numpy and h5py, not the compiled extension), so the scripts run from a
+checkout where the module is not built or not on the path.
 """
 import os
 import pathlib
+import threading
 
 # Paul Tol's "muted" qualitative colours (chosen to stay distinct to colour-blind readers),
 # ordered so that neighbours in the cycle differ most.
@@ -204,3 +212,35 @@ def run_smpm(smpm, src, out, sets):
     start = time.time()
     r = subprocess.run(args, capture_output=True, text=True, env=env)
     return r, time.time() - start
+
+
+_reader = None
+_reader_lock = threading.Lock()  # the scripts read from several threads
+
+
+def read_run(path):
+    """The run file at `path` as a sparsempm Run: run.frames (the complete frames' numbers,
+    ascending, so in time order) and run.times, run.series (one row per step), run.status,
+    run.particles(k) (arrays of frame index k, -1 the last, with "@time" and "@step"),
+    run.grid(k), run.matrices(k). The reader is sparsempm.read_run when `import sparsempm`
+    succeeds, else python/sparsempm/runfile.py loaded by its path (importlib)."""
+    global _reader
+    with _reader_lock:
+        if _reader is None:
+            try:
+                from sparsempm import read_run as reader
+            except ImportError:  # the extension not built or not on the path
+                import importlib.util
+                import sys
+                file = pathlib.Path(__file__).resolve().parents[1] / "python" / "sparsempm" \
+                    / "runfile.py"
+                if not file.exists():
+                    raise ImportError(f"no run file reader: sparsempm does not import and "
+                                      f"{file} is missing")
+                spec = importlib.util.spec_from_file_location("_sparsempm_runfile", file)
+                module = importlib.util.module_from_spec(spec)
+                sys.modules[spec.name] = module
+                spec.loader.exec_module(module)
+                reader = module.read_run
+            _reader = reader
+    return _reader(path)

@@ -15,8 +15,6 @@ import argparse
 import pathlib
 import sys
 
-import h5py
-
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
 
@@ -28,13 +26,13 @@ def main():
     figures.add_units(ap)
     args = ap.parse_args()
     try:
-        f = h5py.File(args.run, "r")
+        run = figures.read_run(args.run)
     except OSError as e:
         sys.exit(f"plot_energy.py: {args.run}: cannot open ({e})")
-    with f:
-        s = f["series"]
-        t, kin, strain, total = (s[k][:] for k in ("t", "kinetic", "strain", "total"))
-        status = f.attrs.get("status", "")
+    except ValueError as e:  # an HDF5 file that is no run file
+        sys.exit(f"plot_energy.py: {e}")
+    t, kin, strain, total = (run.series[k] for k in ("t", "kinetic", "strain", "total"))
+    status = run.status
     default = pathlib.Path(args.run).with_suffix("").as_posix() + "_energy"
     prefix = figures.output_prefix(args.out or default)
     unit = figures.UNITS[args.units]

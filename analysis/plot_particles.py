@@ -14,7 +14,6 @@ import argparse
 import pathlib
 import sys
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
@@ -38,9 +37,10 @@ def label(name, units):
 
 
 def field(g, name, d):
+    """The field `name` of the particle arrays `g` (a frame of read_run) of a d-D run."""
     if name in ("mass", "volume", "material"):
-        return g[name][:].astype(float)
-    V, S, F = g["V"][:], g["stress"][:], g["F"][:]
+        return g[name].astype(float)
+    V, S, F = g["V"], g["stress"], g["F"]
     if name == "speed":
         return np.linalg.norm(V, axis=1)
     if len(name) == 2 and name[0] == "v" and name[1] in AXES[:d]:
@@ -59,28 +59,35 @@ def field(g, name, d):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run")
-    ap.add_argument("--frame", type=int, default=-1, help="frame number (default: the last)")
+    ap.add_argument("--frame", type=int, default=-1,
+                    help="frame number (default: the last; negative: counted from the last)")
     ap.add_argument("--field", default="speed")
     figures.add_output(ap, None, "PREFIX.png (default: <run>_<frame>_<field>)")
     figures.add_units(ap)
     args = ap.parse_args()
     try:
-        f = h5py.File(args.run, "r")
+        run = figures.read_run(args.run)
     except OSError as e:
         sys.exit(f"plot_particles.py: {args.run}: cannot open ({e})")
-    with f:
-        frames = sorted(f["particles"].keys())
-        name = frames[args.frame] if args.frame < 0 else f"{args.frame:06d}"
-        if name not in f["particles"]:
-            sys.exit(f"plot_particles.py: {args.run}: no frame {args.frame} (frames 0 to {len(frames) - 1})")
-        g = f["particles"][name]
-        X = g["X"][:]
-        d = X.shape[1]
-        try:
-            c = field(g, args.field, d)
-        except KeyError:
-            sys.exit(f"plot_particles.py: unknown field '{args.field}' for a {d}D run")
-        t = g.attrs["time"]
+    except ValueError as e:  # an HDF5 file that is no run file
+        sys.exit(f"plot_particles.py: {e}")
+    frames = run.frames  # the complete frames' numbers
+    if args.frame < 0 and -len(frames) <= args.frame:
+        index = args.frame
+    elif args.frame in frames:
+        index = frames.index(args.frame)
+    else:
+        sys.exit(f"plot_particles.py: {args.run}: no frame {args.frame} "
+                 + (f"(frames {frames[0]} to {frames[-1]})" if frames else "(no complete frame)"))
+    name = f"{frames[index]:06d}"
+    g = run.particles(index)
+    X = g["X"]
+    d = X.shape[1]
+    try:
+        c = field(g, args.field, d)
+    except KeyError:
+        sys.exit(f"plot_particles.py: unknown field '{args.field}' for a {d}D run")
+    t = g["@time"]
     prefix = figures.output_prefix(
         args.out or f"{pathlib.Path(args.run).with_suffix('').as_posix()}_{name}_{args.field}")
     length = figures.UNITS[args.units]["length"]

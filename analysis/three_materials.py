@@ -21,12 +21,11 @@ import pathlib
 import sys
 import tempfile
 
-import h5py
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
-from figures import run_smpm, save_figure  # noqa: E402
+from figures import read_run, run_smpm, save_figure  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 INPUT = ROOT / "examples" / "three_materials.toml"
@@ -54,12 +53,12 @@ def run(smpm, work, name, contact, sets=()):
     r, _ = run_smpm(smpm, src, out, sets)
     if r.returncode != 0:
         raise RuntimeError(f"{name}: {r.stderr.strip()}")
-    with h5py.File(out, "r") as f:
-        frames = sorted(f["particles"].values(), key=lambda g: g.attrs["time"])[1:]
-        strain = np.array([RATE * g.attrs["time"] for g in frames])
-        syy = np.array([g["stress"][:, 3].mean() for g in frames])
-        last = frames[-1]
-        return strain, syy, last["X"][:], last["stress"][:, 3], f["series"]["momentum"][-1, 0]
+    result = read_run(out)  # its frames after frame 0 (no strain yet)
+    strain = RATE * result.times[1:]
+    syy = np.array([result.particles(k)["stress"][:, 3].mean()
+                    for k in range(1, len(result.frames))])
+    last = result.particles(-1)
+    return strain, syy, last["X"], last["stress"][:, 3], result.series["momentum"][-1, 0]
 
 
 def main():

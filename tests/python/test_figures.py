@@ -525,7 +525,9 @@ def test_save_figure_refuses_a_figure_drawn_without_the_style(tmp_path):
 
 def test_plot_energy_of_a_run_from_rest(tmp_path):
     # E(0) = 0: no relative change ("n/a", not "+0.0000%"); the lower panel is E − E(0).
-    with h5py.File(tmp_path / "rest.h5", "w") as f:
+    with h5py.File(tmp_path / "rest.h5", "w") as f:  # a run file (figures.read_run) of series
+        f.attrs["input"] = ""
+        f.create_group("particles")
         s = f.create_group("series")
         s["t"] = [0.0, 1.0, 2.0]
         s["kinetic"] = [0.0, 0.5, 1.0]
@@ -541,6 +543,39 @@ def test_plot_energy_of_a_run_from_rest(tmp_path):
         lower = pickle.load(f).axes[1]
     assert lower.get_ylabel() == "$E - E_0$ (input units)"
     np.testing.assert_array_equal(lower.get_lines()[0].get_ydata(), [0.0, 0.5, 1.25])
+
+
+def test_scripts_read_run_files_through_figures_read_run(tmp_path):
+    # One reader: no script opens a run file with h5py itself.
+    for path in ANALYSIS.glob("*.py"):
+        assert not re.search(r"^\s*(import|from) h5py", path.read_text(), re.M), path.name
+    run_smpm("run", BAR, "-o", tmp_path / "bar.h5", "-q", "--set", "time.end=20", cwd=tmp_path)
+    run = smpm.read_run(tmp_path / "bar.h5")
+    # With the package importable, the reader is sparsempm.read_run.
+    assert isinstance(figures.read_run(tmp_path / "bar.h5"), smpm.Run)
+    # Where sparsempm does not import (a package whose import fails, as python/sparsempm of a
+    # checkout without the built extension), figures.read_run loads python/sparsempm/runfile.py
+    # by its path and reads the same arrays.
+    broken = tmp_path / "path" / "sparsempm"
+    broken.mkdir(parents=True)
+    (broken / "__init__.py").write_text("raise ImportError('no extension')\n")
+    code = ("import sys, numpy as np, figures; r = figures.read_run(sys.argv[1]); "
+            "p = r.particles(-1); print(sys.modules[type(r).__module__].__file__); "
+            "print('sparsempm' in sys.modules); np.savez(sys.argv[2], times=r.times, "
+            "total=r.series['total'], X=p['X'], stress=p['stress'], frames=r.frames)")
+    path = os.pathsep.join([str(tmp_path / "path"), str(ANALYSIS)])
+    r = subprocess.run(["/usr/bin/python3", "-c", code, tmp_path / "bar.h5", tmp_path / "r.npz"],
+                       capture_output=True, text=True, cwd=tmp_path,
+                       env=dict(env(), PYTHONPATH=path), timeout=60)
+    assert r.returncode == 0, r.stderr
+    file, imported = r.stdout.split()
+    assert pathlib.Path(file) == (SOURCE / "python" / "sparsempm" / "runfile.py").resolve()
+    assert imported == "False"
+    p = run.particles(-1)
+    with np.load(tmp_path / "r.npz") as read:
+        for key, value in (("times", run.times), ("total", run.series["total"]), ("X", p["X"]),
+                           ("stress", p["stress"]), ("frames", run.frames)):
+            np.testing.assert_array_equal(read[key], value, err_msg=key)
 
 
 # The README's five-minute tour, step 2: its commands, what they print, and its sentences.
