@@ -8,7 +8,8 @@
 Runs examples/disk_impact.toml (mu = 0.3) with `smpm run`: A, at C = 0.2 for each cell size
 (mm; the grid keeps its extent) with FLIP and FMPM(4), each by USL and USL+; B, at 1 mm cells
 for each Courant number with FLIP and FMPM(4) by USL. The energy lost is
-1 - (K + W + Q_friction)(end) / (K + W)(0) in % (negative: the run gained energy). Writes
+1 - (U + K)(end) / (U + K)(0) in %, U = W + Q the strain energy and the heat of the run's heat
+transport (negative: the run gained energy). Writes
 PREFIX.csv and PREFIX.png (a trailing .png of -o is dropped); --set changes an input entry of
 every run (--set time.end=0.02 for a short run). The paper's finest cells (0.05 mm) are out of
 reach here; add 0.333 to --cells for the paper's standard resolution (about 30 s a run).
@@ -93,10 +94,10 @@ def main():
                      color=f"C{i}", label=f"{name} USL")
     axes[0].set_xlabel("cell size $\\Delta x$ (mm)")
     axes[0].set_title("Fig. 11A: $C$ = 0.2, $\\mu$ = 0.3")
-    axes[0].set_ylabel("energy lost $1 - (K + W + Q)/(K + W)_0$ (%)")
+    axes[0].set_ylabel("energy lost $1 - (U + K)/(U + K)_0$ (%)")
     axes[1].set_xlabel("Courant number $C$")
     axes[1].set_title("Fig. 11B: 1 mm cells, USL, $\\mu$ = 0.3")
-    axes[1].set_ylabel("energy lost $1 - (K + W + Q)/(K + W)_0$ (%)")
+    axes[1].set_ylabel("energy lost $1 - (U + K)/(U + K)_0$ (%)")
     for ax in axes:
         ax.axhline(0, color="k", lw=0.6)
         ax.legend()

@@ -21,6 +21,7 @@
 #include "notes.hpp"
 #include "progress.hpp"
 #include "stability_command.hpp"
+#include "transport_command.hpp"
 
 #include <sparsempm/errors.hpp>
 #include <sparsempm/output.hpp>
@@ -187,6 +188,21 @@ CLI::App* add_stability(CLI::App& app, smpm::app::StabilityArgs& st, Aliases& al
   return stab;
 }
 
+CLI::App* add_transport_stability(CLI::App& app, smpm::app::TransportStabilityArgs& ts) {
+  CLI::App* t = app.add_subcommand(
+      "transport-stability",
+      "critical Fourier numbers of heat transport: lumped, FMPM(k) on c~ and exact");
+  t->add_option("input", ts.input, "input file (TOML) with heat properties")->required();
+  t->add_option("--set", ts.sets, "override an input entry")->allow_extra_args(false);
+  t->add_option("--order", ts.orders, "FMPM orders k of the transport")
+      ->delimiter(',')
+      ->capture_default_str();
+  t->add_option("--shifts", ts.shifts, "lattice shifts of the sweep")->capture_default_str();
+  t->add_flag("--no-exact", ts.no_exact, "leave out the exact consistent-capacity row");
+  t->add_option("-o,--output", ts.output, "CSV table")->capture_default_str();
+  return t;
+}
+
 CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp, Aliases& aliases) {
   CLI::App* spec = app.add_subcommand(
       "spectrum", "rho(A), cond(m~) and the truncation error of FMPM(k) against m~^-1");
@@ -245,6 +261,8 @@ int main(int argc, char** argv) {
   Aliases aliases;
   CLI::App* stab = add_stability(app, st, aliases);
   CLI::App* spec = add_spectrum(app, sp, aliases);
+  smpm::app::TransportStabilityArgs ts;
+  CLI::App* tstab = add_transport_stability(app, ts);
   bool layout = false;
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
   info->add_option("file", info_path, "HDF5 file written by smpm run");
@@ -253,8 +271,8 @@ int main(int argc, char** argv) {
   const auto named = [&](const CLI::App* c) { return c->get_name() == argv[1]; };
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands(named).empty()) {
     std::fprintf(stderr,
-                 "smpm: error: unknown command '%s' (expected run, stability, spectrum or "
-                 "info; smpm --help lists them)\n",
+                 "smpm: error: unknown command '%s' (expected run, stability, spectrum, "
+                 "transport-stability or info; smpm --help lists them)\n",
                  smpm::clip(argv[1]).c_str());
     return 2;
   }
@@ -275,6 +293,8 @@ int main(int argc, char** argv) {
       code = smpm::app::stability_command(st);
     } else if (*spec)
       code = smpm::app::spectrum_command(sp);
+    else if (*tstab)
+      code = smpm::app::transport_stability_command(ts);
     else
       code = smpm::app::info_command(info_path, layout);
   } catch (const smpm::InputError& e) {

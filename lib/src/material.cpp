@@ -331,8 +331,16 @@ namespace {
 double particle_strain_energy(const std::vector<Material>& materials, const Particles& P, Index p,
                               const Eigen::VectorXd* density) {
   const Material& mat = material_of(materials, P.material[p], p);
-  double W = P.volume0[p] *
-             (density ? (*density)[p] : strain_energy_density(mat, P.dim, particle_F(P, p)));
+  double w = 0;
+  if (density) {
+    w = (*density)[p];
+  } else if (mat.thermal_expansion != 0 && P.temperature.size() == P.size()) {
+    double c; // Ψ_e(F, T) of the thermoelastic law, as the stress update stores it
+    (void)thermoelastic_stress(mat, P.dim, particle_F(P, p), P.temperature[p], w, c);
+  } else {
+    w = strain_energy_density(mat, P.dim, particle_F(P, p));
+  }
+  double W = P.volume0[p] * w;
   if (mat.model == MaterialModel::MieGruneisen)
     W += P.mass[p] * P.energy[p];
   return W;

@@ -258,71 +258,61 @@ struct Stages {
     }
   }
 
-  // Transport, task 1: τ = Sᵀ 𝗖 T, and the nodal temperatures of the conduction, T = c⁻¹ τ with
-  // the temperature conditions set (NairnMPM's TransportBCsAndGradients); τ itself stays as
-  // extrapolated, so that the conditions' reaction heat (task 2.a) includes the step to them.
-  void heat_content() {
-    const TransportOperators& t = *heat->ops;
-    TransportState& h = b.heat;
-    map_heat(*c.ops, t, *heat->temperature, h.tau);
-    lumped_solve(t.nodes.m_inv, h.tau, h.T);
-    if (heat->bcs)
-      heat->bcs->constrain_velocity(t.nodes.grid, c.time, h.T, &t.nodes.active);
-  }
-
-  // Transport, tasks 2–3 (after the velocity solve, whose contact corrections do the frictional
-  // work): q = −K T + Sᵀ M r + q_c with q_c the frictional heat of each contact node over Δt,
-  // τ⁺ = τ + q Δt, the temperature conditions on τ⁺ with their reaction heat added to q
-  // (task 2.a), and θ⁺ = c̃_k⁻¹ τ⁺ (task 3.b): updated_velocity on the transport nodes (c in the
-  // place of m, the loop of Table 1 on c̃ with the conditions' increments zeroed) or the exact
-  // solve; Ṫ = c⁻¹ q for the FLIP update.
-  void heat_update() {
-    const TransportOperators& t = *heat->ops;
-    TransportState& h = b.heat;
-    temperature_gradient(*c.ops, h.T, h.gradient);
-    heat_flow(*c.ops, t, h.gradient, h.q);
-    if (c.contact_nodes) {
-      const ContactNodes& cn = *c.contact_nodes;
-      for (size_t k = 0; k < cn.heat.size(); ++k)
-        h.q(cn.nodes[k].node, 0) += cn.heat[k] / c.dt;
-    }
-    h.tau_plus.noalias() = h.tau + c.dt * h.q;
-    const LoopConstraints bc{&t.nodes.grid, heat->bcs, c.time};
-    if (heat->update == TransportUpdate::Exact) {
-      if (heat->bcs)
-        heat->bcs->constrain_update(t.nodes.grid, t.nodes.m, c.time, c.dt, h.tau_plus, h.q);
-      heat->solver->solve(t.nodes, *heat->ct, bc, h.tau_plus, h.theta);
-    } else {
-      updated_velocity(t.nodes, heat->ct, heat->fmpm, bc, true, c.dt, h.tau_plus, &h.q, h.theta,
-                       h.fmpm);
-    }
-    lumped_solve(t.nodes.m_inv, h.q, h.rate);
-  }
-
-  // Transport, task 4: T_p += Δt S Ṫ (lumped; Eq. 8 with T for V) or T_p = S θ⁺ (FMPM, exact;
-  // Eq. 9).
-  // A Mie–Grüneisen particle's internal energy U takes the heat it receives, C_V ΔT (its
-  // pressure's thermal part ρ₀γ₀U; NairnMPM's e = W + Q).
-  void heat_particles() {
-    Eigen::VectorXd& T = *heat->temperature;
-    const bool shock = heat->energy && heat->materials && uses_shock_physics(*heat->materials);
-    if (shock)
-      b.heat.before = T;
-    if (heat->update == TransportUpdate::Lumped)
-      update_temperature_flip(*c.ops, b.heat.rate, c.dt, T);
-    else
-      update_temperature_grid(*c.ops, b.heat.theta, T);
-    if (!shock)
-      return;
-    const Eigen::VectorXi& id = *heat->material;
-    for (Index p = 0; p < T.size(); ++p)
-      if (const Material& m = (*heat->materials)[size_t(id[p])];
-          m.model == MaterialModel::MieGruneisen)
-        (*heat->energy)[p] += m.heat_capacity * (T[p] - b.heat.before[p]);
-  }
+  void heat_content() { transport_content(*c.ops, *heat, c.time, b.heat); }
+  void heat_update() { transport_update(*c.ops, *heat, c.contact_nodes, c.time, c.dt, b.heat); }
+  void heat_particles() { transport_particles(*c.ops, *heat, c.dt, b.heat); }
 };
 
 } // namespace
+
+void transport_content(const Operators& ops, const TransportContext& heat, double t,
+                       TransportState& h) {
+  const TransportOperators& top = *heat.ops;
+  map_heat(ops, top, *heat.temperature, h.tau);
+  lumped_solve(top.nodes.m_inv, h.tau, h.T);
+  if (heat.bcs)
+    heat.bcs->constrain_velocity(top.nodes.grid, t, h.T, &top.nodes.active);
+}
+
+void transport_update(const Operators& ops, const TransportContext& heat,
+                      const ContactNodes* contact, double t, double dt, TransportState& h) {
+  const TransportOperators& top = *heat.ops;
+  temperature_gradient(ops, h.T, h.gradient);
+  heat_flow(ops, top, h.gradient, h.q);
+  if (contact)
+    for (size_t k = 0; k < contact->heat.size(); ++k)
+      h.q(contact->nodes[k].node, 0) += contact->heat[k] / dt;
+  h.tau_plus.noalias() = h.tau + dt * h.q;
+  const LoopConstraints bc{&top.nodes.grid, heat.bcs, t};
+  if (heat.update == TransportUpdate::Exact) {
+    if (heat.bcs)
+      heat.bcs->constrain_update(top.nodes.grid, top.nodes.m, t, dt, h.tau_plus, h.q);
+    heat.solver->solve(top.nodes, *heat.ct, bc, h.tau_plus, h.theta);
+  } else {
+    updated_velocity(top.nodes, heat.ct, heat.fmpm, bc, true, dt, h.tau_plus, &h.q, h.theta,
+                     h.fmpm);
+  }
+  lumped_solve(top.nodes.m_inv, h.q, h.rate);
+}
+
+void transport_particles(const Operators& ops, const TransportContext& heat, double dt,
+                         TransportState& h) {
+  Eigen::VectorXd& T = *heat.temperature;
+  const bool shock = heat.energy && heat.materials && uses_shock_physics(*heat.materials);
+  if (shock)
+    h.before = T;
+  if (heat.update == TransportUpdate::Lumped)
+    update_temperature_flip(ops, h.rate, dt, T, heat.absolute);
+  else
+    update_temperature_grid(ops, h.theta, T, heat.absolute);
+  if (!shock)
+    return;
+  const Eigen::VectorXi& id = *heat.material;
+  for (Index p = 0; p < T.size(); ++p)
+    if (const Material& m = (*heat.materials)[size_t(id[p])];
+        m.model == MaterialModel::MieGruneisen)
+      (*heat.energy)[p] += m.heat_capacity * (T[p] - h.before[p]);
+}
 
 void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdate& strain,
                  StepBuffers& buffers) {

@@ -194,7 +194,7 @@ namespace {
 // T_p ← T_p + Δt Σ_i S_pi x_i (FLIP) or T_p ← Σ_i S_pi x_i (grid), then the positivity check.
 template <bool Flip>
 void update_temperature(const Operators& ops, const Field& x, double dt,
-                        Eigen::Ref<Eigen::VectorXd> T) {
+                        Eigen::Ref<Eigen::VectorXd> T, bool absolute) {
   SMPM_VERIFY(T.size() == ops.num_particles(), "update_temperature: one temperature per particle");
   const int* outer = ops.S.outerIndexPtr();
   const int* inner = ops.S.innerIndexPtr();
@@ -205,7 +205,7 @@ void update_temperature(const Operators& ops, const Field& x, double dt,
     for (int k = outer[p]; k < outer[p + 1]; ++k)
       sum += sv[k] * x(inner[k] - off, 0);
     const double value = Flip ? T[p] + dt * sum : sum;
-    if (!(value > 0) || !std::isfinite(value))
+    if (!std::isfinite(value) || (absolute && !(value > 0)))
       bad_temperature(p, value);
     T[p] = value;
   });
@@ -213,15 +213,15 @@ void update_temperature(const Operators& ops, const Field& x, double dt,
 } // namespace
 
 void update_temperature_flip(const Operators& ops, const Field& rate, double dt,
-                             Eigen::Ref<Eigen::VectorXd> T) {
+                             Eigen::Ref<Eigen::VectorXd> T, bool absolute) {
   check_node_vector(ops, rate, "update_temperature_flip");
-  update_temperature<true>(ops, rate, dt, T);
+  update_temperature<true>(ops, rate, dt, T, absolute);
 }
 
 void update_temperature_grid(const Operators& ops, const Field& theta,
-                             Eigen::Ref<Eigen::VectorXd> T) {
+                             Eigen::Ref<Eigen::VectorXd> T, bool absolute) {
   check_node_vector(ops, theta, "update_temperature_grid");
-  update_temperature<false>(ops, theta, 0.0, T);
+  update_temperature<false>(ops, theta, 0.0, T, absolute);
 }
 
 SparseMatrix folded_columns(const Operators& ops, const SparseRowMatrix& A) {
@@ -272,8 +272,8 @@ double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
   return h * h / D;
 }
 
-double default_fourier(int dim) {
-  return 0.1 / dim;
+double default_fourier(int) {
+  return 0.25;
 }
 
 } // namespace smpm

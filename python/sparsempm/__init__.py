@@ -11,6 +11,10 @@ matrices:
     A = ops.expansion_matrix()                  # scipy.sparse.csr_matrix
     print(smpm.mass_spectrum(ops).rho_A)
 
+Heat transport (FMPM 2026 §3.5) has the same form with the capacities in the place of the masses:
+transport_operators(model) gives c = S^T C 1, c~ = S^T C S (consistent_capacity()) and the
+conductivity K; fmpm_temperature and exact_temperature apply c~_k^-1 and c~^-1 to a heat content.
+
 Errors are InputError (bad input, the messages of `smpm run`) and NumericalError.
 Threads: SMPM_THREADS at import (else OMP_NUM_THREADS or every core), or set_threads(n); the
 results are the same bit for bit for any number. Waiting threads sleep
@@ -45,19 +49,27 @@ from ._sparsempm import (  # noqa: F401
     SpectralRadius,
     StepOptions,
     Stepper,
+    ThermalSums,
+    Transport,
+    TransportState,
     UsageError,
     __version__,
     assemble,
     courant_of,
     critical_courant,
+    diffusion_time,
+    exact_temperature,
     exact_velocity,
+    fmpm_temperature,
     fmpm_velocity,
     mass_spectrum,
     set_threads,
     simulation_courant,
     stable_time_step,
     sweep_shifts,
+    thermal_sums,
     threads,
+    transport_operators,
 )
 from ._sparsempm import _spectral_radius
 from .runfile import Run, read_run  # noqa: F401

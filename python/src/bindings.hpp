@@ -41,6 +41,20 @@ struct PyOperators {
   const Grid& grid() const { return prep.ops.grid; }
 };
 
+/// sparsempm.Transport: the heat-transport operators of one configuration (prepare_step with a
+/// transport update, as the Stepper makes it, on the whole grid): 𝗖 = M C_V, V κ, c, the active
+/// transport nodes, the temperature conditions at the model's time, S and G with their velocity
+/// fields' block columns folded onto the grid nodes (what transport applies); c̃ on first use.
+struct PyTransport {
+  Shape shape = Shape::Linear;
+  TransportUpdate update = TransportUpdate::FMPM;
+  StepPreparation prep;
+  SparseRowMatrix S;              ///< N × n_g: folded_columns(ops, ops.S)
+  std::vector<SparseRowMatrix> G; ///< N × n_g each: the folded G_b
+  const Operators& ops() const { return prep.ops; }
+  const TransportOperators& transport() const { return prep.transport; }
+};
+
 /// A DeprecationWarning of the one vocabulary: "'old' is the earlier name of 'name' (accepted
 /// in this release only)"; `note` given: that text instead (the input's notes).
 void warn_earlier_name(const std::string& old_name, const std::string& name,
@@ -60,12 +74,18 @@ Index add_bc(PyModel& pm, const py::dict& table);
 void set_contact(PyModel& pm, const std::vector<py::dict>& tables);
 Index fix_plane(PyModel& pm, const py::handle& axis, double at, const py::handle& fixed);
 
+/// validate(mat) of the library, and the heat keys non-negative and finite (0: not given), as
+/// the input reader holds them.
+void validate_material(const Material& mat);
+
 /// Parses a name of the input files' vocabulary into a shape etc.; InputError on a bad name.
 Shape shape_arg(const py::object& shape, const PyModel* model);
 
 void bind_options(py::module_& m);
 void bind_model(py::module_& m);
 void bind_operators(py::module_& m);
+/// sparsempm.transport_operators, Transport, fmpm_temperature and exact_temperature.
+void bind_transport(py::module_& m);
 void bind_step(py::module_& m);
 void bind_analysis(py::module_& m);
 

@@ -58,6 +58,20 @@ void assign_vector(Eigen::VectorXd& v, const py::array_t<double, py::array::forc
     v[i] = a.at(i);
 }
 
+Eigen::VectorXd particle_vector(const py::array_t<double, py::array::forcecast>& a, Index N,
+                                const char* name) {
+  if (a.ndim() == 0)
+    return Eigen::VectorXd::Constant(N, *a.data());
+  if (a.ndim() != 1 || a.shape(0) != N)
+    throw std::invalid_argument(std::string(name) + ": expected a number or shape (" +
+                                std::to_string(N) + ",), got " + shape_text(a) +
+                                " (one value per particle)");
+  Eigen::VectorXd v(N);
+  for (Index i = 0; i < N; ++i)
+    v[i] = a.at(i);
+  return v;
+}
+
 Field to_field(const py::array_t<double, py::array::forcecast>& a, Index rows, const char* name) {
   if ((a.ndim() != 1 && a.ndim() != 2) || (rows >= 0 && a.shape(0) != rows))
     throw std::invalid_argument(std::string(name) + ": expected " +
@@ -99,6 +113,16 @@ py::object csr_owned(SparseRowMatrix A) {
   auto* owned = new SparseRowMatrix(std::move(A));
   py::capsule free(owned, [](void* p) { delete static_cast<SparseRowMatrix*>(p); });
   return csr_view(*owned, free, true);
+}
+
+void check_wall_nodes(const BoundaryConditions* bcs) {
+  if (!bcs)
+    return;
+  for (const VelocityCondition& c : bcs->conditions)
+    if (c.wall >= 0 && c.nodes.empty())
+      throw InputError("bcs: the wall '" + c.label +
+                       "' has no nodes selected (model.bcs as given); pass ops.bcs, the "
+                       "conditions a step from this configuration uses, walls included");
 }
 
 } // namespace smpm::python

@@ -3,6 +3,7 @@
 /// \file convert.hpp
 /// Eigen fields and sparse matrices to numpy arrays and scipy.sparse.csr_matrix, and back.
 
+#include <sparsempm/boundary.hpp>
 #include <sparsempm/types.hpp>
 
 #include <pybind11/numpy.h>
@@ -25,6 +26,17 @@ py::array vector_view(Eigen::VectorXi& v, py::handle owner, bool writeable = tru
 void assign_field(Field& f, const py::array_t<double, py::array::forcecast>& a, const char* name);
 void assign_vector(Eigen::VectorXd& v, const py::array_t<double, py::array::forcecast>& a,
                    const char* name);
+
+/// An optional per-particle vector (Particles::temperature, heat_source: empty when absent) set
+/// from a number (every particle) or an array of shape (N,): sized N (storage kept when it has
+/// N entries already). Throws std::invalid_argument naming `name` and both shapes otherwise.
+Eigen::VectorXd particle_vector(const py::array_t<double, py::array::forcecast>& a, Index N,
+                                const char* name);
+
+/// Conditions of moving walls hold the nodes a step selects (prepare_step): the model's own
+/// BCs (model.bcs) hold none. Refuses those (InputError), which would silently leave the
+/// walls out.
+void check_wall_nodes(const BoundaryConditions* bcs);
 
 /// A node or particle field from an array of shape (rows,) or (rows, cols); `rows` < 0
 /// accepts any number of rows. Throws std::invalid_argument naming `name` otherwise.

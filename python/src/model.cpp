@@ -73,6 +73,24 @@ particles_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleArray&
   return P;
 }
 
+// Particles::temperature or heat_source from a number or N values: temperatures absolute
+// (positive and finite), sources finite, as the input reader holds [[body]] temperature and
+// heat_source. The particles' storage is kept when it has N entries already (views stay valid).
+void set_heat_vector(Particles& P, Eigen::VectorXd Particles::*member, const DoubleArray& a,
+                     const char* name) {
+  const bool absolute = member == &Particles::temperature;
+  Eigen::VectorXd v = particle_vector(a, P.size(), name);
+  for (Index p = 0; p < v.size(); ++p)
+    if (absolute ? !(v[p] > 0) || !std::isfinite(v[p]) : !std::isfinite(v[p]))
+      throw InputError(
+          std::string(name) + ": particle " + std::to_string(p) + " has " + number_text(v[p]) +
+          (absolute ? " (temperatures are absolute: positive and finite)" : " (must be finite)"));
+  if ((P.*member).size() == v.size())
+    P.*member = v; // copied into the same storage: numpy views of it stay valid
+  else
+    P.*member = std::move(v); // was empty: no view holds any of it
+}
+
 // sparsempm.Model(grid, X, mass, volume0, ...): `earlier` holds the earlier names volume and
 // body_force (accepted in this release only).
 PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleArray& mass,
@@ -80,7 +98,10 @@ PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleAr
                           const std::optional<py::array_t<int, py::array::forcecast>>& material,
                           const std::vector<Material>& materials,
                           const std::optional<DoubleArray>& half_length, const py::list& fixed,
-                          std::vector<double> gravity, const py::kwargs& earlier) {
+                          std::vector<double> gravity,
+                          const std::optional<DoubleArray>& temperature,
+                          const std::optional<DoubleArray>& heat_source,
+                          const py::kwargs& earlier) {
   for (const auto& [key, value] : earlier) {
     const std::string k = py::str(key);
     if (k == "volume") {
@@ -98,7 +119,7 @@ PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleAr
   if (materials.empty())
     throw InputError("materials: give at least one Material");
   for (const Material& mat : materials)
-    validate(mat);
+    validate_material(mat);
   PyModel pm;
   pm.source = "<arrays>";
   pm.model = Model(grid);
@@ -110,6 +131,10 @@ PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleAr
   if (P.half_length.cols() != grid.dim())
     throw InputError("half_length: expected " + std::to_string(grid.dim()) + " columns");
   update_stress(pm.model.materials, P.material, P.F, P.stress);
+  if (temperature)
+    set_heat_vector(P, &Particles::temperature, *temperature, "temperature");
+  if (heat_source)
+    set_heat_vector(P, &Particles::heat_source, *heat_source, "heat_source");
   for (const py::handle plane : fixed) {
     const py::tuple t = plane.cast<py::tuple>();
     if (t.size() != 3)
@@ -180,6 +205,17 @@ void field_property(py::class_<Particles>& c, const char* name, Member member, c
       doc);
 }
 
+// An optional vector of the particles (temperature, heat_source): a numpy view of the C++
+// storage, empty when absent; assigning a number or N values sets it (set_heat_vector).
+void heat_property(py::class_<Particles>& c, const char* name, Eigen::VectorXd Particles::*member,
+                   const char* doc) {
+  c.def_property(
+      name,
+      [member](py::object self) { return vector_view(self.cast<Particles&>().*member, self); },
+      [member, name](Particles& P, const DoubleArray& a) { set_heat_vector(P, member, a, name); },
+      doc);
+}
+
 void bind_particles(py::module_& m) {
   py::class_<Particles> c(m, "Particles",
                           "Material points as numpy views of the library's arrays (one row per "
@@ -200,14 +236,34 @@ void bind_particles(py::module_& m) {
       "energy", [](py::object self) { return vector_view(self.cast<Particles&>().energy, self); },
       [](Particles& P, const DoubleArray& a) { assign_vector(P.energy, a, "energy"); },
       "N internal energies per unit mass U (Mie-Gruneisen materials)");
+  heat_property(c, "temperature", &Particles::temperature,
+                "N absolute temperatures T_p (heat transport); empty: none yet (a step with "
+                "transport starts from each material's reference_temperature). Assign a number or "
+                "N values to set them");
+  heat_property(c, "heat_source", &Particles::heat_source,
+                "N heat sources r_p, power per unit mass (heat transport); empty: none. Assign a "
+                "number or N values to set them");
   c.def_property_readonly(
       "material",
       [](py::object self) { return vector_view(self.cast<Particles&>().material, self); },
       "N material ids");
   c.def_readonly("dim", &Particles::dim, "dimension d of the positions");
   c.def("__len__", &Particles::size);
-  c.def("volume", &Particles::volume, "Current volumes det(F) V⁰.");
-  c.def("jacobian", py::overload_cast<>(&Particles::jacobian, py::const_), "det F per particle.");
+  // Copies as numpy arrays (the module does not convert Eigen types itself).
+  c.def(
+      "volume",
+      [](const Particles& P) {
+        const Eigen::VectorXd v = P.volume();
+        return py::array_t<double>(v.size(), v.data());
+      },
+      "Current volumes det(F) V⁰, N.");
+  c.def(
+      "jacobian",
+      [](const Particles& P) {
+        const Eigen::VectorXd J = P.jacobian();
+        return py::array_t<double>(J.size(), J.data());
+      },
+      "det F per particle, N.");
 }
 
 } // namespace
@@ -244,6 +300,33 @@ void bind_conditions(py::module_& m) {
           "sum_p M_p V_p (three entries; unused axes 0)");
 }
 
+void bind_thermal_sums(py::module_& m) {
+  py::class_<ThermalSums>(m, "ThermalSums",
+                          "Temperatures and thermodynamic sums of particles with temperatures "
+                          "(diagnostics.hpp): the series of a run with heat transport.")
+      .def_readonly("temperature_min", &ThermalSums::temperature_min, "min_p T_p")
+      .def_readonly("temperature_max", &ThermalSums::temperature_max, "max_p T_p")
+      .def_readonly("temperature_mean", &ThermalSums::temperature_mean,
+                    "Σ M C_V T / Σ M C_V, the capacity-weighted mean (conduction conserves it)")
+      .def_readonly("heat", &ThermalSums::heat, "Q = Σ M C_V (T − T_ref), the thermal energy")
+      .def_readonly("internal", &ThermalSums::internal, "U = W + Q (with the coupling's T c)")
+      .def_readonly("entropy", &ThermalSums::entropy, "S = Σ M C_V ln(T / T_ref) (+ Ω c)")
+      .def_readonly("helmholtz", &ThermalSums::helmholtz, "A = U − Σ T_p S_p");
+  m.def(
+      "thermal_sums",
+      [](const PyModel& pm, std::optional<double> strain) {
+        const Particles& P = pm.model.particles;
+        if (P.temperature.size() != P.size())
+          throw UsageError("thermal_sums: the particles have no temperatures (set "
+                           "particles.temperature, or step with a transport)");
+        return thermal_sums(pm.model, strain ? *strain : energies(pm.model).strain);
+      },
+      py::arg("model"), py::arg("strain") = py::none(),
+      "The ThermalSums of the model's particles, W = strain (default model.energies().strain; "
+      "after a step, the energies advance's callback receives give the run's series bit for "
+      "bit). Raises UsageError when the particles have no temperatures.");
+}
+
 PyModel from_toml(const std::string& path, const py::dict& overrides) {
   std::vector<std::string> sets;
   for (const auto& [key, value] : overrides)
@@ -265,7 +348,7 @@ void bind_model_state(py::class_<PyModel>& c) {
       "materials", [](const PyModel& pm) { return pm.model.materials; },
       [](PyModel& pm, const std::vector<Material>& mats) {
         for (const Material& mat : mats)
-          validate(mat);
+          validate_material(mat);
         pm.model.materials = mats;
       },
       "the materials, by material id");
@@ -274,6 +357,12 @@ void bind_model_state(py::class_<PyModel>& c) {
       py::return_value_policy::reference_internal,
       "the velocity conditions as given (a step selects the walls' nodes on its own copy: "
       "assemble(model).bcs)");
+  c.def_property_readonly(
+      "temperature_bcs",
+      [](PyModel& pm) -> BoundaryConditions& { return pm.model.temperature_bcs; },
+      py::return_value_policy::reference_internal,
+      "the temperature conditions ([[bc]] temperature, add_bc): one per node, each a condition on "
+      "the nodal temperature");
   c.def_property_readonly(
       "velocity_fields", [](const PyModel& pm) { return pm.model.contact.fields(); },
       "velocity fields of the materials ([[contact]], set_contact); 1: single material mode");
@@ -296,6 +385,14 @@ void bind_model_state(py::class_<PyModel>& c) {
       "end", [](const PyModel& pm) { return pm.time_settings.end; },
       [](PyModel& pm, double e) { pm.time_settings.end = e; }, "[time] end");
   c.def_property(
+      "fourier", [](const PyModel& pm) { return pm.time_settings.fourier; },
+      [](PyModel& pm, double F) {
+        if (!(F >= 0) || !std::isfinite(F))
+          throw InputError("fourier must be non-negative and finite, got " + number_text(F));
+        pm.time_settings.fourier = F;
+      },
+      "[time] fourier: F in dt <= F dx_min^2 / D_max with heat transport (0: 0.25)");
+  c.def_property(
       "time", [](const PyModel& pm) { return pm.model.time; },
       [](PyModel& pm, double t) {
         if (!std::isfinite(t))
@@ -316,7 +413,9 @@ void bind_model_tables(py::class_<PyModel>& c) {
   c.def("add_bc", &add_bc,
         "Adds one [[bc]] table, its keys and values as in the input files: plane={'axis': 'x', "
         "'at': 0.0} or box={'min': [...], 'max': [...]} with fixed=['x', ...] or "
-        "velocity={'direction': [...], 'value': 'expression of t, x, y, z'}; or a moving wall "
+        "velocity={'direction': [...], 'value': 'expression of t, x, y, z'} or temperature=350.0 "
+        "(a number or an expression of t, x, y, z: a temperature condition, one per node); or a "
+        "moving wall "
         "wall={'normal': [...], 'position': 'expression of t', 'velocity': ..., 'gradient': "
         "..., 'depth': ...} (FMPM 2026 §3.1). Returns the (node, condition) pairs it adds. "
         "Raises InputError with the message of the input reader.");
@@ -338,6 +437,7 @@ void bind_model(py::module_& m) {
   bind_grid(m);
   bind_particles(m);
   bind_conditions(m);
+  bind_thermal_sums(m);
   py::class_<PyModel> c(m, "Model",
                         "A run's state (grid, particles, materials, velocity BCs, contact, clock) "
                         "with the step options and time settings of its input.");
@@ -345,14 +445,18 @@ void bind_model(py::module_& m) {
         py::arg("volume0") = py::none(), py::arg("V") = py::none(),
         py::arg("material") = py::none(), py::arg("materials") = std::vector<Material>{},
         py::arg("half_length") = py::none(), py::arg("fixed") = py::list(),
-        py::arg("gravity") = std::vector<double>{},
+        py::arg("gravity") = std::vector<double>{}, py::arg("temperature") = py::none(),
+        py::arg("heat_source") = py::none(),
         "Model(grid, X, mass, volume0, V=None, material=None, materials=[...], "
-        "half_length=None, fixed=[(axis, at, ['x', ...]), ...], gravity=[...]): particles from "
+        "half_length=None, fixed=[(axis, at, ['x', ...]), ...], gravity=[...], "
+        "temperature=None, heat_source=None): particles from "
         "arrays (X: N × d, mass and volume0: N; V: N × d, zero by default; material: N ids "
         "into materials, 0 by default; half_length: N × d, by default half the side of the "
         "cube of each volume); fixed: zero-velocity planes x_axis = at in the named "
-        "directions (fix_plane); gravity: the body acceleration. volume and body_force are "
-        "the earlier names of volume0 and gravity.");
+        "directions (fix_plane); gravity: the body acceleration; temperature and heat_source "
+        "(heat transport, [[body]] temperature and heat_source): a number or N values each "
+        "(absolute temperatures; power per unit mass). volume and body_force are the earlier "
+        "names of volume0 and gravity.");
   c.def_static("from_toml", &from_toml, py::arg("path"), py::arg("overrides") = py::dict(),
                "Reads a TOML input as `smpm run path --set key=value ...` does; overrides maps "
                "'section.key' to a value. Raises InputError with the message of the command.");

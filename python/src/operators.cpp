@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // sparsempm.assemble and sparsempm.Operators: S, G, M, m and the active nodes of one
 // configuration as scipy.sparse matrices and numpy arrays (views of the library's storage),
-// m̃, S⁺ and A on request, and the grid velocity of FMPM(k) and of the exact inverse.
+// m̃, S⁺ and A on request, and the grid velocity of FMPM(k) and of the exact inverse (the same
+// for heat transport: transport.cpp).
 
 #include "bindings.hpp"
 #include "convert.hpp"
@@ -14,24 +15,14 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <memory>
+#include <stdexcept>
 
 namespace smpm::python {
 
 namespace {
 
 using DoubleArray = py::array_t<double, py::array::forcecast>;
-
-// Conditions of moving walls hold the nodes a step selects (prepare_step): the model's own
-// BCs (model.bcs) hold none. Refuses those, which would silently leave the walls out.
-void check_wall_nodes(const BoundaryConditions* bcs) {
-  if (!bcs)
-    return;
-  for (const VelocityCondition& c : bcs->conditions)
-    if (c.wall >= 0 && c.nodes.empty())
-      throw InputError("bcs: the wall '" + c.label +
-                       "' has no nodes selected (model.bcs as given); pass ops.bcs, the "
-                       "conditions a step from this configuration uses, walls included");
-}
 
 // The grid momentum p (n or n × d) as a field with one row per node.
 Field momentum(const PyOperators& o, const DoubleArray& p) {
@@ -256,6 +247,7 @@ void bind_operators(py::module_& m) {
         py::arg("mass_cutoff") = 0.0,
         "v = m̃⁻¹ p on the active nodes (zero elsewhere), with the velocity BCs of bcs "
         "(CHOLMOD; exact.hpp). Raises NumericalError when m̃ is not positive definite there.");
+  bind_transport(m);
 }
 
 } // namespace smpm::python

@@ -11,6 +11,7 @@
 
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <sstream>
 
 namespace smpm::python {
@@ -95,12 +96,24 @@ void bind_step_choices(py::class_<StepOptions>& c) {
       [](StepOptions& o, const std::string& s) { o.nodes = node_range_from_string(s); },
       "the nodes of a step: 'particles', the window of the grid its particles reach (memory and "
       "time follow the particles), or 'grid', every node; the results are the same");
+  name_property(
+      c, "transport", [](const StepOptions& o) { return o.transport.update; },
+      [](StepOptions& o, const std::string& s) {
+        o.transport.update = transport_update_from_string(s);
+      },
+      "heat transport (transport.hpp): 'off' (isothermal, the default) | 'lumped': T_p += dt "
+      "S c^-1 q (FLIP) | 'FMPM': T_p = S c~_k^-1 tau+ by the FMPM loop on c~ (k = "
+      "transport_order) | 'exact': T_p = S c~^-1 tau+ (CHOLMOD)");
 }
 
 void bind_step_numbers(py::class_<StepOptions>& c) {
   c.def_property(
       "order", [](const StepOptions& o) { return o.fmpm.order; },
       [](StepOptions& o, int k) { o.fmpm.order = k; }, "k of FMPM(k), m of XPIC(m)");
+  c.def_property(
+      "transport_order", [](const StepOptions& o) { return o.transport.order; },
+      [](StepOptions& o, int k) { o.transport.order = k; },
+      "k of FMPM(k) on c~ (transport = 'FMPM'); 0: the mechanics' order (velocity FMPM or XPIC)");
   c.def_property(
       "blend_alpha", [](const StepOptions& o) { return o.fmpm.blend_alpha; },
       [](StepOptions& o, double a) { o.fmpm.blend_alpha = a; },
@@ -133,7 +146,8 @@ std::string repr(const StepOptions& o) {
   os << "StepOptions(shape='" << to_string(o.shape) << "', scheme='" << to_string(o.scheme)
      << "', velocity='" << to_string(o.velocity) << "', order=" << o.fmpm.order
      << ", blend_alpha=" << o.fmpm.blend_alpha << ", blend_every=" << o.fmpm.blend_every
-     << ", position_alpha=" << position_alpha(o) << ")";
+     << ", position_alpha=" << position_alpha(o) << ", transport='" << to_string(o.transport.update)
+     << "', transport_order=" << o.transport.order << ")";
   return os.str();
 }
 
@@ -167,7 +181,7 @@ void bind_material(py::module_& m) {
   c.def(py::init([](const std::string& name, const std::string& model, const py::kwargs& kw) {
           Material mat{.name = name, .model = material_model_from_string(model)};
           mat = from_keywords(std::move(mat), kw, "Material");
-          validate(mat);
+          validate_material(mat);
           return mat;
         }),
         py::arg("name") = "material", py::arg("model") = "linear");
@@ -195,17 +209,46 @@ void bind_material(py::module_& m) {
         mat.av_quadratic = a[1];
       },
       "mie-gruneisen: the artificial viscosity [A1, A2] (contact 2020 Eq. 52)");
+  c.def_readwrite("heat_capacity", &Material::heat_capacity,
+                  "C_V, heat capacity per unit mass (> 0 with heat transport)");
+  c.def_readwrite("conductivity", &Material::conductivity,
+                  "kappa, isotropic thermal conductivity (0: none)");
+  c.def_readwrite("reference_temperature", &Material::reference_temperature,
+                  "T_ref, the stress-free absolute temperature: the particles' initial "
+                  "temperature and the origin of Q, S and A (> 0 with heat transport)");
+  c.def_readwrite("thermal_expansion", &Material::thermal_expansion,
+                  "alpha, the linear coefficient of thermal expansion from T_ref (0: none; not "
+                  "for mie-gruneisen)");
   c.def("wave_speed", &Material::wave_speed, py::arg("dim"));
   c.def("__repr__", [](const Material& mat) {
     std::ostringstream os;
     os << "Material(name='" << mat.name << "', model='" << to_string(mat.model)
-       << "', density=" << mat.density << ", youngs=" << mat.youngs << ", poisson=" << mat.poisson
-       << ")";
+       << "', density=" << mat.density << ", youngs=" << mat.youngs << ", poisson=" << mat.poisson;
+    if (mat.heat_capacity != 0 || mat.conductivity != 0 || mat.reference_temperature != 0)
+      os << ", heat_capacity=" << mat.heat_capacity << ", conductivity=" << mat.conductivity
+         << ", reference_temperature=" << mat.reference_temperature;
+    if (mat.thermal_expansion != 0)
+      os << ", thermal_expansion=" << mat.thermal_expansion;
+    os << ")";
     return os.str();
   });
 }
 
 } // namespace
+
+void validate_material(const Material& mat) {
+  validate(mat);
+  // The heat keys: 0 is "not given" (the input reader's default); heat transport itself
+  // requires C_V > 0 and T_ref > 0 of every material (prepare_transport).
+  const std::pair<const char*, double> heat[] = {
+      {"heat_capacity", mat.heat_capacity},
+      {"conductivity", mat.conductivity},
+      {"reference_temperature", mat.reference_temperature}};
+  for (const auto& [key, value] : heat)
+    if (!(value >= 0) || !std::isfinite(value))
+      throw InputError("material '" + mat.name + "': " + key +
+                       " must be non-negative and finite, got " + number_text(value));
+}
 
 void bind_options(py::module_& m) {
   bind_material(m);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // sparsempm.Stepper: the library's Stepper (one step) and advance() (the run loop of `smpm
-// run`), with the GIL released while they run.
+// run`), with the GIL released while they run, and the transport fields of its last step.
 
 #include "bindings.hpp"
 #include "convert.hpp"
@@ -9,6 +9,7 @@
 #include <sparsempm/advance.hpp>
 #include <sparsempm/errors.hpp>
 #include <sparsempm/scheme.hpp>
+#include <sparsempm/transport.hpp>
 
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
@@ -25,7 +26,8 @@ namespace {
 AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj,
                             std::optional<double> end, std::optional<double> courant,
                             const py::object& callback, double stop_every, bool land_on_stops,
-                            double energy_growth, const py::kwargs& earlier) {
+                            double energy_growth, std::optional<double> fourier,
+                            const py::kwargs& earlier) {
   PyModel& pm = model_obj.cast<PyModel&>();
   for (const auto& [key, value] : earlier) {
     if (py::str(key).cast<std::string>() != "t_end")
@@ -36,6 +38,7 @@ AdvanceReport advance_model(Stepper& stepper, const py::object& model_obj,
   }
   const AdvanceOptions options{.end = end.value_or(pm.time_settings.end),
                                .courant = courant.value_or(pm.time_settings.courant),
+                               .fourier = fourier.value_or(pm.time_settings.fourier),
                                .stop_every = stop_every,
                                .land_on_stops = land_on_stops,
                                .failure = {.energy_growth = energy_growth},
@@ -66,11 +69,63 @@ void bind_courant(py::module_& m) {
   m.def(
       "courant_of", [](const PyModel& pm, double dt) { return courant_of(pm.model, dt); },
       py::arg("model"), py::arg("dt"), "C = Δt max(c_wave, max_p |V_p|) / Δx_min");
+  m.def(
+      "diffusion_time",
+      [](const PyModel& pm) {
+        return diffusion_time(pm.model.grid, pm.model.materials, pm.model.particles);
+      },
+      py::arg("model"),
+      "Δx_min² / D_max with D = κ/(ρ C_V) the largest diffusivity of the particles' materials "
+      "(inf when none conducts): with heat transport advance() takes no step longer than F "
+      "times this, F the Fourier number (transport.hpp)");
+}
+
+// The transport fields of a Stepper's last step (TransportState of scheme.hpp), copied: one
+// value per transport node (the n_g nodes of the step's window of the grid, `nodes`).
+struct TransportFields {
+  py::array tau, T, gradient, q, tau_plus, theta, rate, nodes;
+};
+
+py::object transport_fields(const Stepper& s) {
+  const Stepper::Exclusive hold(s);
+  const TransportState& h = s.transport_state();
+  if (s.options().transport.update == TransportUpdate::Off || h.tau.rows() == 0)
+    return py::none();
+  const Operators& ops = s.operators();
+  py::array_t<long> nodes(ops.grid_node_count);
+  auto out = nodes.mutable_unchecked<1>();
+  for (Index i = 0; i < ops.grid_node_count; ++i)
+    out(i) = long(ops.whole_node(i));
+  return py::cast(TransportFields{from_field(h.tau, true), from_field(h.T, true),
+                                  from_field(h.gradient, false), from_field(h.q, true),
+                                  from_field(h.tau_plus, true), from_field(h.theta, true),
+                                  from_field(h.rate, true), nodes});
+}
+
+void bind_transport_fields(py::module_& m) {
+  py::class_<TransportFields>(m, "TransportState",
+                              "The transport fields of a step (scheme.hpp, a copy): one value "
+                              "per transport node (n_g, the grid nodes `nodes`), gradient one "
+                              "row per particle.")
+      .def_readonly("tau", &TransportFields::tau, "τ = Sᵀ 𝗖 T, the nodal heat content (task 1)")
+      .def_readonly("T", &TransportFields::T,
+                    "T = c⁻¹ τ with the temperature conditions set: the conduction's field")
+      .def_readonly("gradient", &TransportFields::gradient, "N × d: ∇T_p = Σ_i G_pi T_i")
+      .def_readonly("q", &TransportFields::q,
+                    "heat flow −K T + Sᵀ M r + contact heat, with the conditions' reaction")
+      .def_readonly("tau_plus", &TransportFields::tau_plus,
+                    "τ⁺ = τ + q Δt with the conditions set (task 2.a)")
+      .def_readonly("theta", &TransportFields::theta,
+                    "θ⁺ = c̃_k⁻¹ τ⁺, the updated nodal temperatures (task 3.b)")
+      .def_readonly("rate", &TransportFields::rate, "Ṫ = c⁻¹ q, the rate of the lumped update")
+      .def_readonly("nodes", &TransportFields::nodes,
+                    "the grid index of each row: the step's window of the grid");
 }
 
 } // namespace
 
 void bind_step(py::module_& m) {
+  bind_transport_fields(m);
   py::class_<AdvanceReport>(
       m, "AdvanceReport",
       "What advance did: the steps, the total energy at start and end, the wall time.")
@@ -92,9 +147,10 @@ void bind_step(py::module_& m) {
       .def("advance", &advance_model, py::arg("model"), py::arg("end") = py::none(),
            py::arg("courant") = py::none(), py::arg("callback") = py::none(),
            py::arg("stop_every") = 0.0, py::arg("land_on_stops") = true,
-           py::arg("energy_growth") = 10.0,
+           py::arg("energy_growth") = 10.0, py::arg("fourier") = py::none(),
            "Steps to end (default model.end) with Δt = C Δx_min / max(c, max|V|), C = courant "
-           "(default model.courant), before every step (the loop of "
+           "(default model.courant), before every step, and with heat transport at most F "
+           "diffusion_time(model), F = fourier (default model.fourier; 0: 0.25) (the loop of "
            "`smpm run`; advance.hpp): callback(model, energies, at_stop) after every step, "
            "stops at multiples of stop_every (steps shortened to land on them unless "
            "land_on_stops is False), NumericalError when the total energy exceeds "
@@ -137,7 +193,11 @@ void bind_step(py::module_& m) {
             return s.last_fmpm_metrics();
           },
           "the convergence metric of passes 2, 3, ... of the last step's FMPM loop (dynamic "
-          "FMPM; step.dynamic_limit = 0 runs it to the order)");
+          "FMPM; step.dynamic_limit = 0 runs it to the order)")
+      .def_property_readonly("transport_state", &transport_fields,
+                             "the transport fields of the last step (a TransportState: τ, T, q, "
+                             "θ⁺, ... on its transport nodes); None without heat transport or "
+                             "before the first step");
   bind_courant(m);
 }
 

@@ -88,8 +88,14 @@ Index add_bc(PyModel& pm, const py::dict& table) {
   const ConditionTables read =
       read_bc_tables(toml_tables("bc", {table}), pm.source + " (add_bc)", pm.model.grid);
   if (!read.temperature.conditions.empty()) { // a temperature condition: one per node
+    BoundaryConditions added = read.temperature;
+    // The reader numbers the tables of its text ("bc.0.temperature"): named here by the call,
+    // so that a node held twice names both conditions apart.
+    for (VelocityCondition& c : added.conditions)
+      c.label =
+          "add_bc(temperature=" + clip(py::repr(table["temperature"]).cast<std::string>()) + ")";
     BoundaryConditions all = pm.model.temperature_bcs;
-    all.append(read.temperature);
+    all.append(added);
     all.check_one_condition_per_node();
     pm.model.temperature_bcs = std::move(all);
     return read.temperature.num_constrained();

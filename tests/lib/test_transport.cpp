@@ -669,6 +669,8 @@ TEST_CASE("the thermoelastic vibrating bar: each particle on its isentrope, K + 
       }
       CAPTURE(order, courant, worst, swing);
       CHECK(worst <= 1e-12 * rhoC);
+      // energies(model) evaluates the thermoelastic W(F, T) the stress update stores
+      CHECK(smpm::energies(m).strain == approx(stepper.energies(m).strain, 0, 1e-14));
       CHECK(swing > 0.5);
       changes.push_back(std::abs(energy() / e0 - 1));
     }

@@ -137,6 +137,16 @@ def case_fig9(w):
             w / "fig9"], ["fig9"], ["fig9"]
 
 
+def case_fig7(w):
+    return ["--smpm", SMPM, "--cell", "4", "--times", "0.01,0.02", "--set", "time.end=0.02",
+            "-o", w / "fig7"], ["fig7"], ["fig7"]
+
+
+def case_fig10(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--cell", "4", "--set", "time.end=0.02", "-o",
+            w / "fig10"], ["fig10"], ["fig10"]
+
+
 def case_fig11(w):
     return ["--smpm", SMPM, "--jobs", "1", "--cells", "4", "--courants", "0.4", "--set",
             "time.end=0.02", "-o", w / "fig11"], ["fig11"], ["fig11"]
@@ -173,7 +183,7 @@ CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
          "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
          "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
-         "df_fit.py": case_df_fit}
+         "df_fit.py": case_df_fit, "fig7.py": case_fig7, "fig10.py": case_fig10}
 
 
 @dataclasses.dataclass
@@ -437,6 +447,23 @@ def check_fig8(r):
 
 def check_fig9(r):
     assert len(rows(r.tables[0])) == 3 * 4 + 5  # μ × updates, and FMPM(3, 5, 6, 7, 8) at μ = 0.3
+
+
+def check_fig7(r):
+    # One row per frame; the heat is the frictional work (to the printed digits) and no
+    # temperature falls below the start by more than FMPM(4)'s undershoot of a few kelvin.
+    table = rows(r.tables[0])
+    assert len(table) == 2
+    for row in table:
+        assert float(row["heat_mJ"]) == pytest.approx(float(row["friction_mJ"]), abs=1e-3)
+        assert float(row["temperature_max_K"]) >= 300 - 1e-9
+    assert len(r.figure().axes) == 3  # two frames and the colour bar
+
+
+def check_fig10(r):
+    table = rows(r.tables[0])
+    assert len(table) == 3 * 2  # μ × (FLIP, FMPM(4))
+    assert len(legend_texts(r.figure().axes[0])) == 6
 
 
 def check_fig11(r):

@@ -4,10 +4,12 @@
 
 #include "sparsempm/stability.hpp"
 
+#include "radius.hpp"
 #include "sparsempm/errors.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -16,30 +18,33 @@ namespace smpm {
 
 namespace {
 
-// The search of critical_courant: ρ(T(C)) on the edges e_0 = 0, e_1 = 0.05, e_j = 2 e_{j−1} (up
-// to c_max), then on a grid of spacing ≤ resolution inside one bracket [e_{j−1}, e_j].
+// The search of critical_courant and critical_fourier: ρ at the parameter x (C or F) on the
+// edges e_0 = 0, e_1 = 0.05, e_j = 2 e_{j−1} (up to x_max), then on a grid of spacing
+// ≤ resolution inside one bracket [e_{j−1}, e_j]. `radius(x, steps)` gives ρ of the operator at
+// x and the steps one application spans.
 class CourantSearch {
 public:
-  CourantSearch(const Model& model, const StepOptions& options, double tol, double c_max,
-                double resolution, const std::atomic<int>* interrupt)
-      : model_(model), T_(model, options, stable_time_step(model, 0.05)), tol_(tol),
-        resolution_(resolution), interrupt_(interrupt), edge_{0.0, std::min(0.05, c_max)} {
-    while (edge_.back() < c_max)
-      edge_.push_back(std::min(2 * edge_.back(), c_max));
+  using Radius = std::function<SpectralRadius(double x, int& steps)>;
+  CourantSearch(Radius radius, const char* what, double tol, double x_max, double resolution,
+                const std::atomic<int>* interrupt)
+      : radius_(std::move(radius)), what_(what), tol_(tol), resolution_(resolution),
+        interrupt_(interrupt), edge_{0.0, std::min(0.05, x_max)} {
+    while (edge_.back() < x_max)
+      edge_.push_back(std::min(2 * edge_.back(), x_max));
   }
 
-  // Whether ρ(T(C))^{1/s} ≤ 1 + tol (the growth per step; a non-finite ρ is unstable).
-  bool stable(double C, double& rho) {
+  // Whether ρ^{1/s} ≤ 1 + tol at x (the growth per step; a non-finite ρ is unstable).
+  bool stable(double x, double& rho) {
     check_interrupt(interrupt_, [&] {
-      return "in the search for C* after " + std::to_string(out.evaluations) +
-             " evaluations of rho(T)";
+      return std::string("in the search for ") + what_ + " after " +
+             std::to_string(out.evaluations) + " evaluations of rho(T)";
     });
-    T_.set_dt(stable_time_step(model_, C));
-    const SpectralRadius r = spectral_radius(T_);
+    int steps = 1;
+    const SpectralRadius r = radius_(x, steps);
     ++out.evaluations;
     out.not_converged += r.status == SpectralStatus::NotConverged;
     out.non_finite += r.status == SpectralStatus::NonFinite;
-    rho = std::pow(r.rho, 1.0 / T_.steps_per_application());
+    rho = std::pow(r.rho, 1.0 / steps);
     return r.status != SpectralStatus::NonFinite && rho <= 1 + tol_;
   }
 
@@ -49,8 +54,8 @@ public:
   CriticalCourant out;
 
 private:
-  const Model& model_;
-  LinearizedStep T_;
+  Radius radius_;
+  const char* what_;
   double tol_, resolution_;
   const std::atomic<int>* interrupt_;
   std::vector<double> edge_;
@@ -131,17 +136,20 @@ void bisect(CourantSearch& search, const BracketGrid& g, Index s, Index u, doubl
 
 } // namespace
 
-CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol,
-                                 double c_max, double resolution, double hint,
-                                 const std::atomic<int>* interrupt) {
+namespace detail {
+
+CriticalCourant critical_parameter(const std::function<SpectralRadius(double, int&)>& radius,
+                                   const char* what, double tol, double c_max, double resolution,
+                                   double hint, const std::atomic<int>* interrupt) {
   if (!(tol >= 0) || !std::isfinite(tol))
-    throw InputError("critical_courant: tol must be non-negative and finite, got " +
-                     number_text(tol));
+    throw InputError(std::string("the search for ") + what +
+                     ": tol must be non-negative and finite, got " + number_text(tol));
   SMPM_VERIFY(c_max > 0 && std::isfinite(c_max) && resolution >= 1e-12 * c_max,
-              "critical_courant: c_max must be positive and finite and resolution at least "
-              "1e-12 c_max");
+              std::string("the search for ") + what +
+                  ": the largest value must be positive and finite and the resolution at least "
+                  "1e-12 of it");
   hint = std::isfinite(hint) ? std::min(hint, c_max) : 0.0;
-  CourantSearch search(model, options, tol, c_max, resolution, interrupt);
+  CourantSearch search(radius, what, tol, c_max, resolution, interrupt);
   // C* is the last stable grid point before an unstable one: the same point whether the search
   // starts from the hint or from below, if stability is monotone in C (which bisection assumes
   // anyway).
@@ -185,6 +193,21 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
     bisect(search, g, s, u, rho_s);
     return search.out;
   }
+}
+
+} // namespace detail
+
+CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol,
+                                 double c_max, double resolution, double hint,
+                                 const std::atomic<int>* interrupt) {
+  LinearizedStep T(model, options, stable_time_step(model, 0.05));
+  return detail::critical_parameter(
+      [&](double C, int& steps) {
+        T.set_dt(stable_time_step(model, C));
+        steps = T.steps_per_application();
+        return spectral_radius(T);
+      },
+      "C*", tol, c_max, resolution, hint, interrupt);
 }
 
 double simulation_energy_change(const Model& start, const StepOptions& options, double courant,

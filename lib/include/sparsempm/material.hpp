@@ -139,7 +139,8 @@ void update_stress(const std::vector<Material>& materials,
                    const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
                    FieldRef stress, Eigen::VectorXd* density = nullptr,
                    const Eigen::VectorXd* temperature = nullptr);
-/// Total strain energy Σ_p V_p^(0) W(F_p); for Mie–Grüneisen particles the internal energy
+/// Total strain energy Σ_p V_p^(0) W(F_p) (with temperatures, the thermoelastic Ψ_e(F_p, T_p) of
+/// materials with thermal expansion); for Mie–Grüneisen particles the internal energy
 /// M_p U_p plus the elastic shear energy V_p^(0) (G/2)(I₁/J^{2/3} − 3). With `density` (W(F_p)
 /// of each particle, as update_stress stores it) W is not evaluated again: the same bits.
 double strain_energy(const std::vector<Material>& materials, const Particles& particles,

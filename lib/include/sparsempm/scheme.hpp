@@ -117,6 +117,10 @@ struct TransportContext {
   Eigen::VectorXd* energy = nullptr;
   const std::vector<Material>* materials = nullptr; ///< the model's materials
   const Eigen::VectorXi* material = nullptr;        ///< N material ids
+  /// Whether the particle update checks that every temperature stays positive (absolute
+  /// temperatures); false for the linearised transport step of the stability analysis, which
+  /// maps perturbations of any sign.
+  bool absolute = true;
 };
 
 /// What the stages read besides the particle fields; fixed during the step.
@@ -175,6 +179,26 @@ struct StepBuffers {
   Field p_contact;  ///< p with the contact impulses of the exact update (multimaterial)
   TransportState heat; ///< the transport stages' fields
 };
+
+/// The transport stages of one step (FMPM 2026 §3.5), as scheme_step calls them beside the
+/// mechanics' tasks 1–4, and the linearised transport step of the stability analysis on their own.
+/// Task 1: τ = Sᵀ 𝗖 T, and the nodal temperatures of the conduction, T = c⁻¹ τ with the
+/// temperature conditions set (NairnMPM's gradient pass: τ itself stays as extrapolated, so that
+/// the conditions' reaction heat of task 2.a includes the step to their values).
+void transport_content(const Operators& ops, const TransportContext& heat, double t,
+                       TransportState& h);
+/// Tasks 2–3: q = −K T + Sᵀ M r + q_c with q_c the frictional heat of each contact node over Δt
+/// (`contact`, after the velocity solve whose corrections do that work), τ⁺ = τ + q Δt, the
+/// temperature conditions on τ⁺ with their reaction heat added to q (task 2.a), and θ⁺ = c̃_k⁻¹ τ⁺
+/// (task 3.b): updated_velocity on the transport nodes (c in the place of m, the loop of Table 1
+/// on c̃ with the conditions' increments zeroed) or the exact solve; Ṫ = c⁻¹ q for FLIP.
+void transport_update(const Operators& ops, const TransportContext& heat,
+                      const ContactNodes* contact, double t, double dt, TransportState& h);
+/// Task 4: T_p += Δt S Ṫ (lumped; Eq. 8 with T for V) or T_p = S θ⁺ (FMPM, exact; Eq. 9); a
+/// Mie–Grüneisen particle's internal energy U takes the heat it receives, C_V ΔT (its pressure's
+/// thermal part ρ₀γ₀U; NairnMPM's e = W + Q).
+void transport_particles(const Operators& ops, const TransportContext& heat, double dt,
+                         TransportState& h);
 
 /// One step of the scheme context.options->scheme (FMPM 2026 Fig. 1):
 ///   task 1  p = Sᵀ M V, contact (task 1.a), BC1, v = m⁻¹ p; USF/USAVG: strain update from

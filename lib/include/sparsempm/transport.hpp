@@ -88,13 +88,15 @@ void temperature_gradient(const Operators& ops, const Field& T, Field& gradient)
 /// gradients (N × d; temperature_gradient) and the particles' sources.
 void heat_flow(const Operators& ops, const TransportOperators& t, const Field& gradient, Field& q);
 /// FLIP (FMPM 2026 Eq. 8 with T for V): T_p += Δt Σ_i S_pi Ṫ_i, Ṫ = c⁻¹ q (n_g × 1). Throws
-/// NumericalError naming the first particle whose temperature is not positive and finite.
+/// NumericalError naming the first particle whose temperature is not positive and finite
+/// (`absolute`), or not finite.
 void update_temperature_flip(const Operators& ops, const Field& rate, double dt,
-                             Eigen::Ref<Eigen::VectorXd> T);
+                             Eigen::Ref<Eigen::VectorXd> T, bool absolute = true);
 /// PIC/FMPM (FMPM 2026 Eq. 9 with T for V): T_p = Σ_i S_pi θ_i (θ: n_g × 1). Throws
-/// NumericalError naming the first particle whose temperature is not positive and finite.
+/// NumericalError naming the first particle whose temperature is not positive and finite
+/// (`absolute`), or not finite.
 void update_temperature_grid(const Operators& ops, const Field& theta,
-                             Eigen::Ref<Eigen::VectorXd> T);
+                             Eigen::Ref<Eigen::VectorXd> T, bool absolute = true);
 
 /// c̃ = Sᵀ diag(𝗖) S on the n_g transport nodes (block columns folded), written into the stencil
 /// storage `ct` as assemble_consistent_mass writes m̃ (the same pattern in single material mode);
@@ -111,13 +113,17 @@ SparseMatrix conductivity_matrix(const Operators& ops, const TransportOperators&
 SparseMatrix folded_columns(const Operators& ops, const SparseRowMatrix& A);
 
 /// The diffusion time of a cell, Δx_min² / D_max, with D = κ/(ρ C_V) the largest diffusivity of
-/// the particles' materials: a time step is F Δx_min² / D_max for the Fourier number F (forward
-/// Euler on c Ṫ = −K T with linear shape functions is stable up to F = 1/(2d) with the lumped
-/// capacity and F = 1/(6d) with the consistent one); +∞ when no material conducts.
+/// the particles' materials: a time step is F Δx_min² / D_max for the Fourier number F
+/// (critical_fourier of transport_stability.hpp finds its explicit limit); +∞ when no material
+/// conducts.
 double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
                       const Particles& particles);
 /// The Fourier number of runs that do not choose one ([time] fourier, AdvanceOptions::fourier):
-/// 0.1/d, below 1/(6d), the explicit limit of the consistent capacity with linear shape functions.
+/// 0.25 in every dimension, half the smallest critical Fourier number critical_fourier finds for
+/// the lumped, FMPM(k) and exact transport on regular lattices of 2 particles per cell per axis
+/// with linear, uGIMP and CPDI shape functions in 1D to 3D (0.506–0.525, the exact capacity
+/// solve; the grid forms conduct with the lumped nodal temperature c⁻¹ τ, whose limit
+/// λ_max(c⁻¹ K) = 4D/Δx² gives 1/2, not the consistent capacity's 1/6).
 double default_fourier(int dim);
 
 } // namespace smpm
