@@ -96,10 +96,15 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
     if (r.energy_start != 0)
       std::snprintf(change, sizeof change, " (%+.4f%%)",
                     100 * (r.energy_end - r.energy_start) / std::abs(r.energy_start));
-    std::printf("completed %ld steps in %.3f s (%.0f steps/s); total energy %.6g -> %.6g%s; %d "
-                "frames in %s (ParaView: %s)\n",
+    // Heat transport: the temperatures at the end and the heat gained.
+    char heat[96] = "";
+    if (!std::isnan(r.temperature_min))
+      std::snprintf(heat, sizeof heat, "; temperatures %.6g ... %.6g, heat gained %.6g",
+                    r.temperature_min, r.temperature_max, r.heat_gained);
+    std::printf("completed %ld steps in %.3f s (%.0f steps/s); total energy %.6g -> %.6g%s%s; "
+                "%d frames in %s (ParaView: %s)\n",
                 r.steps, r.wall_seconds, r.wall_seconds > 0 ? r.steps / r.wall_seconds : 0.0,
-                r.energy_start, r.energy_end, change, r.frames, r.output.c_str(),
+                r.energy_start, r.energy_end, change, heat, r.frames, r.output.c_str(),
                 xdmf_path(r.output).c_str());
   }
   return 0;

@@ -273,7 +273,7 @@ double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
 }
 
 double default_fourier(int) {
-  return 0.25;
+  return 0.1;
 }
 
 } // namespace smpm

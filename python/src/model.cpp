@@ -391,7 +391,7 @@ void bind_model_state(py::class_<PyModel>& c) {
           throw InputError("fourier must be non-negative and finite, got " + number_text(F));
         pm.time_settings.fourier = F;
       },
-      "[time] fourier: F in dt <= F dx_min^2 / D_max with heat transport (0: 0.25)");
+      "[time] fourier: F in dt <= F dx_min^2 / D_max with heat transport (0: 0.1)");
   c.def_property(
       "time", [](const PyModel& pm) { return pm.model.time; },
       [](PyModel& pm, double t) {

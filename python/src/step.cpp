@@ -150,7 +150,7 @@ void bind_step(py::module_& m) {
            py::arg("energy_growth") = 10.0, py::arg("fourier") = py::none(),
            "Steps to end (default model.end) with Δt = C Δx_min / max(c, max|V|), C = courant "
            "(default model.courant), before every step, and with heat transport at most F "
-           "diffusion_time(model), F = fourier (default model.fourier; 0: 0.25) (the loop of "
+           "diffusion_time(model), F = fourier (default model.fourier; 0: 0.1) (the loop of "
            "`smpm run`; advance.hpp): callback(model, energies, at_stop) after every step, "
            "stops at multiples of stop_every (steps shortened to land on them unless "
            "land_on_stops is False), NumericalError when the total energy exceeds "

@@ -119,11 +119,12 @@ SparseMatrix folded_columns(const Operators& ops, const SparseRowMatrix& A);
 double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
                       const Particles& particles);
 /// The Fourier number of runs that do not choose one ([time] fourier, AdvanceOptions::fourier):
-/// 0.25 in every dimension, half the smallest critical Fourier number critical_fourier finds for
-/// the lumped, FMPM(k) and exact transport on regular lattices of 2 particles per cell per axis
-/// with linear, uGIMP and CPDI shape functions in 1D to 3D (0.506–0.525, the exact capacity
-/// solve; the grid forms conduct with the lumped nodal temperature c⁻¹ τ, whose limit
-/// λ_max(c⁻¹ K) = 4D/Δx² gives 1/2, not the consistent capacity's 1/6).
+/// 0.1 in every dimension, below the smallest critical Fourier number critical_fourier finds for
+/// the lumped, FMPM(k) and exact transport over lattice shifts of 2 particles per cell per axis:
+/// 0.229 (2D, linear shape functions, the exact capacity solve with particles near the nodes);
+/// uGIMP 0.42, CPDI 0.50 (README, "Heat"). The grid forms conduct with the lumped nodal
+/// temperature c⁻¹ τ, whose limit λ_max(c⁻¹ K) = 4D/Δx² gives 1/2 on regular lattices, not the
+/// consistent capacity's 1/6.
 double default_fourier(int dim);
 
 } // namespace smpm

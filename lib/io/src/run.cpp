@@ -77,7 +77,12 @@ public:
         V0_(cfg.model.particles.V) {
     if (restarting())
       restore();
+    else if (heat(cfg.model))
+      thermal0_ = thermal_sums(cfg.model, energies(cfg.model).strain);
   }
+
+  // The thermal sums at t = 0 (heat transport), for the heat gained; null without transport.
+  const ThermalSums* thermal_start() const { return thermal0_ ? &*thermal0_ : nullptr; }
 
   bool restarting() const { return !options_.restart_from.empty(); }
 
@@ -117,6 +122,8 @@ private:
     Model first = cfg_.model;
     load_frame(partial_, 0, first);
     V0_ = first.particles.V;
+    if (heat(first))
+      thermal0_ = thermal_sums(first, energies(first).strain);
     // The first step's Courant time step, as the uninterrupted run's advance took it.
     dt0_ = stable_time_step(first, cfg_.time.courant, signal_speed(first));
   }
@@ -184,6 +191,11 @@ private:
   std::string partial_;
   int next_frame_ = 0;
   std::optional<double> e0_;
+  std::optional<ThermalSums> thermal0_;
+  bool heat(const Model& m) const {
+    return cfg_.step.transport.update != TransportUpdate::Off &&
+           m.particles.temperature.size() == m.particles.size();
+  }
   std::optional<double> dt0_; // a restart: the first step's Courant time step (t = 0)
   OutputFile out_;
   Stepper stepper_;
@@ -211,6 +223,12 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     report.wall_seconds = a.wall_seconds;
     report.energy_start = a.energy_start;
     report.energy_end = a.energy_end;
+    if (const ThermalSums* t = r.thermal_start(); t && cfg.model.particles.temperature.size()) {
+      const ThermalSums end = thermal_sums(cfg.model, energies(cfg.model).strain);
+      report.temperature_min = end.temperature_min;
+      report.temperature_max = end.temperature_max;
+      report.heat_gained = end.heat - t->heat;
+    }
   } catch (const Interrupted& e) {
     r.out().set_status(std::string("interrupted: ") + e.what());
     throw;

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -35,6 +36,11 @@ struct RunReport {
   double energy_end = 0;   ///< total energy at the end
   int frames = 0;          ///< frames in the file
   std::string output;      ///< the HDF5 file
+  /// Heat transport: the lowest and highest particle temperature at the end and the heat
+  /// gained, Q(end) − Q(0) (ThermalSums); NaN without transport.
+  double temperature_min = std::numeric_limits<double>::quiet_NaN();
+  double temperature_max = std::numeric_limits<double>::quiet_NaN(); ///< see temperature_min
+  double heat_gained = std::numeric_limits<double>::quiet_NaN();     ///< see temperature_min
 };
 
 /// Called after every step with the model and the end time.
