@@ -95,8 +95,9 @@ class Run:
         return self._group("grid", k)
 
     def matrices(self, k):
-        """S, G0, G1, G2 and consistent_mass of frame index k as scipy.sparse CSR matrices
-        (a run with [output] matrices = true)."""
+        """S, G0, G1, G2 and consistent_mass of frame index k as scipy.sparse CSR matrices, and
+        with heat transport consistent_capacity and conductivity (a run with [output]
+        matrices = true)."""
         import scipy.sparse
 
         name = self._frame(k)

@@ -473,6 +473,20 @@ class Examples(Base):
         self.assertLess(np.abs(T - series).max(), 0.02)
         heat = f["series/heat"][:]
         self.assertAlmostEqual(heat[-1] - heat[0], float(g["mass"][:] @ (T - 300.0)), delta=1e-9)
+        # [output] matrices: c~ = S^T diag(M C_V) S and K = G^T diag(V kappa) G of the frame
+        # (C_V = kappa = 1), the identities of transport.hpp to round-off.
+        f = self.run_example("conduction_bar", "output.matrices=true", "time.end=0.01")
+        m = f["matrices"][max(f["matrices"])]
+        p = f["particles"][max(f["particles"])]
+        def csr(g):
+            return scipy.sparse.csr_matrix((g["data"][()], g["indices"][()], g["indptr"][()]),
+                                           shape=tuple(g["shape"][()]))
+        S, G, ct, K = (csr(m[k]) for k in ("S", "G0", "consistent_capacity", "conductivity"))
+        M, V = p["mass"][:], p["volume"][:]
+        self.assertLess(abs(ct - S.T @ scipy.sparse.diags(M) @ S).max(), 1e-14)
+        self.assertLess(np.abs(ct.sum(axis=1).A1 - S.T @ M).max(), 1e-14)
+        self.assertLess(abs(K - G.T @ scipy.sparse.diags(V) @ G).max(), 1e-9)
+        self.assertLess(np.abs(K.sum(axis=1)).max(), 1e-9)
 
     def test_single_point_vibration(self):
         f = self.run_example("single_point_vibration")

@@ -57,7 +57,9 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/grid/<frame>/contact_X", "nc x d", "positions of the contact nodes", "contact"},
       {"/grid/<frame>/contact_xyz", "nc x 3", "their positions with y = z = 0", "1D contact"},
       {"/vertices/<n>", "n x 1", "0 ... n - 1: the sidecars' vertex cells of n points", ""},
-      {"/matrices/<frame>/<matrix>/data", "nnz", "CSR values of S, G0, G1, G2, consistent_mass",
+      {"/matrices/<frame>/<matrix>/data", "nnz",
+       "CSR values of S, G0, G1, G2, consistent_mass (and with heat transport "
+       "consistent_capacity, conductivity)",
        "output.matrices"},
       {"/matrices/<frame>/<matrix>/indices", "nnz", "CSR column indices", "output.matrices"},
       {"/matrices/<frame>/<matrix>/indptr", "rows + 1", "CSR row offsets", "output.matrices"},

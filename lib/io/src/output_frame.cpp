@@ -83,11 +83,14 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
                 const StepPreparation* prepared) {
   const Particles& P = model.particles;
   StepPreparation own;
+  // Heat transport: its matrices c~ and K beside m~ (the preparation of the run's step has the
+  // transport operators; the tolerance of the exact solve does not change the matrices).
+  const bool heat = prepared && prepared->has_transport();
   if (!prepared || (matrices && prepared->ops.node_range != NodeRange::Grid)) {
     // On the particles' window of the grid (storage and time follow the particles), or on the
     // whole grid when the matrices are written (their columns are the grid's nodes).
     own.ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
-    prepare_step(model, shape, own);
+    prepare_step(model, shape, own, heat ? TransportUpdate::Lumped : TransportUpdate::Off);
     prepared = &own;
   }
   // Multimaterial: each velocity field's nodal fields (node i of field α is α n_g + i), the
@@ -143,6 +146,12 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
   for (int a = 0; a < P.dim; ++a)
     write_csr(g.get(), "G" + std::to_string(a), ops.G[size_t(a)]);
   write_csr(g.get(), "consistent_mass", SparseRowMatrix(consistent_mass(ops)));
+  if (heat) { // n_g × n_g: the capacity and conductivity of transport.hpp
+    write_csr(g.get(), "consistent_capacity",
+              SparseRowMatrix(consistent_capacity(ops, prepared->transport)));
+    write_csr(g.get(), "conductivity",
+              SparseRowMatrix(conductivity_matrix(ops, prepared->transport)));
+  }
 }
 
 // Appends the buffered rows to /series.
