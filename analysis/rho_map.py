@@ -57,7 +57,7 @@ def rho_cli(args):
                             "--blend-every", "1", "-o", str(out)], capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"rho_map.py: smpm spectrum failed: {r.stderr.strip()}")
-        rows = list(csv.DictReader(l for l in open(out) if not l.startswith("#")))
+        rows = list(csv.DictReader(open(out)))
     return {(int(row["order"]), float(row["blend_alpha"])): row["rho_T"] for row in rows}
 
 

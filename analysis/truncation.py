@@ -26,8 +26,7 @@ def main():
         lines = open(args.table).read().splitlines()
     except OSError as e:
         sys.exit(f"truncation.py: {args.table}: {e}")
-    header = dict(l[2:].split(" = ") for l in lines if l.startswith("# "))
-    rows = list(csv.DictReader(l for l in lines if not l.startswith("#")))
+    rows = list(csv.DictReader(lines))
     series = {}
     for r in rows:
         series.setdefault((float(r["blend_alpha"]), int(r["blend_every"])), []).append(
@@ -38,7 +37,7 @@ def main():
         pts.sort()
         name = "unblended" if alpha == 1 else f"$\\alpha$ = {alpha:g}, $m$ = {m}"
         ax.semilogy([p[0] for p in pts], [p[1] for p in pts], "-o", label=name)
-    rho = float(header.get("rho_A", "nan"))
+    rho = float(rows[0]["rho_A"]) if rows else float("nan")
     ks = sorted({int(r["order"]) for r in rows})
     ax.semilogy(ks, [rho ** k for k in ks], "k:", label=f"$\\rho(A)^k$, $\\rho(A)$ = {rho:.4f}")
     ax.set_xscale("log")

@@ -59,9 +59,10 @@ int spectrum_command(const SpectrumArgs& a) {
               long(ms.active), ms.rho_A, ms.min_eig_minv_mt, ms.cond_mt);
   std::ostringstream out;
   out.precision(10);
-  out << "# rho_A = " << ms.rho_A << "\n# min_eig_minv_mt = " << ms.min_eig_minv_mt
-      << "\n# cond_mt = " << ms.cond_mt << "\n# active_nodes = " << ms.active << "\n";
   out << kSpectrumColumns << "\n";
+  std::ostringstream scalars; // the configuration's numbers, on every row
+  scalars.precision(10);
+  scalars << "," << ms.rho_A << "," << ms.min_eig_minv_mt << "," << ms.cond_mt << "," << ms.active;
   std::printf("%5s %11s %11s %16s %10s\n", "order", "blend_alpha", "blend_every", "truncation",
               "rho(T)");
   for (int m : a.blend_every)
@@ -73,7 +74,8 @@ int spectrum_command(const SpectrumArgs& a) {
         const double err = truncation_error(ops, mt.matrix, f, p, exact);
         const double rho = a.courant > 0 ? fmpm_rho(cfg, f, a.courant) : std::nan("");
         out << k << "," << alpha << "," << m << "," << err << ","
-            << (a.courant > 0 ? std::to_string(a.courant) : "") << "," << cell(rho, 10) << "\n";
+            << (a.courant > 0 ? std::to_string(a.courant) : "") << "," << cell(rho, 10)
+            << scalars.str() << "\n";
         std::printf("%5d %11.3g %11d %16.6e %10s\n", k, alpha, m, err, cell(rho, 8).c_str());
       }
   write_table_file(a.output, out.str(), {a.input}, "-o");

@@ -44,9 +44,12 @@ struct SpectrumArgs {
 inline constexpr const char* kStabilityColumns =
     "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,c_spectral,"
     "config_spectral,spectral_status,c_simulation,energy_change";
-/// The columns of the spectrum table (after its '# name = value' lines).
+/// The columns of the spectrum table: every row the same CSV (no comment lines; csv readers and
+/// numpy.genfromtxt take it as it is), the configuration's ρ(A), λ_min(m⁻¹m̃), cond(m̃) and
+/// active nodes repeated on each.
 inline constexpr const char* kSpectrumColumns =
-    "order,blend_alpha,blend_every,truncation_error,courant,rho_T";
+    "order,blend_alpha,blend_every,truncation_error,courant,rho_T,rho_A,min_eig_minv_mt,cond_mt,"
+    "active_nodes";
 
 /// ρ(A), λ_min(m⁻¹m̃), cond(m̃) at t = 0, and the truncation error of FMPM(k) (and ρ(T(C)))
 /// for every k, α, m: a table on stdout and a CSV (kSpectrumColumns).

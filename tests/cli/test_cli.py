@@ -5,6 +5,7 @@ matrices loaded with scipy, the XDMF sidecar and the analysis scripts.
 
 Run by ctest with SMPM (the binary) and SMPM_SOURCE (the source tree) in the environment.
 """
+import csv
 import math
 import os
 import pathlib
@@ -368,10 +369,17 @@ class Stability(Base):
         r = smpm("spectrum", EXAMPLES / "vibrating_bar.toml", "--order", "1,2,4", "--blend-alpha", "1,0.8", "--courant", "0.4", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
         text = out.read_text()
-        self.assertIn("# rho_A = ", text)
-        rows = [l for l in text.splitlines() if not l.startswith("#")]
-        self.assertEqual(rows[0], "order,blend_alpha,blend_every,truncation_error,courant,rho_T")
-        self.assertEqual(len(rows) - 1, 3 * 2 + 3)  # m = 1: two alphas; m = 2: alpha 0.8 only
+        # A plain CSV (no comment lines), read as it is by csv and numpy.genfromtxt; the
+        # configuration's rho(A) (0.75 for the bar's CPDI lattice, README) on every row.
+        rows = list(csv.DictReader(text.splitlines()))
+        self.assertEqual(list(rows[0]), ["order", "blend_alpha", "blend_every", "truncation_error",
+                                         "courant", "rho_T", "rho_A", "min_eig_minv_mt", "cond_mt",
+                                         "active_nodes"])
+        self.assertEqual(len(rows), 3 * 2 + 3)  # m = 1: two alphas; m = 2: alpha 0.8 only
+        self.assertEqual(len({r["rho_A"] for r in rows}), 1)
+        self.assertAlmostEqual(float(rows[0]["rho_A"]), 0.75, delta=1e-6)
+        table = np.genfromtxt(out, delimiter=",", names=True)
+        self.assertEqual(table.shape, (9,))
 
     def test_frames_sweep(self):
         # The configurations stored in a run's frames join the lattice shifts in the sweep.

@@ -703,7 +703,7 @@ class SecondLook(Base):
         r = smpm("spectrum", BAR, "--order", "1", "-o", self.dir / "t.csv")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(digest(run), before[0])
-        self.assertTrue((self.dir / "t.csv").read_text().startswith("#"))
+        self.assertTrue((self.dir / "t.csv").read_text().startswith("order,"))
         os.mkfifo(self.dir / "f.csv")
         self.assertIn("not a regular file", one_line(self, smpm("spectrum", BAR, "--order", "1", "-o", self.dir / "f.csv", timeout=30), 2))
         (self.dir / "s.csv.lock").touch()
