@@ -41,7 +41,7 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
   const Index whole_nodes = grid.whole_num_nodes();
   auto node = [&](const VelocityCondition& c, Index whole) {
     if (whole < 0 || whole >= whole_nodes)
-      throw InputError("velocity condition '" + c.label + "' names node " + std::to_string(whole) +
+      throw InputError("condition '" + c.label + "' names node " + std::to_string(whole) +
                        ", not a node of this grid of " + std::to_string(whole_nodes) +
                        " nodes (the conditions of another model?)");
     return window ? grid.node_of_whole(whole) : whole;
@@ -70,7 +70,7 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
           continue;
         const double vb = c.value_at(t, grid.node_position(i));
         if (!std::isfinite(vb))
-          throw NumericalError("velocity condition '" + c.label + "' gives " + number_text(vb) +
+          throw NumericalError("condition '" + c.label + "' gives " + number_text(vb) +
                                " at node " + std::to_string(g) + " at t = " + number_text(t));
         const RowChange delta = (w * vb) * c.direction.head(d).transpose();
         x.row(r) += delta;

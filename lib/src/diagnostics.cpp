@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace smpm {
 
@@ -87,6 +88,19 @@ double courant_of(const Model& model, double dt) {
 ThermalSums thermal_sums(const Model& model, double strain) {
   const Particles& P = model.particles;
   SMPM_VERIFY(P.temperature.size() == P.size(), "thermal_sums: the particles have no temperatures");
+  std::vector<char> used(model.materials.size(), 0);
+  for (Index p = 0; p < P.size(); ++p) {
+    const int id = P.material[p];
+    if (id < 0 || id >= int(model.materials.size()))
+      throw InputError("particle " + std::to_string(p) + " has material id " + std::to_string(id) +
+                       ", but there are " + std::to_string(model.materials.size()) + " materials");
+    used[size_t(id)] = 1;
+  }
+  for (size_t k = 0; k < used.size(); ++k)
+    if (used[k] && (!(model.materials[k].heat_capacity > 0) ||
+                    !(model.materials[k].reference_temperature > 0)))
+      throw InputError("material '" + model.materials[k].name +
+                       "': the thermal sums need heat_capacity > 0 and reference_temperature > 0");
   // Σ M C, Σ M C T, Σ M C (T − T_ref), U − W, S, Σ T S (per particle: S_p = M C ln(T/T_ref) +
   // Ω c with c the coupling of thermal_coupling; U_p − Ω W_p = M C (T − T_ref) + T Ω c, but for a
   // Mie–Grüneisen particle, whose U (in the strain energy) holds its heat).

@@ -54,6 +54,8 @@ void Particles::append(const Particles& o) {
     *this = o;
     return;
   }
+  if (o.size() == 0)
+    return;
   SMPM_VERIFY(o.dim == dim, "cannot append " + std::to_string(o.dim) + "D particles to " +
                                 std::to_string(dim) + "D particles");
   auto stack = [](auto& a, const auto& b) {

@@ -40,14 +40,21 @@ void MaterialStrainUpdate::reversible_heating(const ConstFieldRef& F) const {
     const double rhoC = mat.density * mat.heat_capacity, T0 = T[p];
     auto c = [&](double temp) { return thermal_coupling(mat, d, F1, temp); };
     double T1 = T0 * std::exp(-(c(T0) - c0[p]) / rhoC);
-    for (int k = 0; k < 8 && !shock; ++k) {
+    bool converged = shock;
+    for (int k = 0; k < 8 && !converged && T1 > 0 && std::isfinite(T1); ++k) {
       const double g = rhoC * std::log(T1 / T0) + c(T1) - c0[p];
       const double h = 1e-6 * T1, dg = rhoC / T1 + (c(T1 + h) - c(T1 - h)) / (2 * h);
+      if (!(dg > 0))
+        break;
       const double step = g / dg;
       T1 -= step;
-      if (std::abs(step) <= 1e-13 * T1)
-        break;
+      converged = std::abs(step) <= 1e-13 * std::abs(T1);
     }
+    if (!converged && T1 > 0 && std::isfinite(T1))
+      throw NumericalError("particle " + std::to_string(p) +
+                           ": its isentropic temperature did "
+                           "not converge in 8 Newton steps from " +
+                           number_text(T0) + " (at " + number_text(T1) + ")");
     if (!(T1 > 0) || !std::isfinite(T1))
       throw NumericalError("particle " + std::to_string(p) + " has temperature " + number_text(T1) +
                            " after its thermoelastic heating");
@@ -269,9 +276,26 @@ void transport_content(const Operators& ops, const TransportContext& heat, doubl
                        TransportState& h) {
   const TransportOperators& top = *heat.ops;
   map_heat(ops, top, *heat.temperature, h.tau);
-  lumped_solve(top.nodes.m_inv, h.tau, h.T);
-  if (heat.bcs)
-    heat.bcs->constrain_velocity(top.nodes.grid, t, h.T, &top.nodes.active);
+  // T = c⁻¹ τ on every node with capacity (an average of particle temperatures however small c_i:
+  // the exact solve's tolerance leaves its lightest nodes out of the solve, not of the gradient)
+  const Index ng = top.nodes.grid_node_count;
+  h.T.resize(ng, 1);
+  for (Index i = 0; i < ng; ++i)
+    h.T(i, 0) = top.nodes.m[i] > 0 ? h.tau(i, 0) / top.nodes.m[i] : 0.0;
+  if (!heat.bcs)
+    return;
+  heat.bcs->constrain_velocity(top.nodes.grid, t, h.T, &top.nodes.active);
+  if (!heat.absolute)
+    return;
+  const Grid& grid = top.nodes.grid;
+  for (const VelocityCondition& c : heat.bcs->conditions) // held temperatures are absolute
+    for (Index g : c.nodes) {
+      const Index i = grid.is_window() ? grid.node_of_whole(g) : g;
+      if (i >= 0 && i < ng && top.nodes.active[i] && !(h.T(i, 0) > 0))
+        throw NumericalError("temperature condition '" + c.label + "' gives " +
+                             number_text(h.T(i, 0)) + " at node " + std::to_string(g) +
+                             " at t = " + number_text(t) + " (temperatures are absolute)");
+    }
 }
 
 void transport_update(const Operators& ops, const TransportContext& heat,
@@ -287,7 +311,18 @@ void transport_update(const Operators& ops, const TransportContext& heat,
   if (heat.update == TransportUpdate::Exact) {
     if (heat.bcs)
       heat.bcs->constrain_update(top.nodes.grid, top.nodes.m, t, dt, h.tau_plus, h.q);
-    heat.solver->solve(top.nodes, *heat.ct, bc, h.tau_plus, h.theta);
+    try {
+      heat.solver->solve(top.nodes, *heat.ct, bc, h.tau_plus, h.theta);
+    } catch (const NumericalError& e) { // the solver speaks of masses: here they are capacities
+      std::string what = e.what();
+      for (const auto& [from, to] :
+           {std::pair<std::string, std::string>{"mass matrix", "capacity matrix c~"},
+            {"lumped masses", "lumped capacities"},
+            {"(m = ", "(c = "}})
+        for (size_t at = what.find(from); at != std::string::npos; at = what.find(from, at))
+          what.replace(at, from.size(), to);
+      throw NumericalError("heat transport: " + what);
+    }
   } else {
     updated_velocity(top.nodes, heat.ct, heat.fmpm, bc, true, dt, h.tau_plus, &h.q, h.theta,
                      h.fmpm);

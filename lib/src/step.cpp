@@ -163,6 +163,12 @@ void Stepper::step(Model& model, double dt) {
                                 shock ? &buf_->shock : nullptr, &buf_->density,
                                 heat() ? &buf_->thermal : nullptr);
     scheme_step(context, fields, strain, buf_->step);
+    // USF updates the stresses (and stores W) before the transport changes the temperatures:
+    // with thermal expansion that W is of the old temperature, so energies() evaluates it anew.
+    if (heat() && opt_.scheme == UpdateScheme::USF)
+      for (const Material& m : model.materials)
+        if (m.thermal_expansion != 0)
+          buf_->density.resize(0);
     if (contact)
       state_.friction_work += prep_.contact.friction_work;
     if (shock)

@@ -67,9 +67,11 @@ void validate(const StepOptions& opt) {
   const bool has_order =
       opt.velocity == VelocityUpdate::FMPM || opt.velocity == VelocityUpdate::XPIC;
   if (t.update == TransportUpdate::FMPM && t.order == 0 && !has_order)
-    throw OptionError("transport_order", "0",
-                      "is required with transport = FMPM unless the velocity update is FMPM or "
-                      "XPIC (whose order it takes)");
+    throw OptionError("transport_order", "0 (unset)",
+                      "give the order k of FMPM(k) on the capacity (1 to " +
+                          std::to_string(kMaxFmpmOrder) +
+                          ") with transport = FMPM, or a velocity update FMPM or XPIC, whose "
+                          "order it takes");
   SMPM_VERIFY(t.update != TransportUpdate::Exact || opt.exact_solver,
               "the exact transport update needs StepOptions::exact_solver (see exact.hpp)");
 }

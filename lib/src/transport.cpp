@@ -259,8 +259,13 @@ SparseMatrix conductivity_matrix(const Operators& ops, const TransportOperators&
 double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
                       const Particles& particles) {
   std::vector<char> used(materials.size(), 0);
-  for (Index p = 0; p < particles.size(); ++p)
-    used[size_t(particles.material[p])] = 1;
+  for (Index p = 0; p < particles.size(); ++p) {
+    const int id = particles.material[p];
+    if (id < 0 || id >= int(materials.size()))
+      throw InputError("particle " + std::to_string(p) + " has material id " + std::to_string(id) +
+                       ", but there are " + std::to_string(materials.size()) + " materials");
+    used[size_t(id)] = 1;
+  }
   double D = 0;
   for (size_t k = 0; k < materials.size(); ++k)
     if (used[k] && materials[k].heat_capacity > 0)

@@ -880,7 +880,7 @@ class NonFiniteConditions(Base):
         line = one_line(self, self.run_bar(
             'plane = { axis = "x", at = 0.0 }\nvelocity = { direction = [1.0], '
             'value = "sqrt(0.5 - t)" }'), 3)
-        self.assertIn("step 3 (t = 1.5): velocity condition 'bc.0.velocity' gives nan at node 0 "
+        self.assertIn("step 3 (t = 1.5): condition 'bc.0.velocity' gives nan at node 0 "
                       "at t = 1", line)
 
     def test_a_nan_velocity_value_is_refused(self):

@@ -6,6 +6,7 @@ and times (check_readers.py)."""
 
 import os
 import pathlib
+import signal
 import subprocess
 import sys
 import tempfile
@@ -63,11 +64,16 @@ class Readers(unittest.TestCase):
             self.assertIsNone(p.poll(), p.stderr.read() if p.poll() is not None else "")
             # A reader that opens the file while the run flushes a frame can see a torn state
             # (HDF5 has no readers-while-writing without SWMR, which cannot create groups): a
-            # fresh reader process tries again, up to five times, as a user reloads.
+            # fresh reader process tries again, up to five times, as a user reloads. The run is
+            # paused (SIGSTOP) while each reader looks and resumed between attempts, so that it
+            # is still running at the end however fast the machine (running on, the blocks leave
+            # the grid within seconds on a quiet machine: exit 3 before the readers finished).
             errors = []
             for _ in range(5):
                 if errors:
-                    time.sleep(0.5)
+                    p.send_signal(signal.SIGCONT)
+                    time.sleep(0.3)
+                p.send_signal(signal.SIGSTOP)
                 r = subprocess.run([sys.executable, HERE / "check_readers.py", "--live", partial],
                                    capture_output=True, text=True)
                 if r.returncode == 0:

@@ -139,8 +139,8 @@ def test_step_options_and_materials_take_the_heat_keys():
     with pytest.raises(smpm.InputError, match=r"unknown transport update 'hot' \(expected off "
                                               r"\| lumped \| FMPM \| exact\)"):
         smpm.StepOptions(transport="hot")
-    with pytest.raises(smpm.InputError, match="transport_order = 0: is required with transport "
-                                              "= FMPM unless the velocity update is FMPM or XPIC"):
+    with pytest.raises(smpm.InputError, match=r"transport_order = 0 \(unset\): give the order k "
+                                              r"of FMPM\(k\) on the capacity"):
         smpm.StepOptions(transport="FMPM")
     with pytest.raises(smpm.InputError, match="transport_order = -1: must be an integer"):
         smpm.StepOptions(transport="lumped", transport_order=-1)

@@ -51,10 +51,12 @@ struct ThermalSums {
   double temperature_max = 0; ///< max_p T_p
   /// Σ M_p C_V T_p / Σ M_p C_V: the capacity-weighted mean, which conduction conserves
   double temperature_mean = 0;
-  double heat = 0;     ///< Q = Σ M_p C_V (T_p − T_ref), the thermal energy
-  double internal = 0; ///< U = W + Q, W the strain energy (Energies::strain)
-  double entropy = 0;  ///< S = Σ M_p C_V ln(T_p / T_ref)
-  double helmholtz = 0; ///< A = U − Σ T_p S_p = W + Σ M_p C_V ((T_p − T_ref) − T_p ln(T_p/T_ref))
+  double heat = 0; ///< Q = Σ M_p C_V (T_p − T_ref), the thermal energy
+  /// U = Σ U_p = W + Q + Σ T_p Ω_p c_p, W the strain energy (Energies::strain); the Q and T Ω c
+  /// of Mie–Grüneisen particles left out (their U, in W, holds their heat)
+  double internal = 0;
+  double entropy = 0;   ///< S = Σ S_p = Σ (M_p C_V ln(T_p/T_ref) + Ω_p c_p)
+  double helmholtz = 0; ///< A = U − Σ T_p S_p
 };
 /// The sums of ThermalSums over the particles (in the fixed order of the library's reductions),
 /// `strain` the strain energy W of the same state (Energies::strain). Throws UsageError unless

@@ -225,10 +225,18 @@ double frame_bytes(const Model& model, const StepPreparation* prepared, bool mat
     bytes += 12 * nnz * (1 + d) + 12 * nnz * std::pow(3, d) + 8 * N * (2 + d) +
              8 * double(model.grid.num_nodes()) * fields;
   }
-  // The series' chunks of kSeriesChunk rows that the new rows begin (every column of them).
+  // Heat transport: the temperatures, and with the matrices c̃ and K (n_g rows, a stencil each).
+  const bool heat = model.particles.temperature.size() == model.particles.size();
+  if (heat)
+    bytes += 8 * N;
+  if (heat && matrices)
+    bytes += 2 * (12 * std::pow(5, d) + 4) * double(model.grid.num_nodes());
+  // The series' chunks of kSeriesChunk rows that the new rows begin (every column of them, with
+  // the seven of heat transport).
   const double chunks = std::ceil(double(series_written + series_rows) / h5::kSeriesChunk) -
                         std::ceil(double(series_written) / h5::kSeriesChunk);
-  bytes += 8 * chunks * h5::kSeriesChunk * (10 + d + double(model.materials.size()) * (1 + 2 * d));
+  bytes += 8 * chunks * h5::kSeriesChunk *
+           (10 + d + double(model.materials.size()) * (1 + 2 * d) + (heat ? 7 : 0));
   // HDF5's metadata (under 1 kB an object, ~30 objects) and the sidecar's frame.
   return bytes + 32 * 1024 + 8 * 1024;
 }

@@ -24,8 +24,8 @@ struct TimeSettings {
   /// output.every); false: constant Courant steps, frames at the first step past each multiple.
   bool land_on_frames = true;
   /// F in Δt ≤ F Δx_min² / D_max, the Fourier number of conduction (heat transport; D = κ/(ρ C_V),
-  /// diffusion_time); 0: default_fourier (0.1, below the smallest critical Fourier number of
-  /// transport_stability.hpp's study, 0.229).
+  /// diffusion_time), positive when given; unset (0): default_fourier (0.1, below the smallest
+  /// critical Fourier number of transport_stability.hpp's study, 0.229).
   double fourier = 0;
 };
 
