@@ -269,8 +269,7 @@ TEST_CASE("heat transport: material, body, condition and step keys, and their me
   CHECK_THAT(error_of(replace(heat, "transport_order = 3", "transport_order = -1")),
              Catch::Contains("step.transport_order = -1"));
   CHECK_THAT(error_of(replace(heat, "transport_order = 3\n", "")),
-             Catch::Contains("step.transport_order") &&
-                 Catch::Contains("with transport = FMPM"));
+             Catch::Contains("step.transport_order") && Catch::Contains("with transport = FMPM"));
   CHECK_THAT(error_of(replace(heat, "transport = \"FMPM\"", "transport = \"FLIP\"")),
              Catch::Contains("step.transport = 'FLIP'") && Catch::Contains("lumped"));
   CHECK_THAT(error_of(replace(heat, "fourier = 0.05", "fourier = 0.0")),
