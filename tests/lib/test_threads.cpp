@@ -132,10 +132,11 @@ TEST_CASE("1 and 2 threads give bit-identical runs of the examples", "[threads]"
 }
 
 TEST_CASE("1 and 2 threads give bit-identical heat transport", "[threads][transport]") {
-  // 360 steps of the disk impact with heat (they touch at step 300) (2514 particles: every transport
-  // kernel, the folded capacity's scatter, the friction heat, the isentropic heating with α = 6e-5
-  // and the thermal sums on threads) by FMPM(4) with FMPM(4) transport and FLIP with the lumped
-  // one: X, the stress and the temperatures equal bit for bit, and so do the thermal sums.
+  // 360 steps of the disk impact with heat (they touch at step 300; 2514 particles: every
+  // transport kernel, the folded capacity's scatter, the friction heat, the isentropic heating
+  // with α = 6e-5 and the thermal sums on threads) by FMPM(4) with FMPM(4) transport and FLIP
+  // with the lumped one: X, the stress and the temperatures equal bit for bit, and so do the
+  // thermal sums.
   for (const std::vector<std::string>& scheme :
        {std::vector<std::string>{},
         std::vector<std::string>{"step.velocity=FLIP", "step.transport=lumped"}}) {
