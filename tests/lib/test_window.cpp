@@ -37,8 +37,7 @@ Run run_example(const std::string& file, const std::vector<std::string>& overrid
           : default_fourier(cfg.model.grid.dim()) *
                 diffusion_time(cfg.model.grid, cfg.model.materials, cfg.model.particles);
   for (int s = 0; s < steps; ++s) {
-    stepper.step(cfg.model,
-                 std::min(stable_time_step(cfg.model, cfg.time.courant), conduction));
+    stepper.step(cfg.model, std::min(stable_time_step(cfg.model, cfg.time.courant), conduction));
     const auto& m = stepper.last_fmpm_metrics();
     run.metrics.insert(run.metrics.end(), m.begin(), m.end());
     run.orders.push_back(stepper.last_fmpm().order);
