@@ -3,5 +3,5 @@
 /// \file version.hpp
 namespace smpm {
 /// Library version, "major.minor.patch".
-inline constexpr const char* kVersion = "0.1.0";
+inline constexpr const char* kVersion = "0.2.0";
 } // namespace smpm
