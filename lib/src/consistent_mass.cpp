@@ -32,6 +32,9 @@ struct StencilProduct {
   const Operators& ops;
   const double* weight; // N
   bool fold;
+  // The velocity-gradient transfer's m̃_L (assemble_transfer_mass): the particles' positions
+  // (N × d); null for Sᵀ diag(w) S.
+  const ConstFieldRef* X = nullptr;
   Index rows() const { return fold ? ops.grid_node_count : ops.num_nodes(); }
   // The rows of a product with several fields repeat per field block (m̃ is block diagonal).
   Index block() const { return ops.grid_node_count; }
@@ -110,13 +113,17 @@ void build_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
   ro[n] = int(pos);
 }
 
-// Adds particle p's M_p S_pa S_pb (a, b in its box) to the rows of the box's nodes in [r0, r1).
-// place(i, a0, a1, a2, stride) returns where p's box starts in row i (its node a) and sets the
-// row's strides along y and z. Box sizes C0 × C1 × C2 are compile-time constants when nonzero.
-// `off` is subtracted from the columns of S to give rows (a field's block folded onto the grid).
-template <int C0, int C1, int C2, class Place>
+// The most entries of a row of S: a box of up to 12 nodes per axis (shape_functions.hpp).
+constexpr size_t kMaxRowEntries = 12 * 12 * 12;
+
+// Adds particle p's M_p S_pa c_b (a, b in its box) to the rows of the box's nodes in [r0, r1),
+// c = columns(i) the row's column values (S_p for m̃; transfer_row for m̃_L). place(i, a0, a1,
+// a2, stride) returns where p's box starts in row i (its node a) and sets the row's strides
+// along y and z. Box sizes C0 × C1 × C2 are compile-time constants when nonzero. `off` is
+// subtracted from the columns of S to give rows (a field's block folded onto the grid).
+template <int C0, int C1, int C2, class Place, class Columns>
 inline void scatter_box(const std::array<int, 3>& count, const double* sb, const int* ib, double M,
-                        Index off, Index r0, Index r1, Place&& place) {
+                        Index off, Index r0, Index r1, Place&& place, Columns&& columns) {
   const int c0 = C0 ? C0 : count[0], c1 = C1 ? C1 : count[1], c2 = C2 ? C2 : count[2];
   int qa = 0;
   for (int a2 = 0; a2 < c2; ++a2)
@@ -128,7 +135,7 @@ inline void scatter_box(const std::array<int, 3>& count, const double* sb, const
           continue;
         int stride[2];
         double* r = place(i, a0, a1, a2, stride);
-        const double* sq = sb;
+        const double* sq = columns(i);
         for (int b2 = 0; b2 < c2; ++b2)
           for (int b1 = 0; b1 < c1; ++b1) {
             double* rb = r + b2 * stride[1] + b1 * stride[0];
@@ -151,11 +158,11 @@ struct StencilScatter {
 
   // Box sizes up to kMaxBox = 12 per axis: one hexadecimal digit each; the common sizes at
   // compile time.
-  template <class Place>
+  template <class Place, class Columns>
   static void interior(const ShapeSupport& s, const double* sb, const int* ib, double M, Index off,
-                       Index r0, Index r1, Place&& place) {
+                       Index r0, Index r1, Place&& place, Columns&& columns) {
     auto kernel = [&]<int C0, int C1, int C2>() {
-      scatter_box<C0, C1, C2>(s.count, sb, ib, M, off, r0, r1, place);
+      scatter_box<C0, C1, C2>(s.count, sb, ib, M, off, r0, r1, place, columns);
     };
     switch ((s.count[0] << 8) | (s.count[1] << 4) | s.count[2]) {
     case 0x221:
@@ -176,6 +183,43 @@ struct StencilScatter {
   }
 
   void particle(Index p, Index r0, Index r1) const {
+    if (product.X)
+      return scatter_particle(p, r0, r1, [&](const double* sb, int begin, int count) {
+        return TransferRow(*this, p, sb, begin, count);
+      });
+    scatter_particle(p, r0, r1,
+                     [](const double* sb, int, int) { return [sb](Index) { return sb; }; });
+  }
+
+  // The column values of m̃_L's row i for particle p: S_pj + (x_i − X_p) · ∇S_pj over p's box
+  // (Wallstedt & Guilkey 2007's P2G of L_p = G v; see assemble_transfer_mass).
+  struct TransferRow {
+    TransferRow(const StencilScatter& s_, Index p_, const double* sb_, int begin_, int count_)
+        : s(s_), p(p_), sb(sb_), begin(begin_), count(count_) {}
+    const StencilScatter& s;
+    Index p;
+    const double* sb;
+    int begin, count;
+    mutable std::array<double, kMaxRowEntries> c; // written before it is read
+    const double* operator()(Index i) const {
+      const Operators& ops = s.ops;
+      const int d = ops.grid.dim();
+      const Eigen::Vector3d xi = ops.grid.node_position(i % ops.grid_node_count);
+      double dx[3] = {0, 0, 0};
+      for (int b = 0; b < d; ++b)
+        dx[b] = xi[b] - (*s.product.X)(p, b);
+      for (int k = 0; k < count; ++k) {
+        double v = sb[k];
+        for (int b = 0; b < d; ++b)
+          v += dx[b] * ops.G[size_t(b)].valuePtr()[begin + k];
+        c[size_t(k)] = v;
+      }
+      return c.data();
+    }
+  };
+
+  template <class MakeColumns>
+  void scatter_particle(Index p, Index r0, Index r1, MakeColumns&& make_columns) const {
     const int* outer = ops.S.outerIndexPtr();
     const int begin = outer[p], end = outer[p + 1];
     const int* ib = ops.S.innerIndexPtr() + begin;
@@ -187,6 +231,7 @@ struct StencilScatter {
       return; // no row of p's box is in this range (columns ascend along a row of S)
     const ShapeSupport& s = ops.support[size_t(p)];
     const double *sb = ops.S.valuePtr() + begin, M = product.weight[p];
+    const auto columns = make_columns(sb, begin, end - begin);
     const auto& nodes = ops.grid_nodes;
     // The box's first node in the numbering of ops.grid (a window starts at `origin`).
     const int first[3] = {s.first[0] - origin[0], s.first[1] - origin[1], s.first[2] - origin[2]};
@@ -194,16 +239,20 @@ struct StencilScatter {
     for (size_t d = 0; d < 3; ++d)
       inside = inside && first[d] >= w[d] && first[d] + s.count[d] - 1 + w[d] < nodes[d];
     if (inside) { // row a's full stencil starts w before node a: the box sits at w − a
-      interior(s, sb, ib, M, off, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
-        stride[0] = full[0];
-        stride[1] = full[0] * full[1];
-        return val + ro[i] + ((w[2] - a2) * full[1] + (w[1] - a1)) * full[0] + (w[0] - a0);
-      });
+      interior(
+          s, sb, ib, M, off, r0, r1,
+          [&](Index i, int a0, int a1, int a2, int stride[2]) {
+            stride[0] = full[0];
+            stride[1] = full[0] * full[1];
+            return val + ro[i] + ((w[2] - a2) * full[1] + (w[1] - a1)) * full[0] + (w[0] - a0);
+          },
+          columns);
       return;
     }
     // Near the grid's edges: each row's stencil is clipped to the grid.
     scatter_box<0, 0, 0>(
-        s.count, sb, ib, M, off, r0, r1, [&](Index i, int a0, int a1, int a2, int stride[2]) {
+        s.count, sb, ib, M, off, r0, r1,
+        [&](Index i, int a0, int a1, int a2, int stride[2]) {
           const int ijk[3] = {first[0] + a0, first[1] + a1, first[2] + a2};
           int lo[3], c[3];
           for (int d = 0; d < 3; ++d)
@@ -212,7 +261,8 @@ struct StencilScatter {
           stride[1] = c[0] * c[1];
           return val + ro[i] + ((first[2] - lo[2]) * c[1] + (first[1] - lo[1])) * c[0] +
                  (first[0] - lo[0]);
-        });
+        },
+        columns);
   }
 };
 
@@ -258,6 +308,14 @@ void assemble_stencil_product(const StencilProduct& product, ConsistentMass& mt)
 
 void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
   assemble_stencil_product({ops, ops.M.data(), false}, mt);
+}
+
+void assemble_transfer_mass(const Operators& ops, const ConstFieldRef& X, ConsistentMass& mt) {
+  SMPM_VERIFY(X.rows() == ops.num_particles() && X.cols() == ops.grid.dim(),
+              "assemble_transfer_mass: one position (N x d) per particle");
+  StencilProduct product{ops, ops.M.data(), false};
+  product.X = &X;
+  assemble_stencil_product(product, mt);
 }
 
 void assemble_consistent_capacity(const Operators& ops, const Eigen::VectorXd& capacity,

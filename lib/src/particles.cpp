@@ -26,6 +26,7 @@ void Particles::resize(int d, Index N) {
   energy.setZero(N);
   temperature.resize(0);
   heat_source.resize(0);
+  gradient.resize(0, 0);
 }
 
 Eigen::VectorXd Particles::jacobian() const {
@@ -90,6 +91,12 @@ void Particles::append(const Particles& o) {
               "append: particles with temperatures and particles without");
   stack_optional(temperature, o.temperature);
   stack_optional(heat_source, o.heat_source);
+  if (gradient.rows() == n0 || o.gradient.rows() == o.size()) { // absent: zero gradients
+    const Field g0 = gradient.rows() == n0 ? gradient : Field::Zero(n0, dim * dim);
+    const Field g1 = o.gradient.rows() == o.size() ? o.gradient : Field::Zero(o.size(), dim * dim);
+    gradient.resize(n0 + o.size(), dim * dim);
+    gradient << g0, g1;
+  }
 }
 
 Particles make_block(const Grid& grid, const std::array<double, 3>& lo,

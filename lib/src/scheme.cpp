@@ -187,9 +187,19 @@ struct Stages {
     strain.update(op, *vs, dt, fields);
   }
 
+  // P2G of the particles' momenta: Sᵀ M V, or with their velocity gradients (Transfer).
+  void particle_momenta(Field& p) {
+    if (opt.transfer == Transfer::VelocityGradient)
+      map_affine_momentum(op, *c.grid, b.x_start, fields.V, *fields.gradient, p);
+    else
+      map_momentum(op, fields.V, p);
+  }
+
   // Task 1: p = Sᵀ M V, BC1, v = m⁻¹ p; task 1.c for USF, USAVG and USAVG+.
   void momentum() {
-    map_momentum(op, fields.V, b.g.p);
+    if (opt.transfer == Transfer::VelocityGradient)
+      b.x_start = fields.X; // storage reused from step to step
+    particle_momenta(b.g.p);
     if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC &&
         opt.xpic_contact_term) { // keep Δv^α (Eq. 37)
       b.contact_dv = b.g.p;
@@ -225,14 +235,22 @@ struct Stages {
 
   // Task 4: Eq. (8) on FLIP steps, Eq. (9) for PIC, FMPM(k) and exact, contact 2020 Eq. (35)
   // for XPIC(m).
+  // The velocity-gradient transfer: L_p = G u, u the grid velocity the particles took.
+  void particle_gradients(const Field& u) {
+    if (opt.transfer == Transfer::VelocityGradient)
+      velocity_gradient(op, u, *fields.gradient);
+  }
+
   void particle_update() {
     const double alpha = position_alpha(opt);
     if (!c.grid_update) { // FLIP, or a FLIP step of periodic FMPM
       update_particles_flip(op, b.g.v_plus, b.g.a, c.dt, alpha, fields.X, fields.V);
+      particle_gradients(b.g.v_plus);
       return;
     }
     if (opt.velocity != VelocityUpdate::XPIC) {
       update_particles_pic(op, b.g.v_plus, c.dt, alpha, fields.X, fields.V);
+      particle_gradients(b.g.v_plus);
       return;
     }
     if (full_mass) {
@@ -243,6 +261,7 @@ struct Stages {
       b.xpic = b.g.v_plus; // XPIC(1) = PIC
     }
     update_particles_pic(op, b.xpic, c.dt, alpha, fields.X, fields.V);
+    particle_gradients(b.xpic);
   }
 
   // Task 5: stresses last (USL, USL+, USAVG, USAVG+); tasks 4.a–4.c re-extrapolate with the
@@ -254,7 +273,7 @@ struct Stages {
     const double dt_last =
         (s == UpdateScheme::USL || s == UpdateScheme::USLPlus) ? c.dt : 0.5 * c.dt;
     if (s == UpdateScheme::USLPlus || s == UpdateScheme::USAVGPlus) {
-      map_momentum(op, fields.V, b.p_re);
+      particle_momenta(b.p_re);
       contact(b.p_re);
       if (correct_bcs())
         c.bcs->constrain_momentum(*c.grid, c.ops->m, c.time, b.p_re);
@@ -357,6 +376,11 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
   SMPM_VERIFY(!s.full_mass || context.mt, "scheme_step: this step needs m~ (context.mt)");
   SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
               "scheme_step: the exact update needs a MassSolver (context.solver)");
+  SMPM_VERIFY(context.options->transfer != Transfer::VelocityGradient ||
+                  (fields.gradient && fields.gradient->rows() == fields.V.rows() &&
+                   fields.gradient->cols() == fields.V.cols() * fields.V.cols()),
+              "scheme_step: the velocity-gradient transfer needs one gradient (N x d^2) per "
+              "particle (ParticleFields::gradient)");
   buffers.report = FmpmReport{};
   buffers.fmpm.metrics.clear(); // a step without a loop has no trace
   if (s.heat) {

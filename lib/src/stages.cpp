@@ -132,6 +132,36 @@ void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p)
   });
 }
 
+void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
+                         const ConstFieldRef& V, const ConstFieldRef& L, Field& p) {
+  SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim && X.rows() == op.rows &&
+                  X.cols() == op.dim && L.rows() == op.rows && L.cols() == op.dim * op.dim,
+              "map_affine_momentum: X and V must be N x d and L N x d^2");
+  const Index ng = grid.num_nodes();
+  SMPM_VERIFY(ng > 0 && op.nodes % ng == 0,
+              "map_affine_momentum: the grid must be that of the operators' nodes");
+  p.resize(op.nodes, op.dim);
+  by_dim(op.dim, [&]<int D>() {
+    detail::parallel_for(op.nodes, [&](Index i) { // p_i = Σ_q S_qi M_q (V_q + L_q (x_i − X_q))
+      const Eigen::Vector3d xi = grid.node_position(i % ng);
+      double sum[D] = {};
+      node_entries(op, i, [&](Index q, int k) {
+        double dx[D];
+        for (int b = 0; b < D; ++b)
+          dx[b] = xi[b] - X(q, b);
+        for (int a = 0; a < D; ++a) {
+          double v = V(q, a);
+          for (int b = 0; b < D; ++b)
+            v += L(q, a * D + b) * dx[b];
+          sum[a] += op.S[k] * (op.M[q] * v);
+        }
+      });
+      for (int a = 0; a < D; ++a)
+        p(i, a) = sum[a];
+    });
+  });
+}
+
 void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g) {
   SMPM_VERIFY(volume.size() == op.rows, "volume_gradient: one volume per particle");
   g.resize(op.nodes, op.dim);

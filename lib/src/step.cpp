@@ -138,7 +138,9 @@ void Stepper::step(Model& model, double dt) {
     const StepContext context{
         .options = &opt_,
         .ops = &prep_.ops,
-        .mt = uses_consistent_mass(opt_, grid_update_) ? &prep_.consistent_mass() : nullptr,
+        .mt = !uses_consistent_mass(opt_, grid_update_)     ? nullptr
+              : opt_.transfer == Transfer::VelocityGradient ? &prep_.transfer_mass(P.X)
+                                                            : &prep_.consistent_mass(),
         .solver = solver_.get(),
         .grid = &prep_.ops.grid, // the step's nodes: the particles' window or the grid
         .bcs = &prep_.bcs,
@@ -149,6 +151,11 @@ void Stepper::step(Model& model, double dt) {
         .grid_update = grid_update_,
         .transport = heat() ? &transport_context(model) : nullptr};
     ParticleFields fields{P.X, P.V, P.F, P.stress, P.volume0};
+    if (opt_.transfer == Transfer::VelocityGradient) {
+      if (P.gradient.rows() != P.size() || P.gradient.cols() != P.dim * P.dim)
+        P.gradient.setZero(P.size(), P.dim * P.dim); // none yet: the start is uniform motion
+      fields.gradient = &P.gradient;
+    }
     const bool shock = uses_shock_physics(model.materials);
     if (shock) {
       if (P.energy.size() != P.size()) // no energy column: U = 0

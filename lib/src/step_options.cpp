@@ -19,7 +19,16 @@ constexpr detail::EnumNames<VelocityUpdate, 5> kVelocities{{{VelocityUpdate::FLI
                                                             {VelocityUpdate::FMPM, "FMPM"},
                                                             {VelocityUpdate::XPIC, "XPIC"},
                                                             {VelocityUpdate::Exact, "exact"}}};
+constexpr detail::EnumNames<Transfer, 2> kTransfers{
+    {{Transfer::Standard, "standard"}, {Transfer::VelocityGradient, "velocity_gradient"}}};
 } // namespace
+
+std::string_view to_string(Transfer t) {
+  return detail::enum_name(t, kTransfers);
+}
+Transfer transfer_from_string(std::string_view name) {
+  return detail::parse_enum(name, kTransfers, "transfer");
+}
 
 std::string_view to_string(UpdateScheme s) {
   return detail::enum_name(s, kSchemes);
@@ -59,6 +68,11 @@ void validate(const StepOptions& opt) {
     throw OptionError("position_alpha", number_text(alpha), "must lie in [0, 1]");
   SMPM_VERIFY(opt.velocity != VelocityUpdate::Exact || opt.exact_solver,
               "the exact velocity update needs StepOptions::exact_solver (see exact.hpp)");
+  if (opt.transfer == Transfer::VelocityGradient && opt.velocity == VelocityUpdate::Exact)
+    throw OptionError("transfer", "velocity_gradient",
+                      "cannot be used with velocity = exact: the transfer's mass operator m~_L "
+                      "is not symmetric and the exact solver factors symmetric matrices "
+                      "(CHOLMOD); use velocity = FMPM with a high order");
   const TransportOptions& t = opt.transport;
   if (t.order < 0 || t.order > kMaxFmpmOrder)
     throw OptionError("transport_order", std::to_string(t.order),

@@ -18,6 +18,14 @@ const SparseRowMatrix& StepPreparation::consistent_mass() {
   return mt_.matrix;
 }
 
+const SparseRowMatrix& StepPreparation::transfer_mass(const ConstFieldRef& X) {
+  if (!mtL_current_) {
+    assemble_transfer_mass(ops, X, mtL_);
+    mtL_current_ = true;
+  }
+  return mtL_.matrix;
+}
+
 const SparseRowMatrix& StepPreparation::consistent_capacity() {
   SMPM_VERIFY(transport_, "StepPreparation: c~ needs a preparation with heat transport");
   if (!ct_current_) {
@@ -48,6 +56,7 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s, Transport
   check_amounts(P.mass, "mass");
   check_amounts(P.volume0, "volume0");
   s.mt_current_ = false;
+  s.mtL_current_ = false;
   s.ct_current_ = false;
   s.transport_ = false;
   const int nf = model.contact.fields();

@@ -37,6 +37,7 @@ struct PyModel {
 struct PyOperators {
   Shape shape = Shape::Linear;
   StepPreparation prep;
+  Field X; ///< the particles' positions of the assembly (the velocity-gradient transfer's m̃_L)
   const Operators& ops() const { return prep.ops; }
   const Grid& grid() const { return prep.ops.grid; }
 };

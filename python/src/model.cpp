@@ -236,6 +236,17 @@ void bind_particles(py::module_& m) {
       "energy", [](py::object self) { return vector_view(self.cast<Particles&>().energy, self); },
       [](Particles& P, const DoubleArray& a) { assign_vector(P.energy, a, "energy"); },
       "N internal energies per unit mass U (Mie-Gruneisen materials)");
+  c.def_property(
+      "gradient",
+      [](py::object self) { return field_view(self.cast<Particles&>().gradient, self); },
+      [](Particles& P, const DoubleArray& a) {
+        if (P.gradient.rows() != P.size() || P.gradient.cols() != P.dim * P.dim)
+          P.gradient.setZero(P.size(), P.dim * P.dim);
+        assign_field(P.gradient, a, "gradient");
+      },
+      "N × d² velocity gradients L_p (row-major) of the velocity-gradient transfer "
+      "(StepOptions.transfer); empty until a step with that transfer (it starts from zeros) "
+      "or an assignment sets them");
   heat_property(c, "temperature", &Particles::temperature,
                 "N absolute temperatures T_p (heat transport); empty: none yet (a step with "
                 "transport starts from each material's reference_temperature). Assign a number or "

@@ -183,6 +183,13 @@ void bind_products(py::class_<PyOperators>& c) {
        [](const PyOperators& o) { return csr_owned(SparseRowMatrix(consistent_mass(o.ops()))); },
        "m̃ = Sᵀ diag(M) S, n × n (rows sum to m)")
       .def(
+          "transfer_mass",
+          [](PyOperators& o) { return csr_owned(SparseRowMatrix(o.prep.transfer_mass(o.X))); },
+          "m̃_L = Sᵀ M S + Σ_b D_bᵀ M G_b, D_b = S ∘ (x_ib − X_pb), n × n: the mass operator of the "
+          "velocity-gradient transfer (P2G with L_p after G2P of v), which takes m̃'s place in "
+          "FMPM(k) and XPIC with step.transfer = 'velocity_gradient'; not symmetric, rows sum to "
+          "m, m̃_L v = m v for affine v. Structural zeros kept (stencil storage)")
+      .def(
           "S_plus",
           [](const PyOperators& o) { return csr_owned(SparseRowMatrix(S_plus(o.ops()))); },
           "S⁺ = m⁻¹ Sᵀ M, n × N (rows of inactive nodes zero)")
@@ -219,6 +226,7 @@ void bind_operators(py::module_& m) {
         PyOperators o;
         o.shape = shape_arg(shape, &model);
         prepare_step(model.model, o.shape, o.prep); // the Stepper's preparation, whole grid
+        o.X = model.model.particles.X;
         // ops.bcs outlives this call: its values copied from the model's (which they call),
         // and a wall's evaluated at the time a product is given (not frozen at the model's).
         for (size_t k = 0; k < o.prep.bcs.conditions.size(); ++k) {

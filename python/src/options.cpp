@@ -104,6 +104,12 @@ void bind_step_choices(py::class_<StepOptions>& c) {
       "heat transport (transport.hpp): 'off' (isothermal, the default) | 'lumped': T_p += dt "
       "S c^-1 q (FLIP) | 'FMPM': T_p = S c~_k^-1 tau+ by the FMPM loop on c~ (k = "
       "transport_order) | 'exact': T_p = S c~^-1 tau+ (CHOLMOD)");
+  name_property(
+      c, "transfer", [](const StepOptions& o) { return o.transfer; },
+      [](StepOptions& o, const std::string& s) { o.transfer = transfer_from_string(s); },
+      "P2G of the momenta: 'standard' (default): p = S^T M V | 'velocity_gradient': p_i = "
+      "sum_p S_ip M_p (V_p + L_p (x_i - X_p)), L_p = G v of the particle update (Wallstedt & "
+      "Guilkey 2007)");
 }
 
 void bind_step_numbers(py::class_<StepOptions>& c) {

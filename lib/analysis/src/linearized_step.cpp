@@ -75,9 +75,12 @@ struct LinearizedStep::Impl {
   int flip_steps = 0; // periodic FMPM: FLIP steps before each FMPM step
   int d = 1;
   Index N = 0;
-  // The state and scratch of perform_op.
-  mutable Field X, V, F, sig, L;
+  // The state and scratch of perform_op: V, σ and, with the velocity-gradient transfer, the
+  // particles' gradients (P2G reads them: they are state), and scratch.
+  mutable Field X, V, F, sig, L, gradient;
+  bool gradients() const { return opt.transfer == Transfer::VelocityGradient; }
   mutable StepBuffers buffers;
+  const SparseRowMatrix* mt = nullptr; // m̃ or m̃_L (the transfer's), when the update uses it
 
   void step(bool grid_update) const;
 };
@@ -108,7 +111,8 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
     I.homogeneous.conditions.push_back(std::move(c));
   }
   if (uses_consistent_mass(options, true))
-    (void)I.prep.consistent_mass();
+    I.mt = options.transfer == Transfer::VelocityGradient ? &I.prep.transfer_mass(model.particles.X)
+                                                          : &I.prep.consistent_mass();
   I.K = material_tangents(model);
   I.F = model.particles.F;
   set_dt(dt);
@@ -134,7 +138,8 @@ int LinearizedStep::steps_per_application() const {
   return impl_->flip_steps + 1;
 }
 Index LinearizedStep::rows() const {
-  return impl_->N * (impl_->d + impl_->d * impl_->d);
+  const Index d2 = impl_->d * impl_->d;
+  return impl_->N * (impl_->d + d2 + (impl_->gradients() ? d2 : 0));
 }
 const Operators& LinearizedStep::operators() const {
   return impl_->prep.ops;
@@ -146,7 +151,7 @@ void LinearizedStep::Impl::step(bool grid_update) const {
   X = model.particles.X;
   const StepContext context{.options = &opt,
                             .ops = &prep.ops,
-                            .mt = &prep.consistent_mass_storage().matrix,
+                            .mt = mt,
                             .solver = solver.get(),
                             .grid = &model.grid,
                             .bcs = &homogeneous,
@@ -155,20 +160,26 @@ void LinearizedStep::Impl::step(bool grid_update) const {
                             .dt = dt,
                             .grid_update = grid_update};
   ParticleFields fields{X, V, F, sig, model.particles.volume0};
+  if (gradients())
+    fields.gradient = &gradient;
   TangentStressUpdate strain(K, L);
   scheme_step(context, fields, strain, buffers);
 }
 
 void LinearizedStep::perform_op(const double* x, double* y) const {
   Impl& I = *impl_;
-  const Index nv = I.N * I.d;
+  const Index nv = I.N * I.d, ns = I.N * I.d * I.d;
   I.V = Eigen::Map<const Field>(x, I.N, I.d);
   I.sig = Eigen::Map<const Field>(x + nv, I.N, I.d * I.d);
+  if (I.gradients())
+    I.gradient = Eigen::Map<const Field>(x + nv + ns, I.N, I.d * I.d);
   for (int s = 0; s < I.flip_steps; ++s)
     I.step(false);
   I.step(I.opt.velocity != VelocityUpdate::FLIP);
   Eigen::Map<Field>(y, I.N, I.d) = I.V;
   Eigen::Map<Field>(y + nv, I.N, I.d * I.d) = I.sig;
+  if (I.gradients())
+    Eigen::Map<Field>(y + nv + ns, I.N, I.d * I.d) = I.gradient;
 }
 
 Eigen::MatrixXd LinearizedStep::dense() const {

@@ -114,7 +114,7 @@ SparseMatrix consistent_mass(const Operators& ops);
 /// within the stencil half-width w_a = max_p (box_a − 1) of node i along each axis (structural
 /// zeros allowed); rows of nodes no particle touches are empty.
 struct ConsistentMass {
-  SparseRowMatrix matrix;                    ///< n × n, symmetric
+  SparseRowMatrix matrix;                    ///< n × n (symmetric for m̃, c̃)
   std::array<int, 3> half_width{-1, -1, -1}; ///< stencil half-width of the pattern
   std::array<int, 3> grid_nodes{0, 0, 0};    ///< nodes per axis of the pattern's grid
   std::vector<char> touched;                 ///< n: node in some particle's box
@@ -127,6 +127,15 @@ struct ConsistentMass {
 /// owning a range of rows, so each entry sums its particles in ascending order on any number of
 /// threads; the pattern is rebuilt only when the stencil width or the touched set changes.
 void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt);
+/// The mass operator of the velocity-gradient transfer (Transfer::VelocityGradient), in m̃'s
+/// stencil storage: m̃_L = Sᵀ M S + Σ_b D_bᵀ M G_b, D_b = S ∘ (x_ib − X_pb), that is
+/// (m̃_L)_ij = Σ_p M_p S_pi (S_pj + (x_i − X_p) · ∇S_pj): the P2G of the transfer (p_i =
+/// Σ_p S_pi M_p (V_p + L_p (x_i − X_p))) applied to the G2P of a grid velocity v (V_p = S v,
+/// L_p = G v). It takes the place of m̃ in the FMPM loop, XPIC and the exact update with that
+/// transfer, so that they see the transfer's own reverse map: m̃_L v = m v for every affine v
+/// (I − m⁻¹ m̃_L annihilates affine fields). Not symmetric. X: the particles' positions (N × d)
+/// of `ops`' assembly; the rows are `ops`' columns, nodes of ops.grid.
+void assemble_transfer_mass(const Operators& ops, const ConstFieldRef& X, ConsistentMass& mt);
 /// Lumped reverse map S⁺ = m⁻¹ Sᵀ M, n × N; rows of inactive nodes are zero (FMPM 2026 §2.1).
 SparseMatrix S_plus(const Operators& ops);
 /// Expansion matrix A = I − m⁻¹ m̃ = I − S⁺ S (FMPM 2026 Eq. 1), n × n, restricted to the

@@ -29,11 +29,14 @@ struct Particles {
   Eigen::VectorXd temperature;
   /// N heat sources r_p, power per unit mass (heat transport); empty: none.
   Eigen::VectorXd heat_source;
+  /// N × d² velocity gradients L_p (row-major), carried by the velocity-gradient transfer
+  /// (StepOptions::transfer); empty: none (zero).
+  Field gradient;
 
   /// N, the number of particles (rows of X).
   Index size() const { return X.rows(); }
-  /// Resizes to N particles of dimension d with F = I and every other field zero (temperature
-  /// and heat_source empty).
+  /// Resizes to N particles of dimension d with F = I and every other field zero (temperature,
+  /// heat_source and gradient empty).
   void resize(int d, Index N);
   /// Current volumes V_p = det(F_p) V_p^(0), one entry per particle.
   Eigen::VectorXd volume() const;

@@ -33,6 +33,10 @@ struct ParticleFields {
   FieldRef F;             ///< N × d² deformation gradients (read for J = det F)
   FieldRef stress;        ///< N × d² Cauchy stresses
   ConstVectorRef volume0; ///< N initial volumes
+  /// N × d² velocity gradients L_p of the velocity-gradient transfer (StepOptions::transfer),
+  /// read by P2G and set by the particle update to G u, u the grid velocity it took; null with
+  /// the standard transfer.
+  Field* gradient = nullptr;
 };
 
 /// Task 5 (and task 1.c of USF/USAVG): the particles' deformation and stress over a time dt
@@ -177,6 +181,10 @@ struct StepBuffers {
   /// n × d: XPIC's grid velocity m (v − v*) + a Δt of the particle update (contact 2020 Eq. 35)
   Field contact_dv; ///< Δv^α = m⁻¹Δp^α of the contact after P2G (multimaterial XPIC, Eq. 37)
   Field p_contact;  ///< p with the contact impulses of the exact update (multimaterial)
+  /// N × d: the particles' positions at the step's start, those of its S, for the
+  /// velocity-gradient transfer's x_i − X_p (the P2G of task 1 and the re-extrapolation of USL+
+  /// and USAVG+ use the S of the start: Σ_i S_ip x_i = X_p holds for them)
+  Field x_start;
   TransportState heat; ///< the transport stages' fields
 };
 

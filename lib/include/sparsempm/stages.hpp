@@ -52,6 +52,14 @@ ParticleOperators particle_operators(const Operators& ops);
 
 /// p = Sᵀ (M ∘ V), n × d  (FMPM 2026 task 1; Buzzi Eq. 26).
 void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p);
+/// The velocity-gradient transfer (Transfer::VelocityGradient; Wallstedt & Guilkey 2007):
+/// p_i = Σ_p S_pi M_p (V_p + L_p (x_i − X_p)), n × d, with the particles' positions X and
+/// velocity gradients L (N × d², row-major) and the positions x_i of the nodes of `grid` (the
+/// step's grid; node i of a field block α n_g + i is grid node i). As Σ_b D_bᵀ M L_{·b} + Sᵀ M V
+/// with D_b = S ∘ (x_ib − X_pb), one gather per node in particle order (the same bits for any
+/// number of threads). An affine field V = V₀ + L x, L_p = L, gives p_i = m_i (V₀ + L x_i).
+void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
+                         const ConstFieldRef& V, const ConstFieldRef& L, Field& p);
 /// g = Σ_b G_bᵀ V e_b, n × d: g_i = Σ_p G_pi V_p, the volume gradient of contact 2020 Eq. (11)
 /// (in 2D with V_p the area times unit thickness), from the volumes V (one per particle).
 void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g);

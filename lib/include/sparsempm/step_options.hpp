@@ -35,6 +35,20 @@ enum class VelocityUpdate {
   XPIC, ///< V = S m(v − v*) + S a Δt (contact 2020 Eqs. 35, 41–43)
   Exact ///< V = S m̃⁻¹ p⁺, the consistent-mass inverse ("FMPM(∞)")
 };
+/// How particle momenta reach the grid (P2G).
+enum class Transfer {
+  Standard, ///< p_i = Σ_p S_ip M_p V_p (FMPM 2026 task 1)
+  /// p_i = Σ_p S_ip M_p (V_p + L_p (x_i − X_p)), L_p the particle's velocity gradient, the
+  /// gradient G v of the grid velocity its last particle update took (Wallstedt & Guilkey 2007,
+  /// "Improved velocity projection for the material point method", CMES 19:223–232; FMPM 2026
+  /// §3.3's Ref. [30]): affine velocity fields cross P2G and G2P exactly
+  VelocityGradient
+};
+/// Name used in input files: standard | velocity_gradient.
+std::string_view to_string(Transfer t);
+/// The transfer named `name`; throws InputError naming the valid choices.
+Transfer transfer_from_string(std::string_view name);
+
 /// Where zero-velocity conditions are imposed (Buzzi §5.5).
 enum class BCOrdering {
   Correct, ///< zero the fixed momentum after P2G (BC1) and its rate before the update (BC2)
@@ -108,6 +122,8 @@ struct StepOptions {
   /// Heat transport (transport.hpp): off (isothermal, the default), lumped, FMPM(k) on c̃ or
   /// the exact consistent-capacity solve.
   TransportOptions transport{};
+  /// P2G of the momenta: standard, or with the particles' velocity gradients (Transfer).
+  Transfer transfer = Transfer::Standard;
 };
 
 /// α of Eqs. (8)–(9) when the options leave it unset: 1 for FLIP (the usual choice, FMPM 2026

@@ -42,6 +42,10 @@ struct StepPreparation {
   const SparseRowMatrix& consistent_mass();
   /// The storage of m̃ as the last assembly left it (its pattern, whether it was reused).
   const ConsistentMass& consistent_mass_storage() const { return mt_; }
+  /// m̃_L of the velocity-gradient transfer at the positions X of the preparation's particles
+  /// (assemble_transfer_mass), in its own stencil storage, assembled on the first call after
+  /// each prepare_step.
+  const SparseRowMatrix& transfer_mass(const ConstFieldRef& X);
 
   /// Heat transport: the transport operators of the configuration (when prepared with
   /// transport) ...
@@ -60,6 +64,8 @@ private:
                            TransportUpdate transport);
   ConsistentMass mt_;
   bool mt_current_ = false;
+  ConsistentMass mtL_;
+  bool mtL_current_ = false;
   ConsistentMass ct_;
   bool ct_current_ = false;
   bool transport_ = false;

@@ -218,6 +218,7 @@ void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
   step.deformation =
       r.choice(t, "deformation", "step.deformation", "linear", &deformation_update_from_string);
   step.xpic_contact_term = r.boolean(t, "xpic_contact_term", "step.xpic_contact_term", true);
+  step.transfer = r.choice(t, "transfer", "step.transfer", "standard", &transfer_from_string);
   step.transport.update =
       r.choice(t, "transport", "step.transport", "off", &transport_update_from_string);
   if (const auto k = integer(r, t, "transport_order", "step.transport_order"))
@@ -396,6 +397,8 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   }
   cfg.output = read_output(r, root, source, cfg.time.end);
   check_heat(r, root, cfg);
+  if (cfg.step.transfer == Transfer::VelocityGradient) // the state of the transfer: L_p = 0 at
+    cfg.model.particles.gradient.setZero(P.size(), P.dim * P.dim); // the start (every frame has it)
   check_supports(cfg);
   return cfg;
 }

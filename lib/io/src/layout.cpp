@@ -35,6 +35,8 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/particles/<frame>/energy", "N", "internal energy per unit mass U (mie-gruneisen)", ""},
       {"/particles/<frame>/J", "N", "det F, the volume ratio V/V0", ""},
       {"/particles/<frame>/temperature", "N", "absolute temperatures T", "step.transport"},
+      {"/particles/<frame>/gradient", "N x d^2", "velocity gradients L_p (row-major)",
+       "step.transfer"},
       {"/particles/<frame>/xyz", "N x 3", "positions with y = z = 0, for ParaView", "1D"},
       {"/particles/<frame>@time", "scalar", "the frame's time t", ""},
       {"/particles/<frame>@step", "scalar", "the frame's step", ""},

@@ -65,6 +65,8 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
     h5::write_doubles(g.get(), "energy", P.energy.data(), N, 0);
   if (P.temperature.size() == P.size()) // heat transport
     h5::write_doubles(g.get(), "temperature", P.temperature.data(), N, 0);
+  if (P.gradient.rows() == P.size()) // the velocity-gradient transfer's L_p (state: restart)
+    h5::write_doubles(g.get(), "gradient", P.gradient.data(), N, d * d);
   Eigen::VectorXd J(P.size()); // det F, the volume ratio V/V₀
   for (Index k = 0; k < P.size(); ++k)
     J[k] = embed_3d(P.F.row(k).data(), P.dim).determinant();
@@ -229,6 +231,8 @@ double frame_bytes(const Model& model, const StepPreparation* prepared, bool mat
   const bool heat = model.particles.temperature.size() == model.particles.size();
   if (heat)
     bytes += 8 * N;
+  if (model.particles.gradient.rows() == model.particles.size()) // the velocity gradients L_p
+    bytes += 8 * N * d * d;
   if (heat && matrices)
     bytes += 2 * (12 * std::pow(5, d) + 4) * double(model.grid.num_nodes());
   // The series' chunks of kSeriesChunk rows that the new rows begin (every column of them, with

@@ -151,6 +151,8 @@ void check_frame_shapes(const Particles& P, int d) {
   expect("energy", P.energy.rows(), 1, 1);
   if (P.temperature.size() > 0)
     expect("temperature", P.temperature.rows(), 1, 1);
+  if (P.gradient.size() > 0)
+    expect("gradient", P.gradient.rows(), P.gradient.cols(), d * d);
 }
 
 // Throws std::runtime_error naming the dataset unless every value a step reads is in its range:
@@ -164,6 +166,8 @@ void check_frame_values(const Particles& P, const Model& model) {
       throw std::runtime_error(std::string(name) + " holds a value that is not finite");
   if (!P.energy.allFinite())
     throw std::runtime_error("energy holds a value that is not finite");
+  if (!P.gradient.allFinite())
+    throw std::runtime_error("gradient holds a value that is not finite");
   for (Index p = 0; p < P.temperature.size(); ++p)
     if (!(P.temperature[p] > 0) || !std::isfinite(P.temperature[p]))
       throw std::runtime_error("temperature holds " + number_text(P.temperature[p]) +
@@ -215,6 +219,8 @@ void load_frame_from(hid_t file, int frame, Model& model) {
     throw std::runtime_error("temperature is missing (the run has heat transport)");
   if (model.particles.heat_source.size() == P.X.rows())
     P.heat_source = model.particles.heat_source;
+  if (h5::exists(g.get(), "gradient")) // the velocity-gradient transfer's state
+    P.gradient = h5::read_doubles(g.get(), "gradient");
   const std::vector<int> mat = h5::read_ints(g.get(), "material");
   P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
   P.dim = model.grid.dim();

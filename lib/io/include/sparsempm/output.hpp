@@ -136,6 +136,7 @@ public:
     /// Whether the particles have J = det F (files of earlier versions do not).
     bool has_J = true, has_energy = false; ///< whether they have the internal energy U
     bool has_temperature = false;          ///< whether they have temperatures (heat transport)
+    bool has_gradient = false;             ///< velocity gradients (the velocity-gradient transfer)
   };
 
 private:
