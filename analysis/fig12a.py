@@ -47,7 +47,7 @@ def read(path):
     try:
         return list(csv.DictReader(open(path)))
     except OSError as e:
-        sys.exit(f"fig12a.py: {path}: {e}")
+        sys.exit(f"{pathlib.Path(sys.argv[0]).name}: {path}: {e}")
 
 
 def name_of(r):

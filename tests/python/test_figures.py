@@ -106,6 +106,26 @@ def case_fig12a(w):
         ["fig12a"], []
 
 
+def case_fig12_gradient(w):
+    # Both transfers on the bar (FLIP, FMPM(1), FMPM(4) and its blend with FMPM(1)) and on the
+    # plate (FLIP, FMPM(4)), over short runs.
+    plate = EXAMPLES / "vibrating_plate.toml"
+    args = []
+    for name, toml, extra in (("bar", BAR, ["--order", "1,4", "--blend-every", "1",
+                                            "--set", "time.end=80"]),
+                              ("plate", plate, ["--order", "4", "--blend-alpha", "none",
+                                                "--set", "time.end=20"])):
+        tables = []
+        for transfer in ("standard", "velocity_gradient"):
+            out = w / f"{name}_{transfer}.csv"
+            run_smpm("stability", toml, *extra, "--shifts", "1", "--method", "both",
+                     "--periodic-cx", "none", "--no-exact", "-q", "--set",
+                     f"step.transfer={transfer}", "-o", out, cwd=w)
+            tables.append(out)
+        args += ["--problem", name, *tables]
+    return [*args, "-o", w / "fig12_gradient.png"], ["fig12_gradient"], ["fig12_gradient"]
+
+
 def case_truncation(w):
     run_smpm("spectrum", BAR, "-o", w / "spectrum.csv", cwd=w)
     return [w / "spectrum.csv", "-o", w / "truncation"], ["truncation"], []
@@ -179,7 +199,8 @@ def case_df_fit(w):
 # Longest first, so that two workers finish together.
 CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig3.py": case_fig3, "compaction.py": case_compaction, "rho_map.py": case_rho_map,
-         "fig12a.py": case_fig12a, "fig8.py": case_fig8, "fig13a.py": case_fig13a,
+         "fig12a.py": case_fig12a, "fig12_gradient.py": case_fig12_gradient,
+         "fig8.py": case_fig8, "fig13a.py": case_fig13a,
          "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
          "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
          "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
@@ -364,6 +385,45 @@ def check_fig12a(r):
     # FMPM(1) or its blend within 0.1%: "none", as FMPM 2026 §3.3 finds).
     assert drawn == 19
     assert any(row["c_simulation"] == "none" for row in rows(r.dir / "low.csv"))
+
+
+def check_fig12_gradient(r):
+    fig = r.figure()
+    panels = {ax.get_title(): ax for ax in fig.axes if ax.get_title()}
+    assert [t[:9] for t in panels] == ["(A) bar: ", "(B) bar: ", "(A) plate", "(B) plate"]
+    texts = all_legend_texts(fig)
+    assert {"spectral", "simulation", "velocity-gradient transfer", "standard transfer"} <= \
+        set(texts)
+
+    def drawn(ax, full):  # the (x, y) of the lines in full (gradient) or faded (standard)
+        return {(round(float(x), 9), round(float(y), 9)) for line in ax.get_lines()
+                if (line.get_alpha() in (None, 1)) == full for x, y in zip(*line.get_data())}
+
+    # Every C* of the four input tables is on its panel, in full or faded by its transfer;
+    # FLIP as a horizontal line on panel A.
+    count = 0
+    for problem in ("bar", "plate"):
+        a, b = (ax for t, ax in panels.items() if t.startswith(("(A) " + problem,
+                                                                "(B) " + problem)))
+        for transfer in ("standard", "velocity_gradient"):
+            full = transfer == "velocity_gradient"
+            for row in rows(r.dir / f"{problem}_{transfer}.csv"):
+                for col in ("c_spectral", "c_simulation"):
+                    if row[col] in ("", "none"):
+                        continue
+                    v = round(float(row[col]), 9)
+                    if row["velocity"] == "FLIP":
+                        assert any(round(float(y), 9) == v for x, y in drawn(a, full)), row
+                    else:
+                        panel = a if row["blend_alpha"] == "1" else b
+                        assert (int(row["order"]), v) in drawn(panel, full), (row, col)
+                    count += 1
+    assert count == 2 * 2 * (4 + 2)  # two methods, two transfers, bar 4 rows, plate 2
+    # The script's own table holds the same rows, and the summary prints FLIP for both.
+    table = rows(r.tables[0])
+    assert len(table) == 2 * (4 + 2)
+    assert {row["transfer"] for row in table} == {"standard", "velocity gradient"}
+    assert r.stdout.count("| FLIP |") == 2
 
 
 def check_truncation(r):

@@ -1,0 +1,173 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""FMPM 2026 Fig. 12A with and without velocity gradients: does C* reach 1?
+
+    analysis/fig12_gradient.py --problem bar bar_standard.csv bar_gradient.csv \
+                               [--problem plate plate_standard.csv plate_gradient.csv] \
+                               [-o fig12_gradient]
+
+Each --problem names a problem and two tables written by `smpm stability --method both` on the
+same input: one with the standard transfer and one with `--set step.transfer=velocity_gradient`
+(Wallstedt & Guilkey 2007; README "Velocity-gradient transfers: does C* reach 1?"). One row of
+panels per problem: (A) FMPM(k) and FLIP, (B) FMPM(k) blended with FMPM(1) and FMPM(2) and
+periodic FMPM(k). Colours are the series as in fig12a.py; the velocity-gradient transfer is
+drawn in full, the standard transfer faded; spectral C* dashed with open circles, simulation
+C* solid with squares. The paper's preliminary claims (FMPM 2026 §3.3: FLIP's limit rises to
+C = 1 and FMPM(k) plateaus at C = 0.60) are thin black lines.
+
+Writes PREFIX.png and PREFIX.csv (one row per problem, series, order and transfer: the two C*
+and the total energy change of the simulation at its C*), and prints the summary table of the
+README (order 80 for the blended and periodic series).
+"""
+import argparse
+import csv
+import math
+import pathlib
+import sys
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import figures  # noqa: E402
+from fig12a import FLIP_COLOUR, STYLE, mathtext, name_of, num, read  # noqa: E402
+
+TRANSFERS = ("standard", "velocity gradient")
+FADED = 0.35  # the standard transfer's opacity
+CLAIMS = ((1.0, "FLIP → 1"), (0.60, "FMPM(k) plateau 0.60"))  # FMPM 2026 §3.3, preliminary
+METHODS = (("spectral", "c_spectral"), ("simulation", "c_simulation"))
+# The rows of the printed summary: (series, order); None is FLIP's row (no order).
+SUMMARY = [("FLIP", None), ("FMPM(k)", 1), ("FMPM(k)", 4), ("FMPM(k)", 16), ("FMPM(k)", 80),
+           ("blended with FMPM(1), α = 0.8", 80), ("blended with FMPM(2), α = 0.8", 80),
+           ("periodic, C_X = 2", 80)]
+
+
+def collect(problems):
+    """[(problem, transfer, series, order or None, {column: value})] of every FLIP and FMPM
+    row of the tables (the exact row of the standard table is left out: the gradient transfer
+    has no exact update)."""
+    out = []
+    for problem, paths in problems:
+        for transfer, path in zip(TRANSFERS, paths):
+            for r in read(path):
+                name = name_of(r)
+                if name == "exact":
+                    continue
+                order = None if name == "FLIP" else int(r["order"])
+                values = {c: num(r[c]) for _, c in METHODS}
+                values["energy_change"] = num(r["energy_change"])
+                out.append((problem, transfer, name, order, values))
+    return out
+
+
+def draw(rows, problems):
+    """The figure: one row of two panels per problem."""
+    from matplotlib.lines import Line2D
+    plt = figures.style()
+    fig, axes = plt.subplots(len(problems), 2, figsize=(12, 4.2 * len(problems) + 2.4),
+                             sharey=True, squeeze=False)
+    names = sorted({r[2] for r in rows if r[2] != "FLIP"} - {"FMPM(k)"})
+    colour = {n: f"C{i}" for i, n in enumerate(["FMPM(k)"] + names)}
+    colour["FLIP"] = FLIP_COLOUR
+    for (problem, _), (a, b) in zip(problems, axes):
+        for transfer in TRANSFERS:
+            alpha = 1 if transfer == "velocity gradient" else FADED
+            mine = [r for r in rows if r[0] == problem and r[1] == transfer]
+            for method, column in METHODS:
+                ls, marker, face = STYLE[method]
+                for r in mine:
+                    if r[2] == "FLIP" and not math.isnan(r[4][column]):
+                        a.axhline(r[4][column], ls=ls, color=FLIP_COLOUR, lw=1.2, alpha=alpha)
+                for name in ["FMPM(k)"] + names:
+                    pts = sorted((r[3], r[4][column]) for r in mine if r[2] == name)
+                    if not any(not math.isnan(v) for _, v in pts):
+                        continue
+                    ax = a if name == "FMPM(k)" else b
+                    ax.plot([k for k, _ in pts], [v for _, v in pts], ls=ls, marker=marker,
+                            color=colour[name], mfc=face or colour[name], ms=4, alpha=alpha)
+        orders = sorted({r[3] for r in rows if r[0] == problem and r[3] is not None})
+        for ax, title in ((a, f"(A) {problem}: FMPM($k$) and FLIP"),
+                          (b, f"(B) {problem}: blended and periodic FMPM($k$)")):
+            for level, _ in CLAIMS:
+                ax.axhline(level, color="k", lw=0.8, ls=(0, (1, 3)))
+            ax.set_xscale("log")
+            ax.set_xticks(orders, [str(k) for k in orders])
+            ax.minorticks_off()
+            ax.set_xlabel("FMPM order $k$")
+            ax.set_title(title)
+        a.set_ylabel("critical Courant number $C^*$")
+    # Legends under the last row: the series (colours), and how they are drawn.
+    a, b = axes[-1]
+    series = [Line2D([], [], color=colour[n], lw=2.5, label=mathtext(n).replace("(k)", "($k$)"))
+              for n in ["FLIP", "FMPM(k)"] + names]
+    a.legend(handles=series, loc="upper left", bbox_to_anchor=(0.0, -0.16), title="series")
+    how = [Line2D([], [], ls=STYLE[m][0], marker=STYLE[m][1], color="k", mfc=STYLE[m][2] or "k",
+                  ms=4, label=m) for m, _ in METHODS]
+    how += [Line2D([], [], color="k", lw=2.5, label="velocity-gradient transfer"),
+            Line2D([], [], color="k", lw=2.5, alpha=FADED, label="standard transfer"),
+            Line2D([], [], color="k", lw=0.8, ls=(0, (1, 3)),
+                   label="paper's preliminary claims (1, 0.60)")]
+    b.legend(handles=how, loc="upper right", bbox_to_anchor=(1.0, -0.16), title="drawn as")
+    fig.suptitle("Critical Courant number with and without velocity gradients "
+                 "(FMPM 2026 §3.3, Fig. 12A)")
+    return fig
+
+
+def write_table(rows, path):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["problem", "series", "order", "transfer", "c_spectral", "c_simulation",
+                    "energy_change"])
+        for problem, transfer, name, order, v in rows:
+            w.writerow([problem, name, "" if order is None else order, transfer] +
+                       ["" if math.isnan(v[c]) else f"{v[c]:.4g}"
+                        for c in ("c_spectral", "c_simulation", "energy_change")])
+
+
+def summary(rows, problems):
+    """The README's table: per problem and series, C* (spectral / simulation) for each transfer
+    and the energy change of the simulation at its C*."""
+    def cell(v):
+        return "–" if math.isnan(v) else f"{v:.3f}"
+
+    lines = ["| problem | series | standard: spectral / simulation (ΔE) | "
+             "velocity gradient: spectral / simulation (ΔE) |", "| --- | --- | --- | --- |"]
+    for problem, _ in problems:
+        for name, order in SUMMARY:
+            found = {r[1]: r[4] for r in rows if r[0] == problem and r[2] == name and r[3] == order}
+            if not found:
+                continue
+            label = name if order is None or name != "FMPM(k)" else f"FMPM({order})"
+            if order is not None and name != "FMPM(k)":
+                label = f"{name}, k = {order}"
+            parts = []
+            for t in TRANSFERS:
+                v = found.get(t)
+                if v is None:
+                    parts.append("–")
+                    continue
+                de = v["energy_change"]
+                parts.append(f"{cell(v['c_spectral'])} / {cell(v['c_simulation'])}" +
+                             ("" if math.isnan(de) else f" ({100 * de:+.1f}%)"))
+            lines.append(f"| {problem} | {label} | {parts[0]} | {parts[1]} |")
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--problem", nargs=3, action="append", required=True,
+                    metavar=("NAME", "STANDARD_CSV", "GRADIENT_CSV"),
+                    help="a problem and its two smpm stability tables (repeatable)")
+    figures.add_output(ap, "fig12_gradient", "PREFIX.png and PREFIX.csv")
+    args = ap.parse_args()
+    problems = [(name, (std, grad)) for name, std, grad in args.problem]
+    if len({name for name, _ in problems}) != len(problems):
+        sys.exit("fig12_gradient.py: --problem: each problem is named once")
+    rows = collect(problems)
+    prefix = figures.output_prefix(args.out)
+    fig = draw(rows, problems)
+    write_table(rows, f"{prefix}.csv")
+    figures.save_figure(fig, prefix, tables=[f"{prefix}.csv"])
+    print(summary(rows, problems))
+
+
+if __name__ == "__main__":
+    main()
