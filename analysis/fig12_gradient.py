@@ -9,7 +9,7 @@
 Each --problem names a problem and two tables written by `smpm stability --method both` on the
 same input: one with the standard transfer and one with `--set step.transfer=velocity_gradient`
 (Wallstedt & Guilkey 2007; README "Velocity-gradient transfers: does C* reach 1?"). One row of
-panels per problem: (A) FMPM(k) and FLIP, (B) FMPM(k) blended with FMPM(1) and FMPM(2) and
+panels per problem: (A) FMPM(k), FLIP and the exact update, (B) FMPM(k) blended with FMPM(1) and FMPM(2) and
 periodic FMPM(k). Colours are the series as in fig12a.py; the velocity-gradient transfer is
 drawn in full, the standard transfer faded; spectral C* dashed with open circles, simulation
 C* solid with squares. The paper's preliminary claims (FMPM 2026 §3.3: FLIP's limit rises to
@@ -27,30 +27,27 @@ import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
-from fig12a import FLIP_COLOUR, STYLE, mathtext, name_of, num, read  # noqa: E402
+from fig12a import EXACT_COLOUR, FLIP_COLOUR, STYLE, mathtext, name_of, num, read  # noqa: E402
 
 TRANSFERS = ("standard", "velocity gradient")
 FADED = 0.35  # the standard transfer's opacity
 CLAIMS = ((1.0, "FLIP → 1"), (0.60, "FMPM(k) plateau 0.60"))  # FMPM 2026 §3.3, preliminary
 METHODS = (("spectral", "c_spectral"), ("simulation", "c_simulation"))
-# The rows of the printed summary: (series, order); None is FLIP's row (no order).
-SUMMARY = [("FLIP", None), ("FMPM(k)", 1), ("FMPM(k)", 4), ("FMPM(k)", 16), ("FMPM(k)", 80),
+# The rows of the printed summary: (series, order); None: FLIP's and the exact update's rows.
+SUMMARY = [("FLIP", None), ("exact", None), ("FMPM(k)", 1), ("FMPM(k)", 4), ("FMPM(k)", 16), ("FMPM(k)", 80),
            ("blended with FMPM(1), α = 0.8", 80), ("blended with FMPM(2), α = 0.8", 80),
            ("periodic, C_X = 2", 80)]
 
 
 def collect(problems):
-    """[(problem, transfer, series, order or None, {column: value})] of every FLIP and FMPM
-    row of the tables (the exact row of the standard table is left out: the gradient transfer
-    has no exact update)."""
+    """[(problem, transfer, series, order or None, {column: value})] of every row of the
+    tables: FLIP, FMPM(k) and its variants, and the exact update (m̃⁻¹ or m̃_L⁻¹) if present."""
     out = []
     for problem, paths in problems:
         for transfer, path in zip(TRANSFERS, paths):
             for r in read(path):
                 name = name_of(r)
-                if name == "exact":
-                    continue
-                order = None if name == "FLIP" else int(r["order"])
+                order = None if name in ("FLIP", "exact") else int(r["order"])
                 values = {c: num(r[c]) for _, c in METHODS}
                 values["energy_change"] = num(r["energy_change"])
                 out.append((problem, transfer, name, order, values))
@@ -63,18 +60,19 @@ def draw(rows, problems):
     plt = figures.style()
     fig, axes = plt.subplots(len(problems), 2, figsize=(12, 4.2 * len(problems) + 2.4),
                              sharey=True, squeeze=False)
-    names = sorted({r[2] for r in rows if r[2] != "FLIP"} - {"FMPM(k)"})
+    names = sorted({r[2] for r in rows} - {"FLIP", "exact", "FMPM(k)"})
     colour = {n: f"C{i}" for i, n in enumerate(["FMPM(k)"] + names)}
-    colour["FLIP"] = FLIP_COLOUR
+    colour["FLIP"], colour["exact"] = FLIP_COLOUR, EXACT_COLOUR
+    lines = [n for n in ("FLIP", "exact") if any(r[2] == n for r in rows)]
     for (problem, _), (a, b) in zip(problems, axes):
         for transfer in TRANSFERS:
             alpha = 1 if transfer == "velocity gradient" else FADED
             mine = [r for r in rows if r[0] == problem and r[1] == transfer]
             for method, column in METHODS:
                 ls, marker, face = STYLE[method]
-                for r in mine:
-                    if r[2] == "FLIP" and not math.isnan(r[4][column]):
-                        a.axhline(r[4][column], ls=ls, color=FLIP_COLOUR, lw=1.2, alpha=alpha)
+                for r in mine:  # FLIP and the exact update do not depend on k
+                    if r[2] in lines and not math.isnan(r[4][column]):
+                        a.axhline(r[4][column], ls=ls, color=colour[r[2]], lw=1.2, alpha=alpha)
                 for name in ["FMPM(k)"] + names:
                     pts = sorted((r[3], r[4][column]) for r in mine if r[2] == name)
                     if not any(not math.isnan(v) for _, v in pts):
@@ -83,7 +81,7 @@ def draw(rows, problems):
                     ax.plot([k for k, _ in pts], [v for _, v in pts], ls=ls, marker=marker,
                             color=colour[name], mfc=face or colour[name], ms=4, alpha=alpha)
         orders = sorted({r[3] for r in rows if r[0] == problem and r[3] is not None})
-        for ax, title in ((a, f"(A) {problem}: FMPM($k$) and FLIP"),
+        for ax, title in ((a, f"(A) {problem}: FMPM($k$), FLIP and exact"),
                           (b, f"(B) {problem}: blended and periodic FMPM($k$)")):
             for level, _ in CLAIMS:
                 ax.axhline(level, color="k", lw=0.8, ls=(0, (1, 3)))
@@ -95,8 +93,10 @@ def draw(rows, problems):
         a.set_ylabel("critical Courant number $C^*$")
     # Legends under the last row: the series (colours), and how they are drawn.
     a, b = axes[-1]
-    series = [Line2D([], [], color=colour[n], lw=2.5, label=mathtext(n).replace("(k)", "($k$)"))
-              for n in ["FLIP", "FMPM(k)"] + names]
+    label = {"exact": "exact $\\tilde m^{-1}$ (standard), $\\tilde m_L^{-1}$ (gradient)"}
+    series = [Line2D([], [], color=colour[n], lw=2.5,
+                     label=label.get(n, mathtext(n).replace("(k)", "($k$)")))
+              for n in lines + ["FMPM(k)"] + names]
     a.legend(handles=series, loc="upper left", bbox_to_anchor=(0.0, -0.16), title="series")
     how = [Line2D([], [], ls=STYLE[m][0], marker=STYLE[m][1], color="k", mfc=STYLE[m][2] or "k",
                   ms=4, label=m) for m, _ in METHODS]

@@ -122,7 +122,7 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
   if (!a.no_exact) {
     row(VelocityUpdate::Exact, base.fmpm.order, 1.0, 1, 0.0); // the input's exact_* options
     if (!rows.back().opt.exact_solver)
-      rows.back().opt.exact_solver = cholmod_solver_factory();
+      rows.back().opt.exact_solver = exact_solver_factory();
   }
   return rows;
 }

@@ -46,7 +46,7 @@ Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_uni
   validate(opt_);
   prep_.ops.node_range = opt_.nodes;
   if (opt_.velocity == VelocityUpdate::Exact)
-    solver_ = opt_.exact_solver(opt_.exact);
+    solver_ = opt_.exact_solver(velocity_solver_options(opt_));
   if (opt_.transport.update == TransportUpdate::Exact)
     buf_->heat_solver = opt_.exact_solver(opt_.exact);
 }

@@ -58,6 +58,12 @@ void validate(const ExactOptions& o) {
     throw OptionError("exact_mass_cutoff", number_text(o.mass_cutoff), "must lie in [0, 1)");
 }
 
+ExactOptions velocity_solver_options(const StepOptions& opt) {
+  ExactOptions o = opt.exact;
+  o.symmetric = opt.transfer == Transfer::Standard;
+  return o;
+}
+
 void validate(const StepOptions& opt) {
   validate(opt.fmpm);
   validate(opt.exact);
@@ -68,11 +74,6 @@ void validate(const StepOptions& opt) {
     throw OptionError("position_alpha", number_text(alpha), "must lie in [0, 1]");
   SMPM_VERIFY(opt.velocity != VelocityUpdate::Exact || opt.exact_solver,
               "the exact velocity update needs StepOptions::exact_solver (see exact.hpp)");
-  if (opt.transfer == Transfer::VelocityGradient && opt.velocity == VelocityUpdate::Exact)
-    throw OptionError("transfer", "velocity_gradient",
-                      "cannot be used with velocity = exact: the transfer's mass operator m~_L "
-                      "is not symmetric and the exact solver factors symmetric matrices "
-                      "(CHOLMOD); use velocity = FMPM with a high order");
   const TransportOptions& t = opt.transport;
   if (t.order < 0 || t.order > kMaxFmpmOrder)
     throw OptionError("transport_order", std::to_string(t.order),

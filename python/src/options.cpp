@@ -164,7 +164,7 @@ void bind_step_options(py::module_& m) {
                             "each also an attribute.");
   c.def(py::init([](const py::kwargs& options) {
           StepOptions defaults;
-          defaults.exact_solver = cholmod_solver_factory();
+          defaults.exact_solver = exact_solver_factory();
           StepOptions o = from_keywords(std::move(defaults), options, "StepOptions");
           validate(o);
           return o;

@@ -93,7 +93,7 @@ py::array exact_temperature(PyTransport& t, const DoubleArray& tau_in,
   const Field tau = nodal(t, tau_in, "tau");
   const SparseRowMatrix& ct = t.prep.consistent_capacity();
   const std::unique_ptr<MassSolver> solver =
-      cholmod_solver_factory()({.regularization = regularization, .mass_cutoff = mass_cutoff});
+      exact_solver_factory()({.regularization = regularization, .mass_cutoff = mass_cutoff});
   const Operators& nodes = t.transport().nodes;
   Field theta;
   {

@@ -99,7 +99,7 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
   I.model = model;
   I.opt = options;
   if (options.velocity == VelocityUpdate::Exact)
-    I.solver = options.exact_solver(options.exact);
+    I.solver = options.exact_solver(velocity_solver_options(options));
   I.d = model.grid.dim();
   I.N = model.particles.size();
   prepare_step(model, options.shape, I.prep); // on the whole grid (NodeRange::Grid)

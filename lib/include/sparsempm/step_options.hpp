@@ -73,6 +73,10 @@ struct ExactOptions {
   double regularization = 0;
   /// τ ∈ [0, 1): active nodes lighter than τ max m take their lumped velocity p_i/m_i
   double mass_cutoff = 0;
+  /// Whether the matrices the solver is given are symmetric: m̃ (and the capacity matrix) are;
+  /// m̃_L of the velocity-gradient transfer is not. Set from the step's transfer where a solver
+  /// is made (velocity_solver_options), not an input entry.
+  bool symmetric = true;
 };
 
 /// Solves the consistent-mass system m̃ v = p on the active nodes, with the velocity BCs of
@@ -141,6 +145,9 @@ void validate(const ExactOptions& options);
 /// set of limits: the Stepper, the linearised step, the input reader, the command line and the
 /// Python module call it.
 void validate(const StepOptions& options);
+/// The settings of the velocity update's exact solver: options.exact, not symmetric with the
+/// velocity-gradient transfer (its m̃_L).
+ExactOptions velocity_solver_options(const StepOptions& options);
 
 /// The FMPM options of the transport loop on c̃: the order of TransportOptions (the mechanics'
 /// order when it is 0; 1 for the lumped update), the mechanics' blending and BC method, no

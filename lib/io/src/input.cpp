@@ -200,7 +200,7 @@ void read_fmpm(const Reader& r, const toml::table& t, StepOptions& step) {
   step.exact.regularization = r.number(t, "exact_regularization", "step.exact_regularization", 0.0);
   step.exact.mass_cutoff = r.number(t, "exact_mass_cutoff", "step.exact_mass_cutoff", 0.0);
   // Always set, so that analyses adding an exact row (smpm stability) use these options.
-  step.exact_solver = cholmod_solver_factory();
+  step.exact_solver = exact_solver_factory();
 }
 
 // [step]: update scheme, velocity update, shape functions, α, F update and the FMPM family.

@@ -2,7 +2,8 @@
 #pragma once
 /// \file exact.hpp
 /// The exact consistent-mass inverse v = m̃⁻¹ p ("FMPM(∞)") with a CHOLMOD Cholesky factor
-/// of m̃ restricted to the active, unconstrained nodes.
+/// of m̃ restricted to the active, unconstrained nodes, or UMFPACK's LU for the non-symmetric
+/// m̃_L of the velocity-gradient transfer.
 
 #include "sparsempm/step_options.hpp"
 
@@ -53,8 +54,47 @@ private:
   ExactOptions options_;
 };
 
+/// The same equations (velocity BCs, regularisation, mass cutoff) for a general, non-symmetric
+/// m̃: m̃_L of the velocity-gradient transfer (Transfer::VelocityGradient), by UMFPACK's sparse
+/// LU of m̃_FF (the symbolic analysis reused while the pattern and F are unchanged). Its rows
+/// still sum to m, so the regularised (1 − ε) m̃_L + ε m keeps uniform motion. Throws
+/// NumericalError naming the lightest nodes when m̃_FF is singular.
+class UmfpackSolver final : public MassSolver {
+public:
+  /// Throws OptionError for settings outside their ranges (validate of step_options.hpp).
+  explicit UmfpackSolver(const ExactOptions& options = {});
+  ~UmfpackSolver() override;
+  UmfpackSolver(const UmfpackSolver&) = delete;
+  UmfpackSolver& operator=(const UmfpackSolver&) = delete;
+
+  /// v = m̃⁻¹ p by the equations of CholmodSolver with a general m̃ (v = 0 on inactive nodes).
+  void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
+             const Field& p, Field& v) override;
+  /// m̃_FF x_F = r_F with the factors of the last solve, x = 0 off F (no refactorisation).
+  void solve_again(const Field& r, Field& v) override;
+
+  /// The settings the solver was made with.
+  const ExactOptions& options() const { return options_; }
+  /// Number of symbolic analyses (umfpack_di_symbolic) so far: one per change of pattern.
+  long analyses() const;
+  /// Number of numeric factorisations (umfpack_di_numeric) so far.
+  long factorizations() const;
+  /// UMFPACK's reciprocal condition estimate of the last factorisation.
+  double last_rcond() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  ExactOptions options_;
+};
+
 /// The factory of CholmodSolvers for StepOptions::exact_solver: every Stepper (and every copy of
 /// the options it runs with) gets a solver of its own, with the settings StepOptions::exact.
+/// Symmetric matrices only (a solver made with ExactOptions::symmetric false throws).
 MassSolverFactory cholmod_solver_factory();
+/// The factory the reader, the command line and Python use: a CholmodSolver for symmetric
+/// matrices (m̃, the capacity matrix), an UmfpackSolver otherwise (m̃_L; the Stepper sets
+/// ExactOptions::symmetric from StepOptions::transfer, velocity_solver_options).
+MassSolverFactory exact_solver_factory();
 
 } // namespace smpm
