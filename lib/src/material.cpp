@@ -6,14 +6,16 @@
 
 #include "sparsempm/errors.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
 
 namespace smpm {
 
 namespace {
-constexpr detail::EnumNames<MaterialModel, 4> kModels{
+constexpr detail::EnumNames<MaterialModel, 5> kModels{
     {{MaterialModel::Linear, "linear"},
+     {MaterialModel::LinearCorotational, "linear-corotational"},
      {MaterialModel::NeoHookean, "neo-hookean"},
      {MaterialModel::Hyperelastic, "hyperelastic"},
      {MaterialModel::MieGruneisen, "mie-gruneisen"}}};
@@ -27,7 +29,7 @@ MaterialModel material_model_from_string(std::string_view name) {
 }
 
 double Material::wave_speed(int dim) const {
-  if (model == MaterialModel::Linear && dim == 1)
+  if ((model == MaterialModel::Linear || model == MaterialModel::LinearCorotational) && dim == 1)
     return std::sqrt(youngs / density);
   return std::sqrt((lame_lambda() + 2 * shear_modulus()) / density);
 }
@@ -113,6 +115,22 @@ void linear_stress_energy(const Material& m, int d, const double* F, double* sig
 
 // The shear term of the hyperelastic and Mie–Grüneisen laws (contact 2020 Eqs. 18, 51):
 // σ_shear = (G/J) dev(B̄), B̄ = J^{−2/3} F Fᵀ, and its energy W = (G/2)(tr B̄ − 3).
+// The corotational law (MaterialModel::LinearCorotational) in 3D (2D: plane strain, F₃₃ = 1):
+// F = R U with U = (FᵀF)^½ from the eigen decomposition of FᵀF, the Biot strain ε = U − I and
+// T = λ tr(ε) I + 2Gε; returns σ = R (T U) Rᵀ / J and sets W = ½ T : ε.
+Eigen::Matrix3d corotational_stress(const Material& m, const Eigen::Matrix3d& F, double& W) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(F.transpose() * F);
+  const Eigen::Vector3d stretch = eig.eigenvalues().cwiseSqrt();
+  const Eigen::Matrix3d& Q = eig.eigenvectors();
+  const Eigen::Matrix3d U = Q * stretch.asDiagonal() * Q.transpose();
+  const Eigen::Matrix3d R = F * (Q * stretch.cwiseInverse().asDiagonal() * Q.transpose());
+  const Eigen::Matrix3d eps = U - Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d T =
+      m.lame_lambda() * eps.trace() * Eigen::Matrix3d::Identity() + 2 * m.shear_modulus() * eps;
+  W = 0.5 * (T.array() * eps.array()).sum();
+  return R * (T * U) * R.transpose() / F.determinant();
+}
+
 Eigen::Matrix3d isochoric_shear(double G, const Eigen::Matrix3d& F, double J) {
   const Eigen::Matrix3d Bbar = std::pow(J, -2.0 / 3.0) * F * F.transpose();
   return (G / J) * (Bbar - (Bbar.trace() / 3.0) * Eigen::Matrix3d::Identity());
@@ -141,6 +159,15 @@ Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3
         s(a, b) = sigma[a * d + b];
     return s;
   }
+  case MaterialModel::LinearCorotational: {
+    if (dim == 1) { // uniaxial stress, as Linear: no rotation in 1D
+      Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+      s(0, 0) = mat.youngs * (F(0, 0) - 1);
+      return s;
+    }
+    double W;
+    return corotational_stress(mat, F, W);
+  }
   case MaterialModel::NeoHookean: { // FMPM 2026 Eq. (14)
     const double J = F.determinant();
     return 0.5 * mat.lame_lambda() * (J - 1 / J) * I + (G / J) * (F * F.transpose() - I);
@@ -166,6 +193,13 @@ double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d
       for (int b = 0; b < dim; ++b)
         Fd[a * dim + b] = F(a, b);
     linear_stress_energy(mat, dim, Fd, sigma, &W);
+    return W;
+  }
+  case MaterialModel::LinearCorotational: {
+    if (dim == 1)
+      return 0.5 * mat.youngs * (F(0, 0) - 1) * (F(0, 0) - 1);
+    double W;
+    (void)corotational_stress(mat, F, W);
     return W;
   }
   case MaterialModel::NeoHookean: {
@@ -223,7 +257,8 @@ Eigen::Matrix3d thermoelastic_stress(const Material& mat, int dim, const Eigen::
     c = 0;
     return cauchy_stress(mat, dim, F);
   }
-  if (mat.model == MaterialModel::Linear) { // ε_e = ε − αΔT I
+  if (mat.model == MaterialModel::Linear ||
+      (mat.model == MaterialModel::LinearCorotational && dim == 1)) { // ε_e = ε − αΔT I
     const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
     if (dim == 1) { // the bar in uniaxial stress
       Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
@@ -315,6 +350,16 @@ void update_stress(const std::vector<Material>& materials,
       return;
     }
     const Eigen::Matrix3d F3 = embed_3d(Fp, d);
+    if (mat.model == MaterialModel::LinearCorotational && d > 1) { // one polar decomposition
+      double W;
+      const Eigen::Matrix3d s = corotational_stress(mat, F3, W);
+      for (int a = 0; a < d; ++a)
+        for (int b = 0; b < d; ++b)
+          sigma[a * d + b] = s(a, b);
+      if (density)
+        (*density)[p] = W;
+      return;
+    }
     if (mat.model == MaterialModel::MieGruneisen)
       check_compression(mat, F3.determinant(), p);
     const Eigen::Matrix3d s = cauchy_stress(mat, d, F3);

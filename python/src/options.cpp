@@ -195,7 +195,7 @@ void bind_material(py::module_& m) {
   name_property(
       c, "model", [](const Material& mat) { return mat.model; },
       [](Material& mat, const std::string& s) { mat.model = material_model_from_string(s); },
-      "linear | neo-hookean | hyperelastic | mie-gruneisen");
+      "linear | linear-corotational | neo-hookean | hyperelastic | mie-gruneisen");
   c.def_readwrite("density", &Material::density, "rho_0, the reference density");
   c.def_readwrite("youngs", &Material::youngs, "E (not mie-gruneisen)");
   c.def_readwrite("poisson", &Material::poisson, "ν (not mie-gruneisen)");

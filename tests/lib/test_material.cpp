@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Materials: closed forms of FMPM 2026 Eq. (14) and contact 2020 Eq. (18), hyperelastic
-// consistency τ = (∂W/∂F) Fᵀ by central differences, and the small-strain limit.
+// consistency τ = (∂W/∂F) Fᵀ by central differences, the small-strain limit and objectivity.
 
 #include "support.hpp"
 
@@ -54,7 +54,8 @@ TEST_CASE("large-strain models satisfy tau = (dW/dF) F^T", "[material]") {
   // O(1e-10) on W ~ 1: tolerance 1e-7 relative to the stress scale E.
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.25, 0.25);
-  for (auto model : {MaterialModel::NeoHookean, MaterialModel::Hyperelastic})
+  for (auto model :
+       {MaterialModel::NeoHookean, MaterialModel::Hyperelastic, MaterialModel::LinearCorotational})
     for (int dim = 1; dim <= 3; ++dim) {
       CAPTURE(to_string(model), dim);
       const Material m = make(model);
@@ -87,7 +88,8 @@ TEST_CASE("large-strain models reduce to linear elasticity at small strain", "[m
   H << 0.3, -0.2, 0.5, 0.1, -0.4, 0.2, 0.7, 0.3, 0.1;
   const Eigen::Matrix3d F = Eigen::Matrix3d::Identity() + 1e-6 * H;
   const Eigen::Matrix3d lin = cauchy_stress(make(MaterialModel::Linear), 3, F);
-  for (auto model : {MaterialModel::NeoHookean, MaterialModel::Hyperelastic}) {
+  for (auto model : {MaterialModel::NeoHookean, MaterialModel::Hyperelastic,
+                     MaterialModel::LinearCorotational}) {
     const Eigen::Matrix3d s = cauchy_stress(make(model), 3, F);
     CHECK((s - lin).cwiseAbs().maxCoeff() < 1e-10);
     CHECK(lin.cwiseAbs().maxCoeff() > 1e-6); // the comparison is not vacuous
@@ -207,4 +209,50 @@ TEST_CASE("the Mie-Gruneisen stress update conserves energy in a closed cycle",
     shock_pressure(mats, mat, F, stress, p0);
     CHECK(p0[0] == approx(pressure[0], 1e-9));
   }
+}
+
+TEST_CASE("every elastic law but linear is objective: a rigid rotation adds no stress",
+          "[material]") {
+  // Frame indifference: σ(R F₀) = R σ(F₀) Rᵀ and W(R F₀) = W(F₀). F is carried through 1000
+  // steps of a rigid spin, F ← exp(ΩΔt) F with Δθ = 2π/1000 (about z in 2D, plane strain;
+  // about an oblique axis in 3D), from F₀ = I (zero stress throughout) and from a stretched
+  // and sheared F₀; asserted at every step to 1e-12 of the stress scale (E, or K for
+  // Mie–Grüneisen). The small-strain `linear` law is not objective: after θ = 0.2 rad from
+  // F₀ = I it gives ε = (cos θ − 1) I, σ of order (λ + G) θ² (asserted above 1% of it).
+  Material mg = nickel(80000);
+  std::vector<Material> laws = {make(MaterialModel::NeoHookean), make(MaterialModel::Hyperelastic),
+                                make(MaterialModel::LinearCorotational), mg};
+  Eigen::Matrix3d U0;
+  U0 << 1.05, 0.02, 0.01, 0.02, 0.97, -0.03, 0.01, -0.03, 1.02;
+  for (int dim = 2; dim <= 3; ++dim) {
+    const Eigen::Vector3d axis =
+        dim == 2 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(1, 2, 2).normalized();
+    const Eigen::Matrix3d step =
+        Eigen::AngleAxisd(2 * M_PI / 1000, axis).toRotationMatrix(); // exp(ΩΔt)
+    for (const Material& m : laws)
+      for (bool stretched : {false, true}) {
+        CAPTURE(to_string(m.model), dim, stretched);
+        Eigen::Matrix3d F0 = Eigen::Matrix3d::Identity();
+        if (stretched)
+          F0.topLeftCorner(dim, dim) = U0.topLeftCorner(dim, dim);
+        const double scale = m.model == MaterialModel::MieGruneisen ? m.bulk : m.youngs;
+        const Eigen::Matrix3d s0 = cauchy_stress(m, dim, F0);
+        const double W0 = strain_energy_density(m, dim, F0);
+        Eigen::Matrix3d R = Eigen::Matrix3d::Identity(), F = F0;
+        double worst = 0;
+        for (int n = 0; n < 1000; ++n) {
+          R = step * R;
+          F = step * F;
+          const Eigen::Matrix3d expected = R * s0 * R.transpose();
+          const Eigen::Matrix3d s = cauchy_stress(m, dim, F);
+          worst = std::max(worst, (s - expected).topLeftCorner(dim, dim).cwiseAbs().maxCoeff());
+          worst = std::max(worst, std::abs(strain_energy_density(m, dim, F) - W0));
+        }
+        CHECK(worst <= 1e-12 * scale);
+      }
+  }
+  const Material lin = make(MaterialModel::Linear);
+  const Eigen::Matrix3d Rz = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const double expected = (lin.lame_lambda() * 2 + 2 * lin.shear_modulus()) * (1 - std::cos(0.2));
+  CHECK(cauchy_stress(lin, 2, Rz).cwiseAbs().maxCoeff() > 0.01 * expected);
 }

@@ -17,7 +17,14 @@ namespace smpm {
 
 /// The constitutive laws of a Material.
 enum class MaterialModel {
-  Linear,     ///< σ = λ tr(ε) I + 2Gε, ε = sym(F) − I (1D: σ = E (F − 1))
+  /// σ = λ tr(ε) I + 2Gε, ε = sym(F) − I (1D: σ = E (F − 1)). Small rotations only: it is not
+  /// objective (a rigid rotation by θ gives stress of order G θ²); see LinearCorotational.
+  Linear,
+  /// Objective small-strain elasticity, corotational: F = R U (polar decomposition), the Biot
+  /// strain ε = U − I, T = λ tr(ε) I + 2Gε, τ = R (T U) Rᵀ = Jσ; hyperelastic with
+  /// W = (λ/2)(tr ε)² + G ε : ε, so τ = (∂W/∂F) Fᵀ. Equals Linear to first order in the strain
+  /// and the rotation; a rigid rotation gives σ = 0 (1D: σ = E (F − 1), as Linear).
+  LinearCorotational,
   NeoHookean, ///< σ = (λ/2)(J − 1/J) I + (G/J)(F Fᵀ − I)   (FMPM 2026 Eq. 14)
   Hyperelastic, ///< W = (G/2)(I₁/J^{2/3} − 3) + (K/2)(½(J² − 1) − ln J)  (contact 2020 Eq. 18)
   /// Shock physics (contact 2020 Eqs. 51–52): σ = −(p + q) I + (G/J) dev(B̄), the shear term of
