@@ -6,8 +6,12 @@
 
 #include <sparsempm/input.hpp>
 
+#include <png.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -288,4 +292,122 @@ TEST_CASE("heat transport: material, body, condition and step keys, and their me
                              "'bc.2.temperature'"));
   CHECK_THAT(error_of(replace(heat, "temperature = 350.0", "temperature = 350.0\nfixed = [\"x\"]")),
              Catch::Contains("bc.1.fixed") && Catch::Contains("separate tables"));
+}
+
+TEST_CASE("a bitmap body: the particles of a PNG's dark pixels, one material per grey range",
+          "[input]") {
+  // NairnMPM's BMPRegion: a 128 × 128 PNG (written here with libpng) holding a black disk of
+  // radius R = 40 pixels centred in the image, a grey square (level 128) in its top-left
+  // corner, white elsewhere; pixel_size s = 0.1, the image's lower-left corner at (1, 1), 2 × 2
+  // particles per cell of 0.5. The disk body (levels [0, 100]) holds π R² s² of area within one
+  // pixel of the perimeter (|A − π R² s²| ≤ 2π R s²) and has its centroid at the disk's centre
+  // within half a pixel; the square (levels [101, 200], a second material, from the same image)
+  // holds 10 × 10 pixels of area, its own particles only.
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("smpm_image_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const int n = 128;
+  const double R = 40, s = 0.1;
+  std::vector<png_byte> pixels(size_t(n * n), 255);
+  for (int row = 0; row < n; ++row)
+    for (int col = 0; col < n; ++col) {
+      const double u = col + 0.5 - 64, v = row + 0.5 - 64;
+      if (u * u + v * v <= R * R)
+        pixels[size_t(row * n + col)] = 0;
+      else if (row < 10 && col < 10)
+        pixels[size_t(row * n + col)] = 128;
+    }
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = n;
+  image.height = n;
+  image.format = PNG_FORMAT_GRAY;
+  REQUIRE(
+      png_image_write_to_file(&image, (dir / "disk.png").c_str(), 0, pixels.data(), 0, nullptr));
+  const std::string head = R"([grid]
+dim = 2
+origin = [0.0, 0.0]
+cell_size = [0.5, 0.5]
+cells = [32, 32]
+[[material]]
+name = "a"
+model = "neo-hookean"
+density = 2.0
+youngs = 100.0
+poisson = 0.3
+[[material]]
+name = "b"
+model = "neo-hookean"
+density = 1.0
+youngs = 100.0
+poisson = 0.3
+[time]
+end = 1.0
+)";
+  const std::string disk = R"([[body]]
+material = "a"
+region = "image"
+image = "disk.png"
+pixel_size = 0.1
+origin = [1.0, 1.0]
+levels = [0, 100]
+ppc = [2, 2]
+)";
+  const std::string square = R"([[body]]
+material = "b"
+region = "image"
+image = "disk.png"
+pixel_size = 0.1
+origin = [1.0, 1.0]
+levels = [101, 200]
+ppc = [2, 2]
+)";
+  // The image's path is relative to the input file.
+  const std::string source = (dir / "in.toml").string();
+  const RunConfig cfg = read_input(head + disk + square, source, {});
+  const Particles& P = cfg.model.particles;
+  double area[2] = {0, 0};
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (Index p = 0; p < P.size(); ++p) {
+    const int m = P.material[p];
+    REQUIRE((m == 0 || m == 1));
+    area[m] += P.volume0[p];
+    if (m == 0)
+      centre += P.volume0[p] * P.X.row(p).head<2>().transpose();
+  }
+  centre /= area[0];
+  const double disk_area = std::numbers::pi * R * R * s * s;
+  CHECK(std::abs(area[0] - disk_area) <= 2 * std::numbers::pi * R * s * s);
+  CHECK((centre - Eigen::Vector2d(1 + 6.4, 1 + 6.4)).norm() <= 0.5 * s);
+  CHECK(std::abs(area[1] - 100 * s * s) <= 4 * 10 * s * s); // the square, within a pixel
+  // The square is the image's top-left corner: y near the top, x near the left.
+  for (Index p = 0; p < P.size(); ++p)
+    if (P.material[p] == 1)
+      CHECK((P.X(p, 0) < 1 + 10 * s + 0.25 && P.X(p, 1) > 1 + (n - 10) * s - 0.25));
+  // Bad input, in one line naming the key: an unreadable file, a 1D or 3D grid, levels out of
+  // range, an image reaching outside the grid.
+  const auto error = [&](const std::string& text) {
+    try {
+      (void)read_input(text, source, {});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK_THAT(error(head + replace(disk, "disk.png", "none.png")),
+             Catch::Contains("body.0.image = 'none.png': cannot read") &&
+                 Catch::Contains("none.png"));
+  CHECK_THAT(error(head + replace(disk, "levels = [0, 100]", "levels = [0, 300]")),
+             Catch::Contains("body.0.levels") && Catch::Contains("0 <= lo <= hi <= 255"));
+  CHECK_THAT(error(head + replace(disk, "origin = [1.0, 1.0]", "origin = [5.0, 5.0]")),
+             Catch::Contains("body.0.image") && Catch::Contains("reaches outside the grid"));
+  const std::string head3 =
+      replace(replace(replace(replace(head, "dim = 2", "dim = 3"), "[0.0, 0.0]", "[0.0, 0.0, 0.0]"),
+                      "cells = [32, 32]", "cells = [32, 32, 2]"),
+              "cell_size = [0.5, 0.5]", "cell_size = [0.5, 0.5, 0.5]");
+  CHECK_THAT(error(head3 + replace(replace(disk, "ppc = [2, 2]", "ppc = [2, 2, 2]"),
+                                   "origin = [1.0, 1.0]", "origin = [1.0, 1.0, 0.0]")),
+             Catch::Contains("an image body needs a 2D grid"));
+  CHECK(error(head + replace(disk, "disk.png", "none.png")).find('\n') == std::string::npos);
+  std::filesystem::remove_all(dir);
 }

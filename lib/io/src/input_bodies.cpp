@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "expression.hpp"
+#include "png_image.hpp"
 #include "reader.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <memory>
 
 namespace smpm::detail {
@@ -17,6 +19,21 @@ int axis_index(const Reader& r, const toml::node* n, const std::string& name, in
 }
 
 namespace {
+
+// The particles `keep` of a lattice `box`, of material `id`.
+Particles subset(const Particles& box, const std::vector<Index>& keep, int id) {
+  Particles P;
+  P.resize(box.dim, Index(keep.size()));
+  for (Index k = 0; k < Index(keep.size()); ++k) {
+    const Index p = keep[size_t(k)];
+    P.X.row(k) = box.X.row(p);
+    P.half_length.row(k) = box.half_length.row(p);
+    P.mass[k] = box.mass[p];
+    P.volume0[k] = box.volume0[p];
+    P.material[k] = id;
+  }
+  return P;
+}
 
 // Particles on the grid-aligned lattice of spacing h/ppc inside a disk/sphere or ellipse.
 Particles lattice_in(const Grid& g, const std::array<double, 3>& center,
@@ -42,17 +59,7 @@ Particles lattice_in(const Grid& g, const std::array<double, 3>& center,
     if (r2 <= 1)
       keep.push_back(p);
   }
-  Particles P;
-  P.resize(d, Index(keep.size()));
-  for (Index k = 0; k < Index(keep.size()); ++k) {
-    const Index p = keep[size_t(k)];
-    P.X.row(k) = box.X.row(p);
-    P.half_length.row(k) = box.half_length.row(p);
-    P.mass[k] = box.mass[p];
-    P.volume0[k] = box.volume0[p];
-    P.material[k] = id;
-  }
-  return P;
+  return subset(box, keep, id);
 }
 
 // The index of the body's material, by name.
@@ -83,10 +90,70 @@ void check_particle_count(const Reader& r, const toml::table& t, const std::stri
                std::to_string(long(kMaxParticles)) + " this build accepts");
 }
 
+// A bitmap body (NairnMPM's BMPRegion): region = "image", image = "file.png" (a path relative
+// to the input file), pixel_size (length units per pixel, square pixels), origin (the image's
+// lower-left corner; default the grid's origin) and levels = [lo, hi] (the grey levels 0–255 of
+// the body's pixels, inclusive; default [0, 127], the dark half). The particles are those of
+// the lattice of ppc per cell over the image whose point lies in a pixel of the body; each
+// [[body]] reading the same image with other levels and material makes a multimaterial map.
+// 2D only; pixel row 0 is the image's top row.
+Particles image_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
+                       const std::array<int, 3>& ppc, double density, int id) {
+  const int d = g.dim();
+  if (d != 2)
+    r.fail(t.get("region"), key + "region", "an image body needs a 2D grid");
+  const std::string file = r.string(t, "image", key + "image", std::nullopt);
+  std::filesystem::path path(file);
+  if (path.is_relative() && t.source().path && !t.source().path->empty())
+    path = std::filesystem::path(*t.source().path).parent_path() / path;
+  GreyImage image;
+  try {
+    image = read_grey_png(path.string());
+  } catch (const std::runtime_error& e) {
+    r.fail(t.get("image"), key + "image", "cannot read " + path.string() + ": " + e.what());
+  }
+  const double s = r.positive(t, "pixel_size", key + "pixel_size", std::nullopt);
+  const auto origin =
+      r.vector(t, "origin", key + "origin", d, false, {g.origin(0), g.origin(1), 0});
+  std::array<double, 3> levels{0, 127, 0};
+  if (t.get("levels")) {
+    levels = r.vector(t, "levels", key + "levels", 2, true);
+    if (!(levels[0] >= 0 && levels[1] <= 255 && levels[0] <= levels[1]))
+      r.fail(t.get("levels"), key + "levels", "expected [lo, hi] with 0 <= lo <= hi <= 255");
+  }
+  const std::array<double, 3> lo{origin[0], origin[1], 0};
+  const std::array<double, 3> hi{origin[0] + s * image.width, origin[1] + s * image.height, 0};
+  if (!g.contains(lo) || !g.contains(hi))
+    r.fail(t.get("pixel_size"), key + "image",
+           "the image (" + std::to_string(image.width) + " x " + std::to_string(image.height) +
+               " pixels) reaches outside the grid");
+  // The lattice over the cells the image covers.
+  std::array<double, 3> cell_lo{0, 0, 0}, cell_hi{0, 0, 0};
+  for (int a = 0; a < d; ++a) {
+    const double h = g.cell_size(a);
+    cell_lo[a] = g.origin(a) + h * std::floor((lo[a] - g.origin(a)) / h);
+    cell_hi[a] = g.origin(a) + h * std::ceil((hi[a] - g.origin(a)) / h);
+  }
+  check_particle_count(r, t, key, g, ppc, cell_lo, cell_hi);
+  Particles box = make_block(g, cell_lo, cell_hi, ppc, density, id);
+  std::vector<Index> keep;
+  for (Index p = 0; p < box.size(); ++p) {
+    const double u = (box.X(p, 0) - lo[0]) / s, v = (hi[1] - box.X(p, 1)) / s;
+    if (!(u >= 0 && u < image.width && v >= 0 && v < image.height))
+      continue;
+    const int level = image.at(int(u), int(v));
+    if (level >= levels[0] && level <= levels[1])
+      keep.push_back(p);
+  }
+  return subset(box, keep, id);
+}
+
 Particles body_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
                       const std::array<int, 3>& ppc, double density, int id) {
   const int d = g.dim();
   const std::string region = r.string(t, "region", key + "region", "box");
+  if (region == "image")
+    return image_region(r, t, key, g, ppc, density, id);
   if (region == "box") {
     const auto lo = r.vector(t, "min", key + "min", d, true);
     const auto hi = r.vector(t, "max", key + "max", d, true);
@@ -99,7 +166,8 @@ Particles body_region(const Reader& r, const toml::table& t, const std::string& 
     return make_block(g, lo, hi, ppc, density, id);
   }
   if (region != "disk" && region != "ellipse")
-    r.fail(t.get("region"), key + "region", "unknown region (expected box | disk | ellipse)");
+    r.fail(t.get("region"), key + "region",
+           "unknown region (expected box | disk | ellipse | image)");
   const auto c = r.vector(t, "center", key + "center", d, true);
   std::array<double, 3> semi{1, 1, 1};
   if (region == "disk") {
