@@ -353,15 +353,9 @@ origin = [1.0, 1.0]
 levels = [0, 100]
 ppc = [2, 2]
 )";
-  const std::string square = R"([[body]]
-material = "b"
-region = "image"
-image = "disk.png"
-pixel_size = 0.1
-origin = [1.0, 1.0]
-levels = [101, 200]
-ppc = [2, 2]
-)";
+  // The same image, the grey levels of the square, material b.
+  const std::string square =
+      replace(replace(disk, "\"a\"", "\"b\""), "levels = [0, 100]", "levels = [101, 200]");
   // The image's path is relative to the input file.
   const std::string source = (dir / "in.toml").string();
   const RunConfig cfg = read_input(head + disk + square, source, {});
