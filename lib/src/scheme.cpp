@@ -228,8 +228,10 @@ struct Stages {
     g.p_plus.noalias() = g.p + c.dt * g.f;
     contact(g.p_plus, &g.f);
     // Task 2.a (correct ordering): p⁺ takes the BC velocity and f the reaction f^(BC) = Δp/Δt,
-    // by the BC method of §3.1; then v⁺ (task 3.b).
+    // by the BC method of §3.1; then v⁺ (task 3.b). The reaction is f's change (storage reused).
+    g.reaction = g.f;
     grid_velocity(g.p_plus, g.v_plus, correct_bcs(), &g.f);
+    g.reaction = g.f - g.reaction;
     lumped_solve(c.ops->m_inv, g.f, g.a);
   }
 

@@ -24,6 +24,9 @@ struct GridState {
   Field v;      ///< v = m⁻¹ p
   Field v_plus; ///< v⁺ = m̃_k⁻¹ p⁺ (m⁻¹ p⁺ for FLIP and PIC)
   Field a;      ///< a = m⁻¹ f
+  /// The velocity conditions' reaction forces f^(BC) = Δp/Δt of task 2.a (part of f; zero with
+  /// the improper BC ordering, which sets no reaction).
+  Field reaction;
 };
 
 /// The particle fields a step reads and writes, one row per particle of the operators.

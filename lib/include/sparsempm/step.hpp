@@ -117,6 +117,11 @@ public:
   double friction_work() const { return state_.friction_work; }
   /// Work of the artificial viscosity since the start of the run (StepperState::viscous_work).
   double viscous_work() const { return state_.viscous_work; }
+  /// The reaction force of each velocity condition of the model (Model::bcs, in its order) in the
+  /// last step: Σ_i n̂ · f^(BC)_i over the nodes it constrains (every field's block), the force
+  /// the condition applies along its direction n̂. A node shared by conditions along the same
+  /// direction counts in each. Empty before the first step.
+  const std::vector<double>& reactions() const { return reactions_; }
 
 private:
   bool heat() const; // heat transport is on
@@ -139,6 +144,7 @@ private:
   Prepared prepared_;
   std::unique_ptr<Buffers> buf_;
   StepperState state_;
+  std::vector<double> reactions_; // reactions(): one per velocity condition
   bool grid_update_ = false;
 };
 

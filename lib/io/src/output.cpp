@@ -117,6 +117,13 @@ void OutputFile::initialize(const RunConfig& cfg) {
   if (cfg.step.transport.update != TransportUpdate::Off)
     for (const char* s : kThermalSeries)
       h5::create_series(series.get(), s, 0);
+  if (const auto& conditions = cfg.model.bcs.conditions; !conditions.empty()) {
+    h5::create_series(series.get(), "reaction", hsize_t(conditions.size()));
+    std::vector<std::string> labels;
+    for (const VelocityCondition& c : conditions)
+      labels.push_back(c.label);
+    h5::set_attribute(series.get(), "reaction_conditions", labels);
+  }
   h5::check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush");
 }
 
@@ -333,6 +340,8 @@ hsize_t keep_series_to(hid_t file, long step, int materials, int dim) {
   for (const char* s : kThermalSeries) // heat transport's, when the run has them
     if (h5::exists(series.get(), s))
       h5::truncate_series(series.get(), s, keep);
+  if (h5::exists(series.get(), "reaction")) // the velocity conditions', when the run has them
+    h5::truncate_series(series.get(), "reaction", keep);
   return keep;
 }
 

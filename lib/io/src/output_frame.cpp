@@ -189,6 +189,15 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
         col[r] = rows[r].thermal.size() > s ? rows[r].thermal[s] : std::nan("");
       h5::append_series(series.get(), kThermalSeries[s], col.data(), k, 0);
     }
+  // The velocity conditions' reactions, one column per condition.
+  if (k > 0 && !rows[0].reactions.empty()) {
+    const size_t nc = rows[0].reactions.size();
+    std::vector<double> data(k * nc, std::nan(""));
+    for (size_t r = 0; r < k; ++r)
+      for (size_t c = 0; c < std::min(nc, rows[r].reactions.size()); ++c)
+        data[r * nc + c] = rows[r].reactions[c];
+    h5::append_series(series.get(), "reaction", data.data(), k, hsize_t(nc));
+  }
   // Per material: material_sums lays out (mass, momentum d, centre d) per material.
   if (k == 0 || rows[0].materials.empty())
     return;

@@ -151,6 +151,9 @@ private:
                    t.internal,        t.entropy,         t.helmholtz};
     }
     r.viscous = stepper_.viscous_work();
+    r.reactions.assign(m.bcs.conditions.size(), 0.0);
+    if (m.step > 0 && stepper_.reactions().size() == r.reactions.size())
+      r.reactions = stepper_.reactions();
     r.fmpm_order = m.step > 0 && stepper_.last_step_was_fmpm() &&
                            stepper_.options().velocity == VelocityUpdate::FMPM
                        ? stepper_.last_fmpm().order

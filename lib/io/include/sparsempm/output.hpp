@@ -64,6 +64,9 @@ struct SeriesRow {
   /// Heat transport: T min, max and mean, heat, internal energy, entropy and free energy of the
   /// state (ThermalSums, in the order of kThermalSeries); empty without transport.
   std::vector<double> thermal;
+  /// The reaction force of each velocity condition along its direction (Stepper::reactions; 0
+  /// at t = 0), in the order of Model::bcs; empty without conditions.
+  std::vector<double> reactions;
 };
 
 /// The series of heat transport, in the order of SeriesRow::thermal.
