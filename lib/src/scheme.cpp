@@ -223,6 +223,8 @@ struct Stages {
     GridState& g = b.g;
     internal_force(op, fields.volume0, fields.F, fields.stress, g.f);
     add_gravity(c.ops->m, c.gravity, g.f);
+    if (c.external)
+      add_external_forces(op, *c.grid, *c.external, g.f);
     if (!correct_bcs())
       c.bcs->zero_directions(*c.grid, g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
     g.p_plus.noalias() = g.p + c.dt * g.f;

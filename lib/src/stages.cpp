@@ -216,6 +216,50 @@ void add_gravity(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field
       f.col(a) += B[size_t(a)] * m;
 }
 
+void add_external_forces(const ParticleOperators& op, const Grid& grid, const ExternalForces& loads,
+                         Field& f) {
+  check_node_field(op, f, "add_external_forces");
+  if (loads.any_body_force) {
+    const Field& forces = loads.particle;
+    SMPM_VERIFY(forces.rows() == op.rows && forces.cols() == op.dim,
+                "add_external_forces: the body forces must be N x d");
+    by_dim(op.dim, [&]<int D>() {
+      detail::parallel_for(op.nodes, [&](Index i) { // f_i += Σ_q S_qi F_q
+        double sum[D] = {};
+        node_entries(op, i, [&](Index q, int k) {
+          for (int a = 0; a < D; ++a)
+            sum[a] += op.S[k] * forces(q, a);
+        });
+        for (int a = 0; a < D; ++a)
+          f(i, a) += sum[a];
+      });
+    });
+  }
+  // The tractions: few points, in their order (the same bits for any number of threads).
+  const Index ng = grid.num_nodes();
+  for (const PointForce& pf : loads.points) {
+    const Index q = pf.particle - op.first;
+    SMPM_VERIFY(q >= 0 && q < op.rows,
+                "add_external_forces: a traction's particle is not in the operators' rows");
+    const int begin = op.outer[q], end = op.outer[q + 1];
+    auto hat = [&](int k) { // N_i(x_c), the grid's hat function of the entry's node
+      const Eigen::Vector3d xi = grid.node_position(op.inner[k] % ng);
+      double w = 1;
+      for (int a = 0; a < op.dim; ++a)
+        w *= std::max(0.0, 1 - std::abs(pf.x[a] - xi[a]) / grid.cell_size(a));
+      return w;
+    };
+    double total = 0;
+    for (int k = begin; k < end; ++k)
+      total += hat(k);
+    for (int k = begin; k < end; ++k) {
+      const double w = total > 0 ? hat(k) / total : op.S[k];
+      for (int a = 0; a < op.dim; ++a)
+        f(op.inner[k], a) += w * pf.force[a];
+    }
+  }
+}
+
 void lumped_solve(const Eigen::VectorXd& m_inv, const Field& x, Field& v) {
   v.noalias() = m_inv.asDiagonal() * x;
 }

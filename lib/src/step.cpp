@@ -20,6 +20,7 @@ struct Stepper::Buffers {
   ThermalStrainState thermal;              ///< the strain update's couplings (heat transport)
   std::unique_ptr<MassSolver> heat_solver; ///< the exact transport update's solver
   ShockState shock;
+  ExternalForces external; ///< the loads of the step
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
   std::atomic<std::thread::id> owner{}; ///< the thread holding the Stepper (Exclusive); none: {}
 };
@@ -135,6 +136,12 @@ void Stepper::step(Model& model, double dt) {
       grid_update_ =
           periodic_fmpm_step(opt_.periodic_cx, courant_of(model, dt), state_.courant_budget);
     const bool contact = prep_.has_contact();
+    const ExternalForces* external = nullptr; // the loads at t, the step's configuration
+    if (!model.loads.empty()) {
+      external_forces(model.loads, P, model.time,
+                      opt_.shape == Shape::CPDI || opt_.shape == Shape::B2CPDI, buf_->external);
+      external = &buf_->external;
+    }
     const StepContext context{
         .options = &opt_,
         .ops = &prep_.ops,
@@ -145,6 +152,7 @@ void Stepper::step(Model& model, double dt) {
         .grid = &prep_.ops.grid, // the step's nodes: the particles' window or the grid
         .bcs = &prep_.bcs,
         .gravity = model.gravity,
+        .external = external,
         .contact_nodes = contact ? &prep_.contact : nullptr,
         .time = model.time,
         .dt = dt,

@@ -6,6 +6,7 @@
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/contact.hpp"
 #include "sparsempm/grid.hpp"
+#include "sparsempm/loads.hpp"
 #include "sparsempm/material.hpp"
 #include "sparsempm/particles.hpp"
 
@@ -27,6 +28,8 @@ struct Model {
   /// The uniform body acceleration B of every particle ([loads] gravity), d entries used: the
   /// body force per unit mass of FMPM 2026 task 2, f += Sᵀ M B.
   std::array<double, 3> gravity{0, 0, 0};
+  /// Body forces and tractions on sets of particles (loads.hpp): f += Sᵀ F^ext.
+  std::vector<ParticleLoad> loads;
   double time = 0; ///< simulated time t
   long step = 0;   ///< number of steps taken
 

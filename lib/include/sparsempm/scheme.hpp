@@ -9,6 +9,7 @@
 
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/contact.hpp"
+#include "sparsempm/loads.hpp"
 #include "sparsempm/material.hpp"
 #include "sparsempm/step_options.hpp"
 
@@ -144,6 +145,8 @@ struct StepContext {
   /// the values at the start of the step, t, as NairnMPM does (FMPM 2026 §3.1).
   const BoundaryConditions* bcs = nullptr;
   std::array<double, 3> gravity{0, 0, 0}; ///< the body acceleration B (Model::gravity)
+  /// The external forces of Model::loads at t (external_forces); null without loads.
+  const ExternalForces* external = nullptr;
   /// Multimaterial contact (contact.hpp): this step's contact nodes with their laws, normals
   /// and separations, found at the start of the step; null in single material mode.
   ContactNodes* contact_nodes = nullptr;

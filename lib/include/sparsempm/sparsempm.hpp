@@ -10,6 +10,7 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/fmpm.hpp"
 #include "sparsempm/grid.hpp"
+#include "sparsempm/loads.hpp"
 #include "sparsempm/material.hpp"
 #include "sparsempm/model.hpp"
 #include "sparsempm/operators.hpp"

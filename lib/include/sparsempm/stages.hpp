@@ -15,6 +15,7 @@
 /// of particles: all of them, or the block of one material (ParticleOperators::block), with
 /// the matching rows of the fields (`P.V.middleRows(first, count)`).
 
+#include "sparsempm/loads.hpp"
 #include "sparsempm/operators.hpp"
 
 #include <Eigen/Core>
@@ -69,6 +70,12 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
                     const ConstFieldRef& F, const ConstFieldRef& stress, Field& f);
 /// f += m Bᵀ: the uniform body acceleration B (gravity), i.e. f += Sᵀ M B (Buzzi Eq. 14).
 void add_gravity(const Eigen::VectorXd& m, const std::array<double, 3>& B, Field& f);
+/// f += the loads of loads.hpp (FMPM 2026 task 2's external force): the body forces through S,
+/// f_i += Σ_p S_pi F_p, and each traction corner's force through the hat functions of `grid`
+/// (the step's grid) at the corner, over the nodes of its particle's row (renormalised to 1; S
+/// itself when no node of the row has a hat weight).
+void add_external_forces(const ParticleOperators& op, const Grid& grid, const ExternalForces& loads,
+                         Field& f);
 /// v = m⁻¹ x, with m_inv = 1/m_i on active nodes and 0 elsewhere.
 void lumped_solve(const Eigen::VectorXd& m_inv, const Field& x, Field& v);
 

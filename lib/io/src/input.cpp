@@ -378,7 +378,8 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   Grid grid = read_grid(r, root);
   cfg.model = Model(grid);
   cfg.model.materials = read_materials(r, root);
-  cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials);
+  std::vector<detail::BodyRange> bodies;
+  cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials, &bodies);
   const Particles& P = cfg.model.particles;
   for (Index p = 0; p < P.size(); ++p)
     if (!std::isfinite(P.mass[p]))
@@ -394,6 +395,7 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   if (const toml::table* loads = r.table(root, "loads", "[loads]", false)) {
     r.check_keys(*loads, "loads");
     cfg.model.gravity = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);
+    cfg.model.loads = detail::read_loads(r, *loads, cfg.model.particles, bodies);
   }
   cfg.output = read_output(r, root, source, cfg.time.end);
   check_heat(r, root, cfg);

@@ -253,7 +253,7 @@ void body_heat(const Reader& r, const toml::table& t, const std::string& key, co
 } // namespace
 
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
-                      const std::vector<Material>& mats) {
+                      const std::vector<Material>& mats, std::vector<BodyRange>* ranges) {
   const int d = g.dim();
   Particles all;
   all.resize(d, 0);
@@ -268,6 +268,13 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
       r.fail(t->get("region"), key + "region", "holds no particle");
     body_velocity(r, *t, key, P);
     body_heat(r, *t, key, mats[size_t(id)], P);
+    const std::string name = t->get("name") ? r.string(*t, "name", key + "name", "") : "";
+    if (ranges) {
+      for (const BodyRange& b : *ranges)
+        if (!name.empty() && b.name == name)
+          r.fail(t->get("name"), key + "name", "another body has this name");
+      ranges->push_back({name, all.size(), P.size()});
+    }
     all.append(P);
   }
   return all;

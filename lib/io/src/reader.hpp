@@ -219,8 +219,17 @@ public:
 };
 
 int axis_index(const Reader& r, const toml::node* n, const std::string& name, int dim);
+/// The particles [first, first + count) of one [[body]], by its name (body.K.name; "" when
+/// it has none).
+struct BodyRange {
+  std::string name;
+  Index first = 0, count = 0;
+};
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
-                      const std::vector<Material>& mats);
+                      const std::vector<Material>& mats, std::vector<BodyRange>* ranges = nullptr);
+/// [[loads.body_force]] and [[loads.traction]] on the particles of the bodies.
+std::vector<ParticleLoad> read_loads(const Reader& r, const toml::table& loads,
+                                     const Particles& P, const std::vector<BodyRange>& bodies);
 ConditionTables read_bcs(const Reader& r, const toml::table& root, const Grid& g);
 Contact read_contact(const Reader& r, const toml::table& root, const std::vector<Material>& mats,
                      int dim);

@@ -23,7 +23,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
         "thermal_expansion"}},
       {"body",
        {"material", "region", "min", "max", "center", "radius", "semi_axes", "image", "pixel_size",
-        "origin", "levels", "ppc", "velocity", "temperature", "heat_source"}},
+        "origin", "levels", "ppc", "velocity", "temperature", "heat_source", "name"}},
       {"bc", {"plane", "box", "fixed", "velocity", "wall", "temperature"}},
       {"bc.wall", {"normal", "position", "velocity", "gradient", "depth", "depth_cells"}},
       {"bc.plane", {"axis", "at"}},
@@ -36,7 +36,10 @@ const std::map<std::string, std::vector<std::string>>& schema() {
         "exact_mass_cutoff", "deformation", "xpic_contact_term", "transport", "transport_order",
         "transfer"}},
       {"output", {"file", "every", "matrices"}},
-      {"loads", {"gravity"}},
+      {"loads", {"gravity", "body_force", "traction"}},
+      {"loads.body_force", {"body", "value"}},
+      {"loads.traction", {"body", "face", "value", "box"}},
+      {"loads.traction.box", {"min", "max"}},
   };
   return keys;
 }
@@ -185,7 +188,8 @@ namespace {
 // The entry of an array of tables an override names ("material.bar.youngs", "bc.0.wall.depth"):
 // the table by name or index, or its inline table; `section` receives the schema section.
 toml::table* listed_target(toml::node* sec, const std::vector<std::string>& parts,
-                           const std::string& spec, std::string& section) {
+                           const std::string& spec, std::string& section,
+                           const std::string& prefix = "") {
   if (parts.size() != 3 && parts.size() != 4)
     throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] entries are addressed as " +
                      parts[0] + ".<name or index>.key=value (or .table.key=value)");
@@ -202,7 +206,7 @@ toml::table* listed_target(toml::node* sec, const std::vector<std::string>& part
                      parts[1] + "'");
   if (parts.size() == 3)
     return target;
-  section = parts[0] + "." + parts[2]; // a key of an inline table of the entry
+  section = prefix + parts[0] + "." + parts[2]; // a key of an inline table of the entry
   toml::node* sub = target->get(parts[2]);
   if (!schema().count(section) || !sub || !sub->as_table())
     throw InputError("--set " + clip(spec) + ": [[" + parts[0] + "]] " + parts[1] +
@@ -240,17 +244,29 @@ std::string apply_override(toml::table& root, const std::string& spec) {
   for (std::string part; std::getline(ss, part, '.');)
     parts.push_back(part);
   const auto& top = schema().at("");
-  if (parts.size() < 2 || parts.size() > 4 ||
-      std::find(top.begin(), top.end(), parts[0]) == top.end())
+  // [[loads.traction]] and [[loads.body_force]] entries: loads.traction.<index>.key=value.
+  const bool listed_load = parts.size() >= 3 && parts[0] == "loads" &&
+                           (parts[1] == "traction" || parts[1] == "body_force");
+  if (!listed_load && (parts.size() < 2 || parts.size() > 4 ||
+                       std::find(top.begin(), top.end(), parts[0]) == top.end()))
     throw InputError("--set " + clip(spec) + ": expected section.key=value with a section of " +
                      "grid, material, body, bc, contact, time, step, output, loads" +
                      (parts.empty() ? "" : suggest(parts[0], top)));
-  toml::node* sec = root.get(parts[0]);
-  const bool listed =
-      parts[0] == "material" || parts[0] == "body" || parts[0] == "bc" || parts[0] == "contact";
+  toml::table* target = nullptr;
   std::string section = parts[0]; // the schema section of the key set
-  toml::table* target =
-      listed ? listed_target(sec, parts, spec, section) : section_target(root, sec, parts, spec);
+  if (listed_load) {
+    toml::node* loads = root.get("loads");
+    toml::table* lt = loads ? loads->as_table() : nullptr;
+    const std::vector<std::string> sub(parts.begin() + 1, parts.end());
+    section = "loads." + sub[0];
+    target = listed_target(lt ? lt->get(sub[0]) : nullptr, sub, spec, section, "loads.");
+  } else {
+    toml::node* sec = root.get(parts[0]);
+    const bool listed =
+        parts[0] == "material" || parts[0] == "body" || parts[0] == "bc" || parts[0] == "contact";
+    target =
+        listed ? listed_target(sec, parts, spec, section) : section_target(root, sec, parts, spec);
+  }
   const std::string& key = parts.back();
   const auto& valid = schema().at(section);
   if (std::find(valid.begin(), valid.end(), key) == valid.end())
