@@ -228,8 +228,8 @@ struct BodyRange {
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
                       const std::vector<Material>& mats, std::vector<BodyRange>* ranges = nullptr);
 /// [[loads.body_force]] and [[loads.traction]] on the particles of the bodies.
-std::vector<ParticleLoad> read_loads(const Reader& r, const toml::table& loads,
-                                     const Particles& P, const std::vector<BodyRange>& bodies);
+std::vector<ParticleLoad> read_loads(const Reader& r, const toml::table& loads, const Particles& P,
+                                     const std::vector<BodyRange>& bodies);
 ConditionTables read_bcs(const Reader& r, const toml::table& root, const Grid& g);
 Contact read_contact(const Reader& r, const toml::table& root, const std::vector<Material>& mats,
                      int dim);
