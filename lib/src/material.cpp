@@ -5,6 +5,7 @@
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
+#include "sparsempm/plasticity.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
@@ -38,6 +39,21 @@ void validate(const Material& mat) {
   const std::string who = "material '" + mat.name + "': ";
   if (!(mat.density > 0) || !std::isfinite(mat.density))
     throw InputError(who + "density must be positive, got " + std::to_string(mat.density));
+  if (!(mat.yield_stress >= 0) || !std::isfinite(mat.yield_stress))
+    throw InputError(who + "yield_stress must be non-negative (0: elastic), got " +
+                     number_text(mat.yield_stress));
+  if (!(mat.hardening >= 0) || !std::isfinite(mat.hardening))
+    throw InputError(who + "hardening must be non-negative, got " + number_text(mat.hardening));
+  if (mat.plastic() && mat.model != MaterialModel::Hyperelastic &&
+      mat.model != MaterialModel::MieGruneisen)
+    throw InputError(who +
+                     "yield_stress (J2 plasticity) is for the hyperelastic and "
+                     "mie-gruneisen models, not " +
+                     std::string(to_string(mat.model)));
+  if (mat.plastic() && mat.thermal_expansion != 0)
+    throw InputError(who + "yield_stress and thermal_expansion cannot be combined");
+  if (mat.plastic() && mat.model == MaterialModel::MieGruneisen && !(mat.shear > 0))
+    throw InputError(who + "yield_stress needs a positive shear modulus");
   if (mat.model == MaterialModel::MieGruneisen) {
     if (!(mat.bulk > 0) || !std::isfinite(mat.bulk))
       throw InputError(who + "bulk must be positive, got " + std::to_string(mat.bulk));
@@ -379,6 +395,8 @@ double particle_strain_energy(const std::vector<Material>& materials, const Part
   double w = 0;
   if (density) {
     w = (*density)[p];
+  } else if (mat.plastic() && P.elastic_cauchy_green.rows() == P.size()) {
+    w = plastic_strain_energy_density(mat, P.elastic_cauchy_green.row(p).data(), P.det_F(p));
   } else if (mat.thermal_expansion != 0 && P.temperature.size() == P.size()) {
     double c; // Ψ_e(F, T) of the thermoelastic law, as the stress update stores it
     (void)thermoelastic_stress(mat, P.dim, particle_F(P, p), P.temperature[p], w, c);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/particles.hpp"
 
+#include "sparsempm/plasticity.hpp"
+
 #include "sparsempm/errors.hpp"
 
 #include "kernels.hpp"
@@ -27,6 +29,8 @@ void Particles::resize(int d, Index N) {
   temperature.resize(0);
   heat_source.resize(0);
   gradient.resize(0, 0);
+  elastic_cauchy_green.resize(0, 0);
+  plastic_strain.resize(0);
 }
 
 Eigen::VectorXd Particles::jacobian() const {
@@ -96,6 +100,21 @@ void Particles::append(const Particles& o) {
     const Field g1 = o.gradient.rows() == o.size() ? o.gradient : Field::Zero(o.size(), dim * dim);
     gradient.resize(n0 + o.size(), dim * dim);
     gradient << g0, g1;
+  }
+  // The plastic state: a set without one starts elastic (b̄ᵉ of its F, ε̄ᵖ = 0).
+  if (elastic_cauchy_green.rows() == n0 || o.elastic_cauchy_green.rows() == o.size()) {
+    const Field b0 = elastic_cauchy_green.rows() == n0 ? elastic_cauchy_green
+                                                       : elastic_state_of(F.topRows(n0), dim);
+    const Field b1 = o.elastic_cauchy_green.rows() == o.size() ? o.elastic_cauchy_green
+                                                               : elastic_state_of(o.F, dim);
+    const Eigen::VectorXd e0 =
+        plastic_strain.size() == n0 ? plastic_strain : Eigen::VectorXd::Zero(n0);
+    const Eigen::VectorXd e1 =
+        o.plastic_strain.size() == o.size() ? o.plastic_strain : Eigen::VectorXd::Zero(o.size());
+    elastic_cauchy_green.resize(n0 + o.size(), 9);
+    elastic_cauchy_green << b0, b1;
+    plastic_strain.resize(n0 + o.size());
+    plastic_strain << e0, e1;
   }
 }
 

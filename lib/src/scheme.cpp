@@ -62,16 +62,36 @@ void MaterialStrainUpdate::reversible_heating(const ConstFieldRef& F) const {
   });
 }
 
+// The J2 return of the plastic particles from plastic_->F_old to F (after the elastic stress
+// update and the shock's pressure), and the heat of their plastic work.
+void MaterialStrainUpdate::plastic_update(const ParticleFields& fields) {
+  plastic_->plastic_work += update_plastic_stress(materials_, material_, fields.F, fields.volume0,
+                                                  shock_ ? &shock_->pressure : nullptr, *plastic_,
+                                                  fields.stress, density_);
+  if (thermal_) { // the plastic work is heat: ΔT = w / (M C_V) = w / (ρ₀ C_V Ω)
+    Eigen::VectorXd& Tm = *thermal_->temperature;
+    detail::parallel_for(fields.F.rows(), [&](Index p) {
+      const Material& mat = materials_[size_t(material_[p])];
+      if (plastic_->work[p] != 0)
+        Tm[p] += plastic_->work[p] / (mat.density * mat.heat_capacity * fields.volume0[p]);
+    });
+  }
+}
+
 void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, double dt,
                                   ParticleFields& fields) {
   const Eigen::VectorXd* T = thermal_ ? thermal_->temperature : nullptr;
   if (thermal_)
     couplings(fields.F, thermal_->coupling);
+  if (plastic_)
+    plastic_->F_old = fields.F; // storage reused from step to step
   if (!shock_) {
     update_deformation(op, v, dt, kind_, fields.F); // L, F, det F > 0
     if (thermal_)
       reversible_heating(fields.F);
     update_stress(materials_, material_, fields.F, fields.stress, density_, T);
+    if (plastic_)
+      plastic_update(fields);
     return;
   }
   // Mie–Grüneisen: J and p + q before the step, then the new F, the elastic stresses, and the
@@ -86,6 +106,9 @@ void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, d
     s.J_old[p] = embed_3d(fields.F.data() + p * fields.F.outerStride(), d).determinant();
   });
   shock_pressure(materials_, material_, fields.F, fields.stress, s.p_old);
+  if (plastic_) // the shear term of a plastic particle is G dev(b̄ᵉ)/J
+    plastic_shock_pressure(materials_, material_, fields.F, fields.stress,
+                           *plastic_->elastic_cauchy_green, s.p_old);
   update_deformation(op, v, dt, kind_, fields.F);
   if (thermal_)
     reversible_heating(fields.F);
@@ -101,6 +124,8 @@ void MaterialStrainUpdate::update(const ParticleOperators& op, const Field& v, d
         Tm[p] += thermal_->viscous[p] / (mat.density * mat.heat_capacity * fields.volume0[p]);
     });
   }
+  if (plastic_)
+    plastic_update(fields);
 }
 
 namespace {

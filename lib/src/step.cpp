@@ -20,6 +20,7 @@ struct Stepper::Buffers {
   ThermalStrainState thermal;              ///< the strain update's couplings (heat transport)
   std::unique_ptr<MassSolver> heat_solver; ///< the exact transport update's solver
   ShockState shock;
+  PlasticState plastic;    ///< the J2 return's state pointers and scratch
   ExternalForces external; ///< the loads of the step
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
   std::atomic<std::thread::id> owner{}; ///< the thread holding the Stepper (Exclusive); none: {}
@@ -172,11 +173,18 @@ void Stepper::step(Model& model, double dt) {
       buf_->shock.dx = model.grid.min_cell_size();
       buf_->shock.viscous_work = 0;
     }
+    const bool plastic = uses_plasticity(model.materials);
+    if (plastic) {
+      initial_plastic_state(P); // none yet: b̄ᵉ of F, ε̄ᵖ = 0
+      buf_->plastic.elastic_cauchy_green = &P.elastic_cauchy_green;
+      buf_->plastic.plastic_strain = &P.plastic_strain;
+      buf_->plastic.plastic_work = 0;
+    }
     buf_->density.resize(0);
     buf_->thermal.temperature = &P.temperature;
-    MaterialStrainUpdate strain(model.materials, P.material, opt_.deformation,
-                                shock ? &buf_->shock : nullptr, &buf_->density,
-                                heat() ? &buf_->thermal : nullptr);
+    MaterialStrainUpdate strain(
+        model.materials, P.material, opt_.deformation, shock ? &buf_->shock : nullptr,
+        &buf_->density, heat() ? &buf_->thermal : nullptr, plastic ? &buf_->plastic : nullptr);
     scheme_step(context, fields, strain, buf_->step);
     // USF updates the stresses (and stores W) before the transport changes the temperatures:
     // with thermal expansion that W is of the old temperature, so energies() evaluates it anew.
@@ -198,6 +206,8 @@ void Stepper::step(Model& model, double dt) {
       state_.friction_work += prep_.contact.friction_work;
     if (shock)
       state_.viscous_work += buf_->shock.viscous_work;
+    if (plastic)
+      state_.plastic_work += buf_->plastic.plastic_work;
   } catch (const NumericalError& e) {
     throw at_step(e, model.step + 1, model.time + dt);
   }

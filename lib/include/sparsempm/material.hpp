@@ -66,6 +66,12 @@ struct Material {
   /// α, the linear coefficient of thermal expansion from T_ref (0: none; not for Mie–Grüneisen,
   /// whose thermal pressure is γ₀ρ₀U): thermoelastic_stress
   double thermal_expansion = 0;
+  // J2 plasticity (plasticity.hpp; hyperelastic and mie-gruneisen only).
+  double yield_stress = 0; ///< σ_y, the initial yield stress in uniaxial tension (0: elastic)
+  double hardening = 0; ///< H, the linear isotropic hardening modulus, dσ_y/dε̄ᵖ (0: perfect)
+
+  /// Whether the material is elastic–plastic (yield_stress > 0).
+  bool plastic() const { return yield_stress > 0; }
 
   /// G: the shear modulus given (Mie–Grüneisen), else E / (2 (1 + ν)).
   double shear_modulus() const {

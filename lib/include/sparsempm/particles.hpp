@@ -32,6 +32,11 @@ struct Particles {
   /// N × d² velocity gradients L_p (row-major), carried by the velocity-gradient transfer
   /// (StepOptions::transfer); empty: none (zero).
   Field gradient;
+  /// N × 9: b̄ᵉ = J^{−2/3} Fᵉ Fᵉᵀ, the isochoric elastic left Cauchy–Green tensor (row-major 3 × 3)
+  /// of J2 plasticity (plasticity.hpp); empty: no plastic material (or none yet: b̄ᵉ of F).
+  Field elastic_cauchy_green;
+  /// N equivalent plastic strains ε̄ᵖ (plasticity.hpp); empty with elastic_cauchy_green.
+  Eigen::VectorXd plastic_strain;
 
   /// N, the number of particles (rows of X).
   Index size() const { return X.rows(); }

@@ -11,6 +11,7 @@
 #include "sparsempm/contact.hpp"
 #include "sparsempm/loads.hpp"
 #include "sparsempm/material.hpp"
+#include "sparsempm/plasticity.hpp"
 #include "sparsempm/step_options.hpp"
 
 #include <array>
@@ -79,19 +80,21 @@ struct ThermalStrainState {
 
 /// The simulation's strain update: F from the velocity gradient (update_deformation), then
 /// σ = σ(F) by each particle's material (update_stress); with `shock` and Mie–Grüneisen
-/// materials, their pressure, artificial viscosity and internal energy (update_shock_stress).
+/// materials, their pressure, artificial viscosity and internal energy (update_shock_stress);
+/// with `plastic` and plastic materials, the J2 return of their particles
+/// (update_plastic_stress).
 class MaterialStrainUpdate final : public StrainUpdate {
 public:
   /// With `density`, each stress update also stores W(F_p) of every particle there
   /// (update_stress), for the energies of the step. With `thermal` (heat transport) the
   /// particles' temperatures take the couplings' heating and the stresses their thermal
-  /// expansion (ThermalStrainState).
+  /// expansion (ThermalStrainState), and the plastic work heats.
   MaterialStrainUpdate(const std::vector<Material>& materials,
                        const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind,
                        ShockState* shock = nullptr, Eigen::VectorXd* density = nullptr,
-                       ThermalStrainState* thermal = nullptr)
+                       ThermalStrainState* thermal = nullptr, PlasticState* plastic = nullptr)
       : materials_(materials), material_(material), kind_(kind), shock_(shock), density_(density),
-        thermal_(thermal) {}
+        thermal_(thermal), plastic_(plastic) {}
   /// F ← (I + L Δt) F or exp(L Δt) F (update_deformation), then σ = σ(F) (update_stress);
   /// with `shock`, the Mie–Grüneisen stresses and energies (update_shock_stress).
   void update(const ParticleOperators& op, const Field& v, double dt,
@@ -104,6 +107,8 @@ private:
   ShockState* shock_;
   Eigen::VectorXd* density_;
   ThermalStrainState* thermal_;
+  PlasticState* plastic_;
+  void plastic_update(const ParticleFields& fields);
   void couplings(const ConstFieldRef& F, Eigen::VectorXd& c) const;
   void reversible_heating(const ConstFieldRef& F) const;
 };

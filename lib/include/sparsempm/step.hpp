@@ -31,6 +31,8 @@ struct StepperState {
   /// ... and by the artificial viscosity of Mie–Grüneisen materials (part of their internal
   /// energy U).
   double viscous_work = 0;
+  /// ... and by plastic flow (J2 plasticity, plasticity.hpp): Σ Ω_p ‖s‖ Δγ.
+  double plastic_work = 0;
 };
 
 /// Advances a Model by one time step; owns the operators, m̃ and the grid fields and reuses
@@ -117,6 +119,8 @@ public:
   double friction_work() const { return state_.friction_work; }
   /// Work of the artificial viscosity since the start of the run (StepperState::viscous_work).
   double viscous_work() const { return state_.viscous_work; }
+  /// Plastic work since the start of the run (StepperState::plastic_work).
+  double plastic_work() const { return state_.plastic_work; }
   /// The reaction force of each velocity condition of the model (Model::bcs, in its order) in the
   /// last step: Σ_i n̂ · f^(BC)_i over the nodes it constrains (every field's block), the force
   /// the condition applies along its direction n̂. A node shared by conditions along the same
