@@ -143,6 +143,19 @@ std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
     }
     m.density = r.positive(*t, "density", key + "density", std::nullopt);
     read_heat_properties(r, *t, key, m);
+    // J2 plasticity (plasticity.hpp): hyperelastic and mie-gruneisen only.
+    m.yield_stress = r.number(*t, "yield_stress", key + "yield_stress", 0.0);
+    m.hardening = r.number(*t, "hardening", key + "hardening", 0.0);
+    for (const char* k : {"yield_stress", "hardening"})
+      if (t->get(k) && m.model != MaterialModel::Hyperelastic &&
+          m.model != MaterialModel::MieGruneisen)
+        r.fail(t->get(k), key + k, "only the hyperelastic and mie-gruneisen models take it");
+    if (!(m.yield_stress >= 0))
+      r.fail(t->get("yield_stress"), key + "yield_stress", "must be non-negative (0: elastic)");
+    if (!(m.hardening >= 0))
+      r.fail(t->get("hardening"), key + "hardening", "must be non-negative");
+    if (t->get("hardening") && !(m.yield_stress > 0))
+      r.fail(t->get("hardening"), key + "hardening", "needs a yield_stress");
     if (m.model == MaterialModel::MieGruneisen) {
       read_mie_gruneisen(r, *t, key, m);
       if (!std::isfinite(m.wave_speed(3)))

@@ -37,6 +37,10 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/particles/<frame>/temperature", "N", "absolute temperatures T", "step.transport"},
       {"/particles/<frame>/gradient", "N x d^2", "velocity gradients L_p (row-major)",
        "step.transfer"},
+      {"/particles/<frame>/plastic_strain", "N", "equivalent plastic strains (J2 plasticity)",
+       "yield_stress"},
+      {"/particles/<frame>/elastic_cauchy_green", "N x 9",
+       "isochoric elastic left Cauchy-Green tensors (3 x 3 row-major)", "yield_stress"},
       {"/particles/<frame>/xyz", "N x 3", "positions with y = z = 0, for ParaView", "1D"},
       {"/particles/<frame>@time", "scalar", "the frame's time t", ""},
       {"/particles/<frame>@step", "scalar", "the frame's step", ""},
@@ -77,6 +81,7 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/series/friction", "steps", "work of Coulomb friction since t = 0", ""},
       {"/series/viscous", "steps", "work of the artificial viscosity since t = 0", ""},
       {"/series/fmpm_order", "steps", "order the FMPM loop reached (0: none)", ""},
+      {"/series/plastic", "steps", "plastic work since t = 0 (J2 plasticity)", ""},
       {"/series/reaction", "steps x n_bc",
        "force of each velocity condition along its direction (its reaction)", "[[bc]]"},
       {"/series@reaction_conditions", "n_bc", "the conditions of the reaction columns", "[[bc]]"},
@@ -94,6 +99,7 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/state/<frame>@courant_budget", "scalar", "periodic FMPM's budget (restart)", ""},
       {"/state/<frame>@friction_work", "scalar", "friction work (restart)", ""},
       {"/state/<frame>@viscous_work", "scalar", "viscous work (restart)", ""},
+      {"/state/<frame>@plastic_work", "scalar", "plastic work (restart)", ""},
       {"/state/<frame>@velocity_change_sum", "scalar", "velocity-change sum (restart)", ""},
   };
   return layout;

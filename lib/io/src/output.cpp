@@ -70,9 +70,17 @@ void create_material_series(hid_t series, int materials, int dim) {
     h5::create_series(series, kMaterialSeries[s], material_width(s, materials, dim));
 }
 
-const char* const kSeries[] = {
-    "step",     "t",       "kinetic",   "strain", "total", "velocity_change", "velocity_change_sum",
-    "friction", "viscous", "fmpm_order"};
+const char* const kSeries[] = {"step",
+                               "t",
+                               "kinetic",
+                               "strain",
+                               "total",
+                               "velocity_change",
+                               "velocity_change_sum",
+                               "friction",
+                               "viscous",
+                               "fmpm_order",
+                               "plastic"};
 
 } // namespace detail
 

@@ -23,7 +23,7 @@ h5::Id access_plist();
 
 /// The one-column series, in the order of SeriesRow's fields.
 extern const char* const kSeries[];
-inline constexpr int kNumSeries = 10;
+inline constexpr int kNumSeries = 11;
 /// The per-material series (mass, momentum, centre of mass) and their widths.
 extern const char* const kMaterialSeries[];
 hsize_t material_width(int s, int materials, int dim);

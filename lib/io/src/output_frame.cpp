@@ -67,6 +67,10 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
     h5::write_doubles(g.get(), "temperature", P.temperature.data(), N, 0);
   if (P.gradient.rows() == P.size()) // the velocity-gradient transfer's L_p (state: restart)
     h5::write_doubles(g.get(), "gradient", P.gradient.data(), N, d * d);
+  if (P.plastic_strain.size() == P.size() && P.elastic_cauchy_green.rows() == P.size()) {
+    h5::write_doubles(g.get(), "plastic_strain", P.plastic_strain.data(), N, 0); // J2 plasticity
+    h5::write_doubles(g.get(), "elastic_cauchy_green", P.elastic_cauchy_green.data(), N, 9);
+  }
   Eigen::VectorXd J(P.size()); // det F, the volume ratio V/V₀
   for (Index k = 0; k < P.size(); ++k)
     J[k] = embed_3d(P.F.row(k).data(), P.dim).determinant();
@@ -173,7 +177,8 @@ void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim)
                                        row.velocity_change_sum,
                                        row.friction,
                                        row.viscous,
-                                       row.fmpm_order};
+                                       row.fmpm_order,
+                                       row.plastic};
       col[r] = vals[s];
     }
     h5::append_series(series.get(), kSeries[s], col.data(), k, 0);
@@ -261,6 +266,7 @@ void write_run_state(hid_t file, const std::string& name, const RunState& state)
   h5::set_attribute(g.get(), "courant_budget", state.stepper.courant_budget);
   h5::set_attribute(g.get(), "friction_work", state.stepper.friction_work);
   h5::set_attribute(g.get(), "viscous_work", state.stepper.viscous_work);
+  h5::set_attribute(g.get(), "plastic_work", state.stepper.plastic_work);
   h5::set_attribute(g.get(), "velocity_change_sum", state.velocity_change_sum);
 }
 

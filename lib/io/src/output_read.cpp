@@ -7,6 +7,7 @@
 #include "hdf5_util.hpp"
 #include "output_format.hpp"
 #include "sparsempm/errors.hpp"
+#include "sparsempm/plasticity.hpp"
 #include "sparsempm/run_file.hpp"
 
 #include <chrono>
@@ -106,6 +107,8 @@ StoredRun read_stored_run(const std::string& path) {
     const bool dis = h5::exists(series.get(), "viscous"); // files of earlier versions lack them
     const Field fw = dis ? h5::read_doubles(series.get(), "friction") : Field();
     const Field vw = dis ? h5::read_doubles(series.get(), "viscous") : Field();
+    const bool pl = h5::exists(series.get(), "plastic"); // files before J2 plasticity lack it
+    const Field pw = pl ? h5::read_doubles(series.get(), "plastic") : Field();
     for (Index r = 0; r < step.rows(); ++r) {
       SeriesRow row;
       row.step = long(step(r, 0));
@@ -121,6 +124,8 @@ StoredRun read_stored_run(const std::string& path) {
         row.friction = fw(r, 0);
         row.viscous = vw(r, 0);
       }
+      if (pl && r < pw.rows())
+        row.plastic = pw(r, 0);
       run.series.push_back(row);
     }
   } catch (const std::runtime_error& e) {
@@ -153,6 +158,10 @@ void check_frame_shapes(const Particles& P, int d) {
     expect("temperature", P.temperature.rows(), 1, 1);
   if (P.gradient.size() > 0)
     expect("gradient", P.gradient.rows(), P.gradient.cols(), d * d);
+  if (P.plastic_strain.size() > 0 || P.elastic_cauchy_green.size() > 0) {
+    expect("plastic_strain", P.plastic_strain.rows(), 1, 1);
+    expect("elastic_cauchy_green", P.elastic_cauchy_green.rows(), P.elastic_cauchy_green.cols(), 9);
+  }
 }
 
 // Throws std::runtime_error naming the dataset unless every value a step reads is in its range:
@@ -168,6 +177,12 @@ void check_frame_values(const Particles& P, const Model& model) {
     throw std::runtime_error("energy holds a value that is not finite");
   if (!P.gradient.allFinite())
     throw std::runtime_error("gradient holds a value that is not finite");
+  if (!P.elastic_cauchy_green.allFinite())
+    throw std::runtime_error("elastic_cauchy_green holds a value that is not finite");
+  for (Index p = 0; p < P.plastic_strain.size(); ++p)
+    if (!(P.plastic_strain[p] >= 0) || !std::isfinite(P.plastic_strain[p]))
+      throw std::runtime_error("plastic_strain holds " + number_text(P.plastic_strain[p]) +
+                               " (it must be non-negative and finite)");
   for (Index p = 0; p < P.temperature.size(); ++p)
     if (!(P.temperature[p] > 0) || !std::isfinite(P.temperature[p]))
       throw std::runtime_error("temperature holds " + number_text(P.temperature[p]) +
@@ -221,6 +236,12 @@ void load_frame_from(hid_t file, int frame, Model& model) {
     P.heat_source = model.particles.heat_source;
   if (h5::exists(g.get(), "gradient")) // the velocity-gradient transfer's state
     P.gradient = h5::read_doubles(g.get(), "gradient");
+  if (h5::exists(g.get(), "plastic_strain") || h5::exists(g.get(), "elastic_cauchy_green")) {
+    P.plastic_strain = h5::read_doubles(g.get(), "plastic_strain").col(0); // J2 plasticity
+    P.elastic_cauchy_green = h5::read_doubles(g.get(), "elastic_cauchy_green");
+  } else if (uses_plasticity(model.materials)) {
+    throw std::runtime_error("plastic_strain is missing (the run has plastic materials)");
+  }
   const std::vector<int> mat = h5::read_ints(g.get(), "material");
   P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
   P.dim = model.grid.dim();
@@ -251,6 +272,7 @@ const RunState& checked(const RunState& s, const std::string& path, int frame) {
   const std::pair<const char*, double> values[] = {{"courant_budget", s.stepper.courant_budget},
                                                    {"friction_work", s.stepper.friction_work},
                                                    {"viscous_work", s.stepper.viscous_work},
+                                                   {"plastic_work", s.stepper.plastic_work},
                                                    {"velocity_change_sum", s.velocity_change_sum}};
   for (const auto& [name, v] : values)
     if (!std::isfinite(v) || (v < 0 && name == values[0].first))
@@ -291,6 +313,8 @@ RunState read_state(const std::string& path, int frame) {
       state.stepper.courant_budget = h5::get_double_attribute(g.get(), "courant_budget");
       state.stepper.friction_work = h5::get_double_attribute(g.get(), "friction_work");
       state.stepper.viscous_work = h5::get_double_attribute(g.get(), "viscous_work");
+      if (h5::has_attribute(g.get(), "plastic_work")) // files before J2 plasticity lack it
+        state.stepper.plastic_work = h5::get_double_attribute(g.get(), "plastic_work");
       state.velocity_change_sum = h5::get_double_attribute(g.get(), "velocity_change_sum");
       return state;
     }
@@ -308,7 +332,7 @@ RunState read_state(const std::string& path, int frame) {
   if (last && std::isfinite(last->velocity_change_sum))
     state.velocity_change_sum = last->velocity_change_sum;
   if (last && std::isfinite(last->friction) && std::isfinite(last->viscous))
-    state.stepper = {state.stepper.courant_budget, last->friction, last->viscous};
+    state.stepper = {state.stepper.courant_budget, last->friction, last->viscous, last->plastic};
   return state;
 }
 } // namespace

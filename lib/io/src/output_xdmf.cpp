@@ -158,6 +158,8 @@ std::string xdmf_frame(Sidecar which, const std::string& h5_name, const FrameRec
       g.attribute("temperature", "temperature", 0);
     if (f.has_gradient)
       g.attribute("velocity_gradient", "gradient", d == 1 ? 0 : dd);
+    if (f.has_plastic_strain)
+      g.attribute("plastic_strain", "plastic_strain", 0);
     for (const char* s : {"mass", "volume", "volume0"})
       g.attribute(s, s, 0);
     g.attribute("half_length", "half_length", d == 1 ? 0 : d);
@@ -208,6 +210,7 @@ OutputFile::FrameRecord OutputFile::record_of(long file, int frame) {
   r.has_energy = h5::exists(pg.get(), "energy");
   r.has_temperature = h5::exists(pg.get(), "temperature");
   r.has_gradient = h5::exists(pg.get(), "gradient");
+  r.has_plastic_strain = h5::exists(pg.get(), "plastic_strain");
   h5::Id grid = h5::open_group(hid_t(file), "grid");
   if (!h5::exists(grid.get(), name))
     return r;

@@ -151,6 +151,7 @@ private:
                    t.internal,        t.entropy,         t.helmholtz};
     }
     r.viscous = stepper_.viscous_work();
+    r.plastic = stepper_.plastic_work();
     r.reactions.assign(m.bcs.conditions.size(), 0.0);
     if (m.step > 0 && stepper_.reactions().size() == r.reactions.size())
       r.reactions = stepper_.reactions();

@@ -59,6 +59,7 @@ struct SeriesRow {
   double velocity_change_sum = 0; ///< its running sum over the steps (⟨error⟩ = sum / N_s)
   double friction = 0;            ///< work of Coulomb friction since t = 0 (Stepper::friction_work)
   double viscous = 0;             ///< work of the artificial viscosity since t = 0 (part of strain)
+  double plastic = 0;             ///< plastic work since t = 0 (J2 plasticity, dissipated)
   double fmpm_order = 0;          ///< the FMPM(k) loop's order ℓ reached on the step (0: none)
   std::vector<double> materials;  ///< material_sums: mass, momentum, centre of each material
   /// Heat transport: T min, max and mean, heat, internal energy, entropy and free energy of the
@@ -140,6 +141,7 @@ public:
     bool has_J = true, has_energy = false; ///< whether they have the internal energy U
     bool has_temperature = false;          ///< whether they have temperatures (heat transport)
     bool has_gradient = false;             ///< velocity gradients (the velocity-gradient transfer)
+    bool has_plastic_strain = false;       ///< equivalent plastic strains (J2 plasticity)
   };
 
 private:
