@@ -5,6 +5,7 @@
 #include "expression.hpp"
 #include "reader.hpp"
 #include "sparsempm/errors.hpp"
+#include "sparsempm/plasticity.hpp"
 #include "sparsempm/exact.hpp"
 #include "sparsempm/operators.hpp"
 #include "toml_text.hpp"
@@ -412,6 +413,8 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   }
   cfg.output = read_output(r, root, source, cfg.time.end);
   check_heat(r, root, cfg);
+  if (uses_plasticity(cfg.model.materials)) // the plastic state at the start (every frame has it)
+    initial_plastic_state(cfg.model.particles);
   if (cfg.step.transfer == Transfer::VelocityGradient) // the state of the transfer: L_p = 0 at
     cfg.model.particles.gradient.setZero(P.size(), P.dim * P.dim); // the start (every frame has it)
   check_supports(cfg);
