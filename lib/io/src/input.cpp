@@ -5,9 +5,9 @@
 #include "expression.hpp"
 #include "reader.hpp"
 #include "sparsempm/errors.hpp"
-#include "sparsempm/plasticity.hpp"
 #include "sparsempm/exact.hpp"
 #include "sparsempm/operators.hpp"
+#include "sparsempm/plasticity.hpp"
 #include "toml_text.hpp"
 
 #include <toml++/toml.h>
