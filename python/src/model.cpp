@@ -247,6 +247,17 @@ void bind_particles(py::module_& m) {
       "N × d² velocity gradients L_p (row-major) of the velocity-gradient transfer "
       "(StepOptions.transfer); empty until a step with that transfer (it starts from zeros) "
       "or an assignment sets them");
+  c.def_property_readonly(
+      "plastic_strain",
+      [](py::object self) { return vector_view(self.cast<Particles&>().plastic_strain, self); },
+      "N equivalent plastic strains of J2 plasticity (empty without plastic materials)");
+  c.def_property_readonly(
+      "elastic_cauchy_green",
+      [](py::object self) {
+        return field_view(self.cast<Particles&>().elastic_cauchy_green, self);
+      },
+      "N × 9 isochoric elastic left Cauchy-Green tensors b̄ᵉ (row-major 3 × 3) of J2 "
+      "plasticity (empty without plastic materials)");
   heat_property(c, "temperature", &Particles::temperature,
                 "N absolute temperatures T_p (heat transport); empty: none yet (a step with "
                 "transport starts from each material's reference_temperature). Assign a number or "

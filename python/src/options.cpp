@@ -225,6 +225,11 @@ void bind_material(py::module_& m) {
   c.def_readwrite("thermal_expansion", &Material::thermal_expansion,
                   "alpha, the linear coefficient of thermal expansion from T_ref (0: none; not "
                   "for mie-gruneisen)");
+  c.def_readwrite("yield_stress", &Material::yield_stress,
+                  "sigma_y, the initial yield stress of J2 plasticity (hyperelastic and "
+                  "mie-gruneisen; 0: elastic)");
+  c.def_readwrite("hardening", &Material::hardening,
+                  "H, the linear isotropic hardening modulus of J2 plasticity (0: perfect)");
   c.def("wave_speed", &Material::wave_speed, py::arg("dim"));
   c.def("__repr__", [](const Material& mat) {
     std::ostringstream os;

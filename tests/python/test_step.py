@@ -160,6 +160,32 @@ def test_shock_energy_equals_smpm_run_bit_for_bit(tmp_path):
     assert model.particles.energy.max() > 1e6
 
 
+def test_plastic_shock_equals_smpm_run_bit_for_bit(tmp_path):
+    # The split bar with nickel's shear modulus and J2 plasticity to its second frame: the
+    # plastic state (numpy views of the particles) equals the frame's plastic_strain and
+    # elastic_cauchy_green of `smpm run`, and the particles behind the shock have flowed.
+    src = BAR.parent / "shock_split_bar.toml"
+    over = {"time.end": 0.000434, "output.every": 0.000434}
+    for side in ("left", "right"):
+        over[f"material.{side}.shear"] = 85500.0
+        over[f"material.{side}.yield_stress"] = 140.0
+    out = tmp_path / "plastic.h5"
+    r = run_smpm("run", src, "-q", "-o", out, *[f"--set={k}={v}" for k, v in over.items()])
+    assert r.returncode == 0, r.stderr
+    model = smpm.Model.from_toml(str(src), over)
+    assert model.materials[0].yield_stress == 140.0 and model.materials[0].hardening == 0.0
+    smpm.Stepper(model.options).advance(model, model.end, model.courant, stop_every=0.000434)
+    with h5py.File(out, "r") as f:
+        frame = f["particles"]["000001"]
+        assert np.array_equal(model.particles.plastic_strain, frame["plastic_strain"][...])
+        assert np.array_equal(model.particles.elastic_cauchy_green,
+                              frame["elastic_cauchy_green"][...])
+    assert model.particles.plastic_strain.max() > 0.1
+    assert smpm.Material("p", "hyperelastic", youngs=1.0, yield_stress=0.01).yield_stress == 0.01
+    with pytest.raises(smpm.InputError, match="yield_stress .J2 plasticity. is for the hyperelastic"):
+        smpm.Material("p", "neo-hookean", youngs=1.0, yield_stress=0.01)
+
+
 def test_one_and_two_threads_step_the_same_bits():
     """set_threads: 50 FMPM(4) steps of the block impact (8000 particles, enough for the kernels
     to use the threads) end in the same bits on 1 and 2 threads."""
