@@ -22,8 +22,8 @@ void check_energy(const Model& model, double e, double e0, const FailureTest& te
   const bool heated = model.particles.heat_source.size() > 0 &&
                       model.particles.heat_source.cwiseAbs().maxCoeff() > 0;
   const bool loaded = model.gravity[0] != 0 || model.gravity[1] != 0 || model.gravity[2] != 0 ||
-                      model.bcs.driven() || !model.loads.empty() || heated ||
-                      !model.temperature_bcs.conditions.empty();
+                      model.bcs.driven() || !model.loads.empty() || !model.rigid.empty() ||
+                      heated || !model.temperature_bcs.conditions.empty();
   if (loaded || !(test.energy_growth > 0) || !(e0 > 0) || e <= test.energy_growth * e0)
     return;
   const Particles& P = model.particles;

@@ -14,12 +14,13 @@
 namespace smpm {
 
 namespace {
-constexpr detail::EnumNames<MaterialModel, 5> kModels{
+constexpr detail::EnumNames<MaterialModel, 6> kModels{
     {{MaterialModel::Linear, "linear"},
      {MaterialModel::LinearCorotational, "linear-corotational"},
      {MaterialModel::NeoHookean, "neo-hookean"},
      {MaterialModel::Hyperelastic, "hyperelastic"},
-     {MaterialModel::MieGruneisen, "mie-gruneisen"}}};
+     {MaterialModel::MieGruneisen, "mie-gruneisen"},
+     {MaterialModel::Rigid, "rigid"}}};
 } // namespace
 
 std::string_view to_string(MaterialModel m) {
@@ -30,6 +31,8 @@ MaterialModel material_model_from_string(std::string_view name) {
 }
 
 double Material::wave_speed(int dim) const {
+  if (model == MaterialModel::Rigid) // no elastic waves: its nodes' velocity is prescribed
+    return 0;
   if ((model == MaterialModel::Linear || model == MaterialModel::LinearCorotational) && dim == 1)
     return std::sqrt(youngs / density);
   return std::sqrt((lame_lambda() + 2 * shear_modulus()) / density);
@@ -68,6 +71,11 @@ void validate(const Material& mat) {
     if (mat.thermal_expansion != 0)
       throw InputError(who + "thermal_expansion is not for mie-gruneisen (its thermal pressure "
                              "is gruneisen rho0 U)");
+    return;
+  }
+  if (mat.model == MaterialModel::Rigid) {
+    if (mat.thermal_expansion != 0)
+      throw InputError(who + "thermal_expansion is not for a rigid material");
     return;
   }
   if (!std::isfinite(mat.thermal_expansion))
@@ -196,6 +204,8 @@ Eigen::Matrix3d cauchy_stress(const Material& mat, int dim, const Eigen::Matrix3
     const double J = F.determinant();
     return isochoric_shear(G, F, J) - mie_gruneisen_pressure(mat, J, 0) * I;
   }
+  case MaterialModel::Rigid:
+    return Eigen::Matrix3d::Zero();
   }
   return Eigen::Matrix3d::Zero();
 }
@@ -231,6 +241,8 @@ double strain_energy_density(const Material& mat, int dim, const Eigen::Matrix3d
   }
   case MaterialModel::MieGruneisen: // the shear term only: the rest is the energy U
     return isochoric_shear_energy(G, F, F.determinant());
+  case MaterialModel::Rigid:
+    return 0;
   }
   return 0;
 }

@@ -22,9 +22,20 @@ struct Stepper::Buffers {
   ShockState shock;
   PlasticState plastic;    ///< the J2 return's state pointers and scratch
   ExternalForces external; ///< the loads of the step
+  Field x_start;           ///< the positions at the step's start (rigid materials)
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
   std::atomic<std::thread::id> owner{}; ///< the thread holding the Stepper (Exclusive); none: {}
 };
+
+std::vector<std::string> reaction_labels(const Model& model) {
+  std::vector<std::string> labels;
+  for (const VelocityCondition& c : model.bcs.conditions)
+    labels.push_back(c.label);
+  for (const RigidMotion& m : model.rigid)
+    for (int a = 0; a < model.grid.dim(); ++a)
+      labels.push_back(m.label + "." + std::string(1, "xyz"[a]));
+  return labels;
+}
 
 Stepper::Exclusive::Exclusive(const Stepper& stepper) {
   std::atomic<std::thread::id>& owner = stepper.buf_->owner;
@@ -185,7 +196,11 @@ void Stepper::step(Model& model, double dt) {
     MaterialStrainUpdate strain(
         model.materials, P.material, opt_.deformation, shock ? &buf_->shock : nullptr,
         &buf_->density, heat() ? &buf_->thermal : nullptr, plastic ? &buf_->plastic : nullptr);
+    if (!model.rigid.empty())
+      buf_->x_start = P.X; // the rigid particles' positions at t (storage reused)
     scheme_step(context, fields, strain, buf_->step);
+    if (!model.rigid.empty()) // rigid.hpp: the prescribed motion, whatever the grid did
+      move_rigid_particles(model.rigid, buf_->x_start, model.time, dt, P);
     // USF updates the stresses (and stores W) before the transport changes the temperatures:
     // with thermal expansion that W is of the old temperature, so energies() evaluates it anew.
     if (heat() && opt_.scheme == UpdateScheme::USF)

@@ -71,6 +71,7 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s, Transport
   // The conditions of the step on its nodes (the particles' window or the grid, ops.grid); the
   // walls move (FMPM 2026 §3.1).
   model.bcs.step_conditions(s.ops.grid, s.ops.active, model.time, s.bcs);
+  add_rigid_conditions(model.rigid, P.material, s.ops, model.time, s.bcs); // rigid.hpp
   if (nf > 1) {
     P.jacobian(s.volume);
     s.volume.array() *= P.volume0.array();

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Body forces and tractions from the input (examples/loaded_plate.toml): the static solution of
 the plate under both loads, the roller's reaction against the applied loads, and the one-line
-errors of bad [[loads.traction]] and [[loads.body_force]] tables.
+errors of bad [[loads.traction]] and [[loads.body_force]] tables; a rigid piston
+(examples/rigid_piston.toml): its motion, its reaction column, and the errors of rigid materials.
 
 Run by ctest with SMPM and SMPM_SOURCE in the environment.
 """
@@ -79,6 +80,50 @@ class BadLoads(unittest.TestCase):
             self.assertEqual(r.returncode, 3, r.stderr)
             self.assertIn("loads.traction.0: the value is nan", r.stderr)
             self.assertIn("particle", r.stderr)
+
+
+PISTON = SOURCE / "examples" / "rigid_piston.toml"
+
+
+class RigidPiston(unittest.TestCase):
+    def test_piston_compresses_the_bar(self):
+        # The piston's particles move with v = -0.004 exactly (to round-off); the bar's mean
+        # strain is -v t / L = -0.02 at t = 200 (CPDI: the bar's end follows the piston; asserted
+        # 1e-6, measured 6e-16); the piston's reaction is a column of its own, compressive, and
+        # near -E v t / L = -0.04 at the end (within 5%: the wave's oscillation about it).
+        with tempfile.TemporaryDirectory() as tmp:
+            out = run_example(PISTON, tmp, "piston", [])
+            with h5py.File(out, "r") as f:
+                labels = list(f["series"].attrs["reaction_conditions"])
+                self.assertEqual(labels, ["bc.0.fixed", "material.piston.x"])
+                reaction = f["series/reaction"][-1, 1]
+                g = f["particles"][sorted(f["particles"])[-1]]
+                m, x, F = g["material"][:], g["X"][:, 0], g["F"][:, 0]
+                g0 = f["particles"][sorted(f["particles"])[0]]
+                x0 = g0["X"][:, 0]
+                t = g.attrs["time"]
+        self.assertLess(np.abs(x[m == 1] - (x0[m == 1] - 0.004 * t)).max(), 1e-10)
+        self.assertLess(abs((F[m == 0] - 1).mean() + 0.004 * t / 40), 1e-6)
+        self.assertLess(abs(reaction / (-2 * 0.004 * t / 40) - 1), 0.05, reaction)
+
+    def test_refused(self):
+        for sets, words in [
+            (["material.piston.velocity=[1.0, 2.0]"], ["material.piston.velocity", "expected 1"]),
+            (["material.bar.velocity=[1.0]"], ["material.bar.velocity", 'only model = "rigid"']),
+            (["material.piston.youngs=2.0"], ["material.piston.youngs", "rigid material does not"]),
+        ]:
+            with self.subTest(sets=sets):
+                check_refused(self, PISTON, sets, words)
+
+    def test_non_finite_velocity_stops_the_run(self):
+        import subprocess
+        with tempfile.TemporaryDirectory() as tmp:
+            r = subprocess.run([os.environ.get("SMPM", "smpm"), "run", str(PISTON), "-o",
+                                str(pathlib.Path(tmp) / "x.h5"), "-q", "--set",
+                                'material.piston.velocity=["sqrt(-1-t)"]'],
+                               capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 3, r.stderr)
+            self.assertIn("material.piston.velocity[0] is nan at t = 0", r.stderr)
 
 
 if __name__ == "__main__":

@@ -31,7 +31,10 @@ enum class MaterialModel {
   /// Eq. (18) with the Mie–Grüneisen pressure p(J, U) (mie_gruneisen_pressure) and the
   /// artificial viscosity q (artificial_viscosity); U is the particle's internal energy per
   /// unit mass (Particles::energy), updated by the strain update.
-  MieGruneisen
+  MieGruneisen,
+  /// A rigid body's particles (rigid.hpp): no stress and no strain energy; they move with the
+  /// velocity of their RigidMotion and set it on the nodes they reach.
+  Rigid
 };
 
 /// Name used in input files: linear | neo-hookean | hyperelastic | mie-gruneisen.

@@ -9,6 +9,7 @@
 #include "sparsempm/loads.hpp"
 #include "sparsempm/material.hpp"
 #include "sparsempm/particles.hpp"
+#include "sparsempm/rigid.hpp"
 
 #include <array>
 #include <vector>
@@ -30,6 +31,8 @@ struct Model {
   std::array<double, 3> gravity{0, 0, 0};
   /// Body forces and tractions on sets of particles (loads.hpp): f += Sᵀ F^ext.
   std::vector<ParticleLoad> loads;
+  /// The prescribed motions of the rigid materials (rigid.hpp), one per material of model rigid.
+  std::vector<RigidMotion> rigid;
   double time = 0; ///< simulated time t
   long step = 0;   ///< number of steps taken
 

@@ -12,6 +12,7 @@
 #include "sparsempm/step_preparation.hpp"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace smpm {
@@ -34,6 +35,10 @@ struct StepperState {
   /// ... and by plastic flow (J2 plasticity, plasticity.hpp): Σ Ω_p ‖s‖ Δγ.
   double plastic_work = 0;
 };
+
+/// The conditions of Stepper::reactions(), in its order: the labels of Model::bcs, then
+/// "<label>.x" (.y, .z) of each rigid material's motion (rigid.hpp).
+std::vector<std::string> reaction_labels(const Model& model);
 
 /// Advances a Model by one time step; owns the operators, m̃ and the grid fields and reuses
 /// their storage from step to step. A Stepper belongs to one thread at a time: step(), prepare()
@@ -121,10 +126,11 @@ public:
   double viscous_work() const { return state_.viscous_work; }
   /// Plastic work since the start of the run (StepperState::plastic_work).
   double plastic_work() const { return state_.plastic_work; }
-  /// The reaction force of each velocity condition of the model (Model::bcs, in its order) in the
-  /// last step: Σ_i n̂ · f^(BC)_i over the nodes it constrains (every field's block), the force
-  /// the condition applies along its direction n̂. A node shared by conditions along the same
-  /// direction counts in each. Empty before the first step.
+  /// The reaction force of each velocity condition of the model (Model::bcs, in its order, then
+  /// the axes of each rigid material: reaction_labels) in the last step: Σ_i n̂ · f^(BC)_i over
+  /// the nodes it constrains (every field's block), the force the condition applies along its
+  /// direction n̂ (for a rigid body, the force it applies to the material). A node shared by
+  /// conditions along the same direction counts in each. Empty before the first step.
   const std::vector<double>& reactions() const { return reactions_; }
 
 private:

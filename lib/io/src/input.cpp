@@ -157,6 +157,13 @@ std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
       r.fail(t->get("hardening"), key + "hardening", "must be non-negative");
     if (t->get("hardening") && !(m.yield_stress > 0))
       r.fail(t->get("hardening"), key + "hardening", "needs a yield_stress");
+    if (m.model == MaterialModel::Rigid) { // rigid.hpp: density, and velocity (read_rigid)
+      for (const char* k : {"youngs", "poisson", "bulk", "shear", "gruneisen", "s1", "viscosity"})
+        if (t->get(k))
+          r.fail(t->get(k), key + k, "a rigid material does not take it");
+      mats.push_back(m);
+      continue;
+    }
     if (m.model == MaterialModel::MieGruneisen) {
       read_mie_gruneisen(r, *t, key, m);
       if (!std::isfinite(m.wave_speed(3)))
@@ -392,6 +399,7 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   Grid grid = read_grid(r, root);
   cfg.model = Model(grid);
   cfg.model.materials = read_materials(r, root);
+  cfg.model.rigid = detail::read_rigid(r, root, cfg.model.materials, grid.dim());
   std::vector<detail::BodyRange> bodies;
   cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials, &bodies);
   const Particles& P = cfg.model.particles;

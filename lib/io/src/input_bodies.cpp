@@ -388,6 +388,37 @@ MovingWall moving_wall(const Reader& r, const toml::table& w, const std::string&
 
 } // namespace
 
+std::vector<RigidMotion> read_rigid(const Reader& r, const toml::table& root,
+                                    const std::vector<Material>& mats, int dim) {
+  std::vector<RigidMotion> motions;
+  const std::vector<const toml::table*> tables = r.tables(root, "material", true);
+  for (size_t k = 0; k < tables.size() && k < mats.size(); ++k) {
+    const toml::table& t = *tables[k];
+    const std::string key = "material." + mats[k].name + ".";
+    if (mats[k].model != MaterialModel::Rigid) {
+      if (t.get("velocity"))
+        r.fail(t.get("velocity"), key + "velocity", "only model = \"rigid\" takes it");
+      continue;
+    }
+    const toml::node* vn = r.node(t, "velocity", key + "velocity", true);
+    const toml::array* va = vn->as_array();
+    if (!va || int(va->size()) != dim)
+      r.fail(vn, key + "velocity",
+             "expected " + std::to_string(dim) + " numbers or expressions of t");
+    RigidMotion m;
+    m.material = int(k);
+    m.label = "material." + mats[k].name;
+    for (int a = 0; a < dim; ++a) {
+      toml::table axis; // the component as a key of its own, for time_function's messages
+      axis.insert("v", (*va)[size_t(a)]);
+      m.velocity[size_t(a)] =
+          time_function(r, axis, "v", key + "velocity[" + std::to_string(a) + "]", true);
+    }
+    motions.push_back(std::move(m));
+  }
+  return motions;
+}
+
 ConditionTables read_bcs(const Reader& r, const toml::table& root, const Grid& g) {
   const int d = g.dim();
   ConditionTables out;

@@ -6,6 +6,7 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/run_file.hpp"
 #include "sparsempm/stages.hpp"
+#include "sparsempm/step.hpp"
 #include "sparsempm/version.hpp"
 
 #include <algorithm>
@@ -125,11 +126,8 @@ void OutputFile::initialize(const RunConfig& cfg) {
   if (cfg.step.transport.update != TransportUpdate::Off)
     for (const char* s : kThermalSeries)
       h5::create_series(series.get(), s, 0);
-  if (const auto& conditions = cfg.model.bcs.conditions; !conditions.empty()) {
-    h5::create_series(series.get(), "reaction", hsize_t(conditions.size()));
-    std::vector<std::string> labels;
-    for (const VelocityCondition& c : conditions)
-      labels.push_back(c.label);
+  if (const std::vector<std::string> labels = reaction_labels(cfg.model); !labels.empty()) {
+    h5::create_series(series.get(), "reaction", hsize_t(labels.size()));
     h5::set_attribute(series.get(), "reaction_conditions", labels);
   }
   h5::check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush");

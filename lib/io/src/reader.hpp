@@ -227,6 +227,10 @@ struct BodyRange {
 };
 Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
                       const std::vector<Material>& mats, std::vector<BodyRange>* ranges = nullptr);
+/// The motions of the rigid materials (model = "rigid", velocity = [numbers or expressions of
+/// t]), one per rigid material in their order.
+std::vector<RigidMotion> read_rigid(const Reader& r, const toml::table& root,
+                                    const std::vector<Material>& mats, int dim);
 /// [[loads.body_force]] and [[loads.traction]] on the particles of the bodies.
 std::vector<ParticleLoad> read_loads(const Reader& r, const toml::table& loads, const Particles& P,
                                      const std::vector<BodyRange>& bodies);

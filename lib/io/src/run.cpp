@@ -152,7 +152,7 @@ private:
     }
     r.viscous = stepper_.viscous_work();
     r.plastic = stepper_.plastic_work();
-    r.reactions.assign(m.bcs.conditions.size(), 0.0);
+    r.reactions.assign(reaction_labels(m).size(), 0.0);
     if (m.step > 0 && stepper_.reactions().size() == r.reactions.size())
       r.reactions = stepper_.reactions();
     r.fmpm_order = m.step > 0 && stepper_.last_step_was_fmpm() &&

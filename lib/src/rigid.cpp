@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "sparsempm/rigid.hpp"
+
+#include "sparsempm/errors.hpp"
+#include "sparsempm/operators.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace smpm {
+
+Eigen::Vector3d RigidMotion::at(double t) const {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) {
+    if (!velocity[size_t(a)])
+      continue;
+    v[a] = velocity[size_t(a)](t);
+    if (!std::isfinite(v[a]))
+      throw NumericalError(label + ".velocity[" + std::to_string(a) + "] is " + number_text(v[a]) +
+                           " at t = " + number_text(t));
+  }
+  return v;
+}
+
+void add_rigid_conditions(const std::vector<RigidMotion>& motions,
+                          const Eigen::Ref<const Eigen::VectorXi>& material, const Operators& ops,
+                          double t, BoundaryConditions& step) {
+  if (motions.empty())
+    return;
+  const int d = ops.grid.dim();
+  const Index ng = ops.grid_node_count;
+  const SparseRowMatrix& S = ops.S;
+  for (const RigidMotion& m : motions) {
+    std::vector<Index> nodes;
+    for (Index p = 0; p < S.rows(); ++p) {
+      if (material[p] != m.material)
+        continue;
+      for (SparseRowMatrix::InnerIterator it(S, p); it; ++it)
+        if (it.value() > 0)
+          nodes.push_back(ops.grid.whole_node(it.col() % ng)); // conditions name whole nodes
+    }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    const Eigen::Vector3d v = m.at(t);
+    for (int a = 0; a < d; ++a) {
+      VelocityCondition c;
+      c.nodes = nodes;
+      c.direction = Eigen::Vector3d::Unit(a);
+      c.label = m.label + "." + std::string(1, "xyz"[a]);
+      c.value = [value = v[a]](double, const Eigen::Vector3d&) { return value; };
+      step.conditions.push_back(std::move(c));
+    }
+  }
+  step.check_superposition();
+}
+
+void move_rigid_particles(const std::vector<RigidMotion>& motions, const Field& X_start, double t,
+                          double dt, Particles& P) {
+  const int d = P.dim;
+  for (const RigidMotion& m : motions) {
+    const Eigen::Vector3d mid = m.at(t + 0.5 * dt), end = m.at(t + dt);
+    for (Index p = 0; p < P.size(); ++p) {
+      if (P.material[p] != m.material)
+        continue;
+      for (int a = 0; a < d; ++a) {
+        P.X(p, a) = X_start(p, a) + dt * mid[a];
+        P.V(p, a) = end[a];
+      }
+      for (int a = 0; a < d; ++a)
+        for (int b = 0; b < d; ++b) {
+          P.F(p, a * d + b) = a == b ? 1.0 : 0.0;
+          P.stress(p, a * d + b) = 0;
+        }
+    }
+  }
+}
+
+} // namespace smpm
