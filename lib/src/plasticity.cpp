@@ -37,8 +37,21 @@ J2Return j2_return(const Material& mat, const Eigen::Matrix3d& f, const Eigen::M
   const Eigen::Matrix3d n = s_tr / norm;
   r.s = s_tr - 2 * Gbar * dgamma * n;
   r.plastic_strain = ep_n + kSqrt23 * dgamma;
-  // Step 5: b̄ᵉ = s/G + Ī_e I.
-  r.be = r.s / G + Ie * kI;
+  // Step 5: b̄ᵉ = s/G + Ī_e I, with Ī_e corrected so that det b̄ᵉ = 1 (Simo & Hughes §9.3: the
+  // return keeps tr b̄ᵉ_tr, so det b̄ᵉ drifts from 1 and (G/2)(tr b̄ᵉ − 3) would store part of the
+  // plastic work). With A = s/G (tr A = 0), det(A + x I) = x³ − ½ tr(A²) x + det A = 1 is solved
+  // by Newton's method from x = Ī_e (one or two iterations: the root is within O(Δγ²) of it).
+  const Eigen::Matrix3d A = r.s / G;
+  const double a2 = 0.5 * (A * A).trace(), a3 = A.determinant();
+  double x = Ie;
+  for (int it = 0; it < 20; ++it) {
+    const double g = x * x * x - a2 * x + a3 - 1, dg = 3 * x * x - a2;
+    const double step = g / dg;
+    x -= step;
+    if (std::abs(step) <= 1e-15 * x)
+      break;
+  }
+  r.be = A + x * kI;
   r.work = r.s.norm() * dgamma;
   r.yield = r.s.norm() - kSqrt23 * (mat.yield_stress + H * r.plastic_strain);
   return r;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace smpm {
 
@@ -43,8 +44,16 @@ void add_rigid_conditions(const std::vector<RigidMotion>& motions,
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     const Eigen::Vector3d v = m.at(t);
     for (int a = 0; a < d; ++a) {
+      // A node another condition already sets along this axis keeps that condition alone
+      // (parallel conditions would add their values): the earlier conditions win.
+      std::vector<Index> taken;
+      for (const VelocityCondition& other : step.conditions)
+        if (std::abs(std::abs(other.direction[a]) - 1) < 1e-12)
+          taken.insert(taken.end(), other.nodes.begin(), other.nodes.end());
+      std::sort(taken.begin(), taken.end());
       VelocityCondition c;
-      c.nodes = nodes;
+      std::set_difference(nodes.begin(), nodes.end(), taken.begin(), taken.end(),
+                          std::back_inserter(c.nodes));
       c.direction = Eigen::Vector3d::Unit(a);
       c.label = m.label + "." + std::string(1, "xyz"[a]);
       c.value = [value = v[a]](double, const Eigen::Vector3d&) { return value; };

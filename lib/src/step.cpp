@@ -207,16 +207,22 @@ void Stepper::step(Model& model, double dt) {
       for (const Material& m : model.materials)
         if (m.thermal_expansion != 0)
           buf_->density.resize(0);
-    // Each condition's reaction along its direction, summed over its nodes in every field.
+    // Each condition's reaction along its direction, summed over its nodes in every field. The
+    // conditions name nodes of the whole grid; R is on the step's nodes (a window of it).
     const Field& R = buf_->step.g.reaction;
     const BoundaryConditions& bcs = prep_.bcs;
-    const Index ng = prep_.ops.grid.num_nodes();
+    const Grid& sg = prep_.ops.grid;
+    const Index ng = sg.num_nodes();
     reactions_.assign(bcs.conditions.size(), 0.0);
     for (size_t c = 0; c < bcs.conditions.size() && R.rows() > 0; ++c)
-      for (const Index i : bcs.conditions[c].nodes)
+      for (const Index whole : bcs.conditions[c].nodes) {
+        const Index i = sg.is_window() ? sg.node_of_whole(whole) : whole;
+        if (i < 0)
+          continue; // outside the window: no mass, no reaction
         for (Index row = i; row < R.rows(); row += ng)
           for (int a = 0; a < R.cols(); ++a)
             reactions_[c] += bcs.conditions[c].direction[a] * R(row, a);
+      }
     if (contact)
       state_.friction_work += prep_.contact.friction_work;
     if (shock)

@@ -42,6 +42,16 @@ class LoadedPlate(unittest.TestCase):
         expected = -(T * H + RHO * A * L * L * H / 2)
         self.assertLess(abs(reaction / expected - 1), 1e-3, reaction)
 
+    def test_reaction_on_a_window_of_the_grid(self):
+        # The same plate on a larger grid whose particles' window does not start at its first
+        # node: the conditions name nodes of the whole grid, the reaction is the same (1e-9).
+        with tempfile.TemporaryDirectory() as tmp:
+            out = run_example(EXAMPLE, tmp, "shifted",
+                              ["grid.origin=[-6.0, -6.0]", "grid.cells=[18, 12]"])
+            with h5py.File(out, "r") as f, h5py.File(self.out, "r") as g:
+                self.assertLess(abs(f["series/reaction"][-1, 0] / g["series/reaction"][-1, 0] - 1),
+                                1e-9)
+
     def test_static_stress(self):
         # sigma_xx(x) = T + rho a (L^2 - x^2)/2, sigma_yy = 0 (uniaxial stress in plane strain).
         # The strain is constant within a cell, so each particle departs from sigma_xx(x_p) by

@@ -32,7 +32,7 @@ Material plastic_material(double hardening) {
 struct Point {
   const Material& mat;
   Eigen::Matrix3d F = Eigen::Matrix3d::Identity(), be = Eigen::Matrix3d::Identity();
-  double ep = 0, worst_yield = 0;
+  double ep = 0, worst_yield = 0, work = 0; // work: Σ ‖s‖ Δγ, the plastic work
   // σ at F1 from the current state (the state is kept only with `commit`).
   Eigen::Matrix3d stress(const Eigen::Matrix3d& F1, bool commit) {
     const J2Return r = j2_return(mat, F1 * F.inverse(), be, ep);
@@ -44,6 +44,7 @@ struct Point {
       be = r.be;
       ep = r.plastic_strain;
       worst_yield = std::max(worst_yield, r.yield);
+      work += r.work;
     }
     return s;
   }
@@ -63,7 +64,7 @@ TEST_CASE("J2 plasticity in simple shear follows the closed-form response", "[pl
     const double G = m.shear_modulus(), ty = m.yield_stress / std::sqrt(3.0);
     const double gy = ty / G, Gt = G * H / (3 * G + H);
     Point pt{m};
-    double worst = 0;
+    double worst = 0, power = 0, tau_old = 0;
     for (int n = 1; n <= 400; ++n) {
       const double g = 5 * gy * n / 400;
       Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
@@ -71,9 +72,18 @@ TEST_CASE("J2 plasticity in simple shear follows the closed-form response", "[pl
       const double tau = pt.stress(F, true)(0, 1);
       const double exact = g <= gy ? G * g : ty + Gt * (g - gy);
       worst = std::max(worst, std::abs(tau - exact) / ty);
+      power += 0.5 * (tau + tau_old) * 5 * gy / 400; // ∫ τ : d dt = ∫ τ₁₂ dγ (J = 1)
+      tau_old = tau;
     }
     CAPTURE(worst);
     CHECK(worst < 2e-3);
+    // The work done on the point is the stored energy (G/2)(tr b̄ᵉ − 3) plus the plastic work
+    // Σ ‖s‖ Δγ (b̄ᵉ kept isochoric: nothing dissipated is stored). Asserted 1e-3 of the work
+    // (the trapezoidal rule's error; measured below).
+    const double stored = plastic_strain_energy_density(m, pt.be.data(), 1.0);
+    CAPTURE(power, stored, pt.work);
+    CHECK(std::abs(stored + pt.work - power) < 1e-3 * power);
+    CHECK(std::abs(pt.be.determinant() - 1) < 1e-14);
     CHECK(pt.worst_yield <= 1e-12 * m.yield_stress);
     CHECK(pt.ep > 0);
   }

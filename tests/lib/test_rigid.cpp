@@ -5,6 +5,7 @@
 #include "sparsempm/advance.hpp"
 #include "sparsempm/problems.hpp"
 #include "sparsempm/rigid.hpp"
+#include "sparsempm/scheme.hpp"
 #include "sparsempm/step.hpp"
 
 #include <catch2/catch.hpp>
@@ -118,4 +119,39 @@ TEST_CASE("a rigid piston moves as prescribed and matches a moving wall", "[rigi
     CAPTURE(worst);
     CHECK(worst < 1e-10); // round-off of the steps' sum, Σ Δt kV against kV t
   }
+}
+
+TEST_CASE("two rigid bodies sharing nodes do not add their velocities", "[rigid]") {
+  // Two pistons side by side ([40, 42] and [42, 44]), both moving at −kV: the node at x = 42 that
+  // both reach is set once (the first body's condition), so every node of the pistons' conditions
+  // has v⁺ = −kV, not −2 kV.
+  Model bar = compressed_bar(true);
+  Material second = bar.materials[1];
+  second.name = "second";
+  bar.materials.push_back(second);
+  for (Index p = 0; p < bar.particles.size(); ++p)
+    if (bar.particles.material[p] == 1 && bar.particles.X(p, 0) > 42)
+      bar.particles.material[p] = 2;
+  RigidMotion m = bar.rigid[0];
+  m.material = 2;
+  m.label = "material.second";
+  bar.rigid.push_back(m);
+  Stepper stepper({.shape = Shape::CPDI});
+  stepper.step(bar, 0.1);
+  const StepPreparation& prep = stepper.preparation();
+  const Grid& g = prep.ops.grid;
+  int checked = 0;
+  for (const VelocityCondition& c : prep.bcs.conditions) {
+    if (c.label.rfind("material.", 0) != 0)
+      continue;
+    for (const Index whole : c.nodes) {
+      const Index i = g.is_window() ? g.node_of_whole(whole) : whole;
+      REQUIRE(i >= 0);
+      if (!prep.ops.active[i])
+        continue;
+      CHECK(stepper.grid_state().v_plus(i, 0) == Approx(-kV).epsilon(1e-12));
+      ++checked;
+    }
+  }
+  CHECK(checked == 5); // nodes 40 to 44: the pistons' CPDI domains [40, 44]
 }

@@ -10,7 +10,9 @@
 /// strain. The return is radial in the current configuration (Box 9.1):
 ///     b̄ᵉ_tr = f̄ b̄ᵉ_n f̄ᵀ,  f̄ = det(f)^{−1/3} f,  f = F_{n+1} F_n⁻¹,  s_tr = G dev(b̄ᵉ_tr);
 ///     if f(s_tr, ε̄ᵖ_n) > 0:  Ḡ = G tr(b̄ᵉ_tr)/3,  Δγ = f_tr / (2Ḡ + (2/3) H),
-///     s = s_tr − 2Ḡ Δγ n̂,  ε̄ᵖ += √(2/3) Δγ,  b̄ᵉ = s/G + (tr(b̄ᵉ_tr)/3) I.
+///     s = s_tr − 2Ḡ Δγ n̂,  ε̄ᵖ += √(2/3) Δγ,  b̄ᵉ = s/G + Ī I,
+/// with Ī the root of det(s/G + Ī I) = 1 nearest tr(b̄ᵉ_tr)/3 (Simo & Hughes §9.3's correction:
+/// b̄ᵉ stays isochoric, so the stored energy (G/2)(tr b̄ᵉ − 3) holds no plastic work).
 /// The volumetric part is the material's elastic one: (K/2)(J² − 1) for `hyperelastic`
 /// (contact 2020 Eq. 18), −J(p + q) for `mie-gruneisen` (Eqs. 51–52), so a plastic particle's
 /// Cauchy stress is σ = s/J + (the elastic law's pressure term). The plastic work per unit

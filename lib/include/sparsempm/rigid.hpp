@@ -37,7 +37,9 @@ struct RigidMotion {
 /// the nodes of `ops` (field blocks folded onto their grid node, named by their node of the
 /// whole grid as every condition is) with S_pi > 0 for a particle
 /// of the motion's material, the value v_a(t) in the direction ê_a, labelled
-/// "<label>.x" (.y, .z). Checks the superposition of the conditions (FMPM 2026 §3.1).
+/// "<label>.x" (.y, .z). A node that an earlier condition (of the model, or of an earlier rigid
+/// material) sets along the same axis is left to it: parallel conditions would add their values.
+/// Checks the superposition of the conditions (FMPM 2026 §3.1).
 void add_rigid_conditions(const std::vector<RigidMotion>& motions,
                           const Eigen::Ref<const Eigen::VectorXi>& material, const Operators& ops,
                           double t, BoundaryConditions& step);
