@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Multimaterial test problems shared by the contact tests (tests/lib/test_contact.cpp,
-// test_contact_nodes.cpp) and the exact update's (tests/exact/test_exact.cpp).
+// test_contact_nodes.cpp, test_rigid.cpp) and the exact update's (tests/exact/test_exact.cpp).
+
+#include "sparsempm/diagnostics.hpp"
+#include "sparsempm/step.hpp"
 
 #include "support.hpp"
 
@@ -132,6 +135,30 @@ inline Model inclined_slab(double theta, double mu, double h = 0.05) {
   m.contact.material_field = {0, 1};
   m.contact.pairs = {pair};
   return m;
+}
+
+// The block of inclined_slab (material 1) stepped to t = 0.3 with C = 0.25: the least-squares
+// slope of its mean velocity along the slope over 0.1 ≤ t ≤ 0.3 (its acceleration down the
+// slope) and that mean velocity's average over the window.
+struct Slide {
+  double acceleration = 0, mean_velocity = 0;
+};
+inline Slide slide_down(Model& m, Stepper& stepper, double theta) {
+  const Eigen::Vector2d t(std::cos(theta), std::sin(theta));
+  double S = 0, St = 0, Stt = 0, Sv = 0, Stv = 0;
+  while (m.time < 0.3) {
+    stepper.step(m, stable_time_step(m, 0.25));
+    double v = 0, M = 0;
+    for (Index p = 0; p < m.particles.size(); ++p)
+      if (m.particles.material[p] == 1) {
+        v += m.particles.mass[p] * (m.particles.V(p, 0) * t[0] + m.particles.V(p, 1) * t[1]);
+        M += m.particles.mass[p];
+      }
+    if (m.time >= 0.1) {
+      S += 1, St += m.time, Stt += m.time * m.time, Sv += v / M, Stv += m.time * v / M;
+    }
+  }
+  return {-(S * Stv - St * Sv) / (S * Stt - St * St), Sv / S};
 }
 
 } // namespace smpm::test

@@ -26,7 +26,7 @@ using RowChange = Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, 3
 // (w_i = weight(r), r the row; 0 only zeroes). Parallel conditions thus add their values,
 // perpendicular ones set their own components. changed(r, Δ) sees every change Δ (a d-vector)
 // of row r. A node field of several velocity fields (block columns, operators.hpp) holds node i
-// in rows α n_g + i: a condition acts on node i of every field.
+// in rows α n_g + i: a condition acts on node i of every field, or of its `field` alone.
 template <class Weight, class Changed>
 void set_components(const std::vector<VelocityCondition>& conditions, const Grid& grid, double t,
                     Field& x, const Mask* active, Weight&& weight, Changed&& changed) {
@@ -47,7 +47,10 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
     return window ? grid.node_of_whole(whole) : whole;
   };
   for (Index block = 0; block < x.rows(); block += ng) {
-    for (const auto& c : conditions)
+    auto skips = [&](const VelocityCondition& c) { return c.field >= 0 && block != c.field * ng; };
+    for (const auto& c : conditions) {
+      if (skips(c))
+        continue;
       for (Index g : c.nodes) {
         const Index i = node(c, g), r = block + i;
         if (i < 0 || (active && !(*active)[r]))
@@ -58,8 +61,9 @@ void set_components(const std::vector<VelocityCondition>& conditions, const Grid
         xi += delta;
         changed(r, delta);
       }
+    }
     for (const auto& c : conditions) {
-      if (!c.value && !c.wall_state)
+      if ((!c.value && !c.wall_state) || skips(c))
         continue;
       for (Index g : c.nodes) {
         const Index i = node(c, g), r = block + i;
@@ -206,6 +210,7 @@ void BoundaryConditions::step_conditions(const Grid& grid, const Mask& active, d
     VelocityCondition& s = step.conditions[k];
     s.direction = c.direction;
     s.label = c.label;
+    s.field = c.field;
     s.wall = -1;
     s.value = nullptr;
     s.wall_state.reset();

@@ -35,13 +35,27 @@ Eigen::Vector3d row3(const Field& f, Index r) {
 // a cell) and that approach are in contact; NairnMPM predicts the gap the same way for its grid
 // separations (CoulombFriction::GetFrictionalDeltaMomentum).
 double gap_at_step_end(double separation, const Eigen::Vector3d& dp0, const Eigen::Vector3d& n,
-                       double ma, double mb, double dt) {
-  return separation + dt * dp0.dot(n) * (ma + mb) / (ma * mb);
+                       const SideMasses& m, double dt) {
+  if (m.rigid_a || m.rigid_b)
+    return separation + dt * dp0.dot(n) / m.reduced();
+  return separation + dt * dp0.dot(n) * (m.ma + m.mb) / (m.ma * m.mb);
+}
+
+SideMasses side_masses(const Operators& ops, const ContactNodes& cn, Index node, int a, int b) {
+  const Index ng = ops.grid_node_count;
+  SideMasses m{ops.m[a * ng + node], ops.m[b * ng + node]};
+  if (!cn.rigid.empty()) {
+    m.rigid_a = cn.rigid[size_t(a)] != 0;
+    m.rigid_b = cn.rigid[size_t(b)] != 0;
+  }
+  return m;
 }
 } // namespace detail
 
 using detail::gap_at_step_end;
 using detail::row3;
+using detail::side_masses;
+using detail::SideMasses;
 
 namespace {
 constexpr detail::EnumNames<ContactLaw, 3> kLaws{{{ContactLaw::Stick, "stick"},
@@ -218,29 +232,37 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, size_t c, double dt, Fi
   const Index ng = ops.grid_node_count, i = node.node;
   const int nf = ops.fields, d = int(p.cols());
   cn.change.assign(size_t(nf), Eigen::Vector3d::Zero());
-  Eigen::Vector3d p_all = Eigen::Vector3d::Zero();
-  double m_all = 0;
+  auto rigid = [&](int f) { return !cn.rigid.empty() && cn.rigid[size_t(f)] != 0; };
+  // The sum of all fields, and of the rigid ones: a field against a rest that holds a rigid
+  // field meets the rigid fields' velocity with infinite mass (detail::SideMasses).
+  Eigen::Vector3d p_all = Eigen::Vector3d::Zero(), p_rigid = Eigen::Vector3d::Zero();
+  double m_all = 0, m_rigid = 0;
   for (int f = 0; f < nf; ++f)
     if (ops.active[f * ng + i]) {
       m_all += ops.m[f * ng + i];
       p_all += row3(p, f * ng + i);
+      if (rigid(f)) {
+        m_rigid += ops.m[f * ng + i];
+        p_rigid += row3(p, f * ng + i);
+      }
     }
   bool in_contact = false;
   for (int f = 0; f < nf; ++f) {
     const Index r = f * ng + i;
-    if (!ops.active[r])
-      continue;
+    if (!ops.active[r] || rigid(f))
+      continue; // a rigid field keeps its prescribed motion
     const ContactNodes::Side& side = cn.sides[size_t(node.first_side + f)];
-    const double ma = ops.m[r], mb = m_all - ma;
-    const Eigen::Vector3d pa = row3(p, r), pb = p_all - pa;
-    const Eigen::Vector3d dp0 = free_part(cn, c, (ma * pb - mb * pa) / (ma + mb));
-    const double gap = gap_at_step_end(side.separation, dp0, side.normal, ma, mb, dt);
+    const Eigen::Vector3d pa = row3(p, r);
+    SideMasses m{ops.m[r], m_rigid > 0 ? m_rigid : m_all - ops.m[r], false, m_rigid > 0};
+    const Eigen::Vector3d dp0 =
+        free_part(cn, c, m.centre_of_mass_change(pa, m_rigid > 0 ? p_rigid : p_all - pa));
+    const double gap = gap_at_step_end(side.separation, dp0, side.normal, m, dt);
     const bool touching =
         contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]);
     in_contact = touching || in_contact;
     if (touching && force) {
       const double work =
-          contact_friction_work(dp0, cn.change[size_t(f)], side.normal, ma * mb / (ma + mb));
+          contact_friction_work(dp0, cn.change[size_t(f)], side.normal, m.reduced());
       cn.friction_work += work;
       cn.heat[c] += work;
     }
@@ -271,10 +293,13 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
       continue;
     }
     const Index ra = node.a * ng + node.node, rb = node.b * ng + node.node;
-    const double ma = ops.m[ra], mb = ops.m[rb];
-    const Eigen::Vector3d dp0 = free_part(cn, c, (ma * row3(p, rb) - mb * row3(p, ra)) / (ma + mb));
-    const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
-    const bool touching = contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
+    const SideMasses m = side_masses(ops, cn, node.node, node.a, node.b);
+    const Eigen::Vector3d dp0 = free_part(cn, c, m.centre_of_mass_change(row3(p, ra), row3(p, rb)));
+    const double gap = gap_at_step_end(node.separation, dp0, node.normal, m, dt);
+    const bool touching =
+        !m.both_rigid() && contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
+    if (!touching)
+      dp.setZero();
     // Step 1 of FMPM 2026 §3.2's algorithm: initialise the incremental state.
     const bool evolving = node.pair->fmpm_method == ContactFmpmMethod::Evolving;
     cn.prior[c] = evolving ? Eigen::Vector3d(dp0 - dp) : dp0;
@@ -282,6 +307,8 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
     if (!touching)
       continue;
     ++in_contact;
+    // A rigid side's change is undone by its velocity conditions, whose reaction then holds
+    // the contact force on the rigid body (rigid.hpp).
     p.row(ra) += dp.head(d).transpose();
     p.row(rb) -= dp.head(d).transpose();
     if (force) {
@@ -289,7 +316,7 @@ Index apply_contact(const Operators& ops, ContactNodes& cn, double dt, Field& p,
       force->row(rb) -= dp.head(d).transpose() / dt;
       // Heat only in the momentum-update correction, as NairnMPM: the correction after P2G
       // changes the grid velocities the FLIP increment is measured from, not the particles'.
-      cn.heat[c] = contact_friction_work(dp0, dp, node.normal, ma * mb / (ma + mb));
+      cn.heat[c] = contact_friction_work(dp0, dp, node.normal, m.reduced());
       cn.friction_work += cn.heat[c];
     }
   }
@@ -308,12 +335,14 @@ void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field&
     if (node.a < 0)
       continue; // three or more fields: the lumped correction only
     const Index ra = node.a * ng + node.node, rb = node.b * ng + node.node;
-    const double ma = ops.m[ra], mb = ops.m[rb], mred = ma * mb / (ma + mb);
+    const SideMasses m = side_masses(ops, cn, node.node, node.a, node.b);
+    const double ma = m.ma, mb = m.mb, mred = m.reduced();
     // Eq. (20)
     const Eigen::Vector3d dp0 =
         cn.prior[c] + free_part(cn, c, mred * (row3(dv, rb) - row3(dv, ra)));
-    const double gap = gap_at_step_end(node.separation, dp0, node.normal, ma, mb, dt);
-    const bool touching = contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
+    const double gap = gap_at_step_end(node.separation, dp0, node.normal, m, dt);
+    const bool touching =
+        !m.both_rigid() && contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
     if (!touching)
       dp.setZero(); // not in contact: Δp(ℓ) = 0
     const double work = touching && friction_work
@@ -333,8 +362,10 @@ void contact_increment(const Operators& ops, ContactNodes& cn, double dt, Field&
         cn.heat[c] = work;
       }
     }
-    dv.row(ra) += (correction.head(d) / ma).transpose();
-    dv.row(rb) -= (correction.head(d) / mb).transpose();
+    if (!m.rigid_a) // a rigid field's increments stay those of its velocity conditions
+      dv.row(ra) += (correction.head(d) / ma).transpose();
+    if (!m.rigid_b)
+      dv.row(rb) -= (correction.head(d) / mb).transpose();
   }
 }
 

@@ -19,6 +19,8 @@ namespace smpm {
 
 using detail::gap_at_step_end;
 using detail::row3;
+using detail::side_masses;
+using detail::SideMasses;
 
 namespace {
 
@@ -51,11 +53,11 @@ public:
       const auto [ra, rb] = rows(c);
       const Eigen::Vector3d dp0 =
           cn_.net[c] + free_part(cn_, c, mred(c) * (row3(v_, rb) - row3(v_, ra)));
-      const double gap =
-          gap_at_step_end(node.separation, dp0, node.normal, ops_.m[ra], ops_.m[rb], dt_);
+      const SideMasses m = side_masses(ops_, cn_, node.node, node.a, node.b);
+      const double gap = gap_at_step_end(node.separation, dp0, node.normal, m, dt_);
       Eigen::Vector3d& dp = law_dp_[c];
-      const bool touching =
-          !released_[c] && contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
+      const bool touching = !released_[c] && !m.both_rigid() &&
+                            contact_momentum_change(*node.pair, dp0, node.normal, gap, dp);
       if (!touching)
         dp.setZero();
       change = std::max(change, (dp - cn_.net[c]).norm());
@@ -154,8 +156,8 @@ private:
     return {node.a * ng_ + node.node, node.b * ng_ + node.node};
   }
   double mred(size_t c) const {
-    const auto [ra, rb] = rows(c);
-    return ops_.m[ra] * ops_.m[rb] / (ops_.m[ra] + ops_.m[rb]);
+    const ContactNodes::Node& node = cn_.nodes[c];
+    return side_masses(ops_, cn_, node.node, node.a, node.b).reduced();
   }
   // Adds impulse Δ at node c: f^α += Δ, f^β −= Δ.
   void add_impulse(Field& f, size_t c, const Eigen::Vector3d& delta) const {

@@ -23,18 +23,44 @@ Eigen::Vector3d RigidMotion::at(double t) const {
   return v;
 }
 
-void add_rigid_conditions(const std::vector<RigidMotion>& motions,
-                          const Eigen::Ref<const Eigen::VectorXi>& material, const Operators& ops,
-                          double t, BoundaryConditions& step) {
+Eigen::Vector3d rigid_velocity(const RigidMotion& m, const Particles& P, double t) {
+  if (!m.free)
+    return m.at(t);
+  Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
+  double mass = 0;
+  for (Index p = 0; p < P.size(); ++p)
+    if (P.material[p] == m.material) {
+      mass += P.mass[p];
+      for (int a = 0; a < P.dim; ++a)
+        momentum[a] += P.mass[p] * P.V(p, a);
+    }
+  return mass > 0 ? Eigen::Vector3d(momentum / mass) : Eigen::Vector3d::Zero();
+}
+
+void rigid_fields(const std::vector<RigidMotion>& motions, const std::vector<int>& material_field,
+                  int fields, std::vector<char>& rigid) {
+  rigid.assign(size_t(fields), 0);
+  for (const RigidMotion& m : motions)
+    if (m.material >= 0 && size_t(m.material) < material_field.size())
+      rigid[size_t(material_field[size_t(m.material)])] = 1;
+}
+
+void add_rigid_conditions(const std::vector<RigidMotion>& motions, const Particles& P,
+                          const std::vector<int>& material_field, const Operators& ops, double t,
+                          BoundaryConditions& step) {
   if (motions.empty())
     return;
   const int d = ops.grid.dim();
   const Index ng = ops.grid_node_count;
   const SparseRowMatrix& S = ops.S;
   for (const RigidMotion& m : motions) {
+    // Multimaterial: the material's own field, a contact partner (contact.hpp); else all fields.
+    const int field = ops.fields > 1 && size_t(m.material) < material_field.size()
+                          ? material_field[size_t(m.material)]
+                          : -1;
     std::vector<Index> nodes;
     for (Index p = 0; p < S.rows(); ++p) {
-      if (material[p] != m.material)
+      if (P.material[p] != m.material)
         continue;
       for (SparseRowMatrix::InnerIterator it(S, p); it; ++it)
         if (it.value() > 0)
@@ -42,13 +68,14 @@ void add_rigid_conditions(const std::vector<RigidMotion>& motions,
     }
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-    const Eigen::Vector3d v = m.at(t);
+    const Eigen::Vector3d v = rigid_velocity(m, P, t);
     for (int a = 0; a < d; ++a) {
-      // A node another condition already sets along this axis keeps that condition alone
-      // (parallel conditions would add their values): the earlier conditions win.
+      // A node another condition on the same fields already sets along this axis keeps that
+      // condition alone (parallel conditions would add their values): the earlier ones win.
       std::vector<Index> taken;
       for (const VelocityCondition& other : step.conditions)
-        if (std::abs(std::abs(other.direction[a]) - 1) < 1e-12)
+        if ((other.field < 0 || other.field == field) &&
+            std::abs(std::abs(other.direction[a]) - 1) < 1e-12)
           taken.insert(taken.end(), other.nodes.begin(), other.nodes.end());
       std::sort(taken.begin(), taken.end());
       VelocityCondition c;
@@ -56,6 +83,7 @@ void add_rigid_conditions(const std::vector<RigidMotion>& motions,
                           std::back_inserter(c.nodes));
       c.direction = Eigen::Vector3d::Unit(a);
       c.label = m.label + "." + std::string(1, "xyz"[a]);
+      c.field = field;
       c.value = [value = v[a]](double, const Eigen::Vector3d&) { return value; };
       step.conditions.push_back(std::move(c));
     }
@@ -63,11 +91,40 @@ void add_rigid_conditions(const std::vector<RigidMotion>& motions,
   step.check_superposition();
 }
 
-void move_rigid_particles(const std::vector<RigidMotion>& motions, const Field& X_start, double t,
-                          double dt, Particles& P) {
-  const int d = P.dim;
+void start_rigid_motion(const std::vector<RigidMotion>& motions, double t, Particles& P) {
   for (const RigidMotion& m : motions) {
-    const Eigen::Vector3d mid = m.at(t + 0.5 * dt), end = m.at(t + dt);
+    if (m.free)
+      continue;
+    const Eigen::Vector3d v = m.at(t);
+    for (Index p = 0; p < P.size(); ++p)
+      if (P.material[p] == m.material)
+        for (int a = 0; a < P.dim; ++a)
+          P.V(p, a) = v[a];
+  }
+}
+
+void move_rigid_particles(const std::vector<RigidMotion>& motions, const Field& X_start, double t,
+                          double dt, const double* reactions, Particles& P) {
+  const int d = P.dim;
+  for (size_t k = 0; k < motions.size(); ++k) {
+    const RigidMotion& m = motions[k];
+    Eigen::Vector3d mid, end;
+    if (m.free) {
+      double mass = 0;
+      for (Index p = 0; p < P.size(); ++p)
+        if (P.material[p] == m.material)
+          mass += P.mass[p];
+      const Eigen::Vector3d v = rigid_velocity(m, P, t);
+      end = v;
+      for (int a = 0; a < d; ++a)
+        end[a] -= dt * reactions[k * size_t(d) + size_t(a)] / mass; // M dv = −R Δt
+      if (!end.allFinite())
+        throw NumericalError(m.label + ": the free rigid body's velocity is not finite");
+      mid = 0.5 * (v + end);
+    } else {
+      mid = m.at(t + 0.5 * dt);
+      end = m.at(t + dt);
+    }
     for (Index p = 0; p < P.size(); ++p) {
       if (P.material[p] != m.material)
         continue;

@@ -196,33 +196,42 @@ void Stepper::step(Model& model, double dt) {
     MaterialStrainUpdate strain(
         model.materials, P.material, opt_.deformation, shock ? &buf_->shock : nullptr,
         &buf_->density, heat() ? &buf_->thermal : nullptr, plastic ? &buf_->plastic : nullptr);
-    if (!model.rigid.empty())
+    if (!model.rigid.empty()) {
       buf_->x_start = P.X; // the rigid particles' positions at t (storage reused)
+      start_rigid_motion(model.rigid, model.time, P);
+    }
     scheme_step(context, fields, strain, buf_->step);
-    if (!model.rigid.empty()) // rigid.hpp: the prescribed motion, whatever the grid did
-      move_rigid_particles(model.rigid, buf_->x_start, model.time, dt, P);
     // USF updates the stresses (and stores W) before the transport changes the temperatures:
     // with thermal expansion that W is of the old temperature, so energies() evaluates it anew.
     if (heat() && opt_.scheme == UpdateScheme::USF)
       for (const Material& m : model.materials)
         if (m.thermal_expansion != 0)
           buf_->density.resize(0);
-    // Each condition's reaction along its direction, summed over its nodes in every field. The
-    // conditions name nodes of the whole grid; R is on the step's nodes (a window of it).
+    // Each condition's reaction along its direction, summed over its nodes in every field (in
+    // its own field, for a condition on one). The conditions name nodes of the whole grid; R is
+    // on the step's nodes (a window of it).
     const Field& R = buf_->step.g.reaction;
     const BoundaryConditions& bcs = prep_.bcs;
     const Grid& sg = prep_.ops.grid;
     const Index ng = sg.num_nodes();
     reactions_.assign(bcs.conditions.size(), 0.0);
-    for (size_t c = 0; c < bcs.conditions.size() && R.rows() > 0; ++c)
-      for (const Index whole : bcs.conditions[c].nodes) {
+    for (size_t c = 0; c < bcs.conditions.size() && R.rows() > 0; ++c) {
+      const VelocityCondition& bc = bcs.conditions[c];
+      for (const Index whole : bc.nodes) {
         const Index i = sg.is_window() ? sg.node_of_whole(whole) : whole;
         if (i < 0)
           continue; // outside the window: no mass, no reaction
-        for (Index row = i; row < R.rows(); row += ng)
+        for (Index row = bc.field < 0 ? i : bc.field * ng + i; row < R.rows();
+             row += bc.field < 0 ? ng : R.rows())
           for (int a = 0; a < R.cols(); ++a)
-            reactions_[c] += bcs.conditions[c].direction[a] * R(row, a);
+            reactions_[c] += bc.direction[a] * R(row, a);
       }
+    }
+    if (!model.rigid.empty()) { // rigid.hpp: the prescribed or free motion, whatever the grid did
+      const size_t first = reactions_.size() - model.rigid.size() * size_t(model.grid.dim());
+      move_rigid_particles(model.rigid, buf_->x_start, model.time, dt, reactions_.data() + first,
+                           P);
+    }
     if (contact)
       state_.friction_work += prep_.contact.friction_work;
     if (shock)

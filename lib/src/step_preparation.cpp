@@ -71,8 +71,10 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s, Transport
   // The conditions of the step on its nodes (the particles' window or the grid, ops.grid); the
   // walls move (FMPM 2026 §3.1).
   model.bcs.step_conditions(s.ops.grid, s.ops.active, model.time, s.bcs);
-  add_rigid_conditions(model.rigid, P.material, s.ops, model.time, s.bcs); // rigid.hpp
+  add_rigid_conditions(model.rigid, P, model.contact.material_field, s.ops, model.time,
+                       s.bcs); // rigid.hpp
   if (nf > 1) {
+    rigid_fields(model.rigid, model.contact.material_field, nf, s.contact.rigid);
     P.jacobian(s.volume);
     s.volume.array() *= P.volume0.array();
     const ContactParticles cp{P.X, P.F, P.half_length, s.volume};

@@ -136,5 +136,46 @@ class RigidPiston(unittest.TestCase):
             self.assertIn("material.piston.velocity[0] is nan at t = 0", r.stderr)
 
 
+IMPACT = SOURCE / "examples" / "rigid_impact.toml"
+
+
+class RigidImpact(unittest.TestCase):
+    def test_free_block_takes_the_disk_momentum(self):
+        # The free rigid block's velocity changes by -dt R / M each step (rigid.hpp), R the
+        # reactions of its conditions: the contact force of the disk. So the total momentum of
+        # disk and block stays (5.6, -1.12) at every frame, to 1e-12 of it (FLIP; measured to the
+        # last digit printed); the block's particles share one velocity; the block, 1.8 times
+        # the disk's mass, takes more than the disk's x momentum (measured 6.40 of 5.6: the disk
+        # rebounds) and part of its y momentum through friction (-0.66 of -1.12).
+        with tempfile.TemporaryDirectory() as tmp:
+            out = run_example(IMPACT, tmp, "impact", [])
+            with h5py.File(out, "r") as f:
+                labels = list(f["series"].attrs["reaction_conditions"])
+                frames = [f["particles"][k] for k in sorted(f["particles"])]
+                P = [((g["mass"][:][:, None] * g["V"][:]).sum(0), g["material"][:], g["V"][:],
+                      g["mass"][:]) for g in frames]
+        self.assertEqual(labels, ["material.block.x", "material.block.y"])
+        P0 = P[0][0]
+        self.assertAlmostEqual(P0[0], 5.6, delta=0.1)
+        for total, m, V, M in P:
+            self.assertLess(np.abs(total - P0).max(), 1e-12 * np.abs(P0).max())
+            self.assertLess(np.ptp(V[m == 1], axis=0).max(), 1e-15)
+        total, m, V, M = P[-1]
+        block = (M[m == 1, None] * V[m == 1]).sum(0)
+        self.assertGreater(block[0], P0[0])          # the disk rebounds
+        self.assertLess(block[1], 0.3 * P0[1])       # friction drags the block down
+        self.assertGreater(block[1], P0[1])
+
+    def test_refused(self):
+        for sets, words in [
+            (["material.block.free=1"], ["material.block.free", "expected true or false"]),
+            (["material.disk.free=true"], ["material.disk.free", 'only model = "rigid"']),
+            (['material.block.velocity=["t", 0.0]'], ["material.block.velocity",
+                                                      "initial velocity"]),
+        ]:
+            with self.subTest(sets=sets):
+                check_refused(self, IMPACT, sets, words)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -278,25 +278,12 @@ TEST_CASE("with the default contact a block slides down an inclined, grid-unalig
                               .velocity = k > 1 ? VelocityUpdate::FMPM : VelocityUpdate::FLIP,
                               .fmpm = {.order = k}};
         Stepper stepper(opt);
-        const Eigen::Vector2d t(std::cos(theta), std::sin(theta));
-        double S = 0, St = 0, Stt = 0, Sv = 0, Stv = 0;
-        while (m.time < 0.3) {
-          stepper.step(m, stable_time_step(m, 0.25));
-          double v = 0, M = 0;
-          for (Index p = 0; p < m.particles.size(); ++p)
-            if (m.particles.material[p] == 1) {
-              v += m.particles.mass[p] * (m.particles.V(p, 0) * t[0] + m.particles.V(p, 1) * t[1]);
-              M += m.particles.mass[p];
-            }
-          if (m.time >= 0.1) {
-            S += 1, St += m.time, Stt += m.time * m.time, Sv += v / M, Stv += m.time * v / M;
-          }
-        }
-        const double a = -(S * Stv - St * Sv) / (S * Stt - St * St); // down the slope
+        const smpm::test::Slide slide = smpm::test::slide_down(m, stepper, theta);
+        const double a = slide.acceleration; // down the slope
         if (mu < std::tan(theta))
           CHECK(a == smpm::test::approx(g * (std::sin(theta) - mu * std::cos(theta)), 0, 0.05));
         else
-          CHECK(std::abs(Sv / S) < 0.05 * g * std::sin(theta) * 0.2);
+          CHECK(std::abs(slide.mean_velocity) < 0.05 * g * std::sin(theta) * 0.2);
       }
 }
 

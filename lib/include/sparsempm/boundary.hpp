@@ -43,6 +43,9 @@ struct VelocityCondition {
   std::function<double(double t, const Eigen::Vector3d& x)> value; ///< v_b(t, x); empty ⇒ 0
   std::string label;                                               ///< for messages
   int wall = -1; ///< ≥ 0: the nodes are those BoundaryConditions::walls[wall] selects each step
+  /// ≥ 0: the condition acts on this velocity field alone (a rigid material's field in
+  /// multimaterial mode, rigid.hpp); −1: on node i of every field.
+  int field = -1;
   /// A wall's condition in one step (BoundaryConditions::step_conditions): v_b is the wall's
   /// value with this state (n̂ = direction, the wall's normal) and `value` is empty.
   std::optional<WallState> wall_state;
@@ -130,7 +133,8 @@ struct BoundaryConditions {
   /// v_i ← v_i − (v_i · n̂) n̂: zero the constrained directions (FMPM 2026 Table 2, bottom).
   void zero_directions(const Grid& grid, Field& v) const;
   // Every function taking a node field accepts one of several velocity fields too (n_f · n_g
-  // rows, operators.hpp): a condition on node i acts on node i of every field. The nodes of the
+  // rows, operators.hpp): a condition on node i acts on node i of every field (of its `field`
+  // alone when that is set). The nodes of the
   // conditions are those of the whole grid; given a window of it (Grid::window) and fields on
   // its nodes, a function acts on the nodes the window holds.
 

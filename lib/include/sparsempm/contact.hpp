@@ -190,12 +190,21 @@ struct ContactNodes {
     const ContactPair* pair = nullptr; ///< the law with the heaviest other field
   };
   std::vector<Node> nodes; ///< the contact nodes of the step, by ascending grid node
+  /// Per field: 1 for the field of a rigid material (rigid.hpp; rigid_fields), whose mass is
+  /// infinite in contact: Δp(0) = m^α (v^β − v^α) takes the other side to the rigid velocity,
+  /// the increments of the FMPM loop leave the rigid side alone, and its velocity conditions
+  /// undo the lumped corrections on it, their reactions holding the contact force on the body.
+  /// A node of a rigid field and another is a contact node only where the rigid field holds
+  /// 30% of its particle volume, and AG and LR take the rigid body's outward normal there
+  /// (contact_nodes.cpp). Empty: no rigid field. Two rigid fields are never in contact.
+  std::vector<char> rigid;
   std::vector<Side> sides; ///< nodes of 3+ fields: sides[first_side + α] for each field α
   /// Projectors onto the directions the velocity conditions of a node leave free
   /// (Node::constrained); find_contact_nodes projects the normals, and the contact laws Δp(0).
   std::vector<Eigen::Matrix3d> free;
-  Field gradient; ///< n × d: g^α_i = Σ_{p∈α} G_pi V_p (AG normals)
-  Field position; ///< n × d: Σ_{p∈α} S_pi M_p X_p (mass-weighted positions; CP)
+  Field gradient;         ///< n × d: g^α_i = Σ_{p∈α} G_pi V_p (AG normals; rigid fields)
+  Eigen::VectorXd volume; ///< n: Σ_{p∈α} S_pi V_p, with rigid fields (their share of a node)
+  Field position;         ///< n × d: Σ_{p∈α} S_pi M_p X_p (mass-weighted positions; CP)
   // LR point clouds: the particles (and their fields) whose shape functions reach each contact
   // node, cloud[cloud_offset[c] … cloud_offset[c + 1]) for nodes[c]; reused from step to step.
   std::vector<int> slot; ///< n_g: index of the node in `nodes`, or −1

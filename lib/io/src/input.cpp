@@ -402,6 +402,13 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   cfg.model.rigid = detail::read_rigid(r, root, cfg.model.materials, grid.dim());
   std::vector<detail::BodyRange> bodies;
   cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials, &bodies);
+  for (RigidMotion& m : cfg.model.rigid) { // the rigid particles start with the body's velocity
+    const Eigen::Vector3d v0 = m.at(0.0);
+    for (Index p = 0; p < cfg.model.particles.size(); ++p)
+      if (cfg.model.particles.material[p] == m.material)
+        for (int a = 0; a < grid.dim(); ++a)
+          cfg.model.particles.V(p, a) = v0[a];
+  }
   const Particles& P = cfg.model.particles;
   for (Index p = 0; p < P.size(); ++p)
     if (!std::isfinite(P.mass[p]))

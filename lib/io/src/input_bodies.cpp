@@ -396,8 +396,9 @@ std::vector<RigidMotion> read_rigid(const Reader& r, const toml::table& root,
     const toml::table& t = *tables[k];
     const std::string key = "material." + mats[k].name + ".";
     if (mats[k].model != MaterialModel::Rigid) {
-      if (t.get("velocity"))
-        r.fail(t.get("velocity"), key + "velocity", "only model = \"rigid\" takes it");
+      for (const char* only : {"velocity", "free"})
+        if (t.get(only))
+          r.fail(t.get(only), key + only, "only model = \"rigid\" takes it");
       continue;
     }
     const toml::node* vn = r.node(t, "velocity", key + "velocity", true);
@@ -408,6 +409,13 @@ std::vector<RigidMotion> read_rigid(const Reader& r, const toml::table& root,
     RigidMotion m;
     m.material = int(k);
     m.label = "material." + mats[k].name;
+    m.free = r.boolean(t, "free", key + "free", false);
+    if (m.free)
+      for (int a = 0; a < dim; ++a)
+        if (!(*va)[size_t(a)].is_number())
+          r.fail(vn, key + "velocity",
+                 "a free rigid body takes its initial velocity: " + std::to_string(dim) +
+                     " numbers");
     for (int a = 0; a < dim; ++a) {
       toml::table axis; // the component as a key of its own, for time_function's messages
       axis.insert("v", (*va)[size_t(a)]);

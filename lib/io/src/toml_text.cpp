@@ -20,7 +20,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"material",
        {"name", "model", "density", "youngs", "poisson", "bulk", "shear", "gruneisen", "s1",
         "viscosity", "heat_capacity", "conductivity", "reference_temperature", "thermal_expansion",
-        "yield_stress", "hardening", "velocity"}},
+        "yield_stress", "hardening", "velocity", "free"}},
       {"body",
        {"material", "region", "min", "max", "center", "radius", "semi_axes", "image", "pixel_size",
         "origin", "levels", "ppc", "velocity", "temperature", "heat_source", "name"}},
