@@ -187,6 +187,11 @@ def case_compaction(w):
             w / "compaction"], ["compaction"], ["compaction"]
 
 
+def case_compaction_paper(w):
+    return ["--smpm", SMPM, "--jobs", "1", "--scale", "14", "--compaction", "0.05", "-o",
+            w / "compaction_paper"], ["compaction_paper"], ["compaction_paper"]
+
+
 def case_three_materials(w):
     return ["--smpm", SMPM, "--set", "time.end=0.2", "-o", w / "three_materials"], \
         ["three_materials"], ["three_materials"]
@@ -199,6 +204,7 @@ def case_df_fit(w):
 # Longest first, so that two workers finish together.
 CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig3.py": case_fig3, "compaction.py": case_compaction, "rho_map.py": case_rho_map,
+         "compaction_paper.py": case_compaction_paper,
          "fig12a.py": case_fig12a, "fig12_gradient.py": case_fig12_gradient,
          "fig8.py": case_fig8, "fig13a.py": case_fig13a,
          "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
@@ -550,6 +556,16 @@ def check_compaction(r):
     assert [ax.get_xlabel() for ax in axes] == ["$x$ (mm)"] * 3
     assert axes[0].get_ylabel() == "$y$ (mm)"
     assert (r.dir / "compaction.toml").exists()
+
+
+def check_compaction_paper(r):
+    table = rows(r.tables[0])
+    assert sorted({row["method"] for row in table}) == ["CP", "DF", "LR"]
+    axes = r.figure().axes
+    assert axes[0].get_xlabel() == "compaction (%)"
+    assert [ax.get_xlabel() for ax in axes[1:]] == ["$x$ (mm)"] * 3
+    assert (r.dir / "compaction_paper.toml").exists()
+    assert (r.dir / "compaction_paper.in.png").exists()
 
 
 def check_three_materials(r):
