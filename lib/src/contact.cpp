@@ -232,30 +232,24 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, size_t c, double dt, Fi
   const Index ng = ops.grid_node_count, i = node.node;
   const int nf = ops.fields, d = int(p.cols());
   cn.change.assign(size_t(nf), Eigen::Vector3d::Zero());
-  auto rigid = [&](int f) { return !cn.rigid.empty() && cn.rigid[size_t(f)] != 0; };
-  // The sum of all fields, and of the rigid ones: a field against a rest that holds a rigid
-  // field meets the rigid fields' velocity with infinite mass (detail::SideMasses).
-  Eigen::Vector3d p_all = Eigen::Vector3d::Zero(), p_rigid = Eigen::Vector3d::Zero();
-  double m_all = 0, m_rigid = 0;
+  // A rigid field here is lumped as any field, with its particles' mass (ContactNodes::rigid):
+  // its own change is undone by its conditions and counted in its reaction.
+  Eigen::Vector3d p_all = Eigen::Vector3d::Zero();
+  double m_all = 0;
   for (int f = 0; f < nf; ++f)
     if (ops.active[f * ng + i]) {
       m_all += ops.m[f * ng + i];
       p_all += row3(p, f * ng + i);
-      if (rigid(f)) {
-        m_rigid += ops.m[f * ng + i];
-        p_rigid += row3(p, f * ng + i);
-      }
     }
   bool in_contact = false;
   for (int f = 0; f < nf; ++f) {
     const Index r = f * ng + i;
-    if (!ops.active[r] || rigid(f))
-      continue; // a rigid field keeps its prescribed motion
+    if (!ops.active[r])
+      continue;
     const ContactNodes::Side& side = cn.sides[size_t(node.first_side + f)];
     const Eigen::Vector3d pa = row3(p, r);
-    SideMasses m{ops.m[r], m_rigid > 0 ? m_rigid : m_all - ops.m[r], false, m_rigid > 0};
-    const Eigen::Vector3d dp0 =
-        free_part(cn, c, m.centre_of_mass_change(pa, m_rigid > 0 ? p_rigid : p_all - pa));
+    const SideMasses m{ops.m[r], m_all - ops.m[r]};
+    const Eigen::Vector3d dp0 = free_part(cn, c, m.centre_of_mass_change(pa, p_all - pa));
     const double gap = gap_at_step_end(side.separation, dp0, side.normal, m, dt);
     const bool touching =
         contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]);

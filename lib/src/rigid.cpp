@@ -91,33 +91,62 @@ void add_rigid_conditions(const std::vector<RigidMotion>& motions, const Particl
   step.check_superposition();
 }
 
-void start_rigid_motion(const std::vector<RigidMotion>& motions, double t, Particles& P) {
+void check_rigid_motions(const std::vector<RigidMotion>& motions,
+                         const std::vector<int>& material_field, const StepOptions& options) {
   for (const RigidMotion& m : motions) {
+    if (!material_field.empty()) {
+      const int field = material_field.at(size_t(m.material));
+      for (size_t other = 0; other < material_field.size(); ++other)
+        if (int(other) != m.material && material_field[other] == field)
+          throw InputError(m.label + ".model: a rigid material needs a velocity field of its " +
+                           "own (it shares one with material " + std::to_string(other) +
+                           ": single-field)");
+    }
+    if (!m.free)
+      continue;
+    if (material_field.empty())
+      throw InputError(m.label + ".free: a free rigid body needs multimaterial mode (a " +
+                       "[[contact]] table giving it a velocity field of its own)");
+    if (options.velocity != VelocityUpdate::FLIP && options.velocity != VelocityUpdate::PIC)
+      throw InputError(m.label +
+                       ".free: a free rigid body needs step.velocity = FLIP or PIC (the " +
+                       "contact corrections of FMPM, XPIC and exact do not reach its reaction)");
+    if (options.bc_ordering != BCOrdering::Correct)
+      throw InputError(m.label + ".free: a free rigid body needs the correct BC ordering (its " +
+                       "reactions)");
+  }
+}
+
+void start_rigid_motion(const std::vector<RigidMotion>& motions, double t, Particles& P,
+                        std::vector<Eigen::Vector3d>& velocity) {
+  velocity.resize(motions.size());
+  for (size_t k = 0; k < motions.size(); ++k) {
+    const RigidMotion& m = motions[k];
+    velocity[k] = rigid_velocity(m, P, t);
     if (m.free)
       continue;
-    const Eigen::Vector3d v = m.at(t);
     for (Index p = 0; p < P.size(); ++p)
       if (P.material[p] == m.material)
         for (int a = 0; a < P.dim; ++a)
-          P.V(p, a) = v[a];
+          P.V(p, a) = velocity[k][a];
   }
 }
 
 void move_rigid_particles(const std::vector<RigidMotion>& motions, const Field& X_start, double t,
-                          double dt, const double* reactions, Particles& P) {
+                          double dt, const std::vector<Eigen::Vector3d>& velocity,
+                          const double* reactions, const double* masses, Particles& P) {
   const int d = P.dim;
   for (size_t k = 0; k < motions.size(); ++k) {
     const RigidMotion& m = motions[k];
     Eigen::Vector3d mid, end;
     if (m.free) {
-      double mass = 0;
-      for (Index p = 0; p < P.size(); ++p)
-        if (P.material[p] == m.material)
-          mass += P.mass[p];
-      const Eigen::Vector3d v = rigid_velocity(m, P, t);
+      const Eigen::Vector3d& v = velocity[k];
       end = v;
-      for (int a = 0; a < d; ++a)
-        end[a] -= dt * reactions[k * size_t(d) + size_t(a)] / mass; // M dv = −R Δt
+      for (int a = 0; a < d; ++a) {
+        const size_t c = k * size_t(d) + size_t(a);
+        if (masses[c] > 0)
+          end[a] -= dt * reactions[c] / masses[c]; // M dv = −R Δt
+      }
       if (!end.allFinite())
         throw NumericalError(m.label + ": the free rigid body's velocity is not finite");
       mid = 0.5 * (v + end);

@@ -20,9 +20,11 @@ struct Stepper::Buffers {
   ThermalStrainState thermal;              ///< the strain update's couplings (heat transport)
   std::unique_ptr<MassSolver> heat_solver; ///< the exact transport update's solver
   ShockState shock;
-  PlasticState plastic;    ///< the J2 return's state pointers and scratch
-  ExternalForces external; ///< the loads of the step
-  Field x_start;           ///< the positions at the step's start (rigid materials)
+  PlasticState plastic;           ///< the J2 return's state pointers and scratch
+  ExternalForces external;        ///< the loads of the step
+  Field x_start;                  ///< the positions at the step's start (rigid materials)
+  std::vector<double> rigid_mass; ///< Σ m_i on each rigid condition's nodes (free bodies)
+  std::vector<Eigen::Vector3d> rigid_velocity; ///< each rigid motion's velocity at t
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
   std::atomic<std::thread::id> owner{}; ///< the thread holding the Stepper (Exclusive); none: {}
 };
@@ -198,7 +200,8 @@ void Stepper::step(Model& model, double dt) {
         &buf_->density, heat() ? &buf_->thermal : nullptr, plastic ? &buf_->plastic : nullptr);
     if (!model.rigid.empty()) {
       buf_->x_start = P.X; // the rigid particles' positions at t (storage reused)
-      start_rigid_motion(model.rigid, model.time, P);
+      check_rigid_motions(model.rigid, model.contact.material_field, opt_);
+      start_rigid_motion(model.rigid, model.time, P, buf_->rigid_velocity);
     }
     scheme_step(context, fields, strain, buf_->step);
     // USF updates the stresses (and stores W) before the transport changes the temperatures:
@@ -214,7 +217,12 @@ void Stepper::step(Model& model, double dt) {
     const BoundaryConditions& bcs = prep_.bcs;
     const Grid& sg = prep_.ops.grid;
     const Index ng = sg.num_nodes();
+    // The rigid materials' conditions come last (add_rigid_conditions); their nodes' mass is
+    // a free body's inertia.
+    const size_t first_rigid =
+        bcs.conditions.size() - model.rigid.size() * size_t(model.grid.dim());
     reactions_.assign(bcs.conditions.size(), 0.0);
+    buf_->rigid_mass.assign(bcs.conditions.size() - first_rigid, 0.0);
     for (size_t c = 0; c < bcs.conditions.size() && R.rows() > 0; ++c) {
       const VelocityCondition& bc = bcs.conditions[c];
       for (const Index whole : bc.nodes) {
@@ -222,16 +230,17 @@ void Stepper::step(Model& model, double dt) {
         if (i < 0)
           continue; // outside the window: no mass, no reaction
         for (Index row = bc.field < 0 ? i : bc.field * ng + i; row < R.rows();
-             row += bc.field < 0 ? ng : R.rows())
+             row += bc.field < 0 ? ng : R.rows()) {
           for (int a = 0; a < R.cols(); ++a)
             reactions_[c] += bc.direction[a] * R(row, a);
+          if (c >= first_rigid)
+            buf_->rigid_mass[c - first_rigid] += prep_.ops.m[row];
+        }
       }
     }
-    if (!model.rigid.empty()) { // rigid.hpp: the prescribed or free motion, whatever the grid did
-      const size_t first = reactions_.size() - model.rigid.size() * size_t(model.grid.dim());
-      move_rigid_particles(model.rigid, buf_->x_start, model.time, dt, reactions_.data() + first,
-                           P);
-    }
+    if (!model.rigid.empty()) // rigid.hpp: the prescribed or free motion, whatever the grid did
+      move_rigid_particles(model.rigid, buf_->x_start, model.time, dt, buf_->rigid_velocity,
+                           reactions_.data() + first_rigid, buf_->rigid_mass.data(), P);
     if (contact)
       state_.friction_work += prep_.contact.friction_work;
     if (shock)

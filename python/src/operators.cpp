@@ -229,7 +229,8 @@ void bind_operators(py::module_& m) {
         o.X = model.model.particles.X;
         // ops.bcs outlives this call: its values copied from the model's (which they call),
         // and a wall's evaluated at the time a product is given (not frozen at the model's).
-        for (size_t k = 0; k < o.prep.bcs.conditions.size(); ++k) {
+        // (The rigid materials' conditions follow the model's and keep their own values.)
+        for (size_t k = 0; k < model.model.bcs.conditions.size(); ++k) {
           o.prep.bcs.conditions[k].value = model.model.bcs.conditions[k].value;
           o.prep.bcs.conditions[k].wall_state.reset();
         }

@@ -172,6 +172,8 @@ class RigidImpact(unittest.TestCase):
             (["material.disk.free=true"], ["material.disk.free", 'only model = "rigid"']),
             (['material.block.velocity=["t", 0.0]'], ["material.block.velocity",
                                                       "initial velocity"]),
+            (["step.velocity=FMPM", "step.order=4"], ["material.block.free", "FLIP or PIC"]),
+            (["body.1.velocity=[1.0, 0.0]"], ["body.1.velocity", "material.block.velocity"]),
         ]:
             with self.subTest(sets=sets):
                 check_refused(self, IMPACT, sets, words)

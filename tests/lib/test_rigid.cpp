@@ -271,7 +271,7 @@ TEST_CASE("a free rigid block takes the momentum the bar loses", "[rigid][contac
   Model alone = bar_and_block(true, pair);
   for (Index q = 0; q < alone.particles.size(); ++q)
     alone.particles.material[q] = 1;
-  alone.contact = {};
+  alone.contact.pairs.clear(); // its own field, and no other material meets it
   alone.gravity = {-0.001, 0, 0};
   alone.particles.V.setZero();
   const Field X0 = alone.particles.X;
@@ -283,6 +283,27 @@ TEST_CASE("a free rigid block takes the momentum the bar loses", "[rigid][contac
     CHECK(alone.particles.X(q, 0) ==
           Approx(X0(q, 0) - 0.0005 * alone.time * alone.time).epsilon(1e-12));
   }
+}
+
+TEST_CASE("rigid motions that cannot run are refused with the material's name", "[rigid]") {
+  // A free body needs a field of its own and FLIP or PIC (its reactions are taken before the
+  // corrections of FMPM(k), XPIC(m) and the exact update); a rigid material may not share its
+  // field (its conditions would hold the other material too).
+  ContactPair pair;
+  const Model m = bar_and_block(true, pair);
+  CHECK_NOTHROW(check_rigid_motions(m.rigid, m.contact.material_field, {}));
+  CHECK_NOTHROW(
+      check_rigid_motions(m.rigid, m.contact.material_field, {.velocity = VelocityUpdate::PIC}));
+  CHECK_THROWS_WITH(check_rigid_motions(m.rigid, {}, {}),
+                    Catch::Contains("material.block.free") && Catch::Contains("multimaterial"));
+  CHECK_THROWS_WITH(check_rigid_motions(m.rigid, m.contact.material_field,
+                                        {.velocity = VelocityUpdate::FMPM, .fmpm = {.order = 4}}),
+                    Catch::Contains("FLIP or PIC"));
+  CHECK_THROWS_WITH(check_rigid_motions(m.rigid, {0, 0}, {}),
+                    Catch::Contains("material.block.model") && Catch::Contains("of its own"));
+  Model fmpm = bar_and_block(true, pair);
+  Stepper s({.velocity = VelocityUpdate::FMPM, .fmpm = {.order = 4}});
+  CHECK_THROWS_AS(s.step(fmpm, 0.1), InputError);
 }
 
 TEST_CASE("with the default contact a block slides down an inclined, grid-unaligned rigid slab",

@@ -196,7 +196,8 @@ struct ContactNodes {
   /// undo the lumped corrections on it, their reactions holding the contact force on the body.
   /// A node of a rigid field and another is a contact node only where the rigid field holds
   /// 30% of its particle volume, and AG and LR take the rigid body's outward normal there
-  /// (contact_nodes.cpp). Empty: no rigid field. Two rigid fields are never in contact.
+  /// (contact_nodes.cpp). At a node of three or more fields a rigid field is lumped as any field,
+  /// with its particles' mass. Empty: no rigid field. Two rigid fields are never in contact.
   std::vector<char> rigid;
   std::vector<Side> sides; ///< nodes of 3+ fields: sides[first_side + α] for each field α
   /// Projectors onto the directions the velocity conditions of a node leave free

@@ -18,10 +18,12 @@
 /// A free rigid body (RigidMotion::free) has no drive: its velocity is its particles' common
 /// velocity, and a step changes it by −Δt R / M, R the reactions of its conditions (the force
 /// the drive would have applied) and M its mass: M dv/dt is the sum of the grid forces on its
-/// field. It translates; it does not rotate.
+/// field. It translates; it does not rotate. It needs multimaterial mode (a field of its own)
+/// and FLIP or PIC (check_rigid_motions).
 
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/particles.hpp"
+#include "sparsempm/step_options.hpp"
 
 #include <array>
 #include <functional>
@@ -68,18 +70,31 @@ void add_rigid_conditions(const std::vector<RigidMotion>& motions, const Particl
                           const std::vector<int>& material_field, const Operators& ops, double t,
                           BoundaryConditions& step);
 
+/// Throws InputError naming the material when the rigid motions cannot run with these fields
+/// and options: in multimaterial mode (`material_field` not empty) a rigid material sharing its
+/// velocity field with another material (its conditions would hold that material too); a free
+/// body in single material mode (it needs a field of its own), with a velocity update other
+/// than FLIP or PIC (the contact corrections of FMPM(k), XPIC(m) and the exact update come
+/// after its reactions), or with Buzzi's improper BC ordering (no reactions).
+void check_rigid_motions(const std::vector<RigidMotion>& motions,
+                         const std::vector<int>& material_field, const StepOptions& options);
+
 /// Before a step at t: the particles of each prescribed motion take V = v(t), so that the
-/// extrapolated momenta of a rigid field hold its velocity before its conditions act.
-void start_rigid_motion(const std::vector<RigidMotion>& motions, double t, Particles& particles);
+/// extrapolated momenta of a rigid field hold its velocity before its conditions act; each
+/// motion's velocity at t (rigid_velocity) is written to `velocity` (resized).
+void start_rigid_motion(const std::vector<RigidMotion>& motions, double t, Particles& particles,
+                        std::vector<Eigen::Vector3d>& velocity);
 
 /// After a step from t to t + Δt: the particles of each rigid material, from their positions
 /// X_start at t (N × d), to X_start + Δt v_mid with V = v_end, F = I and no stress. Prescribed:
 /// v_mid = v(t + Δt/2), v_end = v(t + Δt) (the midpoint rule: exact for a velocity linear in t).
-/// Free: v_end = v − Δt R / M, v_mid = (v + v_end)/2, with v = rigid_velocity at t, M the mass
-/// of its particles and R_a = reactions[k d + a] the reaction of motion k's condition along
-/// axis a in the step (the rigid conditions' reactions, in the order add_rigid_conditions
-/// appended them).
+/// Free: v_end,a = v_a − Δt R_a / M_a, v_mid = (v + v_end)/2, with v = velocity[k] (the
+/// velocity at t that start_rigid_motion gave),
+/// R_a = reactions[k d + a] the reaction of motion k's condition along axis a in the step and
+/// M_a = masses[k d + a] the mass on that condition's nodes (in the order add_rigid_conditions
+/// appended the conditions): the body's mass, which its field's nodal masses sum to.
 void move_rigid_particles(const std::vector<RigidMotion>& motions, const Field& X_start, double t,
-                          double dt, const double* reactions, Particles& particles);
+                          double dt, const std::vector<Eigen::Vector3d>& velocity,
+                          const double* reactions, const double* masses, Particles& particles);
 
 } // namespace smpm

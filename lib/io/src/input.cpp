@@ -421,6 +421,13 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   cfg.time = read_time(r, root);
   read_step(r, root, cfg.step);
   cfg.model.contact = detail::read_contact(r, root, cfg.model.materials, grid.dim());
+  try {
+    check_rigid_motions(cfg.model.rigid, cfg.model.contact.material_field, cfg.step);
+  } catch (const InputError& e) { // "<key>: <what is wrong>", the key a material's
+    const std::string what = e.what();
+    const size_t colon = what.find(": ");
+    r.fail(nullptr, what.substr(0, colon), what.substr(colon + 2));
+  }
   if (const toml::table* loads = r.table(root, "loads", "[loads]", false)) {
     r.check_keys(*loads, "loads");
     cfg.model.gravity = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);

@@ -266,6 +266,10 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
     Particles P = body_region(r, *t, key, g, ppc, mats[size_t(id)].density, id);
     if (P.size() == 0)
       r.fail(t->get("region"), key + "region", "holds no particle");
+    if (mats[size_t(id)].model == MaterialModel::Rigid && t->get("velocity"))
+      r.fail(t->get("velocity"), key + "velocity",
+             "a rigid body moves with its material's velocity (material." + mats[size_t(id)].name +
+                 ".velocity)");
     body_velocity(r, *t, key, P);
     body_heat(r, *t, key, mats[size_t(id)], P);
     const std::string name = t->get("name") ? r.string(*t, "name", key + "name", "") : "";
