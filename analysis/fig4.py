@@ -46,6 +46,7 @@ FRICTION = ["contact.0.law=coulomb", "contact.0.friction=0.3", "contact.0.detect
 FRICTIONLESS = ["contact.0.law=frictionless", "contact.0.detection=LR", "contact.0.normal=LR"]
 EVOLVING = ["contact.0.fmpm_method=evolving"]
 XPIC5 = ["step.velocity=XPIC", "step.order=5"]
+TERM = ['step.xpic_contact="term"']
 
 
 def fmpm(k):
@@ -75,7 +76,9 @@ CASES = {
     "friction FMPM(8) Evolving": (5, fmpm(8) + FRICTION + EVOLVING, "single FMPM(8)"),
     "single XPIC(5)": (0, XPIC5 + SINGLE, None),
     "stick XPIC(5)": (7, XPIC5, "single XPIC(5)"),
-    "stick XPIC(5) uncorrected": (7, XPIC5 + ["step.xpic_contact_term=false"], "single XPIC(5)"),
+    "single XPIC(5) Eq. 41": (0, XPIC5 + TERM + SINGLE, None),
+    "stick XPIC(5) Eq. 37 term": (7, XPIC5 + TERM, "single XPIC(5) Eq. 41"),
+    "stick XPIC(5) uncorrected": (7, XPIC5 + ['step.xpic_contact="none"'], "single XPIC(5) Eq. 41"),
 }
 BINS = np.arange(30.0, 47.0, 0.25)
 

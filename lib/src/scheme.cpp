@@ -226,7 +226,7 @@ struct Stages {
       b.x_start = fields.X; // storage reused from step to step
     particle_momenta(b.g.p);
     if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC &&
-        opt.xpic_contact_term) { // keep Δv^α (Eq. 37)
+        opt.xpic_contact == XpicContact::Term) { // keep Δv^α (Eq. 37)
       b.contact_dv = b.g.p;
       contact(b.g.p);
       b.contact_dv = c.ops->m_inv.asDiagonal() * (b.g.p - b.contact_dv);
@@ -270,6 +270,27 @@ struct Stages {
       velocity_gradient(op, u, *fields.gradient);
   }
 
+  // XPIC(m)'s m(v − v*) = Σ_{j<m} A^j v (contact 2020 Eqs. 41–43) as the loop of FMPM 2026
+  // Table 1 run from the contact-corrected v of the extrapolation (task 1), unblended and to
+  // order m, its increments corrected by the velocity BCs (Table 2's incremental method,
+  // `bc_method`) and by contact (§3.2, each pair's Net or Evolving method) from the state of
+  // the momentum update's lumped contact, so that the contact law holds on v⁺ plus the
+  // increments, the velocity the particles take. NairnMPM's XPIC task does the same
+  // (XPICExtrapolationTask: GetDeltaV zeroes the BC nodes of each increment and imposes incremental
+  // contact).
+  void xpic_loop_velocity() {
+    FmpmOptions f = opt.fmpm;
+    f.blend_alpha = 1;
+    f.metric = ConvergenceMetric::None;
+    std::function<void(int, Field&, const Field&)> hook;
+    if (c.contact_nodes)
+      hook = [this](int, Field& dv, const Field&) {
+        contact_increment(*c.ops, *c.contact_nodes, c.dt, dv);
+      };
+    b.xpic = b.g.v;
+    fmpm_velocity(*c.ops, *c.mt, f, LoopConstraints{c.grid, c.bcs, c.time}, b.xpic, b.fmpm, hook);
+  }
+
   void particle_update() {
     const double alpha = position_alpha(opt);
     if (!c.grid_update) { // FLIP, or a FLIP step of periodic FMPM
@@ -282,9 +303,13 @@ struct Stages {
       particle_gradients(b.g.v_plus);
       return;
     }
-    if (full_mass) {
+    if (full_mass && opt.xpic_contact == XpicContact::Increments) {
+      xpic_loop_velocity();
+      b.xpic.noalias() += c.dt * b.g.a; // V' = S (m (v − v*) + a Δt)
+    } else if (full_mass) {
+      const bool term = c.contact_nodes && opt.xpic_contact == XpicContact::Term;
       xpic_grid_velocity(*c.ops, *c.mt, opt.fmpm.order, b.g.v, b.xpic, b.fmpm,
-                         c.contact_nodes && opt.xpic_contact_term ? &b.contact_dv : nullptr);
+                         term ? &b.contact_dv : nullptr);
       b.xpic.noalias() += c.dt * b.g.a; // V' = S (m (v − v*) + a Δt)
     } else {
       b.xpic = b.g.v_plus; // XPIC(1) = PIC

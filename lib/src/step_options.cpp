@@ -21,7 +21,17 @@ constexpr detail::EnumNames<VelocityUpdate, 5> kVelocities{{{VelocityUpdate::FLI
                                                             {VelocityUpdate::Exact, "exact"}}};
 constexpr detail::EnumNames<Transfer, 2> kTransfers{
     {{Transfer::Standard, "standard"}, {Transfer::VelocityGradient, "velocity_gradient"}}};
+constexpr detail::EnumNames<XpicContact, 3> kXpicContacts{{{XpicContact::Increments, "increments"},
+                                                           {XpicContact::Term, "term"},
+                                                           {XpicContact::None, "none"}}};
 } // namespace
+
+std::string_view to_string(XpicContact c) {
+  return detail::enum_name(c, kXpicContacts);
+}
+XpicContact xpic_contact_from_string(std::string_view name) {
+  return detail::parse_enum(name, kXpicContacts, "XPIC contact method");
+}
 
 std::string_view to_string(Transfer t) {
   return detail::enum_name(t, kTransfers);

@@ -135,8 +135,11 @@ void bind_step_numbers(py::class_<StepOptions>& c) {
                   "α of FMPM 2026 Eqs. (8)-(9); None: 1 for FLIP, 1/2 otherwise");
   c.def_readwrite("periodic_cx", &StepOptions::periodic_cx,
                   "periodic FMPM's Courant budget C_X (§3.3; 0: FMPM on every step)");
-  c.def_readwrite("xpic_contact_term", &StepOptions::xpic_contact_term,
-                  "multimaterial XPIC(m): add contact 2020 Eq. (37)'s contact term");
+  name_property(
+      c, "xpic_contact", [](const StepOptions& o) { return o.xpic_contact; },
+      [](StepOptions& o, const std::string& s) { o.xpic_contact = xpic_contact_from_string(s); },
+      "multimaterial XPIC(m): 'increments' (contact on every increment of the loop), 'term' "
+      "(contact 2020 Eq. (37)'s term) or 'none'");
   c.def_property(
       "exact_regularization", [](const StepOptions& o) { return o.exact.regularization; },
       [](StepOptions& o, double eps) { o.exact.regularization = eps; },

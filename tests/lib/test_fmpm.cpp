@@ -204,6 +204,21 @@ TEST_CASE("XPIC(m) is the projection (I - (I - S S+)^m) V (contact 2020 Eq. 36)"
   }
 }
 
+TEST_CASE("XPIC(m) is the FMPM loop run from v: m (v - v*) = sum_{j<m} A^j v", "[fmpm]") {
+  // The binomial identity behind XpicContact::Increments: contact 2020 Eqs. (41)–(43) (the
+  // recursion of xpic_grid_velocity) and m − 1 passes of Table 1's loop from v⁺(1) = v give the
+  // same grid velocity, Σ_{k=1}^{m} (−1)^{k−1} C(m, k) (S⁺S)^{k−1} v; round-off 1e-13, m = 1 … 8.
+  const Setup s = setup();
+  for (int m = 1; m <= 8; ++m) {
+    Field u, v = lumped(s);
+    FmpmWorkspace w;
+    xpic_grid_velocity(s.ops, s.mt.matrix, m, v, u, w);
+    fmpm_loop(s.ops.m_inv, s.mt.matrix, {.order = m}, {}, v, w);
+    CAPTURE(m);
+    CHECK(rel(v, u) < 1e-13);
+  }
+}
+
 TEST_CASE("the FMPM loop calls its hooks on every increment (Table 1, lines 1-3)", "[fmpm]") {
   // A contact-like hook (line 2) that drops every increment after ℓ = 3 leaves v⁺(3); the BC
   // hook (line 1) sees each Δv(ℓ) first; the convergence hook (line 3) stops at ℓ = 6 with the

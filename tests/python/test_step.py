@@ -294,9 +294,9 @@ def test_step_options_take_the_keys_of_the_step_table():
     # One vocabulary: StepOptions(**options) takes the [step] keys of the input files, each also
     # an attribute; the limits are the library's (validate), as in the input files.
     o = smpm.StepOptions(scheme="USF", velocity="FMPM", order=4, blend_alpha=0.8,
-                         xpic_contact_term=False, exact_mass_cutoff=0.01)
+                         xpic_contact="term", exact_mass_cutoff=0.01)
     assert (o.scheme, o.velocity, o.order, o.blend_alpha) == ("USF", "FMPM", 4, 0.8)
-    assert o.xpic_contact_term is False and o.exact_mass_cutoff == 0.01
+    assert o.xpic_contact == "term" and o.exact_mass_cutoff == 0.01
     assert smpm.StepOptions().shape == "cpdi"  # the default of the input files
     with pytest.warns(DeprecationWarning, match="'update' is the earlier name of 'scheme'"):
         assert smpm.StepOptions(update="USL+").scheme == "USL+"

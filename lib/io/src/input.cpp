@@ -238,7 +238,8 @@ void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
     step.position_alpha = r.number(t, "position_alpha", "step.position_alpha", 0.0);
   step.deformation =
       r.choice(t, "deformation", "step.deformation", "linear", &deformation_update_from_string);
-  step.xpic_contact_term = r.boolean(t, "xpic_contact_term", "step.xpic_contact_term", true);
+  step.xpic_contact =
+      r.choice(t, "xpic_contact", "step.xpic_contact", "increments", &xpic_contact_from_string);
   step.transfer = r.choice(t, "transfer", "step.transfer", "standard", &transfer_from_string);
   step.transport.update =
       r.choice(t, "transport", "step.transport", "off", &transport_update_from_string);

@@ -33,7 +33,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"step",
        {"scheme", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
         "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization",
-        "exact_mass_cutoff", "deformation", "xpic_contact_term", "transport", "transport_order",
+        "exact_mass_cutoff", "deformation", "xpic_contact", "transport", "transport_order",
         "transfer"}},
       {"output", {"file", "every", "matrices"}},
       {"loads", {"gravity", "body_force", "traction"}},
