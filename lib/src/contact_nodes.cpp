@@ -122,7 +122,11 @@ struct NodeGeometry {
   // neighbours j, normalised (g^r_j = Σ_{p∈r} G_pj V_p). Each g^r_j points out of the rigid
   // body's particles toward node j; weighting by m^r_j lets the nodes where the body has mass
   // decide, so that a node the body barely reaches (one particle's sliver of support) takes
-  // the normal of the surface near it rather than the direction from that particle.
+  // the normal of the surface near it rather than the direction from that particle. At a node
+  // with velocity conditions g^r_j counts in the directions they leave free: a face of the body
+  // on a roller (a symmetry plane) is not a surface to contact. Without that, a piston between
+  // rollers took normals tilted 30–45° toward them one row inside, and a shocked bar slid
+  // into it there (tests/cli/test_shock.py).
   Eigen::Vector3d rigid_outward(int r) const {
     const Index ng = ops.grid_node_count;
     const std::array<int, 3> ijk = grid.node_ijk(node);
@@ -138,8 +142,11 @@ struct NodeGeometry {
                 inside && q[a] >= grid.first_node(a) && q[a] < grid.first_node(a) + grid.nodes(a);
           if (!inside)
             continue;
-          const Index row = r * ng + grid.node_index(q[0], q[1], q[2]);
-          sum += ops.m[row] * row3(cn.gradient, row);
+          const Index j = grid.node_index(q[0], q[1], q[2]), row = r * ng + j;
+          const int k = cn.fixed.empty() ? -1 : cn.fixed[size_t(j)];
+          sum +=
+              ops.m[row] * (k < 0 ? row3(cn.gradient, row)
+                                  : Eigen::Vector3d(cn.free[size_t(k)] * row3(cn.gradient, row)));
         }
     return unit_or_zero(sum);
   }
@@ -215,26 +222,29 @@ struct NodeGeometry {
   }
 };
 
-// The projectors onto the directions left free by the velocity conditions on each contact node
-// (find_contact_nodes): I − Σ b̂ b̂ᵀ over an orthonormal basis b̂ of the fixed directions (the
-// conditions on a node are parallel or perpendicular, boundary.hpp). A condition on one field
-// (a rigid material's, rigid.hpp) leaves the others free: it is the contact partner's motion.
+// The projectors onto the directions left free by the velocity conditions on each node they
+// act on (find_contact_nodes): I − Σ b̂ b̂ᵀ over an orthonormal basis b̂ of the fixed directions
+// (the conditions on a node are parallel or perpendicular, boundary.hpp); the contact nodes
+// among them take theirs (Node::constrained). A condition on one field (a rigid material's,
+// rigid.hpp) leaves the others free: it is the contact partner's motion.
 void free_directions(const Grid& grid, const BoundaryConditions& bcs, ContactNodes& cn) {
   cn.free.clear();
+  cn.fixed.assign(cn.slot.size(), -1);
   for (const VelocityCondition& bc : bcs.conditions) {
     if (bc.field >= 0)
       continue;
     for (Index whole : bc.nodes) {
       const Index i = grid.node_of_whole(whole); // the conditions name nodes of the whole grid
-      const int c = i < 0 ? -1 : cn.slot[size_t(i)];
-      if (c < 0)
+      if (i < 0 || i >= Index(cn.fixed.size()))
         continue;
-      ContactNodes::Node& node = cn.nodes[size_t(c)];
-      if (node.constrained < 0) {
-        node.constrained = int(cn.free.size());
+      int& k = cn.fixed[size_t(i)];
+      if (k < 0) {
+        k = int(cn.free.size());
         cn.free.push_back(Eigen::Matrix3d::Identity());
+        if (const int c = cn.slot[size_t(i)]; c >= 0)
+          cn.nodes[size_t(c)].constrained = k;
       }
-      Eigen::Matrix3d& free = cn.free[size_t(node.constrained)];
+      Eigen::Matrix3d& free = cn.free[size_t(k)];
       // The part not fixed already; below 1e-4 the direction is one already fixed (parallel
       // within the 4.5e-5 rad that check_superposition accepts as parallel).
       const Eigen::Vector3d b = free * bc.direction;
@@ -354,10 +364,12 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
       uses(contact, ContactDetection::DistanceFunction))
     map_momentum(op, P.X, cn.position); // Σ_{p∈α} S_pi M_p X_p
   collect_contact_nodes(ops, cn);
-  if (bcs)
+  if (bcs) {
     free_directions(grid, *bcs, cn);
-  else
+  } else {
     cn.free.clear();
+    cn.fixed.clear();
+  }
   if (uses(contact, ContactNormal::LogisticRegression) ||
       uses(contact, ContactDetection::LogisticRegression))
     build_clouds(ops, op, cn);

@@ -59,7 +59,8 @@ class PaperScale(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             out = pathlib.Path(tmp) / "p"
             r = subprocess.run(["/usr/bin/python3", str(SOURCE / "analysis" / "compaction_paper.py"),
-                                "--smpm", SMPM, "--scale", "5", "--jobs", "2", "-o", str(out)],
+                                "--smpm", SMPM, "--scale", "5", "--jobs", "2", "--velocity", "FLIP",
+                                "-o", str(out)],
                                capture_output=True, text=True, timeout=900)
             self.assertEqual(r.returncode, 0, r.stderr)
             rows = list(csv.DictReader(open(str(out) + ".csv")))

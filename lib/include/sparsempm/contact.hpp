@@ -203,6 +203,10 @@ struct ContactNodes {
   /// Projectors onto the directions the velocity conditions of a node leave free
   /// (Node::constrained); find_contact_nodes projects the normals, and the contact laws Δp(0).
   std::vector<Eigen::Matrix3d> free;
+  /// n_g: index into `free` of every grid node on which velocity conditions (of all fields)
+  /// act, or −1. A rigid body's outward normal takes its gradients at such nodes in their free
+  /// directions only (contact_nodes.cpp: a body's face on a roller is not a surface).
+  std::vector<int> fixed;
   Field gradient;         ///< n × d: g^α_i = Σ_{p∈α} G_pi V_p (AG normals; rigid fields)
   Eigen::VectorXd volume; ///< n: Σ_{p∈α} S_pi V_p, with rigid fields (their share of a node)
   Field position;         ///< n × d: Σ_{p∈α} S_pi M_p X_p (mass-weighted positions; CP)
