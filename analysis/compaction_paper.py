@@ -4,7 +4,7 @@
 the paper did: a 280 x 560 pixel bitmap of 20 elliptical objects, one material per grey level.
 
     analysis/compaction_paper.py [--smpm build/apps/smpm] [--scale 1] [--seed 3] [--jobs 2]
-                                 [--methods CP,DF,LR] [--velocity FLIP|XPIC]
+                                 [--methods CP,DF,LR] [--velocity XPIC|FLIP] [--piston wall|rigid]
                                  [--set section.key=value ...] [-o compaction_paper]
 
 Paper (contact 2020 §4.2): a 1 x 2 mm box of arbitrarily placed ellipses, 20 materials all
@@ -27,7 +27,9 @@ Writes PREFIX.png.in.png (the bitmap) and PREFIX.toml (the input), runs every me
 PREFIX_<method>.h5 and writes PREFIX.csv (per method and frame: compaction, mean sigma_yy of the
 particles in GPa, interpenetration) and PREFIX.png (mean sigma_yy against compaction beside the
 paper's peaks; the final particles of each method). --scale s divides the resolution by s (the
-ctest runs --scale 5). Units: mm, ms, g, MPa.
+ctest runs --scale 5). --piston rigid replaces the moving wall by a rigid piston (rigid particles
+PISTON_CELLS deep moving down at 100 m/s, in contact with the objects by the same law). Units:
+mm, ms, g, MPa.
 """
 import argparse
 import concurrent.futures
@@ -47,6 +49,7 @@ WIDTH, HEIGHT = 1.0, 2.0          # the box (mm)
 PIXELS = (280, 560)               # the bitmap (contact 2020 §4.2)
 SPEED, STRAIN = 100.0, 0.75       # 100 m/s = 100 mm/ms; compressed by 75%
 OBJECTS = 20
+PISTON_CELLS = 8  # a rigid piston this deep (--piston rigid; thinner ones let objects through)
 PAPER_PEAK_GPA = {"CP": 80.0, "DF": 84.0, "LR": 105.0}  # contact 2020 §4.2, mean axial stress
 METHODS = {
     "CP": ["contact.0.normal=AG", "contact.0.detection=CP"],
@@ -115,9 +118,10 @@ def bitmap(objects):
     return image
 
 
-def input_text(image_name, scale, compaction, velocity):
+def input_text(image_name, scale, compaction, velocity, piston="wall"):
     cell = WIDTH / (PIXELS[0] / 4) * scale  # 70 cells across at scale 1: 0.0143 mm
-    nx, ny = int(round(WIDTH / cell)) + 4, int(round(HEIGHT / cell)) + 4
+    depth = PISTON_CELLS if piston == "rigid" else 0
+    nx, ny = int(round(WIDTH / cell)) + 4, int(round(HEIGHT / cell)) + 4 + depth
     end = compaction * HEIGHT / SPEED
     youngs = 9 * BULK * SHEAR / (3 * BULK + SHEAR)
     poisson = (3 * BULK - 2 * SHEAR) / (2 * (3 * BULK + SHEAR))
@@ -125,7 +129,8 @@ def input_text(image_name, scale, compaction, velocity):
         "# The multi-object compression of contact 2020 §4.2 (Fig. 6), written by",
         f"# analysis/compaction_paper.py (--scale {scale}): 20 ellipses drawn in a 280 x 560 pixel",
         "# bitmap, one material per grey level (K = 78090 MPa, G = 27600 MPa, rho = 2.78 g/cm^3),",
-        f"# a 1 x 2 mm box on rollers compressed {100 * compaction:.0f}% at 100 m/s by a moving wall;",
+        f"# a 1 x 2 mm box on rollers compressed {100 * compaction:.0f}% at 100 m/s by "
+        f"{'a rigid piston' if piston == 'rigid' else 'a moving wall'};",
         f"# CPDI, {'multimaterial XPIC(5)' if velocity == 'XPIC' else 'FLIP'}, Coulomb mu = 0.2 "
         "with LR normals and d_LR between all.",
         "# Units mm, ms, g, MPa.",
@@ -143,9 +148,7 @@ def input_text(image_name, scale, compaction, velocity):
               "[[bc]]", 'plane = { axis = "y", at = 0.0 }', 'fixed = ["y"]', "",
               "[[bc]]", 'plane = { axis = "x", at = 0.0 }', 'fixed = ["x"]', "",
               "[[bc]]", f'plane = {{ axis = "x", at = {WIDTH} }}', 'fixed = ["x"]', "",
-              "[[bc]]   # the piston",
-              f'wall = {{ normal = [0.0, 1.0], position = "{HEIGHT} - {SPEED}*t", '
-              f'velocity = {-SPEED}, gradient = 0.0, depth_cells = 1.0 }}', "",
+              ] + piston_text(piston, cell) + [
               "[time]", "courant = 0.4", f"end = {end!r}", "",
               "[step]", 'scheme = "USL"'] + \
         (['velocity = "XPIC"', "order = 5"] if velocity == "XPIC" else ['velocity = "FLIP"']) + \
@@ -154,16 +157,33 @@ def input_text(image_name, scale, compaction, velocity):
     return "\n".join(lines)
 
 
+def piston_text(piston, cell):
+    """The piston's input: a moving wall one cell deep, or rigid particles PISTON_CELLS deep
+    (material OBJECTS) moving down at SPEED, in contact with the objects by the every-pair law."""
+    if piston == "wall":
+        return ["[[bc]]   # the piston",
+                f'wall = {{ normal = [0.0, 1.0], position = "{HEIGHT} - {SPEED}*t", '
+                f'velocity = {-SPEED}, gradient = 0.0, depth_cells = 1.0 }}', ""]
+    return ["[[material]]", 'name = "piston"', 'model = "rigid"', f"density = {DENSITY}",
+            f"velocity = [0.0, {-SPEED}]", "",
+            "[[body]]", 'material = "piston"', 'region = "box"', f"min = [0.0, {HEIGHT}]",
+            f"max = [{WIDTH}, {HEIGHT + PISTON_CELLS * cell!r}]", "ppc = [2, 2]", ""]
+
+
 def history(path):
-    """Per frame: compaction, mean sigma_yy (GPa) and interpenetration of a run file."""
+    """Per frame: compaction, mean sigma_yy (GPa) and interpenetration of the objects' particles
+    (a rigid piston's left out)."""
     run = read_run(path)
     rows = []
     for k in range(len(run.frames)):
         g = run.particles(k)
-        rows.append((SPEED * g["@time"] / HEIGHT, g["stress"][:, 3].mean() / 1000,
-                     interpenetration(g["X"], g["F"], g["half_length"], g["material"])))
+        o = g["material"] < OBJECTS
+        rows.append((SPEED * g["@time"] / HEIGHT, g["stress"][o, 3].mean() / 1000,
+                     interpenetration(g["X"][o], g["F"][o], g["half_length"][o],
+                                      g["material"][o])))
     last = run.particles(-1)
-    return rows, last["X"], last["material"]
+    o = last["material"] < OBJECTS
+    return rows, last["X"][o], last["material"][o]
 
 
 def run(smpm, src, out, sets):
@@ -184,6 +204,9 @@ def main():
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--velocity", choices=["FLIP", "XPIC"], default="XPIC",
                     help="the paper's multimaterial XPIC(5) (default), or FLIP")
+    ap.add_argument("--piston", choices=["wall", "rigid"], default="wall",
+                    help="a moving wall one cell deep (default), or a rigid piston "
+                    f"{PISTON_CELLS} cells deep")
     figures.add_sets(ap)
     figures.add_output(ap, "compaction_paper", "PREFIX.toml, PREFIX.csv and PREFIX.png")
     a = ap.parse_args()
@@ -200,7 +223,7 @@ def main():
     image = pathlib.Path(a.out + ".in.png")
     matplotlib.image.imsave(image, bitmap(objects), cmap="gray", vmin=0, vmax=255)
     src = pathlib.Path(a.out + ".toml")
-    src.write_text(input_text(image.name, a.scale, a.compaction, a.velocity))
+    src.write_text(input_text(image.name, a.scale, a.compaction, a.velocity, a.piston))
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
         futures = {k: pool.submit(run, a.smpm, src, pathlib.Path(f"{a.out}_{k}.h5"),
                                   METHODS[k] + a.sets) for k in methods}

@@ -232,12 +232,11 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, size_t c, double dt, Fi
   const Index ng = ops.grid_node_count, i = node.node;
   const int nf = ops.fields, d = int(p.cols());
   cn.change.assign(size_t(nf), Eigen::Vector3d::Zero());
-  // A rigid field here is lumped as any field, with its particles' mass (ContactNodes::rigid):
-  // its own change is undone by its conditions and counted in its reaction.
+  // A rigid field is not lumped: a field meets it alone (Side::rigid) or not at all.
   Eigen::Vector3d p_all = Eigen::Vector3d::Zero();
   double m_all = 0;
   for (int f = 0; f < nf; ++f)
-    if (ops.active[f * ng + i]) {
+    if (ops.active[f * ng + i] && (cn.rigid.empty() || !cn.rigid[size_t(f)])) {
       m_all += ops.m[f * ng + i];
       p_all += row3(p, f * ng + i);
     }
@@ -247,9 +246,17 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, size_t c, double dt, Fi
     if (!ops.active[r])
       continue;
     const ContactNodes::Side& side = cn.sides[size_t(node.first_side + f)];
+    if (!side.pair)
+      continue; // a rigid field, or a field with no partner here
     const Eigen::Vector3d pa = row3(p, r);
-    const SideMasses m{ops.m[r], m_all - ops.m[r]};
-    const Eigen::Vector3d dp0 = free_part(cn, c, m.centre_of_mass_change(pa, p_all - pa));
+    SideMasses m{ops.m[r], m_all - ops.m[r]};
+    Eigen::Vector3d pb = p_all - pa;
+    if (side.rigid >= 0) { // against the rigid body alone, its mass infinite
+      m.mb = ops.m[side.rigid * ng + i];
+      m.rigid_b = true;
+      pb = row3(p, side.rigid * ng + i);
+    }
+    const Eigen::Vector3d dp0 = free_part(cn, c, m.centre_of_mass_change(pa, pb));
     const double gap = gap_at_step_end(side.separation, dp0, side.normal, m, dt);
     const bool touching =
         contact_momentum_change(*side.pair, dp0, side.normal, gap, cn.change[size_t(f)]);
@@ -261,6 +268,11 @@ bool lumped_node(const Operators& ops, ContactNodes& cn, size_t c, double dt, Fi
       cn.heat[c] += work;
     }
   }
+  // A field that met the rigid body alone gives the body the opposite change (undone by the
+  // body's conditions, whose reaction then holds the contact force).
+  for (int f = 0; f < nf; ++f)
+    if (const int b = cn.sides[size_t(node.first_side + f)].rigid; b >= 0)
+      cn.change[size_t(b)] -= cn.change[size_t(f)];
   for (int f = 0; f < nf; ++f)
     if (const Index r = f * ng + i; ops.active[r]) {
       p.row(r) += cn.change[size_t(f)].head(d).transpose();

@@ -325,12 +325,40 @@ void lumped_sides(const Operators& ops, const Contact& contact, const NodeGeomet
   const int nf = ops.fields;
   const Index ng = ops.grid_node_count;
   node.first_side = Index(cn.sides.size());
+  // The rigid field holding most of the node's particle volume, if it holds kRigidShare of it:
+  // every other field contacts that body alone (ContactNodes::Side::rigid). A rigid field has no
+  // side of its own, and one below the share is no contact partner here (as at a node of two
+  // fields): the other fields are lumped among themselves.
+  const bool any_rigid = std::find(cn.rigid.begin(), cn.rigid.end(), 1) != cn.rigid.end();
+  int body = -1, deformable = 0;
+  double total = 0, most = 0;
+  for (int f = 0; f < nf; ++f)
+    if (ops.active[f * ng + node.node]) {
+      deformable += !geo.rigid(f);
+      if (!any_rigid) // cn.volume is computed with rigid fields only
+        continue;
+      const double v = cn.volume[f * ng + node.node];
+      total += v;
+      if (geo.rigid(f) && v > most) {
+        most = v;
+        body = f;
+      }
+    }
+  if (!(most >= kRigidShare * total))
+    body = -1;
   for (int f = 0; f < nf; ++f) {
     ContactNodes::Side side;
-    if (ops.active[f * ng + node.node]) {
+    if (!ops.active[f * ng + node.node] || geo.rigid(f)) {
+      // no side: inactive, or a rigid body (the others' contact with it is theirs)
+    } else if (body >= 0) {
+      side.rigid = body;
+      side.pair = &contact.pair(f, body);
+      side.normal = constrained_normal(cn, node, geo.normal(*side.pair, f, body));
+      side.separation = geo.separation(*side.pair, f, body, side.normal);
+    } else if (deformable > 1) {
       int heaviest = -1;
       for (int o = 0; o < nf; ++o)
-        if (o != f && ops.active[o * ng + node.node] &&
+        if (o != f && !geo.rigid(o) && ops.active[o * ng + node.node] &&
             (heaviest < 0 || ops.m[o * ng + node.node] > ops.m[heaviest * ng + node.node]))
           heaviest = o;
       side.pair = &contact.pair(f, heaviest);

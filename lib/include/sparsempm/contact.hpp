@@ -188,6 +188,10 @@ struct ContactNodes {
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(); ///< n̂ from the field to the rest
     double separation = -1; ///< as Node::separation, along this normal; −1 without mass here
     const ContactPair* pair = nullptr; ///< the law with the heaviest other field
+    /// The rigid field this field meets here instead of the rest (the rigid field holding most
+    /// of the node's particle volume, at least 30% of it), or −1. The field then contacts that
+    /// body alone, as at a node of two fields: its infinite mass, its outward normal.
+    int rigid = -1;
   };
   std::vector<Node> nodes; ///< the contact nodes of the step, by ascending grid node
   /// Per field: 1 for the field of a rigid material (rigid.hpp; rigid_fields), whose mass is
@@ -196,8 +200,10 @@ struct ContactNodes {
   /// undo the lumped corrections on it, their reactions holding the contact force on the body.
   /// A node of a rigid field and another is a contact node only where the rigid field holds
   /// 30% of its particle volume, and AG and LR take the rigid body's outward normal there
-  /// (contact_nodes.cpp). At a node of three or more fields a rigid field is lumped as any field,
-  /// with its particles' mass. Empty: no rigid field. Two rigid fields are never in contact.
+  /// (contact_nodes.cpp). At a node of three or more fields where a rigid field holds 30% of
+  /// the particle volume, each other field contacts it alone (Side::rigid); below that share it
+  /// is no partner there and the other fields are lumped among themselves. Empty: no rigid
+  /// field. Two rigid fields are never in contact.
   std::vector<char> rigid;
   std::vector<Side> sides; ///< nodes of 3+ fields: sides[first_side + α] for each field α
   /// Projectors onto the directions the velocity conditions of a node leave free
