@@ -85,8 +85,10 @@ struct NodeGeometry {
   Index node;      // grid node i
   Index cloud = 0; // its contact index (LR clouds)
 
+  // Side B: field b, or (b < 0) every other active field but a rigid one (a rigid body is no
+  // part of the lumped rest: ContactNodes::Side::rigid).
   bool in_b(int f, int a, int b) const {
-    return f != a && (b >= 0 ? f == b : ops.active[f * ops.grid_node_count + node]);
+    return f != a && (b >= 0 ? f == b : ops.active[f * ops.grid_node_count + node] && !rigid(f));
   }
   // Σ over side B of a node field.
   Eigen::Vector3d side_b(const Field& x, int a, int b) const {
@@ -330,7 +332,7 @@ void lumped_sides(const Operators& ops, const Contact& contact, const NodeGeomet
   // side of its own, and one below the share is no contact partner here (as at a node of two
   // fields): the other fields are lumped among themselves.
   const bool any_rigid = std::find(cn.rigid.begin(), cn.rigid.end(), 1) != cn.rigid.end();
-  int body = -1, deformable = 0;
+  int largest = -1, deformable = 0;
   double total = 0, most = 0;
   for (int f = 0; f < nf; ++f)
     if (ops.active[f * ng + node.node]) {
@@ -341,13 +343,19 @@ void lumped_sides(const Operators& ops, const Contact& contact, const NodeGeomet
       total += v;
       if (geo.rigid(f) && v > most) {
         most = v;
-        body = f;
+        largest = f;
       }
     }
-  if (!(most >= kRigidShare * total))
-    body = -1;
+  const bool share = largest >= 0 && most >= kRigidShare * total;
   for (int f = 0; f < nf; ++f) {
     ContactNodes::Side side;
+    // The body this field meets alone: above the share, or bonded to it (detection "always",
+    // as at a node of two fields).
+    const int body =
+        largest >= 0 && !geo.rigid(f) &&
+                (share || contact.pair(f, largest).detection == ContactDetection::Always)
+            ? largest
+            : -1;
     if (!ops.active[f * ng + node.node] || geo.rigid(f)) {
       // no side: inactive, or a rigid body (the others' contact with it is theirs)
     } else if (body >= 0) {

@@ -284,8 +284,8 @@ struct Stages {
     f.metric = ConvergenceMetric::None;
     std::function<void(int, Field&, const Field&)> hook;
     if (c.contact_nodes)
-      hook = [this](int, Field& dv, const Field&) {
-        contact_increment(*c.ops, *c.contact_nodes, c.dt, dv);
+      hook = [this](int, Field& dv, const Field&) { // frictional work as the FMPM loop's
+        contact_increment(*c.ops, *c.contact_nodes, c.dt, dv, true);
       };
     b.xpic = b.g.v;
     fmpm_velocity(*c.ops, *c.mt, f, LoopConstraints{c.grid, c.bcs, c.time}, b.xpic, b.fmpm, hook);

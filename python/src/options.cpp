@@ -135,6 +135,14 @@ void bind_step_numbers(py::class_<StepOptions>& c) {
                   "α of FMPM 2026 Eqs. (8)-(9); None: 1 for FLIP, 1/2 otherwise");
   c.def_readwrite("periodic_cx", &StepOptions::periodic_cx,
                   "periodic FMPM's Courant budget C_X (§3.3; 0: FMPM on every step)");
+  c.def_property(
+      "xpic_contact_term", [](const StepOptions& o) { return o.xpic_contact == XpicContact::Term; },
+      [](StepOptions& o, bool term) {
+        warn_earlier_name("xpic_contact_term", "xpic_contact");
+        o.xpic_contact = term ? XpicContact::Term : XpicContact::None;
+      },
+      "the earlier name of `xpic_contact` (True: 'term', False: 'none'; accepted in this "
+      "release only)");
   name_property(
       c, "xpic_contact", [](const StepOptions& o) { return o.xpic_contact; },
       [](StepOptions& o, const std::string& s) { o.xpic_contact = xpic_contact_from_string(s); },

@@ -143,6 +143,24 @@ TEST_CASE("the step options' limits are the library's, reported at the line of t
   }
 }
 
+TEST_CASE("step.xpic_contact_term reads as step.xpic_contact, in the file and in --set",
+          "[input]") {
+  // true: the closed form with contact 2020 Eq. (37)'s term ("term"); false: without ("none").
+  const std::string bar = example("vibrating_bar.toml");
+  const std::string file = replace(bar, "[step]", "[step]\nxpic_contact_term = false");
+  const RunConfig in_file = read_input(file, "bar.toml", {});
+  CHECK(in_file.step.xpic_contact == XpicContact::None);
+  REQUIRE(in_file.notes.size() == 1);
+  CHECK_THAT(in_file.notes[0], Catch::Contains("step.xpic_contact = \"none\""));
+  const RunConfig by_set = read_input(bar, "bar.toml", {"step.xpic_contact_term=true"});
+  CHECK(by_set.step.xpic_contact == XpicContact::Term);
+  REQUIRE(by_set.notes.size() == 1);
+  CHECK_THAT(by_set.notes[0], Catch::Contains("--set step.xpic_contact=\"term\""));
+  CHECK(read_input(bar, "bar.toml", {}).step.xpic_contact == XpicContact::Increments);
+  const std::string both = replace(file, "[step]", "[step]\nxpic_contact = \"term\"");
+  CHECK_THAT(error_of(both), Catch::Contains("earlier name of step.xpic_contact"));
+}
+
 TEST_CASE("the earlier names [scheme], update and --set scheme.* read as [step]", "[input]") {
   // One release of aliases (README, "One vocabulary"): the same options, with a note each.
   const std::string bar = example("vibrating_bar.toml");

@@ -298,6 +298,8 @@ def test_step_options_take_the_keys_of_the_step_table():
     assert (o.scheme, o.velocity, o.order, o.blend_alpha) == ("USF", "FMPM", 4, 0.8)
     assert o.xpic_contact == "term" and o.exact_mass_cutoff == 0.01
     assert smpm.StepOptions().shape == "cpdi"  # the default of the input files
+    with pytest.warns(DeprecationWarning, match="'xpic_contact_term' is the earlier name"):
+        assert smpm.StepOptions(xpic_contact_term=False).xpic_contact == "none"
     with pytest.warns(DeprecationWarning, match="'update' is the earlier name of 'scheme'"):
         assert smpm.StepOptions(update="USL+").scheme == "USL+"
     with pytest.raises(smpm.InputError, match="unknown option 'oder'"):

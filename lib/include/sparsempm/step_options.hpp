@@ -49,9 +49,11 @@ std::string_view to_string(Transfer t);
 /// The transfer named `name`; throws InputError naming the valid choices.
 Transfer transfer_from_string(std::string_view name);
 
-/// How multimaterial XPIC(m) accounts for contact. XPIC(m)'s grid velocity
-/// m(v − v*) = Σ_{j<m} A^j v (contact 2020 Eqs. 41–43; the binomial sum of the FMPM loop run
-/// from v instead of v⁺) is computed per field, α's A^α = I − S^{+α}S^α.
+/// How XPIC(m)'s grid velocity m(v − v*) = Σ_{j<m} A^j v (contact 2020 Eqs. 41–43; the
+/// binomial sum of the FMPM loop run from v instead of v⁺) is computed, per field in
+/// multimaterial mode (α's A^α = I − S^{+α}S^α): by the loop, whose increments the velocity BCs
+/// correct (as `bc_method` says) in single material mode too, and contact in multimaterial mode;
+/// or by the paper's closed form, which corrects neither.
 enum class XpicContact {
   /// Default: that sum is FMPM 2026 Table 1's loop run from the contact-corrected v^α, with the
   /// velocity BCs and contact correcting every increment (§3.2, each pair's Net or Evolving

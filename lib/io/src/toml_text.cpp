@@ -4,6 +4,7 @@
 #include "sparsempm/errors.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -178,8 +179,26 @@ std::vector<std::string> apply_aliases(toml::table& root, const std::string& sou
                     " (the earlier name is accepted in this release only)");
   };
   rename(root, "scheme", "step", "[scheme]", "[step]");
-  if (toml::table* step = root.get_as<toml::table>("step"))
+  if (toml::table* step = root.get_as<toml::table>("step")) {
     rename(*step, "update", "scheme", "step.update", "step.scheme");
+    // step.xpic_contact_term = true | false: the closed form with or without contact 2020
+    // Eq. (37)'s term, now step.xpic_contact = "term" | "none".
+    if (const toml::node* n = step->get("xpic_contact_term")) {
+      const auto line = std::to_string(n->source().begin.line);
+      if (step->get("xpic_contact"))
+        throw InputError(source + ":" + line + ": step.xpic_contact_term is the earlier name " +
+                         "of step.xpic_contact: give one of them");
+      const std::optional<bool> on = n->value<bool>();
+      if (!on)
+        throw InputError(source + ":" + line + ": step.xpic_contact_term: expected true or " +
+                         "false (it is now step.xpic_contact = \"term\" | \"none\")");
+      step->insert_or_assign("xpic_contact", *on ? "term" : "none");
+      step->erase("xpic_contact_term");
+      notes.push_back(source + ": step.xpic_contact_term = " + (*on ? "true" : "false") +
+                      " is now step.xpic_contact = \"" + (*on ? "term" : "none") +
+                      "\" (the earlier name is accepted in this release only)");
+    }
+  }
   return notes;
 }
 
@@ -238,6 +257,15 @@ std::string apply_override(toml::table& root, const std::string& spec) {
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set " + clip(spec) + ": expected section.key=value");
   const std::string given = spec.substr(0, eq), value = spec.substr(eq + 1);
+  if (current_key_path(given) == "step.xpic_contact_term") { // its earlier name and values
+    if (value != "true" && value != "false")
+      throw InputError("--set " + clip(spec) + ": expected true or false (it is now " +
+                       "step.xpic_contact = \"term\" | \"none\")");
+    const std::string now = value == "true" ? "\"term\"" : "\"none\"";
+    apply_override(root, "step.xpic_contact=" + now);
+    return "--set " + given + "=" + value + " is now --set step.xpic_contact=" + now +
+           " (the earlier name is accepted in this release only)";
+  }
   const std::string path = current_key_path(given);
   std::vector<std::string> parts;
   std::stringstream ss(path);
