@@ -53,6 +53,17 @@ inline Model cut_block(unsigned seed, const ContactPair* contact) {
   return m;
 }
 
+/// `steps` steps of Δt = dt of two models side by side, each with its own stepper of `opt`
+/// (a multimaterial run against its single-material twin).
+inline void step_side_by_side(const StepOptions& opt, Model& a, Model& b, int steps,
+                              double dt = 0.01) {
+  Stepper sa(opt), sb(opt);
+  for (int s = 0; s < steps; ++s) {
+    sa.step(a, dt);
+    sb.step(b, dt);
+  }
+}
+
 inline double max_difference(const Field& a, const Field& b) {
   return (a - b).cwiseAbs().maxCoeff();
 }

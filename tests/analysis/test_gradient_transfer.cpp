@@ -301,6 +301,7 @@ TEST_CASE("with gradients, bonded stick contact is single material mode and fric
   using smpm::test::cut_block;
   using smpm::test::max_difference;
   using smpm::test::pair_law;
+  using smpm::test::step_side_by_side;
   for (VelocityUpdate v :
        {VelocityUpdate::FLIP, VelocityUpdate::PIC, VelocityUpdate::FMPM, VelocityUpdate::XPIC})
     for (ContactFmpmMethod method : {ContactFmpmMethod::Net, ContactFmpmMethod::Evolving}) {
@@ -312,11 +313,7 @@ TEST_CASE("with gradients, bonded stick contact is single material mode and fric
                             .velocity = v,
                             .fmpm = {.order = 4},
                             .transfer = Transfer::VelocityGradient};
-      Stepper a(opt), b(opt);
-      for (int s = 0; s < 20; ++s) {
-        a.step(multi, 0.01);
-        b.step(single, 0.01);
-      }
+      step_side_by_side(opt, multi, single, 20);
       CHECK(max_difference(multi.particles.V, single.particles.V) < 1e-7);
       CHECK(max_difference(multi.particles.gradient, single.particles.gradient) < 1e-6);
       CHECK(max_difference(multi.particles.X, single.particles.X) < 1e-7);

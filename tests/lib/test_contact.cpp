@@ -16,6 +16,7 @@ using smpm::test::cut_block;
 using smpm::test::elastic;
 using smpm::test::max_difference;
 using smpm::test::pair_law;
+using smpm::test::step_side_by_side;
 
 TEST_CASE("the fields are blocks of columns of one S: p, m and m~ sum over the fields",
           "[contact]") {
@@ -63,11 +64,7 @@ TEST_CASE("stick contact on every multimaterial node reproduces single material 
       StepOptions opt;
       opt.shape = Shape::GIMP;
       opt.velocity = velocity;
-      Stepper a(opt), b(opt);
-      for (int s = 0; s < 30; ++s) {
-        a.step(multi, 0.01);
-        b.step(single, 0.01);
-      }
+      step_side_by_side(opt, multi, single, 30);
       CHECK(max_difference(multi.particles.V, single.particles.V) < 1e-12);
       CHECK(max_difference(multi.particles.X, single.particles.X) < 1e-12);
       CHECK(max_difference(multi.particles.stress, single.particles.stress) < 1e-10);
@@ -350,11 +347,7 @@ TEST_CASE("stick contact inside the FMPM(k) and XPIC(m) loops reverts to single 
         opt.shape = Shape::GIMP;
         opt.velocity = velocity;
         opt.fmpm.order = k;
-        Stepper a(opt), b(opt);
-        for (int s = 0; s < 20; ++s) {
-          a.step(multi, 0.01);
-          b.step(single, 0.01);
-        }
+        step_side_by_side(opt, multi, single, 20);
         CHECK(max_difference(multi.particles.V, single.particles.V) < 1e-12);
         CHECK(max_difference(multi.particles.X, single.particles.X) < 1e-12);
         if (velocity == VelocityUpdate::XPIC && k == 4 && method == ContactFmpmMethod::Net) {
