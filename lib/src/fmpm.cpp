@@ -55,27 +55,31 @@ double blend_factor(const FmpmOptions& opt, int ell) {
 
 double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
                           const Operators& ops) {
+  const double eps =
+      metric == ConvergenceMetric::Changes ? 0.01 * v.rowwise().norm().maxCoeff() : 0.0;
+  return convergence_ratio(convergence_sums(metric, dv, v, ops.active, eps));
+}
+
+MetricSums convergence_sums(ConvergenceMetric metric, const Field& dv, const Field& v,
+                            const Eigen::Array<bool, Eigen::Dynamic, 1>& active, double eps) {
   const Eigen::VectorXd dn = dv.rowwise().norm(), vn = v.rowwise().norm();
+  MetricSums s;
   if (metric == ConvergenceMetric::Means) {
     // Serial sums in node order: the rows of nodes without mass add zeros, so the bits do not
     // depend on how many such rows the numbering holds (a window of the grid or all of it).
-    double dsum = 0, vsum = 0;
     for (Index i = 0; i < dn.size(); ++i) {
-      dsum += dn[i];
-      vsum += vn[i];
+      s.numerator += dn[i];
+      s.denominator += vn[i];
     }
-    return vsum > 0 ? dsum / vsum : 0.0;
+    return s;
   }
-  const double eps = 0.01 * vn.maxCoeff();
-  double sum = 0;
-  Index count = 0;
   for (Index i = 0; i < dn.size(); ++i)
-    if (ops.active[i]) {
+    if (active[i]) {
       const double den = vn[i] + eps;
-      sum += den > 0 ? dn[i] / den : 0.0;
-      ++count;
+      s.numerator += den > 0 ? dn[i] / den : 0.0;
+      s.denominator += 1;
     }
-  return count ? sum / double(count) : 0.0;
+  return s;
 }
 
 namespace {
@@ -152,30 +156,31 @@ void fmpm_pass(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, double c
 
 FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
                      const FmpmOptions& opt, const FmpmHooks& hooks, Field& v, FmpmWorkspace& w) {
-  FmpmReport report;
-  w.prev = v; // Δv(1) = v⁺(1)
-  w.metrics.clear();
-  // Without corrections between Eqs. 6 and 5, one pass over the rows does both.
-  const bool fused = !hooks.velocity_bcs && !hooks.contact;
-  for (int ell = 2; ell <= opt.order; ++ell) {
-    // Δv(ℓ) = A Δv(ℓ−1) = Δv(ℓ−1) − S⁺S Δv(ℓ−1), blended                  (Eq. 6, §3.3)
-    fmpm_pass(m_inv, mt, blend_factor(opt, ell), w.prev, w.next, fused ? &v : nullptr);
-    w.prev.swap(w.next);
-    if (hooks.velocity_bcs)
-      hooks.velocity_bcs(ell, w.prev); // (1)
-    if (hooks.contact)
-      hooks.contact(ell, w.prev, v); // (2)
-    if (!fused)
-      v += w.prev; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                   (Eq. 5)
-    report.order = ell;
-    if (hooks.converged) { // (3)
-      const bool done = hooks.converged(ell, w.prev, v, report.metric);
-      w.metrics.push_back(report.metric);
-      if (done)
-        break;
+  // The algebra of fmpm_recursion on Eigen fields: Δv(ℓ) in w.prev, the next one in w.next.
+  struct EigenLoop {
+    const Eigen::VectorXd& m_inv;
+    const SparseRowMatrix& mt;
+    const FmpmHooks& hooks;
+    Field& v;
+    FmpmWorkspace& w;
+    bool corrects() const { return bool(hooks.velocity_bcs) || bool(hooks.contact); }
+    void pass(double c, bool fused) {
+      fmpm_pass(m_inv, mt, c, w.prev, w.next, fused ? &v : nullptr);
+      w.prev.swap(w.next);
     }
-  }
-  return report;
+    void correct(int ell) {
+      if (hooks.velocity_bcs)
+        hooks.velocity_bcs(ell, w.prev); // (1)
+      if (hooks.contact)
+        hooks.contact(ell, w.prev, v); // (2)
+    }
+    void accumulate() { v += w.prev; }
+    bool tests_convergence() const { return bool(hooks.converged); }
+    bool converged(int ell, double& metric) { return hooks.converged(ell, w.prev, v, metric); }
+  };
+  w.prev = v; // Δv(1) = v⁺(1)
+  EigenLoop loop{m_inv, mt, hooks, v, w};
+  return fmpm_recursion(opt, loop, w.metrics);
 }
 
 FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopConstraints& bc) {

@@ -37,3 +37,15 @@ if(NOT out MATCHES "rho\\(A\\) = 0\\.75\n" OR NOT out MATCHES "exact residual = 
    OR NOT out MATCHES "nodes read = 5")
   message(FATAL_ERROR "unexpected consumer output")
 endif()
+# The distributed component on one rank (a singleton MPI process), when it was built.
+if(EXISTS ${WORK_DIR}/build/consumer_petsc)
+  execute_process(COMMAND ${WORK_DIR}/build/consumer_petsc RESULT_VARIABLE rc
+                  OUTPUT_VARIABLE out)
+  message(STATUS "consumer_petsc printed: ${out}")
+  if(rc OR NOT out MATCHES "distributed mass error = [0-9.e-]+\n"
+     OR NOT out MATCHES "error = (0|[0-9.]+e-1[4-9])\n")
+    message(FATAL_ERROR "unexpected output of the distributed consumer")
+  endif()
+elseif(HAVE_PETSC)
+  message(FATAL_ERROR "the installation has sparsempm::petsc but the consumer did not find it")
+endif()

@@ -105,9 +105,42 @@ void reverse_map_product(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt
 void fmpm_pass(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, double c, const Field& dv,
                Field& next, Field* v = nullptr);
 
-/// The FMPM loop of FMPM 2026 Table 1. On entry `v` holds v⁺(1) = m⁻¹ p⁺ (with whatever
-/// lumped corrections the caller applied); on return v⁺(ℓ) at the last pass ℓ ≤ k, and
-/// w.metrics holds the metric hook (3) gave on each pass (FMPM 2026 Fig. 13A). Each pass:
+/// The control of FMPM 2026 Table 1's loop, for any storage of the vectors: the Eigen fields of
+/// fmpm_loop and the PETSc Vecs of the distributed component (sparsempm::petsc) run this one
+/// function. `loop` supplies the algebra of its storage:
+///   - loop.corrects(): whether hooks (1) or (2) change Δv(ℓ) between Eqs. 6 and 5;
+///   - loop.pass(c, fused): Δv(ℓ) = c A Δv(ℓ−1) into the increment (Eq. 6, §3.3), and when
+///     `fused` also v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ) (Eq. 5) in the same sweep;
+///   - loop.correct(ℓ): hooks (1) and (2) on Δv(ℓ);
+///   - loop.accumulate(): v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ) (Eq. 5) when not fused;
+///   - loop.tests_convergence() and loop.converged(ℓ, metric): hook (3).
+/// `metrics` receives the metric of every pass that hook (3) tested.
+template <class Loop>
+FmpmReport fmpm_recursion(const FmpmOptions& opt, Loop& loop, std::vector<double>& metrics) {
+  FmpmReport report;
+  metrics.clear();
+  // Without corrections between Eqs. 6 and 5, one pass over the rows does both.
+  const bool fused = !loop.corrects();
+  for (int ell = 2; ell <= opt.order; ++ell) {
+    // Δv(ℓ) = A Δv(ℓ−1) = Δv(ℓ−1) − S⁺S Δv(ℓ−1), blended                  (Eq. 6, §3.3)
+    loop.pass(blend_factor(opt, ell), fused);
+    loop.correct(ell); // (1), (2)
+    if (!fused)
+      loop.accumulate(); // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                   (Eq. 5)
+    report.order = ell;
+    if (loop.tests_convergence()) { // (3)
+      const bool done = loop.converged(ell, report.metric);
+      metrics.push_back(report.metric);
+      if (done)
+        break;
+    }
+  }
+  return report;
+}
+
+/// The FMPM loop of FMPM 2026 Table 1 (fmpm_recursion on Eigen fields). On entry `v` holds v⁺(1) =
+/// m⁻¹ p⁺ (with whatever lumped corrections the caller applied); on return v⁺(ℓ) at the last pass ℓ
+/// ≤ k, and w.metrics holds the metric hook (3) gave on each pass (FMPM 2026 Fig. 13A). Each pass:
 ///     Δv(ℓ) = c_ℓ (Δv(ℓ−1) − S⁺S Δv(ℓ−1))        (Eq. 6; c_ℓ = blend_factor(ℓ), §3.3)
 ///     hooks (1) and (2) correct Δv(ℓ);  v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)   (Eq. 5);  hook (3).
 FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
@@ -146,6 +179,22 @@ updated_velocity(const Operators& ops, const SparseRowMatrix* mt, const FmpmOpti
 /// The convergence metric of FMPM 2026 §3.4 for an increment dv and the evolving v⁺(ℓ).
 double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
                           const Operators& ops);
+
+/// The sums of a convergence metric over some of the nodes (convergence_sums): a metric over
+/// nodes held in parts (the ranks of the distributed component) adds the parts' sums.
+struct MetricSums {
+  double numerator = 0;   ///< Means: Σ |Δv_i|; Changes: Σ_active |Δv_i| / (|v⁺_i| + ε)
+  double denominator = 0; ///< Means: Σ |v⁺_i|; Changes: the count of active nodes
+};
+/// The sums of `metric` over the rows of dv and v (|·| the Euclidean norm of a row), in row
+/// order; `active` marks the active rows (Changes) and eps is ε = 1% of the largest |v⁺_i| over
+/// every node (Changes).
+MetricSums convergence_sums(ConvergenceMetric metric, const Field& dv, const Field& v,
+                            const Eigen::Array<bool, Eigen::Dynamic, 1>& active, double eps);
+/// The metric of FMPM 2026 §3.4 from its sums: numerator / denominator, 0 when that is 0.
+inline double convergence_ratio(const MetricSums& s) {
+  return s.denominator > 0 ? s.numerator / s.denominator : 0.0;
+}
 
 /// XPIC(m) projection (contact 2020 Eqs. 36, 41–44):
 ///     P V = m S (v − v*),  v* = Σ_{k=2}^{m} (−1)^k (v*_k + ((m − 1)/m) Δv*_{k−1}),

@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// \file petsc.hpp
+/// The operators of FMPM 2026 §2.1 and the FMPM(k) loop of Table 1 across MPI ranks, on PETSc
+/// (the component sparsempm::petsc; find_package(sparsempm COMPONENTS petsc)).
+///
+/// The structured grid maps one to one onto a PETSc DMDA, which distributes its nodes in boxes;
+/// a rank owns the particles whose cell it owns (the cell whose lowest corner node it owns) and
+/// assembles S, G and M of those particles on their window of the grid with the serial library
+/// (assemble with NodeRange::Particles: its owned nodes and the ghost nodes its particles reach).
+/// The node sums are PETSc's: m = Sᵀ M and p = Sᵀ M V are added into distributed Vecs, and
+/// m̃ = Sᵀ diag(M) S into an MPIAIJ matrix, each rank adding its particles' terms and PETSc's
+/// assembly sending the rows other ranks own. Every node and field is one row of m and m̃ (row
+/// AO(i)·fields + α for node i of field α, AO the DMDA's natural-to-PETSc ordering); a node field
+/// of d components is a Vec of d entries per row (interlaced), on which m̃ acts as a MAIJ matrix.
+///
+/// Results equal the serial library's to round-off, not to the bit: the sums run in another
+/// order across ranks.
+
+#include "sparsempm/fmpm.hpp"
+#include "sparsempm/operators.hpp"
+
+#include <petscdmda.h>
+#include <petscmat.h>
+#include <petscvec.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+/// The distributed component: the operators and FMPM(k) on PETSc across MPI ranks.
+namespace smpm::petsc {
+
+/// Throws NumericalError "<call>: <PETSc's message>" unless `code` is 0.
+void check(PetscErrorCode code, const char* call);
+/// Calls a PETSc function and throws NumericalError naming it when it fails.
+#define SMPM_PETSC_CALL(call) ::smpm::petsc::check((call), #call)
+
+/// PETSc and SLEPc for the life of the object: SlepcInitialize (which initialises PETSc and MPI)
+/// and SlepcFinalize. One per process, before any other function of this component.
+class Session {
+public:
+  /// Initialises with the program's arguments (PETSc reads its -options from them).
+  Session(int* argc, char*** argv);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+};
+
+/// Sole owner of a PETSc object, destroyed with it (Vec, Mat, IS, VecScatter, KSP, ...).
+template <class T, PetscErrorCode (*Destroy)(T*)>
+class Owned {
+public:
+  Owned() = default;
+  /// Takes `handle` over.
+  explicit Owned(T handle) : h_(handle) {}
+  ~Owned() { reset(); }
+  Owned(Owned&& o) noexcept : h_(std::exchange(o.h_, nullptr)) {}
+  Owned& operator=(Owned&& o) noexcept {
+    if (this != &o) {
+      reset();
+      h_ = std::exchange(o.h_, nullptr);
+    }
+    return *this;
+  }
+  Owned(const Owned&) = delete;
+  Owned& operator=(const Owned&) = delete;
+  /// The handle (null when empty).
+  T get() const { return h_; }
+  /// The handle, for PETSc calls.
+  operator T() const { return h_; }
+  /// Destroys the object held, and returns where a Create call puts the new one.
+  T* out() {
+    reset();
+    return &h_;
+  }
+  /// Destroys the object held.
+  void reset() {
+    if (h_)
+      Destroy(&h_);
+    h_ = nullptr;
+  }
+
+private:
+  T h_ = nullptr;
+};
+/// An owned PETSc Vec.
+using OwnedVec = Owned<Vec, VecDestroy>;
+/// An owned PETSc Mat.
+using OwnedMat = Owned<Mat, MatDestroy>;
+/// An owned PETSc DM.
+using OwnedDM = Owned<DM, DMDestroy>;
+/// An owned PETSc IS.
+using OwnedIS = Owned<IS, ISDestroy>;
+/// An owned PETSc VecScatter.
+using OwnedScatter = Owned<VecScatter, VecScatterDestroy>;
+
+/// A structured grid distributed over the ranks of a communicator by a PETSc DMDA with one degree
+/// of freedom per velocity field: each rank owns a box of nodes (owned()).
+class DistributedGrid {
+public:
+  /// The DMDA of `grid` (a whole grid, not a window) with `fields` unknowns per node, its boxes
+  /// chosen by PETSc (PETSC_DECIDE) unless `ranks_per_axis` gives them. Collective.
+  DistributedGrid(const Grid& grid, int fields = 1, MPI_Comm comm = PETSC_COMM_WORLD,
+                  const std::array<int, 3>& ranks_per_axis = {0, 0, 0});
+  /// The whole grid.
+  const Grid& grid() const { return grid_; }
+  /// The window of the nodes this rank owns.
+  const Grid& owned() const { return owned_; }
+  /// Velocity fields (unknowns per node).
+  int fields() const { return fields_; }
+  /// The DMDA.
+  DM dm() const { return dm_; }
+  /// The communicator.
+  MPI_Comm comm() const { return comm_; }
+  /// This rank and the number of ranks.
+  int rank() const { return rank_; }
+  /// Number of ranks of the communicator.
+  int size() const { return size_; }
+  /// Rows (nodes × fields) this rank owns, and the first of them.
+  PetscInt owned_rows() const { return PetscInt(owned_.num_nodes()) * fields_; }
+  /// The PETSc row of this rank's first owned row.
+  PetscInt first_row() const { return first_row_; }
+  /// Rows of the whole grid: nodes × fields.
+  PetscInt global_rows() const { return PetscInt(grid_.whole_num_nodes()) * fields_; }
+  /// The PETSc rows of whole nodes `nodes` of field `field` (AO(i) · fields + field), written
+  /// into `rows`. Collective (every rank calls it, with lists of any length).
+  void petsc_rows(const std::vector<PetscInt>& nodes, int field, std::vector<PetscInt>& rows) const;
+  /// Whether this rank owns the cell (i, j, k): it owns the cell's lowest corner node.
+  bool owns_cell(const std::array<int, 3>& cell) const;
+  /// The cell holding position x (clamped to the grid's cells).
+  std::array<int, 3> cell_of(const double* x) const;
+  /// The particles of `all` whose cell this rank owns, ascending.
+  std::vector<Index> owned_particles(const Particles& all) const;
+
+private:
+  Grid grid_, owned_;
+  int fields_ = 1;
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  PetscInt first_row_ = 0;
+  OwnedDM dm_;
+};
+
+/// The rows `ids` of `all` (every per-particle column that is not empty).
+Particles select_particles(const Particles& all, const std::vector<Index>& ids);
+
+/// The operators of one configuration across ranks (FMPM 2026 §2.1).
+struct DistributedOperators {
+  Operators local;              ///< S, G, M of this rank's particles on their window
+  std::vector<Index> particles; ///< the particle (in the whole set) of each row of local.S
+  std::vector<PetscInt> rows;   ///< the PETSc row of each column of local.S
+  int dim = 1;                  ///< d
+  OwnedVec m;                   ///< lumped masses m = Sᵀ M (one entry per row)
+  OwnedVec m_inv;               ///< 1/m on active rows, 0 elsewhere
+  OwnedVec m_inv_d;             ///< m_inv repeated for the d components of a node field
+  OwnedMat mt;                  ///< m̃ = Sᵀ diag(M) S, MPIAIJ, rows × rows
+  OwnedMat mt_d;                ///< m̃ acting on node fields of d components (MAIJ)
+  Eigen::Array<bool, Eigen::Dynamic, 1> active; ///< the owned rows' activity (owned layout)
+  double max_mass = 0; ///< the largest total nodal mass Σ_α m^α_i over every node
+};
+
+/// Assembles the operators of `particles` (this rank's particles, ids their index in the whole
+/// set) on the distributed grid: m, m̃ and the active set as in the serial assemble (a row is
+/// active when m^α_i > kMassTolerance max_j Σ_α m^α_j). `field`: the velocity field of each of
+/// these particles (one field when null). Collective.
+void assemble(const DistributedGrid& grid, const Particles& particles,
+              const std::vector<Index>& ids, Shape shape, DistributedOperators& ops,
+              const Eigen::VectorXi* field = nullptr);
+/// The same for a whole particle set known on every rank: each rank takes the particles whose
+/// cell it owns (owned_particles). `field` has one entry per particle of `all`.
+void assemble(const DistributedGrid& grid, const Particles& all, Shape shape,
+              DistributedOperators& ops, const Eigen::VectorXi* field = nullptr);
+
+/// A node field of `components` entries per row (rows × components), zero. Collective.
+OwnedVec node_vector(const DistributedGrid& grid, int components);
+/// p = Sᵀ M V of this rank's particles (V: one row per row of ops.local.S) added over ranks.
+/// Collective.
+OwnedVec momentum(const DistributedGrid& grid, const DistributedOperators& ops,
+                  const ConstFieldRef& V);
+
+/// The rows this rank owns of a node field `x` in the serial layout on the window owned():
+/// row α n_o + i for node i of the window and field α (n_o its nodes), `components` columns.
+void get_owned(const DistributedGrid& grid, Vec x, int components, Field& out);
+/// Writes the owned rows of `x` from a field in get_owned's layout.
+void set_owned(const DistributedGrid& grid, const Field& in, Vec x);
+/// The whole node field on rank 0 in the serial layout on the whole grid (row α n_g + i, as
+/// the serial operators with NodeRange::Grid number it); empty on the other ranks. Collective.
+Field gather(const DistributedGrid& grid, Vec x, int components);
+/// The whole matrix (rows × rows) on rank 0 in the serial numbering α n_g + i; empty (0 × 0)
+/// on the other ranks. Collective.
+SparseMatrix gather(const DistributedGrid& grid, Mat a);
+
+/// Scratch vectors of the distributed loop.
+struct DistributedFmpmWorkspace {
+  OwnedVec prev, next, product; ///< Δv(ℓ), Δv(ℓ + 1) and m̃ Δv(ℓ)
+  Field owned;                  ///< the owned rows of a vector for the velocity BCs
+  std::vector<double> metrics;  ///< the metric of each pass (dynamic FMPM)
+};
+
+/// v⁺(k) = m̃_k⁻¹ p⁺ across ranks: FMPM 2026 Table 1 by fmpm_recursion (the serial loop's own
+/// control, fmpm.hpp) with m̃'s MatMult; on entry v holds v⁺(1). The velocity BCs of `bc` (whose
+/// grid is ignored: each rank applies them on the nodes it owns) zero the BC directions of
+/// every increment for the Incremental method, and are set on v⁺(k) for the Velocity and
+/// Combined methods; dynamic FMPM's metric is summed over the ranks. Collective.
+FmpmReport fmpm_velocity(const DistributedGrid& grid, const DistributedOperators& ops,
+                         const FmpmOptions& opt, const LoopConstraints& bc, Vec v,
+                         DistributedFmpmWorkspace& w);
+/// The grid velocity from the updated momentum p⁺, as the serial updated_velocity: the lumped
+/// BCs on p⁺ (Table 2's top block, unless the method is Velocity with k > 1), v⁺(1) = m⁻¹ p⁺,
+/// then for k > 1 fmpm_velocity. `p_plus` is changed by the lumped BCs. Collective.
+FmpmReport updated_velocity(const DistributedGrid& grid, const DistributedOperators& ops,
+                            const FmpmOptions& opt, const LoopConstraints& bc, Vec p_plus, Vec v,
+                            DistributedFmpmWorkspace& w);
+
+} // namespace smpm::petsc

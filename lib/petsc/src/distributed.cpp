@@ -1,0 +1,402 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The grid on a PETSc DMDA, this rank's particles, and the distributed operators m, p and m̃
+// (FMPM 2026 §2.1) added over the ranks by PETSc's assembly.
+#include "sparsempm/petsc.hpp"
+
+#include "sparsempm/errors.hpp"
+#include "sparsempm/stages.hpp"
+
+#include <slepcsys.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace smpm::petsc {
+
+void check(PetscErrorCode code, const char* call) {
+  if (code == 0)
+    return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  throw NumericalError(std::string(call) + ": PETSc error " + std::to_string(int(code)) +
+                       (text ? std::string(" (") + text + ")" : std::string()));
+}
+
+Session::Session(int* argc, char*** argv) {
+  SMPM_PETSC_CALL(SlepcInitialize(argc, argv, nullptr, nullptr));
+}
+
+Session::~Session() {
+  SlepcFinalize();
+}
+
+namespace {
+// The natural index of node `node` of the whole grid and field α: the DMDA's application
+// ordering numbers the unknowns of a node together (node · fields + α).
+PetscInt natural(Index node, int fields, int field) {
+  return PetscInt(node) * fields + field;
+}
+
+AO application_ordering(DM dm) {
+  AO ao = nullptr;
+  SMPM_PETSC_CALL(DMDAGetAO(dm, &ao));
+  return ao;
+}
+} // namespace
+
+DistributedGrid::DistributedGrid(const Grid& grid, int fields, MPI_Comm comm,
+                                 const std::array<int, 3>& ranks_per_axis)
+    : grid_(grid), owned_(grid), fields_(fields), comm_(comm) {
+  if (grid.is_window())
+    throw UsageError("DistributedGrid: give the whole grid, not a window of it");
+  if (fields < 1)
+    throw UsageError("DistributedGrid: " + std::to_string(fields) + " velocity fields");
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+  auto ranks = [&](int a) {
+    return ranks_per_axis[a] > 0 ? PetscInt(ranks_per_axis[a]) : PETSC_DECIDE;
+  };
+  const PetscInt n[3] = {grid.nodes(0), grid.nodes(1), grid.nodes(2)};
+  // Stencil width 1: the component adds over ranks with VecSetValues and MatSetValues
+  // (ADD_VALUES), not through the DMDA's ghosts, so the width only bounds the smallest box.
+  switch (grid.dim()) {
+  case 1:
+    SMPM_PETSC_CALL(DMDACreate1d(comm, DM_BOUNDARY_NONE, n[0], fields, 1, nullptr, dm_.out()));
+    break;
+  case 2:
+    SMPM_PETSC_CALL(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, n[0],
+                                 n[1], ranks(0), ranks(1), fields, 1, nullptr, nullptr, dm_.out()));
+    break;
+  default:
+    SMPM_PETSC_CALL(DMDACreate3d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE,
+                                 DMDA_STENCIL_BOX, n[0], n[1], n[2], ranks(0), ranks(1), ranks(2),
+                                 fields, 1, nullptr, nullptr, nullptr, dm_.out()));
+  }
+  SMPM_PETSC_CALL(DMSetUp(dm_));
+  PetscInt first[3], count[3];
+  SMPM_PETSC_CALL(
+      DMDAGetCorners(dm_, &first[0], &first[1], &first[2], &count[0], &count[1], &count[2]));
+  owned_ = grid.window({int(first[0]), int(first[1]), int(first[2])},
+                       {int(count[0]), int(count[1]), int(count[2])});
+  OwnedVec x;
+  SMPM_PETSC_CALL(DMCreateGlobalVector(dm_, x.out()));
+  PetscInt end = 0;
+  SMPM_PETSC_CALL(VecGetOwnershipRange(x, &first_row_, &end));
+  if (end - first_row_ != owned_rows())
+    throw NumericalError("DistributedGrid: the DMDA's rows " + std::to_string(end - first_row_) +
+                         " are not the owned nodes × fields " + std::to_string(owned_rows()));
+}
+
+void DistributedGrid::petsc_rows(const std::vector<PetscInt>& nodes, int field,
+                                 std::vector<PetscInt>& rows) const {
+  rows.resize(nodes.size());
+  for (size_t k = 0; k < nodes.size(); ++k)
+    rows[k] = natural(nodes[k], fields_, field);
+  SMPM_PETSC_CALL(AOApplicationToPetsc(application_ordering(dm_), PetscInt(rows.size()),
+                                       rows.empty() ? nullptr : rows.data()));
+}
+
+bool DistributedGrid::owns_cell(const std::array<int, 3>& cell) const {
+  for (int a = 0; a < grid_.dim(); ++a)
+    if (cell[a] < owned_.first_node(a) || cell[a] >= owned_.first_node(a) + owned_.nodes(a))
+      return false;
+  return true;
+}
+
+std::array<int, 3> DistributedGrid::cell_of(const double* x) const {
+  std::array<int, 3> cell{0, 0, 0};
+  for (int a = 0; a < grid_.dim(); ++a) {
+    const double s = std::floor((x[a] - grid_.origin(a)) / grid_.cell_size(a));
+    cell[a] = int(std::clamp(s, 0.0, double(grid_.cells(a) - 1)));
+  }
+  return cell;
+}
+
+std::vector<Index> DistributedGrid::owned_particles(const Particles& all) const {
+  std::vector<Index> ids;
+  for (Index p = 0; p < all.size(); ++p)
+    if (owns_cell(cell_of(all.X.row(p).data())))
+      ids.push_back(p);
+  return ids;
+}
+
+Particles select_particles(const Particles& all, const std::vector<Index>& ids) {
+  const auto rows =
+      Eigen::Map<const Eigen::Matrix<Index, Eigen::Dynamic, 1>>(ids.data(), Index(ids.size()));
+  Particles P;
+  P.dim = all.dim;
+  auto take = [&](const auto& from, auto& to) {
+    if (from.rows() == all.size())
+      to = from(rows, Eigen::all);
+  };
+  auto take_vector = [&](const auto& from, auto& to) {
+    if (from.size() == all.size())
+      to = from(rows);
+  };
+  take(all.X, P.X);
+  take(all.V, P.V);
+  take(all.F, P.F);
+  take(all.stress, P.stress);
+  take(all.half_length, P.half_length);
+  take(all.gradient, P.gradient);
+  take(all.elastic_cauchy_green, P.elastic_cauchy_green);
+  take_vector(all.mass, P.mass);
+  take_vector(all.volume0, P.volume0);
+  take_vector(all.material, P.material);
+  take_vector(all.energy, P.energy);
+  take_vector(all.temperature, P.temperature);
+  take_vector(all.heat_source, P.heat_source);
+  take_vector(all.plastic_strain, P.plastic_strain);
+  return P;
+}
+
+OwnedVec node_vector(const DistributedGrid& grid, int components) {
+  OwnedVec x;
+  SMPM_PETSC_CALL(
+      VecCreateMPI(grid.comm(), grid.owned_rows() * components, PETSC_DETERMINE, x.out()));
+  SMPM_PETSC_CALL(VecSetBlockSize(x, components));
+  SMPM_PETSC_CALL(VecSet(x, 0.0));
+  return x;
+}
+
+namespace {
+// Inserts the rows of the local m̃ (window columns) into `a` at their PETSc rows (ADD_VALUES).
+void add_local_rows(const DistributedOperators& ops, const SparseRowMatrix& local, Mat a,
+                    std::vector<PetscInt>& cols) {
+  for (Index r = 0; r < local.rows(); ++r) {
+    const int begin = local.outerIndexPtr()[r], end = local.outerIndexPtr()[r + 1];
+    if (begin == end)
+      continue;
+    cols.resize(size_t(end - begin));
+    for (int k = begin; k < end; ++k)
+      cols[size_t(k - begin)] = ops.rows[size_t(local.innerIndexPtr()[k])];
+    const PetscInt row = ops.rows[size_t(r)];
+    SMPM_PETSC_CALL(MatSetValues(a, 1, &row, PetscInt(cols.size()), cols.data(),
+                                 local.valuePtr() + begin, ADD_VALUES));
+  }
+}
+} // namespace
+
+void assemble(const DistributedGrid& grid, const Particles& particles,
+              const std::vector<Index>& ids, Shape shape, DistributedOperators& ops,
+              const Eigen::VectorXi* field) {
+  if (Index(ids.size()) != particles.size())
+    throw UsageError("petsc::assemble: " + std::to_string(ids.size()) + " ids for " +
+                     std::to_string(particles.size()) + " particles");
+  const int fields = grid.fields();
+  ops.dim = grid.grid().dim();
+  ops.particles = ids;
+  ops.local.node_range = NodeRange::Particles;
+  if (particles.size() > 0) {
+    assemble(grid.grid(), particles, shape, ops.local, fields, fields > 1 ? field : nullptr);
+  } else { // a rank without particles adds nothing
+    ops.local = Operators{};
+    ops.local.node_range = NodeRange::Particles;
+    ops.local.dim = ops.dim;
+    ops.local.fields = fields;
+  }
+  // The PETSc row of each column α n_w + i of the window: AO(node · fields + α).
+  const Index cols = ops.local.num_nodes();
+  ops.rows.resize(size_t(cols));
+  for (Index c = 0; c < cols; ++c) {
+    const Index ng = ops.local.grid_node_count;
+    ops.rows[size_t(c)] = natural(ops.local.grid.whole_node(c % ng), fields, int(c / ng));
+  }
+  SMPM_PETSC_CALL(AOApplicationToPetsc(application_ordering(grid.dm()), PetscInt(cols),
+                                       cols ? ops.rows.data() : nullptr));
+
+  // m = Sᵀ M: each rank adds its particles' sums into the rows (PETSc sends off-rank rows).
+  ops.m = node_vector(grid, 1);
+  if (cols)
+    SMPM_PETSC_CALL(
+        VecSetValues(ops.m, PetscInt(cols), ops.rows.data(), ops.local.m.data(), ADD_VALUES));
+  SMPM_PETSC_CALL(VecAssemblyBegin(ops.m));
+  SMPM_PETSC_CALL(VecAssemblyEnd(ops.m));
+
+  // m̃ = Sᵀ diag(M) S: the rank's particles' stencil (assemble_consistent_mass on the window),
+  // preallocated by a first insertion into a MATPREALLOCATOR.
+  ConsistentMass local;
+  if (particles.size() > 0)
+    assemble_consistent_mass(ops.local, local);
+  const PetscInt n = grid.owned_rows(), N = grid.global_rows();
+  std::vector<PetscInt> colidx;
+  OwnedMat pre;
+  SMPM_PETSC_CALL(MatCreate(grid.comm(), pre.out()));
+  SMPM_PETSC_CALL(MatSetSizes(pre, n, n, N, N));
+  SMPM_PETSC_CALL(MatSetType(pre, MATPREALLOCATOR));
+  SMPM_PETSC_CALL(MatSetUp(pre));
+  if (particles.size() > 0)
+    add_local_rows(ops, local.matrix, pre, colidx);
+  SMPM_PETSC_CALL(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
+  SMPM_PETSC_CALL(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
+  SMPM_PETSC_CALL(MatCreate(grid.comm(), ops.mt.out()));
+  SMPM_PETSC_CALL(MatSetSizes(ops.mt, n, n, N, N));
+  SMPM_PETSC_CALL(MatSetType(ops.mt, MATAIJ));
+  SMPM_PETSC_CALL(MatPreallocatorPreallocate(pre, PETSC_TRUE, ops.mt));
+  if (particles.size() > 0)
+    add_local_rows(ops, local.matrix, ops.mt, colidx);
+  SMPM_PETSC_CALL(MatAssemblyBegin(ops.mt, MAT_FINAL_ASSEMBLY));
+  SMPM_PETSC_CALL(MatAssemblyEnd(ops.mt, MAT_FINAL_ASSEMBLY));
+  SMPM_PETSC_CALL(MatSetOption(ops.mt, MAT_SYMMETRIC, PETSC_TRUE));
+  SMPM_PETSC_CALL(MatSetOption(ops.mt, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+
+  // The active rows: m^α_i > kMassTolerance · max_j Σ_α m^α_j over every node (operators.hpp).
+  Field m_owned;
+  get_owned(grid, ops.m, 1, m_owned);
+  const Index no = grid.owned().num_nodes();
+  double local_max = 0;
+  for (Index i = 0; i < no; ++i) {
+    double total = 0;
+    for (int a = 0; a < fields; ++a)
+      total += m_owned(a * no + i, 0);
+    local_max = std::max(local_max, total);
+  }
+  MPI_Allreduce(&local_max, &ops.max_mass, 1, MPI_DOUBLE, MPI_MAX, grid.comm());
+  ops.active = m_owned.col(0).array() > kMassTolerance * ops.max_mass;
+  Field inv = (ops.active).select(1.0 / m_owned.col(0).array(), 0.0).matrix();
+  ops.m_inv = node_vector(grid, 1);
+  set_owned(grid, inv, ops.m_inv);
+  SMPM_PETSC_CALL(MatCreateMAIJ(ops.mt, ops.dim, ops.mt_d.out()));
+  ops.m_inv_d = node_vector(grid, ops.dim);
+  set_owned(grid, inv.replicate(1, ops.dim), ops.m_inv_d);
+}
+
+void assemble(const DistributedGrid& grid, const Particles& all, Shape shape,
+              DistributedOperators& ops, const Eigen::VectorXi* field) {
+  const std::vector<Index> ids = grid.owned_particles(all);
+  Eigen::VectorXi own_field;
+  if (field) {
+    own_field.resize(Index(ids.size()));
+    for (size_t k = 0; k < ids.size(); ++k)
+      own_field[Index(k)] = (*field)[ids[k]];
+  }
+  assemble(grid, select_particles(all, ids), ids, shape, ops, field ? &own_field : nullptr);
+}
+
+OwnedVec momentum(const DistributedGrid& grid, const DistributedOperators& ops,
+                  const ConstFieldRef& V) {
+  const int d = ops.dim;
+  OwnedVec p = node_vector(grid, d);
+  if (ops.local.num_particles() > 0) {
+    if (V.rows() != ops.local.num_particles() || V.cols() != d)
+      throw UsageError("petsc::momentum: V is " + std::to_string(V.rows()) + " x " +
+                       std::to_string(V.cols()) + ", the rank's particles are " +
+                       std::to_string(ops.local.num_particles()) + " x " + std::to_string(d));
+    Field local;
+    map_momentum(particle_operators(ops.local), V, local); // p = Sᵀ (M ∘ V) on the window
+    std::vector<PetscInt> idx(ops.rows.size() * size_t(d));
+    for (size_t c = 0; c < ops.rows.size(); ++c)
+      for (int a = 0; a < d; ++a)
+        idx[c * size_t(d) + size_t(a)] = ops.rows[c] * d + a;
+    SMPM_PETSC_CALL(VecSetValues(p, PetscInt(idx.size()), idx.data(), local.data(), ADD_VALUES));
+  }
+  SMPM_PETSC_CALL(VecAssemblyBegin(p));
+  SMPM_PETSC_CALL(VecAssemblyEnd(p));
+  return p;
+}
+
+void get_owned(const DistributedGrid& grid, Vec x, int components, Field& out) {
+  const Index no = grid.owned().num_nodes();
+  const int fields = grid.fields();
+  out.resize(no * fields, components);
+  const PetscScalar* a = nullptr;
+  SMPM_PETSC_CALL(VecGetArrayRead(x, &a));
+  // The DMDA's local rows: the owned box in natural order, the fields of a node together.
+  for (Index i = 0; i < no; ++i)
+    for (int f = 0; f < fields; ++f)
+      for (int c = 0; c < components; ++c)
+        out(f * no + i, c) = a[(i * fields + f) * components + c];
+  SMPM_PETSC_CALL(VecRestoreArrayRead(x, &a));
+}
+
+void set_owned(const DistributedGrid& grid, const Field& in, Vec x) {
+  const Index no = grid.owned().num_nodes();
+  const int fields = grid.fields();
+  const Index components = in.cols();
+  PetscScalar* a = nullptr;
+  SMPM_PETSC_CALL(VecGetArray(x, &a));
+  for (Index i = 0; i < no; ++i)
+    for (int f = 0; f < fields; ++f)
+      for (Index c = 0; c < components; ++c)
+        a[(i * fields + f) * components + c] = in(f * no + i, c);
+  SMPM_PETSC_CALL(VecRestoreArray(x, &a));
+}
+
+Field gather(const DistributedGrid& grid, Vec x, int components) {
+  const bool root = grid.rank() == 0;
+  const Index ng = grid.grid().whole_num_nodes();
+  const int fields = grid.fields();
+  // On rank 0, the PETSc entry of every serial row α n_g + i and component.
+  std::vector<PetscInt> nodes, rows, from;
+  if (root) {
+    nodes.resize(size_t(ng));
+    for (Index i = 0; i < ng; ++i)
+      nodes[size_t(i)] = PetscInt(i);
+  }
+  for (int f = 0; f < fields; ++f) {
+    grid.petsc_rows(nodes, f, rows);
+    for (PetscInt r : rows)
+      for (int c = 0; c < components; ++c)
+        from.push_back(r * components + c);
+  }
+  OwnedIS is;
+  SMPM_PETSC_CALL(ISCreateGeneral(PETSC_COMM_SELF, PetscInt(from.size()), from.data(),
+                                  PETSC_COPY_VALUES, is.out()));
+  OwnedVec y;
+  SMPM_PETSC_CALL(VecCreateSeq(PETSC_COMM_SELF, PetscInt(from.size()), y.out()));
+  OwnedScatter scatter;
+  SMPM_PETSC_CALL(VecScatterCreate(x, is, y, nullptr, scatter.out()));
+  SMPM_PETSC_CALL(VecScatterBegin(scatter, x, y, INSERT_VALUES, SCATTER_FORWARD));
+  SMPM_PETSC_CALL(VecScatterEnd(scatter, x, y, INSERT_VALUES, SCATTER_FORWARD));
+  Field out;
+  if (root) {
+    out.resize(ng * fields, components);
+    const PetscScalar* a = nullptr;
+    SMPM_PETSC_CALL(VecGetArrayRead(y, &a));
+    std::copy(a, a + out.size(), out.data());
+    SMPM_PETSC_CALL(VecRestoreArrayRead(y, &a));
+  }
+  return out;
+}
+
+SparseMatrix gather(const DistributedGrid& grid, Mat a) {
+  const bool root = grid.rank() == 0;
+  const PetscInt N = grid.global_rows();
+  OwnedIS all;
+  SMPM_PETSC_CALL(ISCreateStride(PETSC_COMM_SELF, root ? N : 0, 0, 1, all.out()));
+  Mat* sub = nullptr;
+  IS rows = all;
+  SMPM_PETSC_CALL(MatCreateSubMatrices(a, 1, &rows, &rows, MAT_INITIAL_MATRIX, &sub));
+  // The serial index α n_g + i of PETSc row r: AO⁻¹(r) = i · fields + α.
+  std::vector<PetscInt> serial;
+  if (root) {
+    serial.resize(size_t(N));
+    for (PetscInt r = 0; r < N; ++r)
+      serial[size_t(r)] = r;
+  }
+  SMPM_PETSC_CALL(AOPetscToApplication(application_ordering(grid.dm()), PetscInt(serial.size()),
+                                       serial.empty() ? nullptr : serial.data()));
+  const PetscInt ng = PetscInt(grid.grid().whole_num_nodes());
+  const int fields = grid.fields();
+  for (PetscInt& s : serial)
+    s = (s % fields) * ng + s / fields;
+  SparseMatrix out;
+  if (root) {
+    std::vector<Eigen::Triplet<double, int>> entries;
+    for (PetscInt r = 0; r < N; ++r) {
+      PetscInt nnz = 0;
+      const PetscInt* cols = nullptr;
+      const PetscScalar* vals = nullptr;
+      SMPM_PETSC_CALL(MatGetRow(sub[0], r, &nnz, &cols, &vals));
+      for (PetscInt k = 0; k < nnz; ++k)
+        entries.emplace_back(int(serial[size_t(r)]), int(serial[size_t(cols[k])]), vals[k]);
+      SMPM_PETSC_CALL(MatRestoreRow(sub[0], r, &nnz, &cols, &vals));
+    }
+    out.resize(int(N), int(N));
+    out.setFromTriplets(entries.begin(), entries.end());
+  }
+  SMPM_PETSC_CALL(MatDestroySubMatrices(1, &sub));
+  return out;
+}
+
+} // namespace smpm::petsc
