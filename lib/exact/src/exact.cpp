@@ -130,15 +130,10 @@ constexpr const char* kRemedies =
 }
 } // namespace
 
-namespace {
-// The prescribed velocity of every (active node, axis) with a condition, NaN where free: the
-// superposition rule of FMPM 2026 Table 2 (boundary.hpp; parallel conditions add their values)
-// read off the BCs themselves, as the values constrain_velocity sets on a zero field in the
-// components zero_directions clears. Nodes lighter than cutoff · max m take their lumped
-// velocity p_i / m_i in the components left free.
-Field prescribed_components(const Operators& ops, const LoopConstraints& bc, const Field& p,
-                            double cutoff) {
-  const Index n = ops.num_nodes();
+Field prescribed_components(const LoopConstraints& bc,
+                            const Eigen::Array<bool, Eigen::Dynamic, 1>& active,
+                            const Eigen::VectorXd& m, const Field& p, double light) {
+  const Index n = active.size();
   const int d = int(p.cols());
   Field prescribed = Field::Constant(n, d, std::numeric_limits<double>::quiet_NaN());
   if (bc.bcs && !bc.bcs->conditions.empty()) {
@@ -159,24 +154,23 @@ Field prescribed_components(const Operators& ops, const LoopConstraints& bc, con
         cond.direction = (cond.direction[a] > 0 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(a);
       }
     Field values = Field::Zero(n, d), fixed = Field::Ones(n, d);
-    bcs->constrain_velocity(*bc.grid, bc.time, values, &ops.active);
+    bcs->constrain_velocity(*bc.grid, bc.time, values, &active);
     bcs->zero_directions(*bc.grid, fixed);
     for (Index i = 0; i < n; ++i)
       for (int a = 0; a < d; ++a)
-        if (ops.active[i] && fixed(i, a) == 0)
+        if (active[i] && fixed(i, a) == 0)
           prescribed(i, a) = values(i, a);
   }
-  if (cutoff > 0) {
-    const double light = cutoff * ops.m.maxCoeff();
+  if (light > 0)
     for (Index i = 0; i < n; ++i)
-      if (ops.active[i] && ops.m[i] < light)
+      if (active[i] && m[i] < light)
         for (int a = 0; a < d; ++a)
           if (std::isnan(prescribed(i, a)))
-            prescribed(i, a) = p(i, a) * ops.m_inv[i];
-  }
+            prescribed(i, a) = p(i, a) * (1.0 / m[i]);
   return prescribed;
 }
 
+namespace {
 // Components grouped by their free set F (active nodes whose component is not prescribed):
 // components with the same F share one factorisation.
 std::vector<std::pair<std::vector<int>, std::vector<int>>> free_groups(const Operators& ops,
@@ -313,7 +307,9 @@ void CholmodSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
   const Index n = ops.num_nodes();
   const int d = int(p.cols());
   cholmod_common& c = impl_->c;
-  const Field prescribed = prescribed_components(ops, bc, p, options_.mass_cutoff);
+  const Field prescribed =
+      prescribed_components(bc, ops.active, ops.m, p,
+                            options_.mass_cutoff > 0 ? options_.mass_cutoff * ops.m.maxCoeff() : 0);
   v.setZero(n, d);
   size_t slot = 0;
   for (const auto& [F, comps] : free_groups(ops, prescribed)) {
@@ -432,7 +428,9 @@ void UmfpackSolver::solve(const Operators& ops, const SparseRowMatrix& mt,
                           const LoopConstraints& bc, const Field& p, Field& v) {
   const Index n = ops.num_nodes();
   const int d = int(p.cols());
-  const Field prescribed = prescribed_components(ops, bc, p, options_.mass_cutoff);
+  const Field prescribed =
+      prescribed_components(bc, ops.active, ops.m, p,
+                            options_.mass_cutoff > 0 ? options_.mass_cutoff * ops.m.maxCoeff() : 0);
   v.setZero(n, d);
   size_t slot = 0;
   double info[UMFPACK_INFO];

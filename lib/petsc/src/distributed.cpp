@@ -160,9 +160,13 @@ OwnedVec node_vector(const DistributedGrid& grid, int components) {
 }
 
 namespace {
-// Inserts the rows of the local m̃ (window columns) into `a` at their PETSc rows (ADD_VALUES).
-void add_local_rows(const DistributedOperators& ops, const SparseRowMatrix& local, Mat a,
-                    std::vector<PetscInt>& cols) {
+// Inserts the rows of the local m̃ (window columns) into `a` at their PETSc rows (ADD_VALUES),
+// and a zero on the diagonal of every owned row: rows of nodes without mass keep a diagonal entry
+// that the exact solve (MatZeroRowsColumns) and the regularisation (MatDiagonalSet) set.
+void add_local_rows(const DistributedGrid& grid, const DistributedOperators& ops,
+                    const SparseRowMatrix& local, Mat a, std::vector<PetscInt>& cols) {
+  for (PetscInt r = grid.first_row(); r < grid.first_row() + grid.owned_rows(); ++r)
+    SMPM_PETSC_CALL(MatSetValue(a, r, r, 0.0, ADD_VALUES));
   for (Index r = 0; r < local.rows(); ++r) {
     const int begin = local.outerIndexPtr()[r], end = local.outerIndexPtr()[r + 1];
     if (begin == end)
@@ -225,16 +229,14 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
   SMPM_PETSC_CALL(MatSetSizes(pre, n, n, N, N));
   SMPM_PETSC_CALL(MatSetType(pre, MATPREALLOCATOR));
   SMPM_PETSC_CALL(MatSetUp(pre));
-  if (particles.size() > 0)
-    add_local_rows(ops, local.matrix, pre, colidx);
+  add_local_rows(grid, ops, local.matrix, pre, colidx);
   SMPM_PETSC_CALL(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatCreate(grid.comm(), ops.mt.out()));
   SMPM_PETSC_CALL(MatSetSizes(ops.mt, n, n, N, N));
   SMPM_PETSC_CALL(MatSetType(ops.mt, MATAIJ));
   SMPM_PETSC_CALL(MatPreallocatorPreallocate(pre, PETSC_TRUE, ops.mt));
-  if (particles.size() > 0)
-    add_local_rows(ops, local.matrix, ops.mt, colidx);
+  add_local_rows(grid, ops, local.matrix, ops.mt, colidx);
   SMPM_PETSC_CALL(MatAssemblyBegin(ops.mt, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatAssemblyEnd(ops.mt, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatSetOption(ops.mt, MAT_SYMMETRIC, PETSC_TRUE));

@@ -88,6 +88,16 @@ private:
   ExactOptions options_;
 };
 
+/// The known velocities of the exact solve: the prescribed velocity of every (active node, axis)
+/// with a condition of `bc` (FMPM 2026 Table 2's superposition rule, boundary.hpp; directions
+/// within round-off of an axis taken as the axis), NaN where the component is free; active nodes
+/// with m_i < `light` take their lumped velocity p_i / m_i in their free components (light ≤ 0:
+/// none). Rows: the nodes of bc.grid (times the fields) with `active` and `m`; p: n × d.
+/// Shared by the serial solvers and the distributed one (sparsempm::petsc) on its owned nodes.
+Field prescribed_components(const LoopConstraints& bc,
+                            const Eigen::Array<bool, Eigen::Dynamic, 1>& active,
+                            const Eigen::VectorXd& m, const Field& p, double light);
+
 /// The factory of CholmodSolvers for StepOptions::exact_solver: every Stepper (and every copy of
 /// the options it runs with) gets a solver of its own, with the settings StepOptions::exact.
 /// Symmetric matrices only (a solver made with ExactOptions::symmetric false throws).

@@ -19,12 +19,16 @@
 
 #include "sparsempm/fmpm.hpp"
 #include "sparsempm/operators.hpp"
+#include "sparsempm/spectrum.hpp"
+#include "sparsempm/step_options.hpp"
 
 #include <petscdmda.h>
 #include <petscmat.h>
 #include <petscvec.h>
 
+#include <array>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -212,5 +216,58 @@ FmpmReport fmpm_velocity(const DistributedGrid& grid, const DistributedOperators
 FmpmReport updated_velocity(const DistributedGrid& grid, const DistributedOperators& ops,
                             const FmpmOptions& opt, const LoopConstraints& bc, Vec p_plus, Vec v,
                             DistributedFmpmWorkspace& w);
+
+/// The linear solvers of the distributed exact solve (exact_solve): conjugate gradients with a
+/// preconditioner, or a parallel sparse Cholesky factorisation.
+enum class ExactMethod {
+  CgJacobi,         ///< CG, Jacobi (diagonal) preconditioner
+  CgBlockJacobiIcc, ///< CG, block Jacobi with one block per rank, each an ICC(0) factor
+  CgGamg,           ///< CG, PETSc's algebraic multigrid GAMG
+  MumpsCholesky     ///< MUMPS's parallel sparse Cholesky factorisation (a direct solve)
+};
+/// Names: cg-jacobi | cg-bjacobi-icc | cg-gamg | mumps-cholesky.
+std::string_view to_string(ExactMethod m);
+/// Inverse of to_string; throws InputError naming the valid choices.
+ExactMethod exact_method_from_string(std::string_view name);
+
+/// The settings of exact_solve.
+struct DistributedExactOptions {
+  ExactOptions exact{}; ///< regularisation ε and mass cutoff τ, as the serial CholmodSolver's
+  ExactMethod method = ExactMethod::CgBlockJacobiIcc; ///< the linear solver
+  double rtol = 1e-13;         ///< CG: stop at ‖r‖ ≤ rtol ‖b‖ (preconditioned norm)
+  int max_iterations = 100000; ///< CG: the most iterations of one system
+};
+
+/// What exact_solve did.
+struct ExactSolveReport {
+  int systems = 0;     ///< linear systems solved: one per group of components with one free set
+  int iterations = 0;  ///< CG iterations over every system (1 per system for MUMPS)
+  double residual = 0; ///< the largest ‖b_F − K_FF x_F‖ / ‖b_F‖ of the systems
+};
+
+/// v = m̃⁻¹ p across ranks with the equations of the serial CholmodSolver (exact.hpp): for each
+/// velocity component, m̃_FF v_F = p_F − m̃_FC v_C on the active nodes F free in that component,
+/// the prescribed components (velocity conditions along axes, and with mass cutoff τ > 0 the
+/// lumped velocity of nodes lighter than τ max m) known, v = 0 on inactive nodes; with
+/// regularisation ε > 0 the blended mass (1 − ε) m̃ + ε m. The system is K_FF, the submatrix of
+/// the free rows and columns (MatCreateSubMatrix); components with the same free set share one
+/// KSP (and one factorisation), and CG starts from the lumped velocity p_F / m_F. PETSc options
+/// with the prefix exact_ (-exact_ksp_type, -exact_pc_type, ...) override the method. Throws
+/// NumericalError naming the solver's reason when it does not converge. Collective.
+ExactSolveReport exact_solve(const DistributedGrid& grid, const DistributedOperators& ops,
+                             const DistributedExactOptions& options, const LoopConstraints& bc,
+                             Vec p, Vec v);
+
+/// The spectrum of the mass matrices across ranks (the serial mass_spectrum of spectrum.hpp,
+/// FMPM 2026 §2.2) on the active rows: λ_min(m⁻¹m̃) as the smallest eigenvalue of the symmetric
+/// B = m^{-1/2} m̃ m^{-1/2} (the generalised problem m̃ x = λ m x in symmetric form) and
+/// ρ(A) = 1 − λ_min(B); cond(m̃) = λ_max / λ_min of m̃. By SLEPc's Krylov–Schur (EPS_HEP,
+/// tolerance `tol`, options prefix mass_): the largest eigenvalues directly, the smallest by
+/// shift-and-invert with a MUMPS Cholesky factor, so that they keep their relative accuracy
+/// however ill-conditioned m̃ is. Where B or m̃ is singular on the active rows (the factorisation
+/// fails) the smallest is λ_max − λ_max(λ_max I − ·), as the serial code computes it. Throws
+/// NumericalError when an eigensolve does not converge. Collective.
+MassSpectrum mass_spectrum(const DistributedGrid& grid, const DistributedOperators& ops,
+                           double tol = 1e-12);
 
 } // namespace smpm::petsc
