@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The distributed component (sparsempm::petsc) against the serial library, on the 2D block of
+// bench_step (SMPM_BENCH_SIDE² cells, 2 × 2 particles per cell: 10⁶ particles at the default
+// side 500). Run under mpiexec by scripts/bench-petsc, which runs it on 1 and 2 ranks and prints
+// the ratios; the serial baselines run only on one rank (in the same process as the 1-rank
+// distributed ones).
+//   FmpmPass/*      one pass of FMPM 2026 Table 1 (Eq. 6 with Eq. 5): fmpm_velocity of order 2
+//   Exact/*         m̃ v = p on the block of side `arg` (nodes ≈ arg²): CHOLMOD, and each KSP
+//   MassSpectrum/*  ρ(A) and cond(m̃): Spectra, and SLEPc
+// Every benchmark runs a fixed number of iterations: the ranks make the same collective calls.
+#include "problems.hpp"
+
+#include <benchmark/benchmark.h>
+#include <sparsempm/exact.hpp>
+#include <sparsempm/petsc.hpp>
+#include <sparsempm/spectrum.hpp>
+
+#include <map>
+#include <memory>
+
+namespace {
+
+using namespace smpm;
+namespace sp = smpm::petsc;
+
+int ranks() {
+  int n = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &n);
+  return n;
+}
+
+// One block, serial and distributed, built on first use.
+struct Block {
+  Model model;
+  Operators ops;
+  ConsistentMass mt;
+  Field p;
+  std::unique_ptr<sp::DistributedGrid> grid;
+  sp::DistributedOperators dops;
+  sp::OwnedVec p_d;
+  explicit Block(int side) : model(smpm::bench::block_model(2, {side, side, 1})) {
+    if (ranks() == 1) {
+      assemble(model.grid, model.particles, Shape::Linear, ops);
+      assemble_consistent_mass(ops, mt);
+      map_momentum(particle_operators(ops), model.particles.V, p);
+    }
+    grid = std::make_unique<sp::DistributedGrid>(model.grid);
+    sp::assemble(*grid, model.particles, Shape::Linear, dops);
+    const Particles own = sp::select_particles(model.particles, dops.particles);
+    p_d = sp::momentum(*grid, dops, own.V);
+  }
+};
+
+// The blocks, released before the PETSc session ends (main).
+std::map<int, std::unique_ptr<Block>> blocks;
+
+Block& block(int side) {
+  auto& b = blocks[side];
+  if (!b)
+    b = std::make_unique<Block>(side);
+  return *b;
+}
+
+void BM_FmpmPass_Serial(benchmark::State& state) {
+  Block& b = block(smpm::bench::side());
+  Field v;
+  FmpmWorkspace w;
+  for (auto _ : state) {
+    lumped_solve(b.ops.m_inv, b.p, v);
+    fmpm_velocity(b.ops, b.mt.matrix, {.order = 2}, {}, v, w);
+    benchmark::DoNotOptimize(v.data());
+  }
+  state.counters["particles"] = double(b.model.particles.size());
+}
+
+void BM_FmpmPass_Petsc(benchmark::State& state) {
+  Block& b = block(smpm::bench::side());
+  sp::OwnedVec v = sp::node_vector(*b.grid, 2);
+  sp::DistributedFmpmWorkspace w;
+  for (auto _ : state) {
+    SMPM_PETSC_CALL(VecPointwiseMult(v, b.dops.m_inv_d, b.p_d));
+    sp::fmpm_velocity(*b.grid, b.dops, {.order = 2}, {}, v, w);
+  }
+  state.counters["ranks"] = ranks();
+}
+
+void BM_Exact_Cholmod(benchmark::State& state) {
+  Block& b = block(int(state.range(0)));
+  CholmodSolver solver;
+  Field v;
+  for (auto _ : state)
+    solver.solve(b.ops, b.mt.matrix, {}, b.p, v);
+  state.counters["nodes"] = double(b.ops.active.count());
+}
+
+void BM_Exact_Petsc(benchmark::State& state) {
+  Block& b = block(int(state.range(0)));
+  const auto method = sp::ExactMethod(state.range(1));
+  sp::OwnedVec v = sp::node_vector(*b.grid, 2);
+  sp::ExactSolveReport r;
+  for (auto _ : state)
+    r = sp::exact_solve(*b.grid, b.dops, {.method = method}, {}, b.p_d, v);
+  state.SetLabel(std::string(sp::to_string(method)));
+  state.counters["iterations"] = r.iterations;
+  state.counters["ranks"] = ranks();
+}
+
+void BM_MassSpectrum_Spectra(benchmark::State& state) {
+  Block& b = block(int(state.range(0)));
+  for (auto _ : state)
+    state.counters["rho_A"] = mass_spectrum(b.ops, b.mt.matrix).rho_A;
+}
+
+void BM_MassSpectrum_Slepc(benchmark::State& state) {
+  Block& b = block(int(state.range(0)));
+  for (auto _ : state)
+    state.counters["rho_A"] = sp::mass_spectrum(*b.grid, b.dops).rho_A;
+  state.counters["ranks"] = ranks();
+}
+
+void register_benchmarks() {
+  const bool one = ranks() == 1;
+  if (one)
+    benchmark::RegisterBenchmark("FmpmPass/serial", BM_FmpmPass_Serial)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(20);
+  benchmark::RegisterBenchmark("FmpmPass/petsc", BM_FmpmPass_Petsc)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(20);
+  for (int side : {100, 300, 700}) {
+    if (one)
+      benchmark::RegisterBenchmark("Exact/cholmod", BM_Exact_Cholmod)
+          ->Args({side})
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(2);
+    for (int m = 0; m < 4; ++m)
+      benchmark::RegisterBenchmark("Exact/petsc", BM_Exact_Petsc)
+          ->Args({side, m})
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(2);
+  }
+  for (int side : {100}) {
+    if (one)
+      benchmark::RegisterBenchmark("MassSpectrum/spectra", BM_MassSpectrum_Spectra)
+          ->Args({side})
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(1);
+    benchmark::RegisterBenchmark("MassSpectrum/slepc", BM_MassSpectrum_Slepc)
+        ->Args({side})
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
+  }
+}
+
+// The other ranks run the same benchmarks silently.
+class Silent : public benchmark::BenchmarkReporter {
+public:
+  bool ReportContext(const Context&) override { return true; }
+  void ReportRuns(const std::vector<Run>&) override {}
+};
+
+} // namespace
+
+int main(int argc, char** argv) {
+  sp::Session session(&argc, &argv);
+  benchmark::Initialize(&argc, argv);
+  register_benchmarks();
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank == 0) {
+    benchmark::RunSpecifiedBenchmarks();
+  } else {
+    Silent silent;
+    benchmark::RunSpecifiedBenchmarks(&silent);
+  }
+  benchmark::Shutdown();
+  blocks.clear();
+  return 0;
+}
