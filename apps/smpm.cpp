@@ -20,6 +20,7 @@
 #include "info_command.hpp"
 #include "notes.hpp"
 #include "progress.hpp"
+#include "spectrum_options.hpp"
 #include "stability_command.hpp"
 #include "transport_command.hpp"
 
@@ -211,17 +212,7 @@ CLI::App* add_transport_stability(CLI::App& app, smpm::app::TransportStabilityAr
 CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp, Aliases& aliases) {
   CLI::App* spec = app.add_subcommand(
       "spectrum", "rho(A), cond(m~) and the truncation error of FMPM(k) against m~^-1");
-  spec->add_option("input", sp.input, "input file (TOML)")->required();
-  spec->add_option("--set", sp.sets, "override an input entry")->allow_extra_args(false);
-  spec->add_option("--order", sp.orders, "FMPM orders k")->delimiter(',')->capture_default_str();
-  spec->add_option("--blend-alpha", sp.blend_alphas, "blending fractions alpha")
-      ->delimiter(',')
-      ->capture_default_str();
-  spec->add_option("--blend-every", sp.blend_every, "blend every m-th pass")
-      ->delimiter(',')
-      ->capture_default_str();
-  spec->add_option("--courant", sp.courant, "also rho(T(C)) at this Courant number");
-  spec->add_option("-o,--output", sp.output, "CSV table")->capture_default_str();
+  smpm::app::add_spectrum_options(*spec, sp);
   aliases.add(spec, "--k", "--order", sp.orders);
   aliases.add(spec, "--alpha", "--blend-alpha", sp.blend_alphas);
   aliases.add(spec, "--every", "--blend-every", sp.blend_every);

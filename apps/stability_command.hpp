@@ -2,7 +2,11 @@
 #pragma once
 // smpm stability and smpm spectrum: the stability study of FMPM 2026 §3.3 (Fig. 12).
 
+#include <sparsempm/fmpm.hpp>
+#include <sparsempm/spectrum.hpp>
+
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -54,6 +58,15 @@ inline constexpr const char* kSpectrumColumns =
 /// ρ(A), λ_min(m⁻¹m̃), cond(m̃) at t = 0, and the truncation error of FMPM(k) (and ρ(T(C)))
 /// for every k, α, m: a table on stdout and a CSV (kSpectrumColumns).
 int spectrum_command(const SpectrumArgs& args);
+/// Throws InputError for spectrum arguments out of their ranges, a table path that would
+/// overwrite an input, or an input that is not a readable regular file.
+void validate(const SpectrumArgs& args);
+/// The CSV of `smpm spectrum` (kSpectrumColumns) for the spectrum `ms` and, for every (k, α, m)
+/// of `args`, truncation(FMPM options) and, with --courant, rho(FMPM options); with `print` the
+/// same table on stdout. Shared by smpm spectrum and smpm-mpi spectrum.
+std::string spectrum_table(const SpectrumArgs& args, const MassSpectrum& ms,
+                           const std::function<double(const FmpmOptions&)>& truncation,
+                           const std::function<double(const FmpmOptions&)>& rho, bool print);
 
 /// Writes the table (CSV with kStabilityColumns) and prints it. Returns the exit status.
 int stability_command(const StabilityArgs& args);

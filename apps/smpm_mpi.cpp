@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// smpm-mpi: the commands of smpm that run across MPI ranks with sparsempm::petsc.
+//   mpiexec -n P smpm-mpi spectrum input.toml [--order ...] [--blend-alpha ...]
+//                                   [--blend-every ...] [--exact-method M] [-o spectrum.csv]
+// The same table as smpm spectrum (ρ(A), λ_min(m⁻¹m̃), cond(m̃) at t = 0, and for every FMPM
+// order and blending the truncation error of FMPM(k) against the exact inverse), computed on
+// the distributed operators: SLEPc for the spectrum, KSP (or MUMPS) for the exact inverse, the
+// distributed FMPM loop. Every rank reads the input; rank 0 prints and writes the table (with
+// smpm's file safety). An input error is reported once, by rank 0, with exit status 2; a failure
+// on any one rank stops every rank (MPI_Abort) with its message and exit status 3.
+
+#include "notes.hpp"
+#include "spectrum_options.hpp"
+#include "stability_command.hpp"
+
+#include <sparsempm/errors.hpp>
+#include <sparsempm/input.hpp>
+#include <sparsempm/petsc.hpp>
+#include <sparsempm/run_file.hpp>
+#include <sparsempm/stages.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+namespace {
+
+namespace sp = smpm::petsc;
+
+// ‖m̃_k⁻¹ p − v_exact‖ / ‖v_exact‖ across ranks (smpm::truncation_error's definition).
+double truncation(const sp::DistributedGrid& grid, const sp::DistributedOperators& ops,
+                  const smpm::FmpmOptions& f, Vec p, Vec exact, sp::DistributedFmpmWorkspace& w) {
+  sp::OwnedVec v;
+  SMPM_PETSC_CALL(VecDuplicate(p, v.out()));
+  SMPM_PETSC_CALL(VecPointwiseMult(v, ops.m_inv_d, p)); // v⁺(1) = m⁻¹ p
+  sp::fmpm_velocity(grid, ops, f, {}, v, w);
+  PetscReal scale = 0, error = 0;
+  SMPM_PETSC_CALL(VecNorm(exact, NORM_2, &scale));
+  SMPM_PETSC_CALL(VecAXPY(v, -1.0, exact));
+  SMPM_PETSC_CALL(VecNorm(v, NORM_2, &error));
+  if (!(scale > 0)) // a model at rest
+    return error > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+  return double(error / scale);
+}
+
+int spectrum(const smpm::app::SpectrumArgs& a, sp::ExactMethod method, int rank) {
+  using namespace smpm;
+  app::validate(a);
+  if (a.courant > 0)
+    throw InputError("--courant " + std::to_string(a.courant) +
+                     ": rho(T) is not computed across ranks yet (run smpm spectrum --courant)");
+  RunConfig cfg = read_input_file(a.input, a.sets);
+  if (rank == 0)
+    app::print_notes(cfg);
+  const Model& model = cfg.model;
+  const sp::DistributedGrid grid(model.grid);
+  sp::DistributedOperators ops;
+  sp::assemble(grid, model.particles, cfg.step.shape, ops);
+  const Particles own = sp::select_particles(model.particles, ops.particles);
+  const MassSpectrum ms = sp::mass_spectrum(grid, ops);
+  sp::OwnedVec p = sp::momentum(grid, ops, own.V), exact = sp::node_vector(grid, ops.dim);
+  sp::exact_solve(grid, ops, {.exact = cfg.step.exact, .method = method}, {}, p, exact);
+  sp::DistributedFmpmWorkspace w;
+  const std::string table = app::spectrum_table(
+      a, ms, [&](const FmpmOptions& f) { return truncation(grid, ops, f, p, exact, w); },
+      [](const FmpmOptions&) { return std::nan(""); }, rank == 0);
+  if (rank == 0) {
+    write_table_file(a.output, table, {a.input}, "-o");
+    std::printf("table in %s (%d ranks)\n", a.output.c_str(), grid.size());
+  }
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  sp::Session session(&argc, &argv);
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  CLI::App app{"sparsempm across MPI ranks (PETSc, SLEPc): mpiexec -n P smpm-mpi COMMAND"};
+  app.require_subcommand(1);
+  smpm::app::SpectrumArgs args;
+  std::string method = "cg-bjacobi-icc";
+  CLI::App* spec = app.add_subcommand(
+      "spectrum", "rho(A), cond(m~) and the truncation error of FMPM(k) against m~^-1");
+  smpm::app::add_spectrum_options(*spec, args);
+  spec->add_option("--exact-method", method,
+                   "the exact inverse: cg-jacobi | cg-bjacobi-icc | cg-gamg | mumps-cholesky")
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = 0;
+    if (rank == 0)
+      code = app.exit(e);
+    else
+      code = e.get_exit_code();
+    return code == 0 ? 0 : 2;
+  }
+  int code = 0;
+  try {
+    code = spectrum(args, sp::exact_method_from_string(method), rank);
+  } catch (const smpm::InputError& e) { // the same on every rank: said once
+    if (rank == 0)
+      std::fprintf(stderr, "smpm-mpi: error: %s\n", e.what());
+    code = 2;
+  } catch (const std::exception& e) { // possibly on this rank alone: stop them all
+    std::fprintf(stderr, "smpm-mpi: numerical failure on rank %d: %s\n", rank, e.what());
+    std::fflush(stderr);
+    MPI_Abort(PETSC_COMM_WORLD, 3);
+  }
+  if (rank == 0 && (std::fflush(stdout) != 0 || std::ferror(stdout))) {
+    std::fprintf(stderr, "smpm-mpi: error: cannot write to standard output\n");
+    return code == 0 ? 1 : code;
+  }
+  return code;
+}
