@@ -323,3 +323,17 @@ TEST_CASE("the mass spectrum across ranks equals the serial one", "[petsc][spect
               smpm::test::approx(serial.cond_mt, 0, std::max(1e-8, 1e-14 * serial.cond_mt)));
       }
 }
+
+TEST_CASE("a PETSc error is one NumericalError with PETSc's message", "[petsc][errors]") {
+  // PETSc's own text (the routine and its reason) instead of a traceback on stderr; an unknown
+  // type is checked by PETSc's optimised build too (Debian's has no debugging checks).
+  sp::OwnedMat a;
+  SMPM_PETSC_CALL(MatCreate(PETSC_COMM_SELF, a.out()));
+  CHECK_THROWS_AS(SMPM_PETSC_CALL(MatSetType(a, "no-such-type")), NumericalError);
+  CHECK_THROWS_WITH(SMPM_PETSC_CALL(MatSetType(a, "no-such-type")),
+                    Catch::Contains("MatSetType(a, \"no-such-type\"): PETSc error") &&
+                        Catch::Contains("MatSetType: Unknown") && Catch::Contains("no-such-type"));
+  // An unknown solver name names the valid ones.
+  CHECK_THROWS_WITH(sp::exact_method_from_string("cholesky"),
+                    Catch::Contains("cg-bjacobi-icc") && Catch::Contains("mumps-cholesky"));
+}

@@ -10,20 +10,40 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace smpm::petsc {
+
+namespace {
+// PETSc's message of the error in hand (the routine that raised it and its text), kept by
+// record_error in place of PETSc's default traceback on stderr: check() throws it as one line.
+thread_local std::string petsc_message;
+
+PetscErrorCode record_error(MPI_Comm, int, const char* function, const char*, PetscErrorCode code,
+                            PetscErrorType type, const char* message, void*) {
+  if (type == PETSC_ERROR_INITIAL)
+    petsc_message = std::string(function ? function : "?") + ": " + (message ? message : "");
+  return code;
+}
+} // namespace
 
 void check(PetscErrorCode code, const char* call) {
   if (code == 0)
     return;
-  const char* text = nullptr;
-  PetscErrorMessage(code, &text, nullptr);
-  throw NumericalError(std::string(call) + ": PETSc error " + std::to_string(int(code)) +
-                       (text ? std::string(" (") + text + ")" : std::string()));
+  std::string text = std::exchange(petsc_message, std::string());
+  if (text.empty()) {
+    const char* generic = nullptr;
+    PetscErrorMessage(code, &generic, nullptr);
+    text = generic ? generic : "";
+  }
+  throw NumericalError(std::string(call) + ": PETSc error " + std::to_string(int(code)) + " (" +
+                       text + ")");
 }
 
 Session::Session(int* argc, char*** argv) {
   SMPM_PETSC_CALL(SlepcInitialize(argc, argv, nullptr, nullptr));
+  // Errors become exceptions with PETSc's message (check), not tracebacks on stderr.
+  SMPM_PETSC_CALL(PetscPushErrorHandler(record_error, nullptr));
 }
 
 Session::~Session() {
