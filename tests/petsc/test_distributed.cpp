@@ -333,6 +333,11 @@ TEST_CASE("a PETSc error is one NumericalError with PETSc's message", "[petsc][e
   CHECK_THROWS_WITH(SMPM_PETSC_CALL(MatSetType(a, "no-such-type")),
                     Catch::Contains("MatSetType(a, \"no-such-type\"): PETSc error") &&
                         Catch::Contains("MatSetType: Unknown") && Catch::Contains("no-such-type"));
+  // A grid whose node fields would overflow PETSc's indices is refused before the DMDA exists.
+  if (sizeof(PetscInt) == 4)
+    CHECK_THROWS_WITH(sp::DistributedGrid(Grid(3, {0, 0, 0}, {1, 1, 1}, {1100, 1100, 1100})),
+                      Catch::Contains("1334633301 nodes x 1 fields x 3 components") &&
+                          Catch::Contains("petsc64-dev"));
   // An unknown solver name names the valid ones.
   CHECK_THROWS_WITH(sp::exact_method_from_string("cholesky"),
                     Catch::Contains("cg-bjacobi-icc") && Catch::Contains("mumps-cholesky"));

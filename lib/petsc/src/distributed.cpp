@@ -71,6 +71,14 @@ DistributedGrid::DistributedGrid(const Grid& grid, int fields, MPI_Comm comm,
     throw UsageError("DistributedGrid: give the whole grid, not a window of it");
   if (fields < 1)
     throw UsageError("DistributedGrid: " + std::to_string(fields) + " velocity fields");
+  // Every row index of a node field (nodes × fields × d) must fit PetscInt.
+  const double unknowns = double(grid.whole_num_nodes()) * fields * grid.dim();
+  if (unknowns > double(PETSC_MAX_INT))
+    throw InputError("DistributedGrid: " + std::to_string(grid.whole_num_nodes()) + " nodes x " +
+                     std::to_string(fields) + " fields x " + std::to_string(grid.dim()) +
+                     " components exceed the " + std::to_string(sizeof(PetscInt) * 8) +
+                     "-bit indices of this PETSc (build against one with 64-bit indices: "
+                     "Debian's petsc64-dev and slepc64-dev)");
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
   auto ranks = [&](int a) {
