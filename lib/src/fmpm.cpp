@@ -165,7 +165,15 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
     FmpmWorkspace& w;
     bool corrects() const { return bool(hooks.velocity_bcs) || bool(hooks.contact); }
     void pass(double c, bool fused) {
-      fmpm_pass(m_inv, mt, c, w.prev, w.next, fused ? &v : nullptr);
+      if (hooks.sums) { // across processes: m̃ Δv summed over them, then Eq. 6
+        w.dv.noalias() = mt * w.prev;
+        hooks.sums->add(w.dv);
+        w.next = c * (w.prev - m_inv.asDiagonal() * w.dv);
+        if (fused)
+          v += w.next;
+      } else {
+        fmpm_pass(m_inv, mt, c, w.prev, w.next, fused ? &v : nullptr);
+      }
       w.prev.swap(w.next);
     }
     void correct(int ell) {
@@ -185,6 +193,10 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
 
 FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopConstraints& bc) {
   FmpmHooks hooks;
+  hooks.sums = bc.sums;
+  if (bc.sums && opt.metric != ConvergenceMetric::None)
+    throw InputError("dynamic FMPM is not available across processes yet: its metric sums "
+                     "every node once (set fmpm.metric = \"none\")");
   if (bc.bcs && opt.bc_method == BCMethod::Incremental) // Table 2, bottom block
     hooks.velocity_bcs = [bcs = bc.bcs, grid = bc.grid](int, Field& dv) {
       bcs->zero_directions(*grid, dv);

@@ -172,7 +172,7 @@ struct Stages {
   // method of §3.1) are applied here (updated_velocity) and whose contact corrections do
   // frictional work; the other momenta carry BC1 already.
   void grid_velocity(Field& p, Field& v, bool lumped_bcs = false, Field* reaction = nullptr) {
-    const LoopConstraints bc{c.grid, c.bcs, c.time};
+    const LoopConstraints bc{c.grid, c.bcs, c.time, c.sums};
     const bool heat = reaction != nullptr;
     if (full_mass && opt.velocity == VelocityUpdate::Exact) {
       if (lumped_bcs) // task 2.a; the solve imposes the BC values itself
@@ -225,6 +225,8 @@ struct Stages {
     if (opt.transfer == Transfer::VelocityGradient)
       b.x_start = fields.X; // storage reused from step to step
     particle_momenta(b.g.p);
+    if (c.sums) // the totals over the processes
+      c.sums->add(b.g.p);
     if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC &&
         opt.xpic_contact == XpicContact::Term) { // keep Δv^α (Eq. 37)
       b.contact_dv = b.g.p;
@@ -247,9 +249,16 @@ struct Stages {
   void forces_and_velocity() {
     GridState& g = b.g;
     internal_force(op, fields.volume0, fields.F, fields.stress, g.f);
-    add_gravity(c.ops->m, c.gravity, g.f);
-    if (c.external)
-      add_external_forces(op, *c.grid, *c.external, g.f);
+    if (c.sums) { // the particles' forces summed over the processes, then gravity on the total m
+      if (c.external)
+        add_external_forces(op, *c.grid, *c.external, g.f);
+      c.sums->add(g.f);
+      add_gravity(c.ops->m, c.gravity, g.f);
+    } else {
+      add_gravity(c.ops->m, c.gravity, g.f);
+      if (c.external)
+        add_external_forces(op, *c.grid, *c.external, g.f);
+    }
     if (!correct_bcs())
       c.bcs->zero_directions(*c.grid, g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
     g.p_plus.noalias() = g.p + c.dt * g.f;
@@ -328,6 +337,8 @@ struct Stages {
         (s == UpdateScheme::USL || s == UpdateScheme::USLPlus) ? c.dt : 0.5 * c.dt;
     if (s == UpdateScheme::USLPlus || s == UpdateScheme::USAVGPlus) {
       particle_momenta(b.p_re);
+      if (c.sums)
+        c.sums->add(b.p_re);
       contact(b.p_re);
       if (correct_bcs())
         c.bcs->constrain_momentum(*c.grid, c.ops->m, c.time, b.p_re);
@@ -435,6 +446,12 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
                    fields.gradient->cols() == fields.V.cols() * fields.V.cols()),
               "scheme_step: the velocity-gradient transfer needs one gradient (N x d^2) per "
               "particle (ParticleFields::gradient)");
+  SMPM_VERIFY(!context.sums || (!context.contact_nodes && !context.transport &&
+                                context.options->velocity != VelocityUpdate::XPIC &&
+                                context.options->velocity != VelocityUpdate::Exact &&
+                                context.options->transfer != Transfer::VelocityGradient),
+              "scheme_step: across processes a step is FLIP, PIC or FMPM(k) in single material "
+              "mode, without heat and with the standard transfer");
   buffers.report = FmpmReport{};
   buffers.fmpm.metrics.clear(); // a step without a loop has no trace
   if (s.heat) {

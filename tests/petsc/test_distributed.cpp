@@ -342,3 +342,55 @@ TEST_CASE("a PETSc error is one NumericalError with PETSc's message", "[petsc][e
   CHECK_THROWS_WITH(sp::exact_method_from_string("cholesky"),
                     Catch::Contains("cg-bjacobi-icc") && Catch::Contains("mumps-cholesky"));
 }
+
+namespace {
+
+// The free-vibrating bar of FMPM 2026 §3.3 (80 particles), and a 2D plate: a 12 × 4-cell block
+// of 2 × 2 particles per cell on a 16 × 8-cell grid, fixed on its left face, with a sinusoidal
+// velocity (1152 rows of T: the serial spectral_radius takes T's dense eigenvalues).
+Model plate_model() {
+  Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {16, 8, 1}));
+  model.materials = {smpm::test::material("plate", MaterialModel::Linear, 100, 0.3)};
+  model.particles = make_block(model.grid, {2, 2, 0}, {14, 6, 0}, {2, 2, 1}, 1.0, 0);
+  model.bcs = BoundaryConditions::none(model.grid);
+  fix_plane(model.grid, 0, 2.0, {true, true, false}, model.bcs);
+  for (Index p = 0; p < model.particles.size(); ++p)
+    model.particles.V(p, 1) = 0.01 * std::sin(0.2 * model.particles.X(p, 0));
+  return model;
+}
+
+} // namespace
+
+TEST_CASE("rho(T) across ranks equals the serial spectral radius", "[petsc][rho]") {
+  // FLIP, FMPM(4), FMPM(16) and blended FMPM(8) on the bar and the plate at a stable and an
+  // unstable Courant number: SLEPc's |λ|max against the serial dense eigenvalues, 1e-8.
+  const Model bar = vibrating_bar({});
+  const Model plate = plate_model();
+  std::vector<std::pair<std::string, StepOptions>> schemes;
+  StepOptions base;
+  base.shape = Shape::GIMP;
+  schemes.push_back({"FLIP", base});
+  for (const FmpmOptions& f : {FmpmOptions{.order = 4}, FmpmOptions{.order = 16},
+                               FmpmOptions{.order = 8, .blend_alpha = 0.8, .blend_every = 2}}) {
+    StepOptions o = base;
+    o.velocity = VelocityUpdate::FMPM;
+    o.fmpm = f;
+    schemes.push_back(
+        {"FMPM(" + std::to_string(f.order) + ") alpha " + std::to_string(f.blend_alpha), o});
+  }
+  for (const Model* model : {&bar, &plate})
+    for (double courant : {0.5, 1.3})
+      for (const auto& [name, options] : schemes) {
+        CAPTURE(model->grid.dim(), courant, name);
+        const double dt = stable_time_step(*model, courant);
+        // The serial reference on rank 0 (dense eigenvalues of T), sent to the others.
+        double serial_rho = 0;
+        if (rank() == 0)
+          serial_rho = spectral_radius(LinearizedStep(*model, options, dt)).rho;
+        MPI_Bcast(&serial_rho, 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+        const sp::DistributedGrid grid(model->grid);
+        const SpectralRadius dist = sp::spectral_radius(grid, *model, options, dt);
+        CHECK(dist.status == SpectralStatus::Converged);
+        CHECK(dist.rho == smpm::test::approx(serial_rho, 0, 1e-8));
+      }
+}

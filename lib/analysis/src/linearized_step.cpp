@@ -72,7 +72,8 @@ struct LinearizedStep::Impl {
   StepPreparation prep;           // the frozen configuration's operators (and m̃ when used)
   Field K;                        // material tangents
   double dt = 0;
-  int flip_steps = 0; // periodic FMPM: FLIP steps before each FMPM step
+  const NodeSums* sums = nullptr; // across processes: the sums of the node fields
+  int flip_steps = 0;             // periodic FMPM: FLIP steps before each FMPM step
   int d = 1;
   Index N = 0;
   // The state and scratch of perform_op: V, σ and, with the velocity-gradient transfer, the
@@ -87,6 +88,22 @@ struct LinearizedStep::Impl {
 
 LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, double dt)
     : impl_(std::make_unique<Impl>()) {
+  init(model, options, dt, nullptr);
+}
+
+LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, double dt,
+                               const NodeSums& sums)
+    : impl_(std::make_unique<Impl>()) {
+  if (model.particles.size() == 0)
+    throw InputError("the linearised step across processes needs particles on every process "
+                     "(use fewer processes)");
+  if (!model.bcs.walls.empty())
+    throw InputError("the linearised step across processes does not take moving walls yet");
+  init(model, options, dt, &sums);
+}
+
+void LinearizedStep::init(const Model& model, const StepOptions& options, double dt,
+                          const NodeSums* sums) {
   validate(options);
   if (options.fmpm.metric != ConvergenceMetric::None &&
       (options.velocity == VelocityUpdate::FMPM || options.velocity == VelocityUpdate::XPIC))
@@ -96,13 +113,25 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
     throw InputError("the linearised step needs one velocity field: contact detection switches "
                      "with the state ([[contact]]), which is not a linear map");
   Impl& I = *impl_;
+  I.sums = sums;
   I.model = model;
   I.opt = options;
   if (options.velocity == VelocityUpdate::Exact)
     I.solver = options.exact_solver(velocity_solver_options(options));
   I.d = model.grid.dim();
   I.N = model.particles.size();
+  if (sums) // this process's particles on their window, with the total masses over all
+    I.prep.ops.node_range = NodeRange::Particles;
   prepare_step(model, options.shape, I.prep); // on the whole grid (NodeRange::Grid)
+  if (sums) {
+    Operators& ops = I.prep.ops;
+    Field m = ops.m;
+    sums->add(m);
+    ops.m = m.col(0);
+    const double largest = sums->maximum(ops.m.size() ? ops.m.maxCoeff() : 0.0);
+    ops.active = ops.m.array() > kMassTolerance * largest;
+    ops.m_inv = ops.active.select(ops.m.array().inverse(), 0.0).matrix();
+  }
   // The BC directions with zero values: walls frozen on the nodes they select now.
   for (VelocityCondition c : I.prep.bcs.conditions) {
     c.value = nullptr;
@@ -128,7 +157,10 @@ void LinearizedStep::set_dt(double dt) {
   impl_->flip_steps = 0;
   if (impl_->opt.periodic_cx > 0 && impl_->opt.velocity != VelocityUpdate::FLIP) // the Stepper's
     impl_->flip_steps =
-        periodic_fmpm_period(impl_->opt.periodic_cx, courant_of(impl_->model, dt)) - 1;
+        periodic_fmpm_period(impl_->opt.periodic_cx,
+                             impl_->sums ? impl_->sums->maximum(courant_of(impl_->model, dt))
+                                         : courant_of(impl_->model, dt)) -
+        1;
 }
 
 double LinearizedStep::dt() const {
@@ -153,12 +185,13 @@ void LinearizedStep::Impl::step(bool grid_update) const {
                             .ops = &prep.ops,
                             .mt = mt,
                             .solver = solver.get(),
-                            .grid = &model.grid,
+                            .grid = &prep.ops.grid,
                             .bcs = &homogeneous,
                             .gravity = {0, 0, 0},
                             .time = 0,
                             .dt = dt,
-                            .grid_update = grid_update};
+                            .grid_update = grid_update,
+                            .sums = sums};
   ParticleFields fields{X, V, F, sig, model.particles.volume0};
   if (gradients())
     fields.gradient = &gradient;

@@ -61,11 +61,30 @@ void validate(const FmpmOptions& opt);
 /// Scale factor of pass ℓ ≥ 2: α if m = 1 or ℓ mod m = 1, else 1 (FMPM 2026 §3.3).
 double blend_factor(const FmpmOptions& opt, int ell);
 
+/// Node sums over processes: a process holds the partial sums of its own particles on the nodes
+/// of its window of the grid (m = Sᵀ M, p = Sᵀ M V, f, m̃ x); add() replaces them by the sums over
+/// every process, on every node of the window (ghost nodes included), so that each process
+/// holds its window's totals. The distributed component implements it on PETSc
+/// (sparsempm::petsc); where it is null a step runs in one process. Every call is collective:
+/// the processes make the same calls in the same order.
+class NodeSums {
+public:
+  virtual ~NodeSums() = default;
+  /// Replaces the partial sums in `window` (one row per column of the operators, any columns)
+  /// by the sums over the processes.
+  virtual void add(Field& window) const = 0;
+  /// The largest of `value` over the processes.
+  virtual double maximum(double value) const = 0;
+};
+
 /// What the velocity BCs of the loop need.
 struct LoopConstraints {
   const Grid* grid = nullptr;              ///< the grid of the loop's nodes (Operators::grid)
   const BoundaryConditions* bcs = nullptr; ///< null: no velocity BCs
   double time = 0;                         ///< time at which BC values are evaluated
+  /// Across processes: the loop's m̃ holds this process's particles only, and each product
+  /// m̃ Δv is summed over the processes (NodeSums) before m⁻¹; null: one process.
+  const NodeSums* sums = nullptr;
 };
 
 /// How the loop ended.
@@ -77,8 +96,8 @@ struct FmpmReport {
 /// Scratch storage of the loop (n × d each).
 struct FmpmWorkspace {
   /// Δv(ℓ), the increment of the pass in hand (XPIC: v*_k)
-  Field prev, next;            ///< the next increment, then swapped with prev (XPIC: S⁺S v*_k)
-  Field dv;                    ///< XPIC's Δv*_k (multimaterial)
+  Field prev, next; ///< the next increment, then swapped with prev (XPIC: S⁺S v*_k)
+  Field dv;         ///< XPIC's Δv*_k (multimaterial); across processes, the summed product m̃ Δv
   std::vector<double> metrics; ///< metric of passes ℓ = 2, 3, ... of the last loop (dynamic FMPM)
 };
 
@@ -92,6 +111,9 @@ struct FmpmHooks {
   /// Line (3): after v⁺(ℓ) = v⁺(ℓ − 1) + Δv(ℓ), true stops the loop (dynamic FMPM); may set
   /// the reported metric.
   std::function<bool(int ell, const Field& dv, const Field& v, double& metric)> converged;
+  /// Across processes (LoopConstraints::sums): each pass sums m̃ Δv over the processes before
+  /// m⁻¹; null: one process (the fused sweep of fmpm_pass).
+  const NodeSums* sums = nullptr;
 };
 
 /// y = S⁺S x = m⁻¹ m̃ x (n × d): the product of every FMPM pass (FMPM 2026 Eq. 6), one pass over

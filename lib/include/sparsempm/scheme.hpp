@@ -161,6 +161,11 @@ struct StepContext {
   bool grid_update = false; ///< update particles from grid velocities (false: FLIP)
   /// Heat transport; null for an isothermal step.
   const TransportContext* transport = nullptr;
+  /// Across processes (fmpm.hpp): `ops` and `mt` hold this process's particles on its window
+  /// with m, m_inv and active already the totals; the step sums its P2G momenta and forces and
+  /// the FMPM loop's products over the processes. FLIP, PIC and FMPM(k) in single material mode
+  /// without heat; null: one process.
+  const NodeSums* sums = nullptr;
 };
 
 /// The grid fields of the transport stages (n_g × 1, N × d for the gradients).

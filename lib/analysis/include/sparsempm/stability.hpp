@@ -40,6 +40,13 @@ public:
   /// Validates the options (validate of step.hpp); throws InputError for dynamic FMPM, whose
   /// state-dependent order is not a linear map.
   LinearizedStep(const Model& model, const StepOptions& options, double dt);
+  /// The same across processes (fmpm.hpp, NodeSums): `model` holds this process's particles
+  /// (at least one) and the whole grid; the operators are assembled on the particles' window,
+  /// m and the active set are made the totals over the processes, and each application sums the
+  /// step's node fields over them (StepContext::sums), so that T acts on the state of this
+  /// process's particles. FLIP, PIC and FMPM(k) in single material mode, without moving walls.
+  /// Collective, as every perform_op.
+  LinearizedStep(const Model& model, const StepOptions& options, double dt, const NodeSums& sums);
   ~LinearizedStep();
   /// Takes over the frozen configuration and its operators.
   LinearizedStep(LinearizedStep&&) noexcept;
@@ -66,6 +73,7 @@ public:
 private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  void init(const Model& model, const StepOptions& options, double dt, const NodeSums* sums);
 };
 
 /// How a spectral radius was obtained.

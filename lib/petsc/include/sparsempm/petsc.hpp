@@ -20,6 +20,7 @@
 #include "sparsempm/fmpm.hpp"
 #include "sparsempm/operators.hpp"
 #include "sparsempm/spectrum.hpp"
+#include "sparsempm/stability.hpp"
 #include "sparsempm/step_options.hpp"
 
 #include <petscdmda.h>
@@ -27,6 +28,7 @@
 #include <petscvec.h>
 
 #include <array>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -269,5 +271,39 @@ ExactSolveReport exact_solve(const DistributedGrid& grid, const DistributedOpera
 /// NumericalError when an eigensolve does not converge. Collective.
 MassSpectrum mass_spectrum(const DistributedGrid& grid, const DistributedOperators& ops,
                            double tol = 1e-12);
+
+/// The node sums of a step across ranks (NodeSums, fmpm.hpp) on the window of `ops` (this rank's
+/// particles' window, DistributedOperators::rows): add() adds every rank's window rows into a
+/// distributed Vec (VecSetValues, ADD_VALUES) and scatters the totals back to each window, ghost
+/// nodes included (VecScatter). A step's operators assembled on the same particles with the same
+/// shape functions have this window. Collective.
+class WindowSums final : public NodeSums {
+public:
+  /// Sums on the window of `ops` over the ranks of `grid` (both must outlive this).
+  WindowSums(const DistributedGrid& grid, const DistributedOperators& ops);
+  ~WindowSums() override;
+  WindowSums(const WindowSums&) = delete;
+  WindowSums& operator=(const WindowSums&) = delete;
+  /// The totals over the ranks of every row of `window` (rows: the window's columns).
+  void add(Field& window) const override;
+  /// The largest of `value` over the ranks.
+  double maximum(double value) const override;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// ρ(T) of the one-step update linearised at the model's frozen configuration (LinearizedStep,
+/// stability.hpp) across ranks: each rank's LinearizedStep acts on its particles' (V, σ) with the
+/// step's node sums over the ranks (WindowSums), as a PETSc MATSHELL whose dominant eigenvalue
+/// SLEPc's Krylov–Schur finds (EPS_NHEP, largest magnitude, tolerance `tol`, options prefix
+/// rho_). `model` is the whole model on every rank; every rank must own particles. The status is
+/// the serial spectral_radius's: Converged, NotConverged (ρ is then NaN: SLEPc keeps no
+/// estimate of an unconverged eigenvalue), or NonFinite (the step met a non-finite value on some
+/// rank; ρ = +inf). FLIP, PIC and FMPM(k) in single
+/// material mode. Collective.
+SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
+                               const StepOptions& options, double dt, double tol = 1e-10);
 
 } // namespace smpm::petsc

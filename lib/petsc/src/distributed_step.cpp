@@ -1,0 +1,167 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The step's node sums across ranks (WindowSums) and ρ(T) of the linearised step by SLEPc.
+#include "sparsempm/petsc.hpp"
+
+#include "sparsempm/errors.hpp"
+
+#include <slepceps.h>
+
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <map>
+
+namespace smpm::petsc {
+
+struct WindowSums::Impl {
+  const DistributedGrid& grid;
+  std::vector<PetscInt> rows; // the PETSc row of each window column
+  struct Buffers {            // per number of components
+    OwnedVec global, local;
+    OwnedScatter scatter;
+    std::vector<PetscInt> index;
+  };
+  std::map<Index, Buffers> buffers;
+
+  Buffers& for_components(Index c) {
+    Buffers& b = buffers[c];
+    if (b.global.get())
+      return b;
+    b.index.resize(rows.size() * size_t(c));
+    for (size_t r = 0; r < rows.size(); ++r)
+      for (Index a = 0; a < c; ++a)
+        b.index[r * size_t(c) + size_t(a)] = rows[r] * PetscInt(c) + PetscInt(a);
+    b.global = node_vector(grid, int(c));
+    SMPM_PETSC_CALL(VecCreateSeq(PETSC_COMM_SELF, PetscInt(b.index.size()), b.local.out()));
+    OwnedIS is;
+    SMPM_PETSC_CALL(ISCreateGeneral(PETSC_COMM_SELF, PetscInt(b.index.size()), b.index.data(),
+                                    PETSC_COPY_VALUES, is.out()));
+    SMPM_PETSC_CALL(VecScatterCreate(b.global, is, b.local, nullptr, b.scatter.out()));
+    return b;
+  }
+};
+
+WindowSums::WindowSums(const DistributedGrid& grid, const DistributedOperators& ops)
+    : impl_(new Impl{grid, ops.rows, {}}) {}
+
+WindowSums::~WindowSums() = default;
+
+void WindowSums::add(Field& window) const {
+  if (size_t(window.rows()) != impl_->rows.size())
+    throw UsageError("WindowSums: a field of " + std::to_string(window.rows()) +
+                     " rows on a window of " + std::to_string(impl_->rows.size()) + " columns");
+  Impl::Buffers& b = impl_->for_components(window.cols());
+  SMPM_PETSC_CALL(VecSet(b.global, 0.0));
+  if (!b.index.empty()) // row-major: the window's rows in order, their components together
+    SMPM_PETSC_CALL(VecSetValues(b.global, PetscInt(b.index.size()), b.index.data(), window.data(),
+                                 ADD_VALUES));
+  SMPM_PETSC_CALL(VecAssemblyBegin(b.global));
+  SMPM_PETSC_CALL(VecAssemblyEnd(b.global));
+  SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.global, b.local, INSERT_VALUES, SCATTER_FORWARD));
+  SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.global, b.local, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar* a = nullptr;
+  SMPM_PETSC_CALL(VecGetArrayRead(b.local, &a));
+  std::copy(a, a + window.size(), window.data());
+  SMPM_PETSC_CALL(VecRestoreArrayRead(b.local, &a));
+}
+
+double WindowSums::maximum(double value) const {
+  double out = value;
+  MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, impl_->grid.comm());
+  return out;
+}
+
+namespace {
+
+using OwnedEPS = Owned<EPS, EPSDestroy>;
+
+// The MATSHELL's context: the linearised step, and the exception a product threw (PETSc's C
+// callbacks must not throw: the product returns an error code and the caller rethrows this).
+struct ShellContext {
+  const LinearizedStep* T = nullptr;
+  std::exception_ptr failure;
+  bool non_finite = false;
+};
+
+PetscErrorCode shell_mult(Mat a, Vec x, Vec y) {
+  void* raw = nullptr;
+  MatShellGetContext(a, &raw);
+  auto* ctx = static_cast<ShellContext*>(raw);
+  const PetscScalar* xa = nullptr;
+  PetscScalar* ya = nullptr;
+  VecGetArrayRead(x, &xa);
+  VecGetArray(y, &ya);
+  PetscErrorCode code = 0;
+  try {
+    ctx->T->perform_op(xa, ya);
+  } catch (const NumericalError&) {
+    ctx->non_finite = true;
+    ctx->failure = std::current_exception();
+    code = PETSC_ERR_FP;
+  } catch (...) {
+    ctx->failure = std::current_exception();
+    code = PETSC_ERR_LIB;
+  }
+  VecRestoreArray(y, &ya);
+  VecRestoreArrayRead(x, &xa);
+  return code;
+}
+
+} // namespace
+
+SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
+                               const StepOptions& options, double dt, double tol) {
+  const std::vector<Index> ids = grid.owned_particles(model.particles);
+  Model local = model;
+  local.particles = select_particles(model.particles, ids);
+  DistributedOperators ops; // this rank's window: the sums' rows
+  assemble(grid, local.particles, ids, options.shape, ops);
+  const WindowSums sums(grid, ops);
+  // Every rank builds its step, or none does (the construction sums the masses).
+  int empty = local.particles.size() == 0, any_empty = 0;
+  MPI_Allreduce(&empty, &any_empty, 1, MPI_INT, MPI_MAX, grid.comm());
+  if (any_empty)
+    throw InputError("rho(T) across ranks needs particles on every rank: a rank of the " +
+                     std::to_string(grid.size()) + " owns none (use fewer ranks)");
+  const LinearizedStep T(local, options, dt, sums);
+  ShellContext ctx{&T, nullptr, false};
+  const PetscInt n = PetscInt(T.rows());
+  OwnedMat shell;
+  SMPM_PETSC_CALL(
+      MatCreateShell(grid.comm(), n, n, PETSC_DETERMINE, PETSC_DETERMINE, &ctx, shell.out()));
+  SMPM_PETSC_CALL(MatShellSetOperation(shell, MATOP_MULT, (void (*)(void))shell_mult));
+  OwnedEPS eps;
+  SMPM_PETSC_CALL(EPSCreate(grid.comm(), eps.out()));
+  SMPM_PETSC_CALL(EPSSetOperators(eps, shell, nullptr));
+  SMPM_PETSC_CALL(EPSSetProblemType(eps, EPS_NHEP));
+  SMPM_PETSC_CALL(EPSSetType(eps, EPSKRYLOVSCHUR));
+  SMPM_PETSC_CALL(EPSSetWhichEigenpairs(eps, EPS_LARGEST_MAGNITUDE));
+  PetscInt N = 0;
+  SMPM_PETSC_CALL(MatGetSize(shell, &N, nullptr));
+  SMPM_PETSC_CALL(EPSSetDimensions(eps, 1, std::min<PetscInt>(N, 60), PETSC_DEFAULT));
+  SMPM_PETSC_CALL(EPSSetTolerances(eps, tol, 20000));
+  SMPM_PETSC_CALL(EPSSetOptionsPrefix(eps, "rho_"));
+  SMPM_PETSC_CALL(EPSSetFromOptions(eps));
+  const PetscErrorCode solved = EPSSolve(eps);
+  int failed = solved != 0, non_finite = ctx.non_finite, any_failed = 0, any_non_finite = 0;
+  MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, grid.comm());
+  MPI_Allreduce(&non_finite, &any_non_finite, 1, MPI_INT, MPI_MAX, grid.comm());
+  if (any_non_finite)
+    return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
+  if (ctx.failure)
+    std::rethrow_exception(ctx.failure);
+  check(solved, "EPSSolve (rho(T))");
+  PetscInt converged = 0;
+  SMPM_PETSC_CALL(EPSGetConverged(eps, &converged));
+  PetscScalar re = 0, im = 0;
+  if (converged > 0) {
+    SMPM_PETSC_CALL(EPSGetEigenvalue(eps, 0, &re, &im));
+    const double rho = std::hypot(double(re), double(im));
+    if (!std::isfinite(rho))
+      return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
+    return {rho, SpectralStatus::Converged};
+  }
+  return {std::numeric_limits<double>::quiet_NaN(), SpectralStatus::NotConverged};
+}
+
+} // namespace smpm::petsc
