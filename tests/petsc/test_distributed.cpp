@@ -11,6 +11,8 @@
 
 #include <Eigen/Dense>
 
+#include <cstdio>
+
 using namespace smpm;
 namespace sp = smpm::petsc;
 
@@ -393,4 +395,32 @@ TEST_CASE("rho(T) across ranks equals the serial spectral radius", "[petsc][rho]
         CHECK(dist.status == SpectralStatus::Converged);
         CHECK(dist.rho == smpm::test::approx(serial_rho, 0, 1e-8));
       }
+}
+
+TEST_CASE("C* across ranks equals the serial critical Courant number", "[petsc][rho]") {
+  // The serial search (critical_courant_search) on ρ(T) across ranks: the same grid point of
+  // C (resolution 1e-3) as the serial critical_courant, FLIP and FMPM(4) on the bar with uGIMP
+  // (0.7555 and 0.5547).
+  const Model bar = vibrating_bar({});
+  StepOptions flip;
+  flip.shape = Shape::GIMP;
+  StepOptions fmpm4 = flip;
+  fmpm4.velocity = VelocityUpdate::FMPM;
+  fmpm4.fmpm.order = 4;
+  const std::vector<std::pair<const Model*, StepOptions>> cases{{&bar, flip}, {&bar, fmpm4}};
+  for (const auto& [model, options] : cases) {
+    CAPTURE(model->grid.dim(), to_string(options.velocity));
+    double serial = 0;
+    if (rank() == 0)
+      serial = critical_courant(*model, options).courant;
+    MPI_Bcast(&serial, 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+    const sp::DistributedGrid grid(model->grid);
+    const CriticalCourant dist = sp::critical_courant(grid, *model, options);
+    CHECK(dist.courant == serial);
+    CHECK(dist.non_finite == 0);
+    if (rank() == 0)
+      std::printf("C* %s on the bar: %.4f (serial %.4f), %d evaluations\n",
+                  std::string(to_string(options.velocity)).c_str(), dist.courant, serial,
+                  dist.evaluations);
+  }
 }

@@ -201,13 +201,20 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
                                  double c_max, double resolution, double hint,
                                  const std::atomic<int>* interrupt) {
   LinearizedStep T(model, options, stable_time_step(model, 0.05));
-  return detail::critical_parameter(
+  return critical_courant_search(
       [&](double C, int& steps) {
         T.set_dt(stable_time_step(model, C));
         steps = T.steps_per_application();
         return spectral_radius(T);
       },
-      "C*", tol, c_max, resolution, hint, interrupt);
+      tol, c_max, resolution, hint, interrupt);
+}
+
+CriticalCourant
+critical_courant_search(const std::function<SpectralRadius(double courant, int& steps)>& radius,
+                        double tol, double c_max, double resolution, double hint,
+                        const std::atomic<int>* interrupt) {
+  return detail::critical_parameter(radius, "C*", tol, c_max, resolution, hint, interrupt);
 }
 
 double simulation_energy_change(const Model& start, const StepOptions& options, double courant,

@@ -2,6 +2,7 @@
 // The step's node sums across ranks (WindowSums) and ρ(T) of the linearised step by SLEPc.
 #include "sparsempm/petsc.hpp"
 
+#include "sparsempm/diagnostics.hpp"
 #include "sparsempm/errors.hpp"
 
 #include <slepceps.h>
@@ -10,6 +11,7 @@
 #include <exception>
 #include <limits>
 #include <map>
+#include <memory>
 
 namespace smpm::petsc {
 
@@ -107,61 +109,105 @@ PetscErrorCode shell_mult(Mat a, Vec x, Vec y) {
   return code;
 }
 
-} // namespace
+// The linearised step of this rank's particles with the step's sums over the ranks, as a
+// MATSHELL, and SLEPc's eigensolver on it: built once, evaluated at any Δt.
+class DistributedRadius {
+public:
+  DistributedRadius(const DistributedGrid& grid, const Model& model, const StepOptions& options,
+                    double dt)
+      : grid_(grid), local_(local_model(grid, model, ids_)) {
+    assemble(grid, local_.particles, ids_, options.shape, ops_);
+    sums_ = std::make_unique<WindowSums>(grid, ops_);
+    // Every rank builds its step, or none does (the construction sums the masses).
+    int empty = local_.particles.size() == 0, any_empty = 0;
+    MPI_Allreduce(&empty, &any_empty, 1, MPI_INT, MPI_MAX, grid.comm());
+    if (any_empty)
+      throw InputError("rho(T) across ranks needs particles on every rank: a rank of the " +
+                       std::to_string(grid.size()) + " owns none (use fewer ranks)");
+    T_ = std::make_unique<LinearizedStep>(local_, options, dt, *sums_);
+    ctx_.T = T_.get();
+    const PetscInt n = PetscInt(T_->rows());
+    SMPM_PETSC_CALL(
+        MatCreateShell(grid.comm(), n, n, PETSC_DETERMINE, PETSC_DETERMINE, &ctx_, shell_.out()));
+    SMPM_PETSC_CALL(MatShellSetOperation(shell_, MATOP_MULT, (void (*)(void))shell_mult));
+  }
 
-SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
-                               const StepOptions& options, double dt, double tol) {
-  const std::vector<Index> ids = grid.owned_particles(model.particles);
-  Model local = model;
-  local.particles = select_particles(model.particles, ids);
-  DistributedOperators ops; // this rank's window: the sums' rows
-  assemble(grid, local.particles, ids, options.shape, ops);
-  const WindowSums sums(grid, ops);
-  // Every rank builds its step, or none does (the construction sums the masses).
-  int empty = local.particles.size() == 0, any_empty = 0;
-  MPI_Allreduce(&empty, &any_empty, 1, MPI_INT, MPI_MAX, grid.comm());
-  if (any_empty)
-    throw InputError("rho(T) across ranks needs particles on every rank: a rank of the " +
-                     std::to_string(grid.size()) + " owns none (use fewer ranks)");
-  const LinearizedStep T(local, options, dt, sums);
-  ShellContext ctx{&T, nullptr, false};
-  const PetscInt n = PetscInt(T.rows());
-  OwnedMat shell;
-  SMPM_PETSC_CALL(
-      MatCreateShell(grid.comm(), n, n, PETSC_DETERMINE, PETSC_DETERMINE, &ctx, shell.out()));
-  SMPM_PETSC_CALL(MatShellSetOperation(shell, MATOP_MULT, (void (*)(void))shell_mult));
-  OwnedEPS eps;
-  SMPM_PETSC_CALL(EPSCreate(grid.comm(), eps.out()));
-  SMPM_PETSC_CALL(EPSSetOperators(eps, shell, nullptr));
-  SMPM_PETSC_CALL(EPSSetProblemType(eps, EPS_NHEP));
-  SMPM_PETSC_CALL(EPSSetType(eps, EPSKRYLOVSCHUR));
-  SMPM_PETSC_CALL(EPSSetWhichEigenpairs(eps, EPS_LARGEST_MAGNITUDE));
-  PetscInt N = 0;
-  SMPM_PETSC_CALL(MatGetSize(shell, &N, nullptr));
-  SMPM_PETSC_CALL(EPSSetDimensions(eps, 1, std::min<PetscInt>(N, 60), PETSC_DEFAULT));
-  SMPM_PETSC_CALL(EPSSetTolerances(eps, tol, 20000));
-  SMPM_PETSC_CALL(EPSSetOptionsPrefix(eps, "rho_"));
-  SMPM_PETSC_CALL(EPSSetFromOptions(eps));
-  const PetscErrorCode solved = EPSSolve(eps);
-  int failed = solved != 0, non_finite = ctx.non_finite, any_failed = 0, any_non_finite = 0;
-  MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, grid.comm());
-  MPI_Allreduce(&non_finite, &any_non_finite, 1, MPI_INT, MPI_MAX, grid.comm());
-  if (any_non_finite)
-    return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
-  if (ctx.failure)
-    std::rethrow_exception(ctx.failure);
-  check(solved, "EPSSolve (rho(T))");
-  PetscInt converged = 0;
-  SMPM_PETSC_CALL(EPSGetConverged(eps, &converged));
-  PetscScalar re = 0, im = 0;
-  if (converged > 0) {
+  LinearizedStep& step() { return *T_; }
+
+  SpectralRadius radius(double tol) {
+    ctx_.failure = nullptr;
+    ctx_.non_finite = false;
+    OwnedEPS eps;
+    SMPM_PETSC_CALL(EPSCreate(grid_.comm(), eps.out()));
+    SMPM_PETSC_CALL(EPSSetOperators(eps, shell_, nullptr));
+    SMPM_PETSC_CALL(EPSSetProblemType(eps, EPS_NHEP));
+    SMPM_PETSC_CALL(EPSSetType(eps, EPSKRYLOVSCHUR));
+    SMPM_PETSC_CALL(EPSSetWhichEigenpairs(eps, EPS_LARGEST_MAGNITUDE));
+    PetscInt N = 0;
+    SMPM_PETSC_CALL(MatGetSize(shell_, &N, nullptr));
+    SMPM_PETSC_CALL(EPSSetDimensions(eps, 1, std::min<PetscInt>(N, 60), PETSC_DEFAULT));
+    SMPM_PETSC_CALL(EPSSetTolerances(eps, tol, 20000));
+    SMPM_PETSC_CALL(EPSSetOptionsPrefix(eps, "rho_"));
+    SMPM_PETSC_CALL(EPSSetFromOptions(eps));
+    const PetscErrorCode solved = EPSSolve(eps);
+    int failed = solved != 0, non_finite = ctx_.non_finite, any_failed = 0, any_non_finite = 0;
+    MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, grid_.comm());
+    MPI_Allreduce(&non_finite, &any_non_finite, 1, MPI_INT, MPI_MAX, grid_.comm());
+    if (any_non_finite)
+      return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
+    if (ctx_.failure)
+      std::rethrow_exception(ctx_.failure);
+    check(solved, "EPSSolve (rho(T))");
+    PetscInt converged = 0;
+    SMPM_PETSC_CALL(EPSGetConverged(eps, &converged));
+    if (converged < 1)
+      return {std::numeric_limits<double>::quiet_NaN(), SpectralStatus::NotConverged};
+    PetscScalar re = 0, im = 0;
     SMPM_PETSC_CALL(EPSGetEigenvalue(eps, 0, &re, &im));
     const double rho = std::hypot(double(re), double(im));
     if (!std::isfinite(rho))
       return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
     return {rho, SpectralStatus::Converged};
   }
-  return {std::numeric_limits<double>::quiet_NaN(), SpectralStatus::NotConverged};
+
+private:
+  static Model local_model(const DistributedGrid& grid, const Model& model,
+                           std::vector<Index>& ids) {
+    ids = grid.owned_particles(model.particles);
+    Model local = model;
+    local.particles = select_particles(model.particles, ids);
+    return local;
+  }
+
+  const DistributedGrid& grid_;
+  std::vector<Index> ids_;
+  Model local_;
+  DistributedOperators ops_; // this rank's window: the sums' rows
+  std::unique_ptr<WindowSums> sums_;
+  std::unique_ptr<LinearizedStep> T_;
+  ShellContext ctx_;
+  OwnedMat shell_;
+};
+
+} // namespace
+
+SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
+                               const StepOptions& options, double dt, double tol) {
+  DistributedRadius r(grid, model, options, dt);
+  return r.radius(tol);
+}
+
+CriticalCourant critical_courant(const DistributedGrid& grid, const Model& model,
+                                 const StepOptions& options, double tol, double c_max,
+                                 double resolution, double hint) {
+  DistributedRadius r(grid, model, options, stable_time_step(model, 0.05));
+  return critical_courant_search(
+      [&](double C, int& steps) {
+        r.step().set_dt(stable_time_step(model, C));
+        steps = r.step().steps_per_application();
+        return r.radius(1e-10);
+      },
+      tol, c_max, resolution, hint);
 }
 
 } // namespace smpm::petsc

@@ -119,6 +119,13 @@ CriticalCourant critical_courant(const Model& model, const StepOptions& options,
                                  double c_max = 2.0, double resolution = 1e-3, double hint = 0,
                                  const std::atomic<int>* interrupt = nullptr);
 
+/// The search of critical_courant for any way of computing ρ(T(C)): `radius(C, steps)` returns
+/// ρ(T(C)) and sets the steps T spans (the distributed ρ(T) of sparsempm::petsc uses it).
+CriticalCourant
+critical_courant_search(const std::function<SpectralRadius(double courant, int& steps)>& radius,
+                        double tol = 1e-6, double c_max = 2.0, double resolution = 1e-3,
+                        double hint = 0, const std::atomic<int>* interrupt = nullptr);
+
 /// The model with every particle translated by `shift` (in cells along each axis); boundary
 /// conditions stay on their nodes. Throws NumericalError if a particle leaves the grid.
 Model shifted(const Model& model, const std::array<double, 3>& shift);

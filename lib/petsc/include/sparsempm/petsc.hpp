@@ -305,5 +305,12 @@ private:
 /// material mode. Collective.
 SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
                                const StepOptions& options, double dt, double tol = 1e-10);
+/// The critical Courant number of the serial critical_courant (the same search,
+/// critical_courant_search: bracketing, bisection, the hint) with ρ(T(C)) across ranks
+/// (spectral_radius above, eigensolver tolerance 1e-10; the step's operators assembled once).
+/// Collective.
+CriticalCourant critical_courant(const DistributedGrid& grid, const Model& model,
+                                 const StepOptions& options, double tol = 1e-6, double c_max = 2.0,
+                                 double resolution = 1e-3, double hint = 0);
 
 } // namespace smpm::petsc
