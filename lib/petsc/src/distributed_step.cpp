@@ -53,18 +53,22 @@ void WindowSums::add(Field& window) const {
     throw UsageError("WindowSums: a field of " + std::to_string(window.rows()) +
                      " rows on a window of " + std::to_string(impl_->rows.size()) + " columns");
   Impl::Buffers& b = impl_->for_components(window.cols());
+  // The window's partial sums (row-major: its rows in order, their components together) added
+  // into the owners' rows by the scatter's reverse (ADD_VALUES), the totals sent back forward:
+  // two neighbour exchanges on the scatter's fixed pattern.
+  PetscScalar* a = nullptr;
+  SMPM_PETSC_CALL(VecGetArray(b.local, &a));
+  std::copy(window.data(), window.data() + window.size(), a);
+  SMPM_PETSC_CALL(VecRestoreArray(b.local, &a));
   SMPM_PETSC_CALL(VecSet(b.global, 0.0));
-  if (!b.index.empty()) // row-major: the window's rows in order, their components together
-    SMPM_PETSC_CALL(VecSetValues(b.global, PetscInt(b.index.size()), b.index.data(), window.data(),
-                                 ADD_VALUES));
-  SMPM_PETSC_CALL(VecAssemblyBegin(b.global));
-  SMPM_PETSC_CALL(VecAssemblyEnd(b.global));
+  SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, b.global, ADD_VALUES, SCATTER_REVERSE));
+  SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.local, b.global, ADD_VALUES, SCATTER_REVERSE));
   SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.global, b.local, INSERT_VALUES, SCATTER_FORWARD));
   SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.global, b.local, INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* a = nullptr;
-  SMPM_PETSC_CALL(VecGetArrayRead(b.local, &a));
-  std::copy(a, a + window.size(), window.data());
-  SMPM_PETSC_CALL(VecRestoreArrayRead(b.local, &a));
+  const PetscScalar* t = nullptr;
+  SMPM_PETSC_CALL(VecGetArrayRead(b.local, &t));
+  std::copy(t, t + window.size(), window.data());
+  SMPM_PETSC_CALL(VecRestoreArrayRead(b.local, &t));
 }
 
 double WindowSums::maximum(double value) const {
