@@ -44,9 +44,10 @@ BUILD = pathlib.Path(smpm.__file__).resolve().parents[1]  # the directory holdin
 SMPM = str(pathlib.Path(SMPM_NAME).resolve()) if os.sep in SMPM_NAME else SMPM_NAME
 EXAMPLES = SOURCE / "examples"
 PNG = b"\x89PNG\r\n\x1a\n"
-# Scripts of analysis/ that draw no matplotlib figure: helpers, and paraview_view.py, which
-# ParaView draws under pvbatch (with a display).
-HELPERS = {"figures.py", "disks.py", "smpm_python.py", "paraview_view.py"}
+# Scripts of analysis/ that draw no matplotlib figure: helpers, paraview_view.py, which
+# ParaView draws under pvbatch (with a display), and ghost_nodes.py, a table of the DMDA's
+# partition checked against PETSc itself by the ctest petsc.ghost_nodes_partition.
+HELPERS = {"figures.py", "disks.py", "smpm_python.py", "paraview_view.py", "ghost_nodes.py"}
 
 
 def env(dump=None):
