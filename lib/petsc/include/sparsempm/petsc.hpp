@@ -275,8 +275,8 @@ MassSpectrum mass_spectrum(const DistributedGrid& grid, const DistributedOperato
 /// The node sums of a step across ranks (NodeSums, fmpm.hpp) on the window of `ops` (this rank's
 /// particles' window, DistributedOperators::rows): add() adds every rank's window rows into a
 /// distributed Vec (a VecScatter in reverse with ADD_VALUES) and scatters the totals back to
-/// each window, ghost nodes included (the same scatter forward). A step's operators assembled on the same particles with the same
-/// shape functions have this window. Collective.
+/// each window, ghost nodes included (the same scatter forward). A step's operators assembled on
+/// the same particles with the same shape functions have this window. Collective.
 class WindowSums final : public NodeSums {
 public:
   /// Sums on the window of `ops` over the ranks of `grid` (both must outlive this).
