@@ -140,20 +140,24 @@ struct LoopCase {
   bool bcs = false;
 };
 
+// A fixed plane through the body and a prescribed, varying velocity on another.
+BoundaryConditions plane_conditions(const Grid& g) {
+  BoundaryConditions bcs = BoundaryConditions::none(g);
+  fix_plane(g, 0, g.origin(0) + 4 * g.cell_size(0), {true, g.dim() > 1, false}, bcs);
+  VelocityCondition push;
+  push.nodes = nodes_on_plane(g, 0, g.origin(0) + 6 * g.cell_size(0));
+  push.direction = Eigen::Vector3d::UnitX();
+  push.value = [](double t, const Eigen::Vector3d& x) { return 0.25 + t + 0.1 * x[0]; };
+  push.label = "push";
+  bcs.conditions.push_back(push);
+  return bcs;
+}
+
 // max |v_distributed − v_serial| / max |v_serial| of the grid velocity from p⁺ = Sᵀ M V
 // (updated_velocity with the lumped BCs), and whether the orders reached agree.
 std::pair<double, bool> loop_error(const Grid& g, const Particles& P, Shape shape, int fields,
                                    const Eigen::VectorXi* field, const LoopCase& c) {
-  BoundaryConditions bcs = BoundaryConditions::none(g);
-  if (c.bcs) { // a fixed plane through the body, and a prescribed velocity on another
-    fix_plane(g, 0, g.origin(0) + 4 * g.cell_size(0), {true, g.dim() > 1, false}, bcs);
-    VelocityCondition push;
-    push.nodes = nodes_on_plane(g, 0, g.origin(0) + 6 * g.cell_size(0));
-    push.direction = Eigen::Vector3d::UnitX();
-    push.value = [](double t, const Eigen::Vector3d& x) { return 0.25 + t + 0.1 * x[0]; };
-    push.label = "push";
-    bcs.conditions.push_back(push);
-  }
+  const BoundaryConditions bcs = plane_conditions(g);
   // Without conditions the loop fuses Eqs. 6 and 5 (no hook between them).
   const LoopConstraints lc{&g, c.bcs ? &bcs : nullptr, 0.5};
   Operators s;
@@ -232,19 +236,6 @@ Particles jittered_body(const Grid& g, unsigned seed, int ppc) {
   for (Index q = 0; q < P.V.size(); ++q)
     P.V.data()[q] = u(rng);
   return P;
-}
-
-// A fixed plane through the body and a prescribed, varying velocity on another.
-BoundaryConditions plane_conditions(const Grid& g) {
-  BoundaryConditions bcs = BoundaryConditions::none(g);
-  fix_plane(g, 0, g.origin(0) + 4 * g.cell_size(0), {true, g.dim() > 1, false}, bcs);
-  VelocityCondition push;
-  push.nodes = nodes_on_plane(g, 0, g.origin(0) + 6 * g.cell_size(0));
-  push.direction = Eigen::Vector3d::UnitX();
-  push.value = [](double t, const Eigen::Vector3d& x) { return 0.25 + t + 0.1 * x[0]; };
-  push.label = "push";
-  bcs.conditions.push_back(push);
-  return bcs;
 }
 
 } // namespace
