@@ -2,16 +2,20 @@
 // smpm-mpi: the commands of smpm that run across MPI ranks with sparsempm::petsc.
 //   mpiexec -n P smpm-mpi spectrum input.toml [--order ...] [--blend-alpha ...]
 //                [--blend-every ...] [--courant C] [--exact-method M] [-o spectrum.csv]
-// The same table as smpm spectrum (ρ(A), λ_min(m⁻¹m̃), cond(m̃) at t = 0, and for every FMPM
-// order and blending the truncation error of FMPM(k) against the exact inverse, with --courant
-// ρ(T(C))), computed on the distributed operators: SLEPc for the spectra, KSP (or MUMPS) for the
-// exact inverse, the distributed FMPM loop and linearised step. Every rank reads the input; rank 0
-// prints and writes the table (with smpm's file safety). An input error is reported once, by rank
-// 0, with exit status 2; a failure on any one rank stops every rank (MPI_Abort) with its message
-// and exit status 3.
+//   mpiexec -n P smpm-mpi stability input.toml [smpm stability's options] [--exact-method M]
+// spectrum: the same table as smpm spectrum (ρ(A), λ_min(m⁻¹m̃), cond(m̃) at t = 0, and for every
+// FMPM order and blending the truncation error of FMPM(k) against the exact inverse, with
+// --courant ρ(T(C))), computed on the distributed operators: SLEPc for the spectra, KSP (or
+// MUMPS) for the exact inverse, the distributed FMPM loop and linearised step.
+// stability: smpm stability's table by its spectral method (FMPM 2026 §3.3, Fig. 12A), every row's
+// C* over the lattice shifts and frames found by the serial search on ρ(T(C)) across ranks; the
+// simulation method runs whole time steps, which do not run across ranks yet, and is refused.
+// Every rank reads the input; rank 0 prints and writes the table (with smpm's file safety). An
+// input error is reported once, by rank 0, with exit status 2; a failure on any one rank stops
+// every rank (MPI_Abort) with its message and exit status 3.
 
+#include "command_options.hpp"
 #include "notes.hpp"
-#include "spectrum_options.hpp"
 #include "stability_command.hpp"
 
 #include <sparsempm/diagnostics.hpp>
@@ -83,6 +87,22 @@ int spectrum(const smpm::app::SpectrumArgs& a, sp::ExactMethod method, int rank)
   return 0;
 }
 
+int stability(const smpm::app::StabilityArgs& a, sp::ExactMethod method, int rank) {
+  using namespace smpm;
+  if (a.method != "spectral")
+    throw InputError("--method " + a.method +
+                     ": smpm-mpi stability computes the spectral C* only (the simulation method "
+                     "runs time steps, which run in one process: use smpm stability)");
+  app::validate(a);
+  const sp::DistributedGrid grid(read_input_file(a.input, a.sets).model.grid);
+  app::StabilityEngine engine;
+  engine.root = rank == 0;
+  engine.search = [&](const Model& model, const StepOptions& options, double hint) {
+    return sp::critical_courant(grid, model, options, 1e-6, 2.0, 1e-3, hint, method);
+  };
+  return app::stability_command(a, engine);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -99,8 +119,16 @@ int main(int argc, char** argv) {
   spec->add_option("--exact-method", method,
                    "the exact inverse: cg-jacobi | cg-bjacobi-icc | cg-gamg | mumps-cholesky")
       ->capture_default_str();
+  smpm::app::StabilityArgs stab_args;
+  CLI::App* stab = app.add_subcommand(
+      "stability", "critical Courant numbers of FLIP and FMPM(k) by the spectral method");
+  smpm::app::add_stability_options(*stab, stab_args);
+  stab->add_option("--exact-method", method,
+                   "the exact row's m~^-1: cg-jacobi | cg-bjacobi-icc | cg-gamg | mumps-cholesky")
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
+    stab_args.position_alpha_given = stab->count("--position-alpha") > 0;
   } catch (const CLI::ParseError& e) {
     int code = 0;
     if (rank == 0)
@@ -111,7 +139,8 @@ int main(int argc, char** argv) {
   }
   int code = 0;
   try {
-    code = spectrum(args, sp::exact_method_from_string(method), rank);
+    const sp::ExactMethod exact = sp::exact_method_from_string(method);
+    code = stab->parsed() ? stability(stab_args, exact, rank) : spectrum(args, exact, rank);
   } catch (const smpm::InputError& e) { // the same on every rank: said once
     if (rank == 0)
       std::fprintf(stderr, "smpm-mpi: error: %s\n", e.what());

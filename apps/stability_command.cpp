@@ -167,7 +167,7 @@ void print_table(const std::vector<Row>& rows) {
 // (sweep_configurations). Rows that differ only in k (FMPM with one α, m and C_X) form a series
 // searched in the order of --order, each search starting from the C* of the previous k.
 void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityArgs& a,
-                   const std::vector<Configuration>& frames) {
+                   const std::vector<Configuration>& frames, const StabilityEngine& engine) {
   std::vector<Configuration> configs = lattice_configurations(model, a.shifts);
   configs.insert(configs.end(), frames.begin(), frames.end());
   std::vector<CourantSeries> series;
@@ -187,7 +187,8 @@ void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityAr
     where[i] = {size_t(it - series.begin()), it->options.size()};
     it->options.push_back(o);
   }
-  const auto sweeps = sweep_configurations(configs, series);
+  const auto sweeps = engine.search ? sweep_configurations(configs, series, engine.search, 1)
+                                    : sweep_configurations(configs, series);
   for (size_t i = 0; i < rows.size(); ++i) {
     const ConfigurationSweep& s = sweeps[where[i].first][where[i].second];
     rows[i].c_spectral = s.minimum.courant;
@@ -205,9 +206,9 @@ void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityAr
 // Both methods for every row: the spectral C* (spectral_rows), then the simulations, one row
 // per task on every core.
 void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityArgs& a,
-                  const std::vector<Configuration>& frames) {
+                  const std::vector<Configuration>& frames, const StabilityEngine& engine) {
   if (a.method != "simulation")
-    spectral_rows(rows, cfg.model, a, frames);
+    spectral_rows(rows, cfg.model, a, frames, engine);
   SimulationCourantOptions sim;
   sim.end = cfg.time.end;
   sim.max_energy_change = a.max_energy_change;
@@ -220,7 +221,7 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
       r.energy_change = c.energy_change;
       r.simulated = true;
     }
-    if (!a.quiet) {
+    if (!a.quiet && engine.root) {
       const std::vector<std::string> c = option_cells(r);
       std::lock_guard<std::mutex> lock(print);
       std::fprintf(stderr,
@@ -233,6 +234,22 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
     }
   });
 }
+
+// The configurations of every --frame-stride-th frame of the run file --frames.
+std::vector<Configuration> frame_configurations(const StabilityArgs& a, const Model& model) {
+  std::vector<Configuration> frames;
+  if (a.frames.empty())
+    return frames;
+  const std::vector<int> numbers = run_frames(a.frames);
+  for (size_t j = 0; j < numbers.size(); j += size_t(std::max(1, a.frame_stride))) {
+    Configuration c{model, "frame " + std::to_string(numbers[j])};
+    load_frame(a.frames, numbers[j], c.model);
+    frames.push_back(std::move(c));
+  }
+  return frames;
+}
+
+} // namespace
 
 // Every option of smpm stability, checked before any work (the input is read afterwards).
 void validate(const StabilityArgs& a) {
@@ -268,30 +285,17 @@ void validate(const StabilityArgs& a) {
     check_regular_file(a.frames, kMaxRunFileBytes, "run file");
 }
 
-// The configurations of every --frame-stride-th frame of the run file --frames.
-std::vector<Configuration> frame_configurations(const StabilityArgs& a, const Model& model) {
-  std::vector<Configuration> frames;
-  if (a.frames.empty())
-    return frames;
-  const std::vector<int> numbers = run_frames(a.frames);
-  for (size_t j = 0; j < numbers.size(); j += size_t(std::max(1, a.frame_stride))) {
-    Configuration c{model, "frame " + std::to_string(numbers[j])};
-    load_frame(a.frames, numbers[j], c.model);
-    frames.push_back(std::move(c));
-  }
-  return frames;
-}
-
-} // namespace
-
-int stability_command(const StabilityArgs& a) {
+int stability_command(const StabilityArgs& a, const StabilityEngine& engine) {
   validate(a);
   RunConfig cfg = read_input_file(a.input, a.sets);
-  print_notes(cfg);
+  if (engine.root)
+    print_notes(cfg);
   std::vector<Row> rows = make_rows(a, cfg.step);
   const std::vector<Configuration> frames = frame_configurations(a, cfg.model);
   const auto start = std::chrono::steady_clock::now();
-  compute_rows(rows, cfg, a, frames);
+  compute_rows(rows, cfg, a, frames, engine);
+  if (!engine.root)
+    return 0;
   write_table(rows, a.output, {a.input, a.frames});
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

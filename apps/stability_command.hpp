@@ -4,6 +4,7 @@
 
 #include <sparsempm/fmpm.hpp>
 #include <sparsempm/spectrum.hpp>
+#include <sparsempm/stability.hpp>
 
 #include <cmath>
 #include <functional>
@@ -68,7 +69,19 @@ std::string spectrum_table(const SpectrumArgs& args, const MassSpectrum& ms,
                            const std::function<double(const FmpmOptions&)>& truncation,
                            const std::function<double(const FmpmOptions&)>& rho, bool print);
 
+/// Where stability_command computes the spectral C*: on every core of this process (the
+/// default: critical_courant, a task per series and configuration), or across MPI ranks
+/// (smpm-mpi stability: `search` is the distributed critical_courant, every rank running every
+/// search in the same order; only the root prints and writes).
+struct StabilityEngine {
+  CriticalSearch search; ///< null: critical_courant on every core
+  bool root = true;      ///< this process prints progress and the table and writes the file
+};
+
 /// Writes the table (CSV with kStabilityColumns) and prints it. Returns the exit status.
-int stability_command(const StabilityArgs& args);
+int stability_command(const StabilityArgs& args, const StabilityEngine& engine = {});
+/// Throws InputError for stability arguments out of their ranges, a table path that would
+/// overwrite an input, or an input that is not a readable regular file.
+void validate(const StabilityArgs& args);
 
 } // namespace smpm::app

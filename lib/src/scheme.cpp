@@ -448,10 +448,10 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
               "particle (ParticleFields::gradient)");
   SMPM_VERIFY(!context.sums || (!context.contact_nodes && !context.transport &&
                                 context.options->velocity != VelocityUpdate::XPIC &&
-                                context.options->velocity != VelocityUpdate::Exact &&
                                 context.options->transfer != Transfer::VelocityGradient),
-              "scheme_step: across processes a step is FLIP, PIC or FMPM(k) in single material "
-              "mode, without heat and with the standard transfer");
+              "scheme_step: across processes a step is FLIP, PIC, FMPM(k) or exact (with a "
+              "MassSolver across them) in single material mode, without heat and with the "
+              "standard transfer");
   buffers.report = FmpmReport{};
   buffers.fmpm.metrics.clear(); // a step without a loop has no trace
   if (s.heat) {

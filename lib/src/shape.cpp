@@ -285,7 +285,8 @@ bool assemble_shape(const Grid& grid, const Particles& P, Shape shape, SparseRow
                     std::array<SparseRowMatrix, 3>& G, std::vector<ShapeSupport>& support,
                     int fields, const int* field, Grid* window) {
   const Index N = P.size();
-  SMPM_VERIFY(fields == 1 || field, "assemble_shape: several fields need the particle fields");
+  SMPM_VERIFY(fields == 1 || field || N == 0,
+              "assemble_shape: several fields need the particle fields");
   const int d = grid.dim();
   SMPM_VERIFY(P.dim == d, "assemble_shape: particles are " + std::to_string(P.dim) +
                               "D but the grid is " + std::to_string(d) + "D");

@@ -5,8 +5,15 @@
 // the ratios; the serial baselines run only on one rank (in the same process as the 1-rank
 // distributed ones).
 //   FmpmPass/*      one pass of FMPM 2026 Table 1 (Eq. 6 with Eq. 5): fmpm_velocity of order 2
-//   Exact/*         m̃ v = p on the block of side `arg` (nodes ≈ arg²): CHOLMOD, and each KSP
+//   Exact/*         m̃ v = p on the block of side `arg` (nodes ≈ arg², up to 10⁶): CHOLMOD, and
+//                   each KSP and MUMPS
 //   MassSpectrum/*  ρ(A) and cond(m̃): Spectra, and SLEPc
+//   RhoProduct/*    one product T x of the linearised step of FMPM(4) on the 10⁶-particle block
+//                   (every Krylov–Schur iteration of a ρ(T) evaluation is one): LinearizedStep,
+//                   and the same step across ranks (WindowSums) as spectral_radius runs it
+//   Rho/*           one whole ρ(T) evaluation of FMPM(4) on the block of side `arg`: the serial
+//                   spectral_radius (Spectra), and SLEPc's across ranks; SMPM_BENCH_RHO_SIDE adds
+//                   one larger side
 // Every benchmark runs a fixed number of iterations: the ranks make the same collective calls.
 #include "problems.hpp"
 
@@ -14,7 +21,9 @@
 #include <sparsempm/exact.hpp>
 #include <sparsempm/petsc.hpp>
 #include <sparsempm/spectrum.hpp>
+#include <sparsempm/stability.hpp>
 
+#include <cstdlib>
 #include <map>
 #include <memory>
 
@@ -118,6 +127,57 @@ void BM_MassSpectrum_Slepc(benchmark::State& state) {
   state.counters["ranks"] = ranks();
 }
 
+// The options of the ρ(T) benchmarks: FMPM(4) with the block's linear shape functions, at C = 0.5.
+StepOptions rho_options() {
+  StepOptions o;
+  o.shape = Shape::Linear;
+  o.velocity = VelocityUpdate::FMPM;
+  o.fmpm.order = 4;
+  return o;
+}
+
+void BM_RhoProduct_Serial(benchmark::State& state) {
+  const Model& model = block(smpm::bench::side()).model;
+  const LinearizedStep T(model, rho_options(), stable_time_step(model, 0.5));
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(T.rows()), y(T.rows());
+  for (auto _ : state) {
+    T.perform_op(x.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+  }
+  state.counters["rows"] = double(T.rows());
+}
+
+void BM_RhoProduct_Petsc(benchmark::State& state) {
+  const Block& b = block(smpm::bench::side());
+  Model local = b.model; // this rank's particles (DistributedOperators::particles)
+  local.particles = sp::select_particles(b.model.particles, b.dops.particles);
+  const sp::WindowSums sums(*b.grid, b.dops);
+  const LinearizedStep T(local, rho_options(), stable_time_step(b.model, 0.5), sums);
+  Eigen::VectorXd x = Eigen::VectorXd::Ones(T.rows()), y(T.rows());
+  for (auto _ : state) {
+    T.perform_op(x.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+  }
+  state.counters["ranks"] = ranks();
+}
+
+void BM_Rho_Serial(benchmark::State& state) {
+  const Model& model = block(int(state.range(0))).model;
+  for (auto _ : state)
+    state.counters["rho"] =
+        spectral_radius(LinearizedStep(model, rho_options(), stable_time_step(model, 0.5))).rho;
+  state.counters["rows"] = double(model.particles.size() * 6);
+}
+
+void BM_Rho_Petsc(benchmark::State& state) {
+  const Block& b = block(int(state.range(0)));
+  for (auto _ : state)
+    state.counters["rho"] =
+        sp::spectral_radius(*b.grid, b.model, rho_options(), stable_time_step(b.model, 0.5)).rho;
+  state.counters["rows"] = double(b.model.particles.size() * 6);
+  state.counters["ranks"] = ranks();
+}
+
 void register_benchmarks() {
   const bool one = ranks() == 1;
   if (one)
@@ -127,7 +187,28 @@ void register_benchmarks() {
   benchmark::RegisterBenchmark("FmpmPass/petsc", BM_FmpmPass_Petsc)
       ->Unit(benchmark::kMillisecond)
       ->Iterations(20);
-  for (int side : {100, 300, 700}) {
+  if (one)
+    benchmark::RegisterBenchmark("RhoProduct/serial", BM_RhoProduct_Serial)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(5);
+  benchmark::RegisterBenchmark("RhoProduct/petsc", BM_RhoProduct_Petsc)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(5);
+  std::vector<int> rho_sides{25, 50};
+  if (const char* s = std::getenv("SMPM_BENCH_RHO_SIDE"))
+    rho_sides.push_back(std::atoi(s));
+  for (int side : rho_sides) {
+    if (one)
+      benchmark::RegisterBenchmark("Rho/serial", BM_Rho_Serial)
+          ->Args({side})
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(1);
+    benchmark::RegisterBenchmark("Rho/petsc", BM_Rho_Petsc)
+        ->Args({side})
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1);
+  }
+  for (int side : {100, 300, 700, 1000}) {
     if (one)
       benchmark::RegisterBenchmark("Exact/cholmod", BM_Exact_Cholmod)
           ->Args({side})

@@ -94,9 +94,6 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
 LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, double dt,
                                const NodeSums& sums)
     : impl_(std::make_unique<Impl>()) {
-  if (model.particles.size() == 0)
-    throw InputError("the linearised step across processes needs particles on every process "
-                     "(use fewer processes)");
   if (!model.bcs.walls.empty())
     throw InputError("the linearised step across processes does not take moving walls yet");
   init(model, options, dt, &sums);

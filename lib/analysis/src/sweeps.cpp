@@ -90,25 +90,26 @@ void run_tasks(size_t count, const std::function<void(size_t)>& task, int worker
 
 std::vector<std::vector<ConfigurationSweep>>
 sweep_configurations(const std::vector<Configuration>& configurations,
-                     const std::vector<CourantSeries>& series, double tol, double resolution,
-                     int workers, const std::atomic<int>* interrupt) {
+                     const std::vector<CourantSeries>& series, const CriticalSearch& search,
+                     int workers) {
   const size_t nc = configurations.size();
   // c[s][i][f]: option i of series s at configuration f.
   std::vector<std::vector<std::vector<CriticalCourant>>> c(series.size());
   for (size_t s = 0; s < series.size(); ++s)
     c[s].assign(series[s].options.size(), std::vector<CriticalCourant>(nc));
-  run_tasks(
-      series.size() * nc,
-      [&](size_t task) {
-        const size_t s = task / nc, f = task % nc;
-        double hint = 0;
-        for (size_t i = 0; i < series[s].options.size(); ++i) {
-          c[s][i][f] = critical_courant(configurations[f].model, series[s].options[i], tol, 2.0,
-                                        resolution, hint, interrupt);
-          hint = series[s].hinted ? c[s][i][f].courant : 0.0;
-        }
-      },
-      workers);
+  auto task = [&](size_t t) {
+    const size_t s = t / nc, f = t % nc;
+    double hint = 0;
+    for (size_t i = 0; i < series[s].options.size(); ++i) {
+      c[s][i][f] = search(configurations[f].model, series[s].options[i], hint);
+      hint = series[s].hinted ? c[s][i][f].courant : 0.0;
+    }
+  };
+  if (workers == 1) // in order, on this thread
+    for (size_t t = 0; t < series.size() * nc; ++t)
+      task(t);
+  else
+    run_tasks(series.size() * nc, task, workers);
   std::vector<std::vector<ConfigurationSweep>> out(series.size());
   for (size_t s = 0; s < series.size(); ++s)
     for (const std::vector<CriticalCourant>& at : c[s]) {
@@ -124,6 +125,18 @@ sweep_configurations(const std::vector<Configuration>& configurations,
       out[s].push_back(std::move(sweep));
     }
   return out;
+}
+
+std::vector<std::vector<ConfigurationSweep>>
+sweep_configurations(const std::vector<Configuration>& configurations,
+                     const std::vector<CourantSeries>& series, double tol, double resolution,
+                     int workers, const std::atomic<int>* interrupt) {
+  return sweep_configurations(
+      configurations, series,
+      [&](const Model& model, const StepOptions& options, double hint) {
+        return critical_courant(model, options, tol, 2.0, resolution, hint, interrupt);
+      },
+      workers);
 }
 
 ConfigurationSweep sweep_shifts(const Model& model, const StepOptions& options, int shifts,

@@ -163,8 +163,9 @@ struct StepContext {
   const TransportContext* transport = nullptr;
   /// Across processes (fmpm.hpp): `ops` and `mt` hold this process's particles on its window
   /// with m, m_inv and active already the totals; the step sums its P2G momenta and forces and
-  /// the FMPM loop's products over the processes. FLIP, PIC and FMPM(k) in single material mode
-  /// without heat; null: one process.
+  /// the FMPM loop's products over the processes. FLIP, PIC, FMPM(k) and the exact update (with a
+  /// `solver` that solves across the processes) in single material mode without heat; null: one
+  /// process.
   const NodeSums* sums = nullptr;
 };
 

@@ -190,7 +190,7 @@ OwnedVec node_vector(const DistributedGrid& grid, int components) {
 namespace {
 // Inserts the rows of the local m̃ (window columns) into `a` at their PETSc rows (ADD_VALUES),
 // and a zero on the diagonal of every owned row: rows of nodes without mass keep a diagonal entry
-// that the exact solve (MatZeroRowsColumns) and the regularisation (MatDiagonalSet) set.
+// (MatDiagonalSet of the regularisation needs every diagonal entry in the pattern).
 void add_local_rows(const DistributedGrid& grid, const DistributedOperators& ops,
                     const SparseRowMatrix& local, Mat a, std::vector<PetscInt>& cols) {
   for (PetscInt r = grid.first_row(); r < grid.first_row() + grid.owned_rows(); ++r)
@@ -219,14 +219,9 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
   ops.dim = grid.grid().dim();
   ops.particles = ids;
   ops.local.node_range = NodeRange::Particles;
-  if (particles.size() > 0) {
-    assemble(grid.grid(), particles, shape, ops.local, fields, fields > 1 ? field : nullptr);
-  } else { // a rank without particles adds nothing
-    ops.local = Operators{};
-    ops.local.node_range = NodeRange::Particles;
-    ops.local.dim = ops.dim;
-    ops.local.fields = fields;
-  }
+  // A rank without particles has the serial one-node window of no particle (shape.cpp), with
+  // zero mass: the window a step on no particles assembles too (WindowSums needs the same).
+  assemble(grid.grid(), particles, shape, ops.local, fields, fields > 1 ? field : nullptr);
   // The PETSc row of each column α n_w + i of the window: AO(node · fields + α).
   const Index cols = ops.local.num_nodes();
   ops.rows.resize(size_t(cols));

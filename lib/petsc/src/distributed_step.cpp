@@ -41,6 +41,20 @@ struct WindowSums::Impl {
     SMPM_PETSC_CALL(VecScatterCreate(b.global, is, b.local, nullptr, b.scatter.out()));
     return b;
   }
+
+  // The buffers of `window`'s components with the window in the local Vec (row-major: its rows
+  // in order, their components together).
+  Buffers& load(const Field& window) {
+    if (size_t(window.rows()) != rows.size())
+      throw UsageError("WindowSums: a field of " + std::to_string(window.rows()) +
+                       " rows on a window of " + std::to_string(rows.size()) + " columns");
+    Buffers& b = for_components(window.cols());
+    PetscScalar* a = nullptr;
+    SMPM_PETSC_CALL(VecGetArray(b.local, &a));
+    std::copy(window.data(), window.data() + window.size(), a);
+    SMPM_PETSC_CALL(VecRestoreArray(b.local, &a));
+    return b;
+  }
 };
 
 WindowSums::WindowSums(const DistributedGrid& grid, const DistributedOperators& ops)
@@ -49,22 +63,26 @@ WindowSums::WindowSums(const DistributedGrid& grid, const DistributedOperators& 
 WindowSums::~WindowSums() = default;
 
 void WindowSums::add(Field& window) const {
-  if (size_t(window.rows()) != impl_->rows.size())
-    throw UsageError("WindowSums: a field of " + std::to_string(window.rows()) +
-                     " rows on a window of " + std::to_string(impl_->rows.size()) + " columns");
-  Impl::Buffers& b = impl_->for_components(window.cols());
-  // The window's partial sums (row-major: its rows in order, their components together) added
-  // into the owners' rows by the scatter's reverse (ADD_VALUES), the totals sent back forward:
-  // two neighbour exchanges on the scatter's fixed pattern.
-  PetscScalar* a = nullptr;
-  SMPM_PETSC_CALL(VecGetArray(b.local, &a));
-  std::copy(window.data(), window.data() + window.size(), a);
-  SMPM_PETSC_CALL(VecRestoreArray(b.local, &a));
+  // The window's partial sums added into the owners' rows by the scatter's reverse (ADD_VALUES),
+  // the totals sent back forward: two neighbour exchanges on the scatter's fixed pattern.
+  Impl::Buffers& b = impl_->load(window);
   SMPM_PETSC_CALL(VecSet(b.global, 0.0));
   SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, b.global, ADD_VALUES, SCATTER_REVERSE));
   SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.local, b.global, ADD_VALUES, SCATTER_REVERSE));
-  SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.global, b.local, INSERT_VALUES, SCATTER_FORWARD));
-  SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.global, b.local, INSERT_VALUES, SCATTER_FORWARD));
+  to_window(b.global, window);
+}
+
+void WindowSums::to_global(const Field& window, Vec global) const {
+  Impl::Buffers& b = impl_->load(window);
+  SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, global, INSERT_VALUES, SCATTER_REVERSE));
+  SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.local, global, INSERT_VALUES, SCATTER_REVERSE));
+}
+
+void WindowSums::to_window(Vec global, Field& window) const {
+  window.resize(Index(impl_->rows.size()), window.cols());
+  Impl::Buffers& b = impl_->for_components(window.cols());
+  SMPM_PETSC_CALL(VecScatterBegin(b.scatter, global, b.local, INSERT_VALUES, SCATTER_FORWARD));
+  SMPM_PETSC_CALL(VecScatterEnd(b.scatter, global, b.local, INSERT_VALUES, SCATTER_FORWARD));
   const PetscScalar* t = nullptr;
   SMPM_PETSC_CALL(VecGetArrayRead(b.local, &t));
   std::copy(t, t + window.size(), window.data());
@@ -80,6 +98,36 @@ double WindowSums::maximum(double value) const {
 namespace {
 
 using OwnedEPS = Owned<EPS, EPSDestroy>;
+
+// m̃⁻¹ of the exact update across ranks: the window's totals → a distributed Vec → exact_solve
+// → the window (distributed_mass_solver_factory).
+class DistributedMassSolver final : public MassSolver {
+public:
+  DistributedMassSolver(const DistributedGrid& grid, const DistributedOperators& ops,
+                        const WindowSums& sums, DistributedExactOptions options)
+      : grid_(grid), ops_(ops), sums_(sums), options_(options) {}
+
+  void solve(const Operators&, const SparseRowMatrix&, const LoopConstraints& bc, const Field& p,
+             Field& v) override {
+    if (!p_.get() || dim_ != p.cols()) {
+      dim_ = p.cols();
+      p_ = node_vector(grid_, int(dim_));
+      v_ = node_vector(grid_, int(dim_));
+    }
+    sums_.to_global(p, p_);
+    exact_solve(grid_, ops_, options_, bc, p_, v_);
+    v.resize(p.rows(), p.cols());
+    sums_.to_window(v_, v);
+  }
+
+private:
+  const DistributedGrid& grid_;
+  const DistributedOperators& ops_;
+  const WindowSums& sums_;
+  DistributedExactOptions options_;
+  Index dim_ = 0;
+  OwnedVec p_, v_;
+};
 
 // The MATSHELL's context: the linearised step, and the exception a product threw (PETSc's C
 // callbacks must not throw: the product returns an error code and the caller rethrows this).
@@ -117,17 +165,13 @@ PetscErrorCode shell_mult(Mat a, Vec x, Vec y) {
 // MATSHELL, and SLEPc's eigensolver on it: built once, evaluated at any Δt.
 class DistributedRadius {
 public:
-  DistributedRadius(const DistributedGrid& grid, const Model& model, const StepOptions& options,
-                    double dt)
+  DistributedRadius(const DistributedGrid& grid, const Model& model, StepOptions options, double dt,
+                    ExactMethod exact)
       : grid_(grid), local_(local_model(grid, model, ids_)) {
     assemble(grid, local_.particles, ids_, options.shape, ops_);
     sums_ = std::make_unique<WindowSums>(grid, ops_);
-    // Every rank builds its step, or none does (the construction sums the masses).
-    int empty = local_.particles.size() == 0, any_empty = 0;
-    MPI_Allreduce(&empty, &any_empty, 1, MPI_INT, MPI_MAX, grid.comm());
-    if (any_empty)
-      throw InputError("rho(T) across ranks needs particles on every rank: a rank of the " +
-                       std::to_string(grid.size()) + " owns none (use fewer ranks)");
+    if (options.velocity == VelocityUpdate::Exact)
+      options.exact_solver = distributed_mass_solver_factory(grid, ops_, *sums_, exact);
     T_ = std::make_unique<LinearizedStep>(local_, options, dt, *sums_);
     ctx_.T = T_.get();
     const PetscInt n = PetscInt(T_->rows());
@@ -195,16 +239,26 @@ private:
 
 } // namespace
 
+MassSolverFactory distributed_mass_solver_factory(const DistributedGrid& grid,
+                                                  const DistributedOperators& ops,
+                                                  const WindowSums& sums, ExactMethod method) {
+  return [&grid, &ops, &sums, method](const ExactOptions& exact) -> std::unique_ptr<MassSolver> {
+    return std::make_unique<DistributedMassSolver>(
+        grid, ops, sums, DistributedExactOptions{.exact = exact, .method = method});
+  };
+}
+
 SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
-                               const StepOptions& options, double dt, double tol) {
-  DistributedRadius r(grid, model, options, dt);
+                               const StepOptions& options, double dt, double tol,
+                               ExactMethod exact) {
+  DistributedRadius r(grid, model, options, dt, exact);
   return r.radius(tol);
 }
 
 CriticalCourant critical_courant(const DistributedGrid& grid, const Model& model,
                                  const StepOptions& options, double tol, double c_max,
-                                 double resolution, double hint) {
-  DistributedRadius r(grid, model, options, stable_time_step(model, 0.05));
+                                 double resolution, double hint, ExactMethod exact) {
+  DistributedRadius r(grid, model, options, stable_time_step(model, 0.05), exact);
   return critical_courant_search(
       [&](double C, int& steps) {
         r.step().set_dt(stable_time_step(model, C));

@@ -41,11 +41,12 @@ public:
   /// state-dependent order is not a linear map.
   LinearizedStep(const Model& model, const StepOptions& options, double dt);
   /// The same across processes (fmpm.hpp, NodeSums): `model` holds this process's particles
-  /// (at least one) and the whole grid; the operators are assembled on the particles' window,
+  /// (possibly none) and the whole grid; the operators are assembled on the particles' window,
   /// m and the active set are made the totals over the processes, and each application sums the
   /// step's node fields over them (StepContext::sums), so that T acts on the state of this
-  /// process's particles. FLIP, PIC and FMPM(k) in single material mode, without moving walls.
-  /// Collective, as every perform_op.
+  /// process's particles. FLIP, PIC, FMPM(k) and the exact update (whose options.exact_solver
+  /// must solve across the processes) in single material mode, without moving walls. Collective,
+  /// as every perform_op.
   LinearizedStep(const Model& model, const StepOptions& options, double dt, const NodeSums& sums);
   ~LinearizedStep();
   /// Takes over the frozen configuration and its operators.
@@ -181,6 +182,20 @@ sweep_configurations(const std::vector<Configuration>& configurations,
                      const std::vector<CourantSeries>& series, double tol = 1e-6,
                      double resolution = 1e-3, int workers = 0,
                      const std::atomic<int>* interrupt = nullptr);
+
+/// How sweep_configurations finds the C* of one option at one configuration, starting from
+/// `hint` (critical_courant's hint; 0: no hint): critical_courant on this process, or the same
+/// search with ρ(T) across MPI ranks (sparsempm::petsc's critical_courant).
+using CriticalSearch =
+    std::function<CriticalCourant(const Model& model, const StepOptions& options, double hint)>;
+
+/// sweep_configurations with any search. With workers = 1 the tasks run in order on the calling
+/// thread, as a search that is collective across MPI ranks needs (every rank makes the same
+/// calls in the same order).
+std::vector<std::vector<ConfigurationSweep>>
+sweep_configurations(const std::vector<Configuration>& configurations,
+                     const std::vector<CourantSeries>& series, const CriticalSearch& search,
+                     int workers = 0);
 
 /// C* over uniform shifts of the particle lattice relative to the grid (lattice_configurations):
 /// the minimum and its shift (named in cells along x, e.g. "shift 0.125").

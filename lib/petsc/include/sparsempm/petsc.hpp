@@ -288,29 +288,47 @@ public:
   void add(Field& window) const override;
   /// The largest of `value` over the ranks.
   double maximum(double value) const override;
+  /// A window field of totals (the same on every rank that holds a row) into the owners' rows of
+  /// `global`, a node_vector of window.cols() components (the scatter in reverse, inserting).
+  void to_global(const Field& window, Vec global) const;
+  /// Every row of the window, ghost rows included, from `global` (the scatter forward).
+  void to_window(Vec global, Field& window) const;
 
 private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
+/// The exact update's m̃⁻¹ in a step across ranks (StepOptions::exact_solver) whose node sums are
+/// `sums` (on the window of `ops`): each solve takes the window's momentum totals into a
+/// distributed Vec (WindowSums::to_global), solves m̃ v = p by exact_solve (the velocity BCs of
+/// the step, the factory's ε and τ) with the m̃ of `ops` (assembled on the step's particles in
+/// the same configuration) and returns v on the window (WindowSums::to_window). The arguments
+/// must outlive the solvers. Collective, as every solve.
+MassSolverFactory distributed_mass_solver_factory(const DistributedGrid& grid,
+                                                  const DistributedOperators& ops,
+                                                  const WindowSums& sums, ExactMethod method);
+
 /// ρ(T) of the one-step update linearised at the model's frozen configuration (LinearizedStep,
 /// stability.hpp) across ranks: each rank's LinearizedStep acts on its particles' (V, σ) with the
 /// step's node sums over the ranks (WindowSums), as a PETSc MATSHELL whose dominant eigenvalue
 /// SLEPc's Krylov–Schur finds (EPS_NHEP, largest magnitude, tolerance `tol`, options prefix
-/// rho_). `model` is the whole model on every rank; every rank must own particles. The status is
+/// rho_). `model` is the whole model on every rank (a rank may own no particle). The status is
 /// the serial spectral_radius's: Converged, NotConverged (ρ is then NaN: SLEPc keeps no
 /// estimate of an unconverged eigenvalue), or NonFinite (the step met a non-finite value on some
-/// rank; ρ = +inf). FLIP, PIC and FMPM(k) in single
-/// material mode. Collective.
+/// rank; ρ = +inf). FLIP, PIC, FMPM(k) (plain, blended, periodic) and the exact update (its
+/// m̃⁻¹ by distributed_mass_solver_factory with `exact`, in place of options.exact_solver) in
+/// single material mode. Collective.
 SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
-                               const StepOptions& options, double dt, double tol = 1e-10);
+                               const StepOptions& options, double dt, double tol = 1e-10,
+                               ExactMethod exact = ExactMethod::CgBlockJacobiIcc);
 /// The critical Courant number of the serial critical_courant (the same search,
 /// critical_courant_search: bracketing, bisection, the hint) with ρ(T(C)) across ranks
 /// (spectral_radius above, eigensolver tolerance 1e-10; the step's operators assembled once).
 /// Collective.
 CriticalCourant critical_courant(const DistributedGrid& grid, const Model& model,
                                  const StepOptions& options, double tol = 1e-6, double c_max = 2.0,
-                                 double resolution = 1e-3, double hint = 0);
+                                 double resolution = 1e-3, double hint = 0,
+                                 ExactMethod exact = ExactMethod::CgBlockJacobiIcc);
 
 } // namespace smpm::petsc
