@@ -415,6 +415,49 @@ TEST_CASE("rho(T) across ranks equals the serial spectral radius", "[petsc][rho]
       }
 }
 
+TEST_CASE("rho(T) above the dense limit follows the serial rule", "[petsc][rho]") {
+  // A plate of 512 particles (3072 rows of T, above kDenseRadiusRows): the serial
+  // spectral_radius measures the growth by power iteration (ρ = 1 within 10⁻³) and resolves an
+  // eigenvalue that stands out by Arnoldi (Spectra), and so does the distributed one (SLEPc).
+  // Stable (C = 0.5): ρ = 1 exactly on both; unstable (C = 1.3): the dominant |λ| to 1e-8.
+  Model plate = plate_model();
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {20, 12, 1});
+  plate.grid = g;
+  plate.particles = make_block(g, {2, 2, 0}, {18, 10, 0}, {2, 2, 1}, 1.0, 0);
+  for (Index p = 0; p < plate.particles.size(); ++p)
+    plate.particles.V(p, 1) = 0.01 * std::sin(0.2 * plate.particles.X(p, 0));
+  plate.bcs = BoundaryConditions::none(g);
+  fix_plane(g, 0, 2.0, {true, true, false}, plate.bcs);
+  StepOptions flip;
+  flip.shape = Shape::GIMP;
+  StepOptions fmpm4 = flip;
+  fmpm4.velocity = VelocityUpdate::FMPM;
+  fmpm4.fmpm.order = 4;
+  for (const StepOptions& options : {flip, fmpm4})
+    for (double courant : {0.5, 1.3}) {
+      CAPTURE(to_string(options.velocity), courant);
+      const double dt = stable_time_step(plate, courant);
+      double serial[2] = {0, 0};
+      if (rank() == 0) {
+        const LinearizedStep T(plate, options, dt);
+        REQUIRE(T.rows() > kDenseRadiusRows);
+        const SpectralRadius r = spectral_radius(T);
+        serial[0] = r.rho;
+        serial[1] = double(r.status == SpectralStatus::Converged);
+      }
+      MPI_Bcast(serial, 2, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+      REQUIRE(serial[1] == 1.0);
+      const sp::DistributedGrid grid(plate.grid);
+      const SpectralRadius dist = sp::spectral_radius(grid, plate, options, dt);
+      CHECK(dist.status == SpectralStatus::Converged);
+      CHECK(dist.rho == smpm::test::approx(serial[0], 0, 1e-8));
+      if (courant == 0.5)
+        CHECK(dist.rho == 1.0);
+      else
+        CHECK(dist.rho > 1.01);
+    }
+}
+
 TEST_CASE("C* across ranks equals the serial critical Courant number", "[petsc][rho]") {
   // The serial search (critical_courant_search) on ρ(T) across ranks: the same grid point of
   // C (resolution 1e-3) as the serial critical_courant, FLIP and FMPM(4) on the bar with uGIMP

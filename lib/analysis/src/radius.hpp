@@ -71,7 +71,7 @@ SpectralRadius operator_radius(const Op& T, Index dense_limit) {
   for (Index i = 0; i < n; ++i)
     x[i] = normal(rng);
   x.normalize();
-  const int applications = 300;
+  const int applications = kPowerApplications;
   double log_growth = 0;
   for (int k = 0; k < applications; ++k) {
     try {
@@ -89,7 +89,7 @@ SpectralRadius operator_radius(const Op& T, Index dense_limit) {
     x = y / g;
   }
   const double rate = std::exp(log_growth / (applications - applications / 2));
-  if (std::abs(rate - 1) <= 1e-3)
+  if (std::abs(rate - 1) <= kUnitGrowthBand)
     return {1.0, SpectralStatus::Converged};
   if (rate < 1)
     return {rate, SpectralStatus::Converged};

@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace smpm::petsc {
 
@@ -98,6 +99,7 @@ double WindowSums::maximum(double value) const {
 namespace {
 
 using OwnedEPS = Owned<EPS, EPSDestroy>;
+using OwnedRandom = Owned<PetscRandom, PetscRandomDestroy>;
 
 // m̃⁻¹ of the exact update across ranks: the window's totals → a distributed Vec → exact_solve
 // → the window (distributed_mass_solver_factory).
@@ -182,34 +184,72 @@ public:
 
   LinearizedStep& step() { return *T_; }
 
+  // ρ(T) by the serial spectral_radius's rule: up to kDenseRadiusRows rows (where the serial
+  // code takes T's eigenvalues directly) Krylov–Schur resolves |λ|max; above, where T crowds
+  // the unit circle and Krylov–Schur converges very slowly, power iterations first measure the
+  // growth (ρ = 1 within kUnitGrowthBand), and Krylov–Schur starts from the power iterate only
+  // when an eigenvalue stands out.
   SpectralRadius radius(double tol) {
     ctx_.failure = nullptr;
     ctx_.non_finite = false;
+    PetscInt N = 0;
+    SMPM_PETSC_CALL(MatGetSize(shell_, &N, nullptr));
+    OwnedVec x, y;
+    SMPM_PETSC_CALL(MatCreateVecs(shell_, x.out(), y.out()));
+    double rate = 0;
+    if (N > kDenseRadiusRows) {
+      OwnedRandom random;
+      SMPM_PETSC_CALL(PetscRandomCreate(grid_.comm(), random.out()));
+      SMPM_PETSC_CALL(PetscRandomSetSeed(random, 1));
+      SMPM_PETSC_CALL(PetscRandomSeed(random));
+      SMPM_PETSC_CALL(VecSetRandom(x, random));
+      SMPM_PETSC_CALL(VecShift(x, -0.5)); // uniform on [-½, ½): every direction present
+      PetscReal norm = 0;
+      SMPM_PETSC_CALL(VecNormalize(x, &norm));
+      double log_growth = 0;
+      for (int k = 0; k < kPowerApplications; ++k) {
+        const PetscErrorCode applied = MatMult(shell_, x, y);
+        if (std::optional<SpectralRadius> r = failure(applied, "MatMult (rho(T))"))
+          return *r;
+        PetscReal g = 0;
+        SMPM_PETSC_CALL(VecNorm(y, NORM_2, &g));
+        if (!std::isfinite(double(g)))
+          return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
+        if (!(g > 0))
+          return {0.0, SpectralStatus::Converged}; // T x = 0: x was in the null space
+        if (k >= kPowerApplications / 2)
+          log_growth += std::log(double(g));
+        SMPM_PETSC_CALL(VecAXPBY(x, 1.0 / g, 0.0, y));
+      }
+      rate = std::exp(log_growth / (kPowerApplications - kPowerApplications / 2));
+      if (std::abs(rate - 1) <= kUnitGrowthBand)
+        return {1.0, SpectralStatus::Converged};
+      if (rate < 1)
+        return {rate, SpectralStatus::Converged};
+    }
     OwnedEPS eps;
     SMPM_PETSC_CALL(EPSCreate(grid_.comm(), eps.out()));
     SMPM_PETSC_CALL(EPSSetOperators(eps, shell_, nullptr));
     SMPM_PETSC_CALL(EPSSetProblemType(eps, EPS_NHEP));
     SMPM_PETSC_CALL(EPSSetType(eps, EPSKRYLOVSCHUR));
     SMPM_PETSC_CALL(EPSSetWhichEigenpairs(eps, EPS_LARGEST_MAGNITUDE));
-    PetscInt N = 0;
-    SMPM_PETSC_CALL(MatGetSize(shell_, &N, nullptr));
-    SMPM_PETSC_CALL(EPSSetDimensions(eps, 1, std::min<PetscInt>(N, 60), PETSC_DEFAULT));
-    SMPM_PETSC_CALL(EPSSetTolerances(eps, tol, 20000));
+    const bool large = N > kDenseRadiusRows;
+    SMPM_PETSC_CALL(
+        EPSSetDimensions(eps, 1, std::min<PetscInt>(N, large ? 30 : 60), PETSC_DEFAULT));
+    SMPM_PETSC_CALL(EPSSetTolerances(eps, tol, large ? 300 : 20000));
+    if (large) {
+      Vec start = x;
+      SMPM_PETSC_CALL(EPSSetInitialSpace(eps, 1, &start));
+    }
     SMPM_PETSC_CALL(EPSSetOptionsPrefix(eps, "rho_"));
     SMPM_PETSC_CALL(EPSSetFromOptions(eps));
-    const PetscErrorCode solved = EPSSolve(eps);
-    int failed = solved != 0, non_finite = ctx_.non_finite, any_failed = 0, any_non_finite = 0;
-    MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, grid_.comm());
-    MPI_Allreduce(&non_finite, &any_non_finite, 1, MPI_INT, MPI_MAX, grid_.comm());
-    if (any_non_finite)
-      return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
-    if (ctx_.failure)
-      std::rethrow_exception(ctx_.failure);
-    check(solved, "EPSSolve (rho(T))");
+    if (std::optional<SpectralRadius> r = failure(EPSSolve(eps), "EPSSolve (rho(T))"))
+      return *r;
     PetscInt converged = 0;
     SMPM_PETSC_CALL(EPSGetConverged(eps, &converged));
-    if (converged < 1)
-      return {std::numeric_limits<double>::quiet_NaN(), SpectralStatus::NotConverged};
+    if (converged < 1) // the measured growth above the dense limit, as the serial code
+      return {large ? rate : std::numeric_limits<double>::quiet_NaN(),
+              SpectralStatus::NotConverged};
     PetscScalar re = 0, im = 0;
     SMPM_PETSC_CALL(EPSGetEigenvalue(eps, 0, &re, &im));
     const double rho = std::hypot(double(re), double(im));
@@ -225,6 +265,21 @@ private:
     Model local = model;
     local.particles = select_particles(model.particles, ids);
     return local;
+  }
+
+  // After a collective call that applied T (returning `code` on this rank): NonFinite when the
+  // step met a non-finite value on any rank, the product's own exception rethrown, a PETSc
+  // error thrown; nothing when every rank succeeded.
+  std::optional<SpectralRadius> failure(PetscErrorCode code, const char* what) {
+    int failed = code != 0, non_finite = ctx_.non_finite, any_failed = 0, any_non_finite = 0;
+    MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, grid_.comm());
+    MPI_Allreduce(&non_finite, &any_non_finite, 1, MPI_INT, MPI_MAX, grid_.comm());
+    if (any_non_finite)
+      return SpectralRadius{std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
+    if (ctx_.failure)
+      std::rethrow_exception(ctx_.failure);
+    check(code, what);
+    return std::nullopt;
   }
 
   const DistributedGrid& grid_;

@@ -92,12 +92,20 @@ struct SpectralRadius {
   SpectralStatus status = SpectralStatus::Converged;     ///< how rho was obtained
 };
 
+/// The rule of spectral_radius above its dense limit, shared with the ρ(T) across ranks of
+/// sparsempm::petsc: the rows up to which T's eigenvalues are computed directly, the power
+/// iterations that measure the growth per application (over their second half), and the
+/// distance from 1 within which that growth is reported as ρ = 1.
+inline constexpr Index kDenseRadiusRows = 1500;
+inline constexpr int kPowerApplications = 300;
+inline constexpr double kUnitGrowthBand = 1e-3;
+
 /// ρ(T): dense Eigen eigenvalues when T has at most `dense_limit` rows. Above, matrix-free:
 /// 300 power iterations measure the growth per application; growth within 10⁻³ of 1 is
 /// reported as ρ = 1 (T has the eigenvalue 1 of force-free stresses, and crowds the unit circle
 /// with its elastic modes), otherwise Spectra's GenEigsSolver started from the power iterate
 /// returns the dominant |λ| (status NotConverged with the measured growth if it fails).
-SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit = 1500);
+SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit = kDenseRadiusRows);
 
 /// The critical Courant number of critical_courant, with the cost of its search.
 struct CriticalCourant {
