@@ -458,6 +458,33 @@ TEST_CASE("rho(T) above the dense limit follows the serial rule", "[petsc][rho]"
     }
 }
 
+TEST_CASE("the step across ranks refuses what it cannot sum", "[petsc][rho]") {
+  // A one-process exact solver would invert each rank's partial sums: refused, as are XPIC and
+  // the velocity-gradient transfer, before any product (every rank throws the same InputError).
+  const Model bar = vibrating_bar({});
+  const sp::DistributedGrid grid(bar.grid);
+  sp::DistributedOperators ops;
+  sp::assemble(grid, bar.particles, Shape::GIMP, ops);
+  Model local = bar;
+  local.particles = sp::select_particles(bar.particles, ops.particles);
+  const sp::WindowSums sums(grid, ops);
+  StepOptions exact;
+  exact.shape = Shape::GIMP;
+  exact.velocity = VelocityUpdate::Exact;
+  exact.exact_solver = exact_solver_factory();
+  CHECK_THROWS_AS(LinearizedStep(local, exact, 0.1, sums), InputError);
+  StepOptions xpic = exact;
+  xpic.velocity = VelocityUpdate::XPIC;
+  CHECK_THROWS_AS(LinearizedStep(local, xpic, 0.1, sums), InputError);
+  StepOptions gradient = exact;
+  gradient.velocity = VelocityUpdate::FLIP;
+  gradient.transfer = Transfer::VelocityGradient;
+  CHECK_THROWS_AS(LinearizedStep(local, gradient, 0.1, sums), InputError);
+  exact.exact_solver =
+      sp::distributed_mass_solver_factory(grid, ops, sums, sp::ExactMethod::CgBlockJacobiIcc);
+  CHECK_NOTHROW(LinearizedStep(local, exact, 0.1, sums));
+}
+
 TEST_CASE("C* across ranks equals the serial critical Courant number", "[petsc][rho]") {
   // The serial search (critical_courant_search) on ρ(T) across ranks: the same grid point of
   // C (resolution 1e-3) as the serial critical_courant, FLIP and FMPM(4) on the bar with uGIMP

@@ -96,7 +96,15 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
     : impl_(std::make_unique<Impl>()) {
   if (!model.bcs.walls.empty())
     throw InputError("the linearised step across processes does not take moving walls yet");
+  if (options.velocity == VelocityUpdate::XPIC || options.transfer == Transfer::VelocityGradient)
+    throw InputError("the linearised step across processes is FLIP, PIC, FMPM(k) or the exact "
+                     "update with the standard transfer (not XPIC, not the velocity-gradient "
+                     "transfer) for now");
   init(model, options, dt, &sums);
+  if (impl_->solver && !impl_->solver->across_processes())
+    throw InputError("the exact update across processes needs a MassSolver that solves across "
+                     "them (e.g. sparsempm::petsc's distributed_mass_solver_factory), not "
+                     "one process's");
 }
 
 void LinearizedStep::init(const Model& model, const StepOptions& options, double dt,

@@ -119,6 +119,9 @@ public:
   /// homogeneous conditions (zero on the components that solve prescribed): what the contact
   /// of the exact update in multimaterial mode needs. The default throws InputError.
   virtual void solve_again(const Field& r, Field& v);
+  /// Whether solve() takes a window's momentum totals and solves m̃ v = p across processes (a
+  /// step with NodeSums needs one); false for the solvers of one process.
+  virtual bool across_processes() const { return false; }
 };
 /// Makes a new MassSolver with the given settings (e.g. cholmod_solver_factory() of exact.hpp,
 /// which the input reader and the Python module choose).

@@ -8,6 +8,7 @@
 #include <slepceps.h>
 
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <map>
@@ -99,7 +100,6 @@ double WindowSums::maximum(double value) const {
 namespace {
 
 using OwnedEPS = Owned<EPS, EPSDestroy>;
-using OwnedRandom = Owned<PetscRandom, PetscRandomDestroy>;
 
 // m̃⁻¹ of the exact update across ranks: the window's totals → a distributed Vec → exact_solve
 // → the window (distributed_mass_solver_factory).
@@ -121,6 +121,7 @@ public:
     v.resize(p.rows(), p.cols());
     sums_.to_window(v_, v);
   }
+  bool across_processes() const override { return true; }
 
 private:
   const DistributedGrid& grid_;
@@ -198,12 +199,7 @@ public:
     SMPM_PETSC_CALL(MatCreateVecs(shell_, x.out(), y.out()));
     double rate = 0;
     if (N > kDenseRadiusRows) {
-      OwnedRandom random;
-      SMPM_PETSC_CALL(PetscRandomCreate(grid_.comm(), random.out()));
-      SMPM_PETSC_CALL(PetscRandomSetSeed(random, 1));
-      SMPM_PETSC_CALL(PetscRandomSeed(random));
-      SMPM_PETSC_CALL(VecSetRandom(x, random));
-      SMPM_PETSC_CALL(VecShift(x, -0.5)); // uniform on [-½, ½): every direction present
+      start_vector(x);
       PetscReal norm = 0;
       SMPM_PETSC_CALL(VecNormalize(x, &norm));
       double log_growth = 0;
@@ -267,6 +263,29 @@ private:
     return local;
   }
 
+  // The power iteration's start: uniform on [-½, ½) from a hash of each entry's particle (its
+  // index in the whole set) and component, the same vector for any number of ranks.
+  void start_vector(Vec x) const {
+    const Index d = local_.grid.dim(), per = d + d * d, n = Index(ids_.size());
+    PetscScalar* a = nullptr;
+    SMPM_PETSC_CALL(VecGetArray(x, &a));
+    auto value = [](std::uint64_t key) { // splitmix64
+      key += 0x9e3779b97f4a7c15ULL;
+      key = (key ^ (key >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      key = (key ^ (key >> 27)) * 0x94d049bb133111ebULL;
+      key ^= key >> 31;
+      return double(key >> 11) * 0x1.0p-53 - 0.5;
+    };
+    for (Index p = 0; p < n; ++p) { // (V, σ): N d velocities, then N d² stresses
+      const auto id = std::uint64_t(ids_[size_t(p)]) * std::uint64_t(per);
+      for (Index c = 0; c < d; ++c)
+        a[p * d + c] = value(id + std::uint64_t(c));
+      for (Index c = 0; c < d * d; ++c)
+        a[n * d + p * d * d + c] = value(id + std::uint64_t(d + c));
+    }
+    SMPM_PETSC_CALL(VecRestoreArray(x, &a));
+  }
+
   // After a collective call that applied T (returning `code` on this rank): NonFinite when the
   // step met a non-finite value on any rank, the product's own exception rethrown, a PETSc
   // error thrown; nothing when every rank succeeded.
@@ -279,6 +298,8 @@ private:
     if (ctx_.failure)
       std::rethrow_exception(ctx_.failure);
     check(code, what);
+    if (any_failed) // every rank stops, not only the one that failed
+      throw NumericalError(std::string(what) + " failed on another rank");
     return std::nullopt;
   }
 

@@ -203,7 +203,7 @@ using CriticalSearch =
 std::vector<std::vector<ConfigurationSweep>>
 sweep_configurations(const std::vector<Configuration>& configurations,
                      const std::vector<CourantSeries>& series, const CriticalSearch& search,
-                     int workers = 0);
+                     int workers);
 
 /// C* over uniform shifts of the particle lattice relative to the grid (lattice_configurations):
 /// the minimum and its shift (named in cells along x, e.g. "shift 0.125").

@@ -311,14 +311,18 @@ MassSolverFactory distributed_mass_solver_factory(const DistributedGrid& grid,
 
 /// ρ(T) of the one-step update linearised at the model's frozen configuration (LinearizedStep,
 /// stability.hpp) across ranks: each rank's LinearizedStep acts on its particles' (V, σ) with the
-/// step's node sums over the ranks (WindowSums), as a PETSc MATSHELL whose dominant eigenvalue
-/// SLEPc's Krylov–Schur finds (EPS_NHEP, largest magnitude, tolerance `tol`, options prefix
-/// rho_). `model` is the whole model on every rank (a rank may own no particle). The status is
-/// the serial spectral_radius's: Converged, NotConverged (ρ is then NaN: SLEPc keeps no
-/// estimate of an unconverged eigenvalue), or NonFinite (the step met a non-finite value on some
-/// rank; ρ = +inf). FLIP, PIC, FMPM(k) (plain, blended, periodic) and the exact update (its
-/// m̃⁻¹ by distributed_mass_solver_factory with `exact`, in place of options.exact_solver) in
-/// single material mode. Collective.
+/// step's node sums over the ranks (WindowSums), as a PETSc MATSHELL, by the serial
+/// spectral_radius's rule: up to kDenseRadiusRows rows SLEPc's Krylov–Schur finds the dominant
+/// eigenvalue (EPS_NHEP, largest magnitude, tolerance `tol`, options prefix rho_); above,
+/// kPowerApplications power iterations (from a start vector that does not depend on the number
+/// of ranks) measure the growth, reported as ρ = 1 within kUnitGrowthBand, and Krylov–Schur
+/// starts from the power iterate when the growth exceeds that. `model` is the whole model on
+/// every rank (a rank may own no particle). The status is the serial spectral_radius's:
+/// Converged, NotConverged (ρ is NaN up to the dense limit, SLEPc keeping no estimate of an
+/// unconverged eigenvalue, and the measured growth above it), or NonFinite (the step met a
+/// non-finite value on some rank; ρ = +inf). FLIP, PIC, FMPM(k) (plain, blended, periodic) and the
+/// exact update (its m̃⁻¹ by distributed_mass_solver_factory with `exact`, in place of
+/// options.exact_solver) in single material mode. Collective.
 SpectralRadius spectral_radius(const DistributedGrid& grid, const Model& model,
                                const StepOptions& options, double dt, double tol = 1e-10,
                                ExactMethod exact = ExactMethod::CgBlockJacobiIcc);
