@@ -97,7 +97,9 @@ struct SpectralRadius {
 /// iterations that measure the growth per application (over their second half), and the
 /// distance from 1 within which that growth is reported as ρ = 1.
 inline constexpr Index kDenseRadiusRows = 1500;
+/// Power iterations of spectral_radius above kDenseRadiusRows (the growth over the second half).
 inline constexpr int kPowerApplications = 300;
+/// A measured growth within this of 1 is reported as ρ = 1.
 inline constexpr double kUnitGrowthBand = 1e-3;
 
 /// ρ(T): dense Eigen eigenvalues when T has at most `dense_limit` rows. Above, matrix-free:
