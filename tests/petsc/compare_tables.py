@@ -8,8 +8,9 @@ round-off: the sums run in another order across ranks); a bad input is reported 
 with exit status 2 and no table.
 
 stability: smpm-mpi stability on 1, 2 and 3 ranks writes the spectral columns of smpm stability's
-table (FLIP, FMPM(k), blended, periodic and exact rows of the bar over two lattice shifts): the
-same C* and configuration in every row. C* is a point of the search's bisection (resolution
+table (FLIP, FMPM(k), blended, periodic and exact rows of the bar over two lattice shifts, and
+the plate with uGIMP on 2 ranks, whose T is above the dense limit): the same C* and
+configuration in every row. C* is a point of the search's bisection (resolution
 1e-3), decided by ρ(T(C)) ≤ 1 + 10⁻⁶ with ρ equal across ranks to 1e-8, so the rows are equal
 unless a ρ lies within 1e-8 of the threshold: the test allows one resolution step (1e-3) and
 prints the largest difference. --method simulation is refused with exit status 2.
@@ -126,6 +127,23 @@ def stability(tmp):
     for r in one:
         print(f"  {r['velocity']:5} {r['order']:>3} {r['blend_alpha']:>4} {r['periodic_cx']:>3} "
               f"C* {r['c_spectral']} ({r['config_spectral']}, {r['spectral_status']})")
+    # The plate with uGIMP: 3840 rows of T, above the dense limit, where ρ(T) is the power
+    # iterations' growth from the serial start vector on every rank count.
+    plate = f"{examples}/vibrating_plate.toml"
+    options = ["--order", "1,4", "--blend-alpha", "0.8", "--blend-every", "2", "--periodic-cx",
+               "none", "--shifts", "2", "-q", "--set", "step.shape=gimp"]
+    subprocess.run([smpm, "stability", plate, "--method", "spectral", *options, "-o",
+                    str(tmp / "plate.csv")], env=env, check=True, capture_output=True)
+    subprocess.run([mpiexec, "-n", "2", smpm_mpi, "stability", plate, *options, "-o",
+                    str(tmp / "plate_2.csv")], env=env, check=True, capture_output=True)
+    worst = 0.0
+    for ra, rb in zip(table(tmp / "plate.csv"), table(tmp / "plate_2.csv")):
+        x, y = float(ra["c_spectral"]), float(rb["c_spectral"])
+        worst = max(worst, abs(x - y))
+        if abs(x - y) > 1e-3 or ra["config_spectral"] != rb["config_spectral"]:
+            failures.append(f"plate {ra['velocity']} {ra['order']}: C* {y} "
+                            f"({rb['config_spectral']}) against {x} ({ra['config_spectral']})")
+    print(f"plate (uGIMP) on 2 ranks against smpm: largest |dC*| {worst:.1e}")
     bad_input(tmp, ["stability", toml, "--method", "simulation"])
 
 

@@ -245,6 +245,16 @@ std::string_view to_string(SpectralStatus s) {
   return "?";
 }
 
+Eigen::VectorXd power_start(Index rows) {
+  Eigen::VectorXd x(rows);
+  std::mt19937 rng(1);
+  std::normal_distribution<double> normal;
+  for (Index i = 0; i < rows; ++i)
+    x[i] = normal(rng);
+  x.normalize();
+  return x;
+}
+
 SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit) {
   return detail::operator_radius(T, dense_limit);
 }

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <random>
 
 namespace smpm::detail {
 
@@ -65,12 +64,7 @@ SpectralRadius operator_radius(const Op& T, Index dense_limit) {
   // 10⁻³ of 1 is reported as ρ = 1. Otherwise an eigenvalue stands out and Spectra's Arnoldi
   // solver, started from the power iterate, resolves it.
   const Index n = T.rows();
-  Eigen::VectorXd x(n), y(n);
-  std::mt19937 rng(1);
-  std::normal_distribution<double> normal;
-  for (Index i = 0; i < n; ++i)
-    x[i] = normal(rng);
-  x.normalize();
+  Eigen::VectorXd x = power_start(n), y(n);
   const int applications = kPowerApplications;
   double log_growth = 0;
   for (int k = 0; k < applications; ++k) {

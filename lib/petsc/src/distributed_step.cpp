@@ -8,7 +8,6 @@
 #include <slepceps.h>
 
 #include <cmath>
-#include <cstdint>
 #include <exception>
 #include <limits>
 #include <map>
@@ -170,7 +169,7 @@ class DistributedRadius {
 public:
   DistributedRadius(const DistributedGrid& grid, const Model& model, StepOptions options, double dt,
                     ExactMethod exact)
-      : grid_(grid), local_(local_model(grid, model, ids_)) {
+      : grid_(grid), local_(local_model(grid, model, ids_)), total_(model.particles.size()) {
     assemble(grid, local_.particles, ids_, options.shape, ops_);
     sums_ = std::make_unique<WindowSums>(grid, ops_);
     if (options.velocity == VelocityUpdate::Exact)
@@ -199,9 +198,7 @@ public:
     SMPM_PETSC_CALL(MatCreateVecs(shell_, x.out(), y.out()));
     double rate = 0;
     if (N > kDenseRadiusRows) {
-      start_vector(x);
-      PetscReal norm = 0;
-      SMPM_PETSC_CALL(VecNormalize(x, &norm));
+      start_vector(x); // unit length, as the whole vector it is taken from
       double log_growth = 0;
       for (int k = 0; k < kPowerApplications; ++k) {
         const PetscErrorCode applied = MatMult(shell_, x, y);
@@ -263,25 +260,20 @@ private:
     return local;
   }
 
-  // The power iteration's start: uniform on [-½, ½) from a hash of each entry's particle (its
-  // index in the whole set) and component, the same vector for any number of ranks.
+  // The power iteration's start: the serial spectral_radius's (power_start over the whole
+  // set's (V, σ), N d velocities then N d² stresses), each rank taking its particles' entries;
+  // the same vector for any number of ranks.
   void start_vector(Vec x) const {
-    const Index d = local_.grid.dim(), per = d + d * d, n = Index(ids_.size());
+    const Index d = local_.grid.dim(), n = Index(ids_.size());
+    const Eigen::VectorXd all = power_start(total_ * (d + d * d));
     PetscScalar* a = nullptr;
     SMPM_PETSC_CALL(VecGetArray(x, &a));
-    auto value = [](std::uint64_t key) { // splitmix64
-      key += 0x9e3779b97f4a7c15ULL;
-      key = (key ^ (key >> 30)) * 0xbf58476d1ce4e5b9ULL;
-      key = (key ^ (key >> 27)) * 0x94d049bb133111ebULL;
-      key ^= key >> 31;
-      return double(key >> 11) * 0x1.0p-53 - 0.5;
-    };
-    for (Index p = 0; p < n; ++p) { // (V, σ): N d velocities, then N d² stresses
-      const auto id = std::uint64_t(ids_[size_t(p)]) * std::uint64_t(per);
+    for (Index p = 0; p < n; ++p) {
+      const Index id = ids_[size_t(p)];
       for (Index c = 0; c < d; ++c)
-        a[p * d + c] = value(id + std::uint64_t(c));
+        a[p * d + c] = all[id * d + c];
       for (Index c = 0; c < d * d; ++c)
-        a[n * d + p * d * d + c] = value(id + std::uint64_t(d + c));
+        a[n * d + p * d * d + c] = all[total_ * d + id * d * d + c];
     }
     SMPM_PETSC_CALL(VecRestoreArray(x, &a));
   }
@@ -306,6 +298,7 @@ private:
   const DistributedGrid& grid_;
   std::vector<Index> ids_;
   Model local_;
+  Index total_ = 0;          // particles in the whole set
   DistributedOperators ops_; // this rank's window: the sums' rows
   std::unique_ptr<WindowSums> sums_;
   std::unique_ptr<LinearizedStep> T_;

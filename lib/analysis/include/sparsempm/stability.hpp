@@ -101,6 +101,9 @@ inline constexpr Index kDenseRadiusRows = 1500;
 inline constexpr int kPowerApplications = 300;
 /// A measured growth within this of 1 is reported as ρ = 1.
 inline constexpr double kUnitGrowthBand = 1e-3;
+/// The start of spectral_radius's power iterations on T of `rows` rows: standard normal draws
+/// (std::mt19937 seeded 1), normalised. The ρ(T) across ranks starts from the same vector.
+Eigen::VectorXd power_start(Index rows);
 
 /// ρ(T): dense Eigen eigenvalues when T has at most `dense_limit` rows. Above, matrix-free:
 /// 300 power iterations measure the growth per application; growth within 10⁻³ of 1 is

@@ -314,7 +314,7 @@ MassSolverFactory distributed_mass_solver_factory(const DistributedGrid& grid,
 /// step's node sums over the ranks (WindowSums), as a PETSc MATSHELL, by the serial
 /// spectral_radius's rule: up to kDenseRadiusRows rows SLEPc's Krylov–Schur finds the dominant
 /// eigenvalue (EPS_NHEP, largest magnitude, tolerance `tol`, options prefix rho_); above,
-/// kPowerApplications power iterations (from a start vector that does not depend on the number
+/// kPowerApplications power iterations (from the serial power_start, the same for any number
 /// of ranks) measure the growth, reported as ρ = 1 within kUnitGrowthBand, and Krylov–Schur
 /// starts from the power iterate when the growth exceeds that. `model` is the whole model on
 /// every rank (a rank may own no particle). The status is the serial spectral_radius's:
