@@ -9,6 +9,7 @@
 #include "contact_detail.hpp"
 
 #include "contact_lr.hpp"
+#include "parallel.hpp"
 
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/errors.hpp"
@@ -257,33 +258,40 @@ void free_directions(const Grid& grid, const BoundaryConditions& bcs, ContactNod
 }
 
 // The particles whose shape functions reach each contact node (any field), with their fields:
-// the LR point clouds (contact 2020 §3.1), two passes over S (count, then fill).
+// the LR point clouds (contact 2020 §3.1), gathered from S's column index (each column lists its
+// particles in ascending order) node by node in parallel: count, offsets, fill. A particle has
+// entries in its own field's columns only, so a node's cloud sorted by particle is the order of
+// a pass over the rows of S, whatever the number of threads.
 void build_clouds(const Operators& ops, const ParticleOperators& op, ContactNodes& cn) {
   const Index ng = ops.grid_node_count, nc = Index(cn.nodes.size());
+  auto each = [&](Index c, auto&& visit) { // the entries S_pi ≠ 0 of node c, field by field
+    const Index i = cn.nodes[size_t(c)].node;
+    for (int f = 0; f < ops.fields; ++f)
+      for (int t = op.col_outer[f * ng + i]; t < op.col_outer[f * ng + i + 1]; ++t)
+        if (op.S[op.col_entry[t]] != 0)
+          visit(int(op.col_row[t] - op.first), f);
+  };
   cn.cloud_offset.assign(size_t(nc) + 1, 0);
-  for (int pass = 0; pass < 2; ++pass) {
-    if (pass == 1) {
-      for (Index c = 0; c < nc; ++c)
-        cn.cloud_offset[size_t(c) + 1] += cn.cloud_offset[size_t(c)];
-      cn.cloud.resize(size_t(cn.cloud_offset[size_t(nc)]));
-    }
-    std::vector<Index>& next = cn.cloud_offset; // pass 1 fills from the starts, then shifts back
-    for (Index p = 0; p < op.rows; ++p)
-      for (int k = op.outer[p]; k < op.outer[p + 1]; ++k) {
-        if (op.S[k] == 0)
-          continue;
-        const int col = op.inner[k], f = int(col / ng), c = cn.slot[size_t(col - f * ng)];
-        if (c < 0)
-          continue;
-        if (pass == 0)
-          ++next[size_t(c) + 1];
-        else
-          cn.cloud[size_t(next[size_t(c)]++)] = {int(p), f};
-      }
-  }
-  for (Index c = nc; c > 0; --c) // the fill advanced each start to the next one's
-    cn.cloud_offset[size_t(c)] = cn.cloud_offset[size_t(c) - 1];
-  cn.cloud_offset[0] = 0;
+  detail::parallel_for(
+      nc,
+      [&](Index c) {
+        Index count = 0;
+        each(c, [&](int, int) { ++count; });
+        cn.cloud_offset[size_t(c) + 1] = count;
+      },
+      op.rows);
+  for (Index c = 0; c < nc; ++c)
+    cn.cloud_offset[size_t(c) + 1] += cn.cloud_offset[size_t(c)];
+  cn.cloud.resize(size_t(cn.cloud_offset[size_t(nc)]));
+  detail::parallel_for(
+      nc,
+      [&](Index c) {
+        std::pair<int, int>* out = cn.cloud.data() + cn.cloud_offset[size_t(c)];
+        Index k = 0;
+        each(c, [&](int p, int f) { out[k++] = {p, f}; });
+        std::sort(out, out + k);
+      },
+      op.rows);
 }
 
 } // namespace
@@ -326,7 +334,6 @@ void lumped_sides(const Operators& ops, const Contact& contact, const NodeGeomet
                   ContactNodes& cn, ContactNodes::Node& node) {
   const int nf = ops.fields;
   const Index ng = ops.grid_node_count;
-  node.first_side = Index(cn.sides.size());
   // The rigid field holding most of the node's particle volume, if it holds kRigidShare of it:
   // every other field contacts that body alone (ContactNodes::Side::rigid). A rigid field has no
   // side of its own, and one below the share is no contact partner here (as at a node of two
@@ -373,7 +380,7 @@ void lumped_sides(const Operators& ops, const Contact& contact, const NodeGeomet
       side.normal = constrained_normal(cn, node, geo.normal(*side.pair, f, -1));
       side.separation = geo.separation(*side.pair, f, -1, side.normal);
     }
-    cn.sides.push_back(side);
+    cn.sides[size_t(node.first_side + f)] = side;
   }
 }
 
@@ -390,11 +397,14 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
   const bool rigid = std::find(cn.rigid.begin(), cn.rigid.end(), 1) != cn.rigid.end();
   if (uses(contact, ContactNormal::AverageGradient) || rigid) // rigid: NodeGeometry::normal
     volume_gradient(op, P.volume, cn.gradient);
-  if (rigid) { // Σ_p S_pi V_p per field row: the rigid share of a node
-    cn.volume.setZero(op.nodes);
-    for (Index p = 0; p < op.rows; ++p)
-      for (int k = op.outer[p]; k < op.outer[p + 1]; ++k)
-        cn.volume[op.inner[k]] += op.S[k] * P.volume[p];
+  if (rigid) { // Σ_p S_pi V_p per field row, in particle order: the rigid share of a node
+    cn.volume.resize(op.nodes);
+    detail::parallel_for(op.nodes, [&](Index i) {
+      double sum = 0;
+      for (int t = op.col_outer[i]; t < op.col_outer[i + 1]; ++t)
+        sum += op.S[op.col_entry[t]] * P.volume[op.col_row[t] - op.first];
+      cn.volume[i] = sum;
+    });
   }
   if (uses(contact, ContactDetection::Position) ||
       uses(contact, ContactDetection::DistanceFunction))
@@ -410,29 +420,41 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
       uses(contact, ContactDetection::LogisticRegression))
     build_clouds(ops, op, cn);
   const double vcell = cell_volume(grid);
-  for (size_t c = 0; c < cn.nodes.size(); ++c) {
-    ContactNodes::Node& node = cn.nodes[c];
-    const NodeGeometry geo{grid, ops, cn, P, node.node, Index(c)};
+  // Each node's normal, separation and area in parallel (they read the clouds and the node
+  // fields only); a node of three or more fields has a side per field, laid out first.
+  Index sides = 0;
+  for (ContactNodes::Node& node : cn.nodes)
     if (node.a < 0) {
-      lumped_sides(ops, contact, geo, cn, node);
-      continue;
+      node.first_side = sides;
+      sides += ops.fields;
     }
-    node.pair = &contact.pair(node.a, node.b);
-    node.normal = constrained_normal(cn, node, geo.normal(*node.pair, node.a, node.b));
-    node.separation = geo.separation(*node.pair, node.a, node.b, node.normal);
-    if (geo.rigid(node.a) != geo.rigid(node.b) &&
-        node.pair->detection != ContactDetection::Always) {
-      // A rigid partner only where it holds kRigidShare of the node's particle volume
-      // (ContactNodes::rigid): a node it barely reaches is not on its surface.
-      const Index ng = ops.grid_node_count;
-      const double vr = cn.volume[(geo.rigid(node.a) ? node.a : node.b) * ng + node.node];
-      const double vo = cn.volume[(geo.rigid(node.a) ? node.b : node.a) * ng + node.node];
-      if (!(vr >= kRigidShare * (vr + vo)))
-        node.separation = std::numeric_limits<double>::infinity();
-    }
-    const double h = cell_width_along(grid, node.normal);
-    node.area = h > 0 ? vcell / h : 0;
-  }
+  cn.sides.assign(size_t(sides), ContactNodes::Side{});
+  detail::parallel_for(
+      Index(cn.nodes.size()),
+      [&](Index c) {
+        ContactNodes::Node& node = cn.nodes[size_t(c)];
+        const NodeGeometry geo{grid, ops, cn, P, node.node, c};
+        if (node.a < 0) {
+          lumped_sides(ops, contact, geo, cn, node);
+          return;
+        }
+        node.pair = &contact.pair(node.a, node.b);
+        node.normal = constrained_normal(cn, node, geo.normal(*node.pair, node.a, node.b));
+        node.separation = geo.separation(*node.pair, node.a, node.b, node.normal);
+        if (geo.rigid(node.a) != geo.rigid(node.b) &&
+            node.pair->detection != ContactDetection::Always) {
+          // A rigid partner only where it holds kRigidShare of the node's particle volume
+          // (ContactNodes::rigid): a node it barely reaches is not on its surface.
+          const Index ng = ops.grid_node_count;
+          const double vr = cn.volume[(geo.rigid(node.a) ? node.a : node.b) * ng + node.node];
+          const double vo = cn.volume[(geo.rigid(node.a) ? node.b : node.a) * ng + node.node];
+          if (!(vr >= kRigidShare * (vr + vo)))
+            node.separation = std::numeric_limits<double>::infinity();
+        }
+        const double h = cell_width_along(grid, node.normal);
+        node.area = h > 0 ? vcell / h : 0;
+      },
+      op.rows);
 }
 
 } // namespace smpm
