@@ -6,6 +6,7 @@
 #include "sparsempm/errors.hpp"
 
 #include "kernels.hpp"
+#include "parallel.hpp"
 
 #include <cmath>
 #include <string>
@@ -46,8 +47,7 @@ double Particles::det_F(Index p) const {
 
 void Particles::jacobian(Eigen::VectorXd& J) const {
   J.resize(size());
-  for (Index p = 0; p < size(); ++p)
-    J[p] = det_F(p);
+  detail::parallel_for(size(), [&](Index p) { J[p] = det_F(p); });
 }
 
 Eigen::VectorXd Particles::volume() const {

@@ -238,19 +238,26 @@ bool build_pattern(const Grid& numbering, const std::vector<ShapeSupport>& suppo
     pos += Index(s.count[0]) * s.count[1] * s.count[2];
   }
   outer[N] = int(pos);
-  detail::parallel_for(N, [&](Index p) {
-    const ShapeSupport& s = support[size_t(p)];
-    write_box_row(numbering, s, rows.first_column(p, s), inner + outer[p]);
-  });
+  // The G_a share S's pattern: each row is copied where it is written, in parallel.
+  std::array<int*, 3> g_outer{}, g_inner{};
   for (int a = 0; a < 3; ++a) {
     if (a >= d) {
       G[a].resize(0, 0);
       continue;
     }
     set_pattern(G[a], N, n, nnz);
-    std::copy(outer, outer + N + 1, G[a].outerIndexPtr());
-    std::copy(inner, inner + nnz, G[a].innerIndexPtr());
+    g_outer[size_t(a)] = G[a].outerIndexPtr();
+    g_inner[size_t(a)] = G[a].innerIndexPtr();
+    g_outer[size_t(a)][N] = outer[N];
   }
+  detail::parallel_for(N, [&](Index p) {
+    const ShapeSupport& s = support[size_t(p)];
+    write_box_row(numbering, s, rows.first_column(p, s), inner + outer[p]);
+    for (int a = 0; a < d; ++a) {
+      g_outer[size_t(a)][p] = outer[p];
+      std::copy(inner + outer[p], inner + outer[p + 1], g_inner[size_t(a)] + outer[p]);
+    }
+  });
   return true;
 }
 

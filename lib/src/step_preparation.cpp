@@ -4,6 +4,8 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/stages.hpp"
 
+#include "parallel.hpp"
+
 #include <cmath>
 #include <limits>
 #include <string>
@@ -40,13 +42,12 @@ namespace {
 // Masses and initial volumes must stay positive and finite (a program, or Python through the
 // arrays' views, can set any value between steps).
 void check_amounts(const Eigen::VectorXd& amount, const char* name) {
-  if ((amount.array() > 0 && amount.array() < std::numeric_limits<double>::infinity()).all())
-    return;
-  Index p = 0;
-  while (amount[p] > 0 && std::isfinite(amount[p]))
-    ++p;
-  throw InputError("particle " + std::to_string(p) + ": " + name + " " + number_text(amount[p]) +
-                   " must be positive and finite");
+  // The first bad particle (parallel_for rethrows the smallest index that threw).
+  detail::parallel_for(amount.size(), [&](Index p) {
+    if (!(amount[p] > 0 && amount[p] < std::numeric_limits<double>::infinity()))
+      throw InputError("particle " + std::to_string(p) + ": " + name + " " +
+                       number_text(amount[p]) + " must be positive and finite");
+  });
 }
 
 } // namespace
