@@ -141,22 +141,46 @@ ThermalSums thermal_sums(const Model& model, double strain) {
 
 void material_sums(const Model& model, std::vector<double>& out) {
   const Particles& P = model.particles;
-  const int d = P.dim, w = 1 + 2 * d;
-  out.assign(model.materials.size() * size_t(w), 0.0);
-  for (Index p = 0; p < P.size(); ++p) {
-    double* o = out.data() + size_t(P.material[p]) * size_t(w);
-    const double M = P.mass[p];
-    o[0] += M;
+  const int d = P.dim, w = 1 + 2 * d, k = int(model.materials.size()) * w;
+  out.assign(size_t(k), 0.0);
+  if (k == 0)
+    return;
+  // (M, Σ M V, Σ M X) per material, in the fixed order of ordered_reduce_blocks.
+  detail::ordered_reduce_blocks(
+      P.size(), k, 0.0, out.data(),
+      [&](Index begin, Index end, double* acc) {
+        for (Index p = begin; p < end; ++p) {
+          double* o = acc + size_t(P.material[p]) * size_t(w);
+          const double M = P.mass[p];
+          o[0] += M;
+          for (int a = 0; a < d; ++a) {
+            o[1 + a] += M * P.V(p, a);
+            o[1 + d + a] += M * P.X(p, a);
+          }
+        }
+      },
+      [](double a, double b) { return a + b; });
+  for (size_t m = 0; m < model.materials.size(); ++m)
     for (int a = 0; a < d; ++a) {
-      o[1 + a] += M * P.V(p, a);
-      o[1 + d + a] += M * P.X(p, a);
+      double& c = out[m * size_t(w) + size_t(1 + d + a)];
+      c = out[m * size_t(w)] > 0 ? c / out[m * size_t(w)] : std::nan("");
     }
-  }
-  for (size_t k = 0; k < model.materials.size(); ++k)
-    for (int a = 0; a < d; ++a) {
-      double& c = out[k * size_t(w) + size_t(1 + d + a)];
-      c = out[k * size_t(w)] > 0 ? c / out[k * size_t(w)] : std::nan("");
+}
+
+double velocity_change(const Particles& P, const Field& V0) {
+  SMPM_VERIFY(V0.rows() == P.size() && V0.cols() == P.dim,
+              "velocity_change: V0 must have a row per particle and a column per axis");
+  if (P.size() == 0)
+    return 0.0;
+  const double sum = detail::ordered_sum(P.size(), [&](Index p) {
+    double s = 0;
+    for (int a = 0; a < P.dim; ++a) {
+      const double dv = P.V(p, a) - V0(p, a);
+      s += dv * dv;
     }
+    return s;
+  });
+  return std::sqrt(sum / double(P.size()));
 }
 
 } // namespace smpm

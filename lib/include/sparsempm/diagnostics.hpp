@@ -69,4 +69,9 @@ ThermalSums thermal_sums(const Model& model, double strain);
 /// particles). `out` is resized to n_materials (1 + 2d).
 void material_sums(const Model& model, std::vector<double>& out);
 
+/// √(Σ_p |V_p − V0_p|² / N), the RMS change of the particle velocities from V0 (N × d; the
+/// velocity error of FMPM 2026 §3.1 when V0 is the exact field), in the fixed order of the
+/// library's reductions; 0 without particles.
+double velocity_change(const Particles& particles, const Field& V0);
+
 } // namespace smpm

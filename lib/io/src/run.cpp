@@ -2,6 +2,7 @@
 #include "sparsempm/run.hpp"
 
 #include "sparsempm/advance.hpp"
+#include "sparsempm/diagnostics.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/output.hpp"
 #include "sparsempm/run_file.hpp"
@@ -137,9 +138,7 @@ private:
     r.e = e;
     material_sums(m, r.materials);
     const Index N = m.particles.size();
-    r.velocity_change = N && V0_.rows() == N
-                            ? std::sqrt((m.particles.V - V0_).rowwise().squaredNorm().sum() / N)
-                            : 0.0;
+    r.velocity_change = N && V0_.rows() == N ? velocity_change(m.particles, V0_) : 0.0;
     if (m.step > 0)
       change_sum_ += r.velocity_change;
     r.velocity_change_sum = change_sum_;
