@@ -145,21 +145,43 @@ void material_sums(const Model& model, std::vector<double>& out) {
   out.assign(size_t(k), 0.0);
   if (k == 0)
     return;
-  // (M, Σ M V, Σ M X) per material, in the fixed order of ordered_reduce_blocks.
-  detail::ordered_reduce_blocks(
-      P.size(), k, 0.0, out.data(),
-      [&](Index begin, Index end, double* acc) {
-        for (Index p = begin; p < end; ++p) {
-          double* o = acc + size_t(P.material[p]) * size_t(w);
-          const double M = P.mass[p];
-          o[0] += M;
-          for (int a = 0; a < d; ++a) {
-            o[1 + a] += M * P.V(p, a);
-            o[1 + d + a] += M * P.X(p, a);
+  // (M, Σ M V, Σ M X) per material, in the fixed order of ordered_reduce_blocks: within a block,
+  // one pass per material present, its sums in registers (the particles of a material in order).
+  const int materials = int(model.materials.size());
+  detail::by_dim(d, [&]<int D>() {
+    detail::ordered_reduce_blocks(
+        P.size(), k, 0.0, out.data(),
+        [&](Index begin, Index end, double* acc) {
+          const int* material = P.material.data();
+          const double* V = P.V.data();
+          const double* X = P.X.data();
+          const Index sv = P.V.outerStride(), sx = P.X.outerStride();
+          for (int m = 0; m < materials; ++m) {
+            double M = 0, MV[D] = {}, MX[D] = {};
+            bool present = false;
+            for (Index p = begin; p < end; ++p) {
+              if (material[p] != m)
+                continue;
+              present = true;
+              const double mp = P.mass[p];
+              M += mp;
+              for (int a = 0; a < D; ++a) {
+                MV[a] += mp * V[p * sv + a];
+                MX[a] += mp * X[p * sx + a];
+              }
+            }
+            if (!present)
+              continue;
+            double* o = acc + size_t(m) * size_t(w);
+            o[0] += M;
+            for (int a = 0; a < D; ++a) {
+              o[1 + a] += MV[a];
+              o[1 + D + a] += MX[a];
+            }
           }
-        }
-      },
-      [](double a, double b) { return a + b; });
+        },
+        [](double a, double b) { return a + b; });
+  });
   for (size_t m = 0; m < model.materials.size(); ++m)
     for (int a = 0; a < d; ++a) {
       double& c = out[m * size_t(w) + size_t(1 + d + a)];
@@ -172,13 +194,19 @@ double velocity_change(const Particles& P, const Field& V0) {
               "velocity_change: V0 must have a row per particle and a column per axis");
   if (P.size() == 0)
     return 0.0;
-  const double sum = detail::ordered_sum(P.size(), [&](Index p) {
-    double s = 0;
-    for (int a = 0; a < P.dim; ++a) {
-      const double dv = P.V(p, a) - V0(p, a);
-      s += dv * dv;
-    }
-    return s;
+  double sum = 0;
+  detail::by_dim(P.dim, [&]<int D>() {
+    const double* V = P.V.data();
+    const double* W = V0.data();
+    const Index sv = P.V.outerStride();
+    sum = detail::ordered_sum(P.size(), [&](Index p) {
+      double s = 0;
+      for (int a = 0; a < D; ++a) {
+        const double dv = V[p * sv + a] - W[p * D + a];
+        s += dv * dv;
+      }
+      return s;
+    });
   });
   return std::sqrt(sum / double(P.size()));
 }
