@@ -9,8 +9,8 @@
 //   smpm spectrum input.toml [--order ...] [--blend-alpha ...] [--blend-every ...] [--courant C]
 //
 // Threads: SMPM_THREADS=n (a positive integer), else OMP_NUM_THREADS, else every core; the
-// results are the same bit for bit for any number. Waiting threads sleep (OMP_WAIT_POLICY=passive)
-// unless OMP_WAIT_POLICY says otherwise.
+// results are the same bit for bit for any number. Waiting threads spin briefly, then sleep
+// (OMP_WAIT_POLICY=passive, GOMP_SPINCOUNT=1000) unless the environment sets either.
 //
 // Exit status: 0 success, 2 bad input (nothing that looks like a run is written),
 // 3 numerical failure (frames written so far are kept in the partial file), 130 / 143 for
@@ -50,8 +50,30 @@ extern "C" void on_signal(int s) {
   g_signal.store(s);
 }
 
+// The wall time of each part of the time loop (PhaseTimes), its share of the loop and its cost
+// per step; "other" is the loop's time outside the timed parts (progress, interrupt checks).
+void print_timings(const smpm::PhaseTimes& t, double wall, long steps) {
+  const std::pair<const char*, double> parts[] = {{"assemble (S, G, m, patterns)", t.assemble},
+                                                  {"conditions (walls, rigid)", t.conditions},
+                                                  {"contact nodes", t.contact},
+                                                  {"transport operators", t.transport},
+                                                  {"consistent mass", t.mass_matrix},
+                                                  {"step stages", t.update},
+                                                  {"reactions, rigid motion", t.reactions},
+                                                  {"energies, time step", t.energies},
+                                                  {"series rows", t.series},
+                                                  {"frames", t.frames},
+                                                  {"other", wall - t.total()}};
+  std::printf("%-30s %10s %7s %12s\n", "part of the time loop", "seconds", "share", "ms per step");
+  for (const auto& [name, seconds] : parts)
+    std::printf("%-30s %10.4f %6.1f%% %12.4f\n", name, seconds,
+                wall > 0 ? 100 * seconds / wall : 0.0, steps > 0 ? 1e3 * seconds / steps : 0.0);
+  std::printf("%-30s %10.4f %6.1f%% %12.4f\n", "time loop", wall, 100.0,
+              steps > 0 ? 1e3 * wall / steps : 0.0);
+}
+
 int run_command(const std::string& input, const std::vector<std::string>& sets,
-                const std::string& output, const std::string& restart, bool quiet) {
+                const std::string& output, const std::string& restart, bool quiet, bool timings) {
   using namespace smpm;
   using app::print_notes;
   RunOptions options;
@@ -108,6 +130,8 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
                 r.energy_start, r.energy_end, change, heat, r.frames, r.output.c_str(),
                 xdmf_path(r.output).c_str());
   }
+  if (timings)
+    print_timings(r.times, r.wall_seconds, r.steps);
   return 0;
 }
 
@@ -115,6 +139,7 @@ struct RunArgs {
   std::string input, output, restart;
   std::vector<std::string> sets;
   bool quiet = false;
+  bool timings = false;
 };
 
 CLI::App* add_run(CLI::App& app, RunArgs& a) {
@@ -125,6 +150,8 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   run->add_option("-o,--output", a.output, "output HDF5 file (default: output.file of the input)");
   run->add_option("--restart", a.restart, "continue the run stored in this HDF5 file");
   run->add_flag("-q,--quiet", a.quiet, "no progress and no summary");
+  run->add_flag("--timings", a.timings,
+                "print where the time loop's wall time went (assembly, contact, stages, ...)");
   return run;
 }
 
@@ -192,16 +219,22 @@ CLI::App* add_spectrum(CLI::App& app, smpm::app::SpectrumArgs& sp, Aliases& alia
   return spec;
 }
 
-// libgomp reads OMP_WAIT_POLICY once, when it is loaded, before main. Its default lets the
-// threads that wait at the end of a parallel region spin; with another busy process on the same
-// cores (two runs of a parameter study, ctest -j2) the spinning threads take the cores from the
-// working ones: tests/cli/test_shock.py (15 runs of the shock, two at a time, two threads each)
-// took 187 s with spinning and 38 s with passive waiting on two cores. So, unless the user chose
-// a policy, the program starts itself once more with passive waiting; if that fails it goes on
-// with libgomp's default. Only when /proc/self/exe is this program's own file: started through
-// the dynamic loader (ld.so ./smpm …) or an emulator it is not, and the program goes on as it is.
+// libgomp reads OMP_WAIT_POLICY and GOMP_SPINCOUNT once, when it is loaded, before main. Its
+// default lets the threads that wait at the end of a parallel region spin for 300,000 turns;
+// with another busy process on the same cores (two runs of a parameter study, ctest -j2) the
+// spinning threads take the cores from the working ones: tests/cli/test_shock.py (15 runs of
+// the shock, two at a time, two threads each) took 187 s with spinning and 38 s with passive
+// waiting on two cores. Passive waiting alone puts every fork and join of a region (17 to 22
+// in a step) through the kernel: the uGIMP plate of scripts/bench-run took 3.28 s on two
+// threads with no spin against 2.29 s with kSpinTurns, and two such runs at once 4.62 s
+// against 4.77 s. So, unless the user chose either, the program starts itself once more with
+// passive waiting after kSpinTurns turns; if that fails it goes on with libgomp's default. Only
+// when /proc/self/exe is this program's own file: started through the dynamic loader (ld.so
+// ./smpm …) or an emulator it is not, and the program goes on as it is.
+constexpr const char* kSpinTurns = "1000";
+
 void wait_passively_unless_chosen(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY"))
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT"))
     return;
   Dl_info self{};
   struct stat program {
@@ -210,7 +243,7 @@ void wait_passively_unless_chosen(char** argv) {
       stat(self.dli_fname, &program) != 0 || stat("/proc/self/exe", &exe) != 0 ||
       program.st_dev != exe.st_dev || program.st_ino != exe.st_ino)
     return;
-  if (setenv("OMP_WAIT_POLICY", "passive", 1) == 0)
+  if (setenv("OMP_WAIT_POLICY", "passive", 1) == 0 && setenv("GOMP_SPINCOUNT", kSpinTurns, 1) == 0)
     execv("/proc/self/exe", argv);
 }
 
@@ -256,7 +289,7 @@ int main(int argc, char** argv) {
   try {
     smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core
     if (*run)
-      code = run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet);
+      code = run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet, ra.timings);
     else if (*stab) {
       st.position_alpha_given = stab->count("--position-alpha") > 0; // a NaN given is refused
       code = smpm::app::stability_command(st);

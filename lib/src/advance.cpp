@@ -108,7 +108,10 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
                                 ? std::numeric_limits<double>::infinity()
                                 : (o.fourier > 0 ? o.fourier : default_fourier(model.grid.dim())) *
                                       diffusion_time(model.grid, model.materials, model.particles);
+  PhaseTimes& times = stepper.times();
+  const PhaseTimes times_start = times;
   while (model.time < o.end - eps) {
+    PhaseClock clock;
     double dt = stable_time_step(model, o.courant, speed);
     if (report.steps == 0 && !o.time_step_start)
       dt0 = dt;
@@ -116,12 +119,15 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
     dt = std::min(dt, conduction);
     if (o.land_on_stops)
       dt = std::min(dt, stop - model.time);
-    stepper.step(model, dt);
+    clock.lap(times.energies);
+    stepper.step(model, dt); // its parts timed by prepare_step and step
+    PhaseClock after;
     ++report.steps;
     const Energies e = stepper.energies(model); // W(F_p) from the step's stress update
     speed = std::max(shock ? max_wave_speed(model.materials, model.particles) : wave, e.max_speed);
     check_energy(model, e.total, report.energy_start, o.failure);
     report.energy_end = e.total;
+    after.lap(times.energies);
     const bool at_stop = model.time >= stop - eps;
     if (at_stop)
       stop = next_stop(model.time);
@@ -138,6 +144,7 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
     report.energy_end = energies(model).total;
   report.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.times = times.since(times_start);
   return report;
 }
 

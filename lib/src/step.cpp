@@ -143,6 +143,7 @@ void Stepper::step(Model& model, double dt) {
       set_reference_temperatures(P, model.materials);
     if (!prepared)
       prepare_step(model, opt_.shape, prep_, opt_.transport.update);
+    PhaseClock clock;
     // Periodic FMPM (§3.3): the grid-velocity update on steps that cross the budget C_X, FLIP
     // on the others.
     grid_update_ = opt_.velocity != VelocityUpdate::FLIP;
@@ -172,6 +173,7 @@ void Stepper::step(Model& model, double dt) {
         .dt = dt,
         .grid_update = grid_update_,
         .transport = heat() ? &transport_context(model) : nullptr};
+    clock.lap(prep_.times.mass_matrix);
     ParticleFields fields{P.X, P.V, P.F, P.stress, P.volume0};
     if (opt_.transfer == Transfer::VelocityGradient) {
       if (P.gradient.rows() != P.size() || P.gradient.cols() != P.dim * P.dim)
@@ -204,6 +206,7 @@ void Stepper::step(Model& model, double dt) {
       start_rigid_motion(model.rigid, model.time, P, buf_->rigid_velocity);
     }
     scheme_step(context, fields, strain, buf_->step);
+    clock.lap(prep_.times.update);
     // USF updates the stresses (and stores W) before the transport changes the temperatures:
     // with thermal expansion that W is of the old temperature, so energies() evaluates it anew.
     if (heat() && opt_.scheme == UpdateScheme::USF)
@@ -241,6 +244,7 @@ void Stepper::step(Model& model, double dt) {
     if (!model.rigid.empty()) // rigid.hpp: the prescribed or free motion, whatever the grid did
       move_rigid_particles(model.rigid, buf_->x_start, model.time, dt, buf_->rigid_velocity,
                            reactions_.data() + first_rigid, buf_->rigid_mass.data(), P);
+    clock.lap(prep_.times.reactions);
     if (contact)
       state_.friction_work += prep_.contact.friction_work;
     if (shock)

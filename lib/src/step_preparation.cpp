@@ -4,8 +4,6 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/stages.hpp"
 
-#include "parallel.hpp"
-
 #include <cmath>
 #include <limits>
 #include <string>
@@ -42,17 +40,19 @@ namespace {
 // Masses and initial volumes must stay positive and finite (a program, or Python through the
 // arrays' views, can set any value between steps).
 void check_amounts(const Eigen::VectorXd& amount, const char* name) {
-  // The first bad particle (parallel_for rethrows the smallest index that threw).
-  detail::parallel_for(amount.size(), [&](Index p) {
-    if (!(amount[p] > 0 && amount[p] < std::numeric_limits<double>::infinity()))
-      throw InputError("particle " + std::to_string(p) + ": " + name + " " +
-                       number_text(amount[p]) + " must be positive and finite");
-  });
+  if ((amount.array() > 0 && amount.array() < std::numeric_limits<double>::infinity()).all())
+    return;
+  Index p = 0;
+  while (amount[p] > 0 && std::isfinite(amount[p]))
+    ++p;
+  throw InputError("particle " + std::to_string(p) + ": " + name + " " + number_text(amount[p]) +
+                   " must be positive and finite");
 }
 
 } // namespace
 
 void prepare_step(const Model& model, Shape shape, StepPreparation& s, TransportUpdate transport) {
+  PhaseClock clock;
   const Particles& P = model.particles;
   check_amounts(P.mass, "mass");
   check_amounts(P.volume0, "volume0");
@@ -69,11 +69,13 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s, Transport
     s.field.resize(0);
     assemble(model.grid, P, shape, s.ops);
   }
+  clock.lap(s.times.assemble);
   // The conditions of the step on its nodes (the particles' window or the grid, ops.grid); the
   // walls move (FMPM 2026 §3.1).
   model.bcs.step_conditions(s.ops.grid, s.ops.active, model.time, s.bcs);
   add_rigid_conditions(model.rigid, P, model.contact.material_field, s.ops, model.time,
                        s.bcs); // rigid.hpp
+  clock.lap(s.times.conditions);
   if (nf > 1) {
     rigid_fields(model.rigid, model.contact.material_field, nf, s.contact.rigid);
     P.jacobian(s.volume);
@@ -81,13 +83,16 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s, Transport
     const ContactParticles cp{P.X, P.F, P.half_length, s.volume};
     find_contact_nodes(s.ops.grid, s.ops, particle_operators(s.ops), model.contact, cp, s.contact,
                        &s.bcs);
+    clock.lap(s.times.contact);
   }
   if (transport != TransportUpdate::Off) {
     prepare_transport(s.ops, P, model.materials, s.transport,
                       transport == TransportUpdate::Exact ? kMassTolerance : 0.0);
+    clock.lap(s.times.transport);
     model.temperature_bcs.step_conditions(s.ops.grid, s.transport.nodes.active, model.time,
                                           s.temperature_bcs);
     s.transport_ = true;
+    clock.lap(s.times.conditions);
   }
 }
 

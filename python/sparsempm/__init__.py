@@ -17,15 +17,18 @@ conductivity K; fmpm_temperature and exact_temperature apply c~_k^-1 and c~^-1 t
 
 Errors are InputError (bad input, the messages of `smpm run`) and NumericalError.
 Threads: SMPM_THREADS at import (else OMP_NUM_THREADS or every core), or set_threads(n); the
-results are the same bit for bit for any number. Waiting threads sleep
-(OMP_WAIT_POLICY=passive, set here unless the environment chose a policy before the first
-OpenMP library was loaded), so that runs sharing the cores do not slow each other down.
+results are the same bit for bit for any number. Waiting threads spin briefly, then sleep
+(OMP_WAIT_POLICY=passive, GOMP_SPINCOUNT=1000, as `smpm`: set here unless the environment chose
+either before the first OpenMP library was loaded), so that runs sharing the cores do not slow
+each other down and a region's fork and join do not each go through the kernel.
 """
 
 import os as _os
 
 # libgomp reads the policy when it is loaded, that is when the extension below is imported.
-_os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
+    _os.environ["OMP_WAIT_POLICY"] = "passive"
+    _os.environ["GOMP_SPINCOUNT"] = "1000"
 
 import numpy as _np
 from scipy.sparse.linalg import LinearOperator as _LinearOperator

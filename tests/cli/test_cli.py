@@ -306,6 +306,48 @@ class Threads(Base):
             self.assertFalse(out.exists())
 
 
+class Timings(Base):
+    """smpm run --timings: the parts are disjoint intervals of the time loop, so they sum to at
+    most its wall time, and a part the run has not (contact, heat transport) takes none."""
+
+    def timings(self, example, *sets):
+        args = ["run", EXAMPLES / example, "-o", self.dir / "t.h5", "-q", "--timings"]
+        for s in sets:
+            args += ["--set", s]
+        r = smpm(*args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        parts = {}
+        for line in r.stdout.splitlines()[1:]:
+            m = re.match(r"^(.+?)\s+(-?[0-9.]+)\s+(-?[0-9.]+)%\s+(-?[0-9.]+)$", line.strip())
+            self.assertIsNotNone(m, line)
+            parts[m.group(1)] = float(m.group(2))
+        return parts
+
+    def check_sum(self, parts):
+        loop = parts.pop("time loop")
+        other = parts.pop("other")
+        for name, seconds in parts.items():
+            self.assertGreaterEqual(seconds, 0.0, name)
+        # Eleven numbers printed to 0.1 ms: the identity holds to their rounding.
+        self.assertAlmostEqual(sum(parts.values()) + other, loop, delta=6e-4)
+        self.assertGreaterEqual(other, -6e-4)
+        self.assertGreater(parts["assemble (S, G, m, patterns)"], 0.0)
+        self.assertGreater(parts["step stages"], 0.0)
+        self.assertGreater(parts["frames"], 0.0)
+        self.assertEqual(parts["transport operators"], 0.0)
+
+    def test_contact_run(self):
+        parts = self.timings("two_block_compression.toml", "time.end=1.0393")
+        self.assertGreater(parts["contact nodes"], 0.0)
+        self.check_sum(parts)
+
+    def test_single_material_run_has_no_contact_time(self):
+        parts = self.timings("vibrating_bar.toml", "step.velocity=FMPM", "step.order=4")
+        self.assertEqual(parts["contact nodes"], 0.0)
+        self.assertGreater(parts["consistent mass"], 0.0)
+        self.check_sum(parts)
+
+
 class FmpmVariants(Base):
     """The vibrating bar runs with FLIP, FMPM(4), blended, periodic, dynamic, XPIC and exact."""
 

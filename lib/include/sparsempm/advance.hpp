@@ -70,6 +70,7 @@ struct AdvanceReport {
   double energy_start = 0; ///< total energy the failure test compared with
   double energy_end = 0;   ///< total energy at the end
   double wall_seconds = 0; ///< wall time of the loop
+  PhaseTimes times;        ///< where the loop's wall time went (Stepper::times in the loop)
 };
 
 /// Steps `model` with `stepper` until options.end (see AdvanceOptions), testing the energy

@@ -97,6 +97,11 @@ public:
   const Operators& operators() const { return prep_.ops; }
   /// The preparation of the last step (or of the next one, after prepare()).
   const StepPreparation& preparation() const { return prep_; }
+  /// The wall seconds of each part of the preparations and steps so far (PhaseTimes); a run
+  /// driver (advance, run) adds its own parts here.
+  PhaseTimes& times() { return prep_.times; }
+  /// The wall seconds of each part so far (as the other overload).
+  const PhaseTimes& times() const { return prep_.times; }
   /// The grid fields of the last step, on the nodes of its operators (those of operators() until
   /// prepare() prepares the next step); v_plus is the velocity used by the particle update.
   const GridState& grid_state() const;

@@ -19,7 +19,53 @@
 #include "sparsempm/operators.hpp"
 #include "sparsempm/transport.hpp"
 
+#include <chrono>
+
 namespace smpm {
+
+/// Wall seconds spent in each part of a run, summed over its steps: where a whole run's time
+/// goes (`smpm run --timings`). prepare_step fills the first four, Stepper::step the next
+/// three, and advance and run the run driver's parts. The clock is read a few times per step.
+struct PhaseTimes {
+  double assemble = 0;    ///< S, G, their patterns, m, the column index, the particles' fields
+  double conditions = 0;  ///< the step's velocity (and temperature) conditions and rigid nodes
+  double contact = 0;     ///< the contact nodes: clouds, normals, LR fits, separations, areas
+  double transport = 0;   ///< the transport operators (heat transport)
+  double mass_matrix = 0; ///< m̃ (or m̃_L) of the steps that use it
+  double update = 0;      ///< the step's stages (scheme_step): grid velocities, stresses, particles
+  double reactions = 0;   ///< the conditions' reactions and the rigid materials' motion
+  double energies = 0;    ///< the energies, failure tests and Courant time step after each step
+  double series = 0;      ///< the series row of each step (material sums, velocity change)
+  double frames = 0;      ///< the frames written (with the preparation of their step)
+  /// The sum of the parts.
+  double total() const {
+    return assemble + conditions + contact + transport + mass_matrix + update + reactions +
+           energies + series + frames;
+  }
+  /// The seconds of each part since `start` (this minus start, part by part).
+  PhaseTimes since(const PhaseTimes& start) const {
+    return {assemble - start.assemble,   conditions - start.conditions,   contact - start.contact,
+            transport - start.transport, mass_matrix - start.mass_matrix, update - start.update,
+            reactions - start.reactions, energies - start.energies,       series - start.series,
+            frames - start.frames};
+  }
+};
+
+/// Adds the wall time between its construction (or the last lap) and each lap to a part of
+/// PhaseTimes.
+class PhaseClock {
+public:
+  PhaseClock() : last_(std::chrono::steady_clock::now()) {}
+  /// Adds the seconds since the last lap to `part` and starts the next.
+  void lap(double& part) {
+    const auto now = std::chrono::steady_clock::now();
+    part += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+
+private:
+  std::chrono::steady_clock::time_point last_;
+};
 
 /// The preparation of one step (this file's list), made by prepare_step and reused, storage
 /// and all, by the next preparation.
@@ -34,6 +80,7 @@ struct StepPreparation {
   Eigen::VectorXi field;  ///< velocity field of each particle (multimaterial; empty otherwise)
   Eigen::VectorXd volume; ///< current particle volumes J Ω⁽⁰⁾ (multimaterial: AG normals)
   ContactNodes contact;   ///< the contact nodes of the configuration (multimaterial)
+  PhaseTimes times;       ///< the seconds of each preparation's parts, summed (and the step's)
 
   /// Whether the configuration has several velocity fields, and so contact nodes.
   bool has_contact() const { return ops.fields > 1; }

@@ -102,9 +102,16 @@ public:
                              .energy_start = e0_,
                              .time_step_start = dt0_};
     return advance(cfg_.model, stepper_, adv, [&](const Model& m, const Energies& e, bool at_stop) {
+      PhaseClock clock;
       out_.add_series(row(m, e));
-      if (at_stop)
-        frame(m);
+      clock.lap(stepper_.times().series);
+      if (at_stop) {
+        const PhaseTimes before = stepper_.times();
+        frame(m); // its preparation is the next step's: the frame's own time is the rest
+        PhaseTimes& t = stepper_.times();
+        clock.lap(t.frames);
+        t.frames -= (t.total() - t.frames) - (before.total() - before.frames);
+      }
       if (progress)
         progress(m, cfg_.time.end);
       check_interrupt(m);
@@ -226,6 +233,7 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     report.wall_seconds = a.wall_seconds;
     report.energy_start = a.energy_start;
     report.energy_end = a.energy_end;
+    report.times = a.times;
     if (const ThermalSums* t = r.thermal_start(); t && cfg.model.particles.temperature.size()) {
       const ThermalSums end = thermal_sums(cfg.model, energies(cfg.model).strain);
       report.temperature_min = end.temperature_min;

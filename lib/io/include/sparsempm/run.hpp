@@ -6,6 +6,7 @@
 
 #include "sparsempm/errors.hpp" // Interrupted: a run stopped by a signal (status "interrupted")
 #include "sparsempm/input.hpp"
+#include "sparsempm/step_preparation.hpp" // PhaseTimes
 
 #include <atomic>
 #include <functional>
@@ -32,6 +33,7 @@ struct RunOptions {
 struct RunReport {
   long steps = 0;          ///< steps taken by this invocation
   double wall_seconds = 0; ///< wall time of the time loop
+  PhaseTimes times;        ///< where the time loop's wall time went (`smpm run --timings`)
   double energy_start = 0; ///< total energy at t = 0
   double energy_end = 0;   ///< total energy at the end
   int frames = 0;          ///< frames in the file
