@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 namespace smpm {
 
@@ -44,20 +45,37 @@ struct StencilProduct {
 
 // Whether the stencil pattern can be kept: the same operators with the same pattern of S, or
 // the same stencil half-width, nodes per axis and touched nodes. Records the new width and touched
-// set.
+// set. Both come from what the assembly already holds: the boxes (a reduction over the
+// particles) and the column index of S (a column with entries is a touched node), not a pass
+// over the entries of S.
 bool keep_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
   const Operators& ops = product.ops;
   const Index n = product.rows();
   if (mt.source == &ops && mt.source_version == ops.pattern_version && mt.matrix.rows() == n)
     return true;
-  std::array<int, 3> w{0, 0, 0};
-  for (const ShapeSupport& s : ops.support)
-    for (int a = 0; a < 3; ++a)
-      w[size_t(a)] = std::max(w[size_t(a)], s.count[size_t(a)] - 1);
+  double widest[3];
+  detail::ordered_reduce(
+      Index(ops.support.size()), 3, 0.0, widest,
+      [&](Index p, double* acc) {
+        const ShapeSupport& s = ops.support[size_t(p)];
+        for (int a = 0; a < 3; ++a)
+          acc[a] = std::max(acc[a], double(s.count[size_t(a)] - 1));
+      },
+      [](double a, double b) { return std::max(a, b); });
+  const std::array<int, 3> w{int(widest[0]), int(widest[1]), int(widest[2])};
+  const std::vector<int>& col = ops.columns.outer;
+  SMPM_VERIFY(col.size() == size_t(ops.S.cols() + 1) &&
+                  ops.columns.entry.size() == size_t(ops.S.nonZeros()),
+              "assemble_consistent_mass: the column index of S is not that of its pattern");
   std::vector<char> touched(size_t(n), 0);
-  const int* inner = ops.S.innerIndexPtr();
-  for (Index k = 0; k < ops.S.nonZeros(); ++k)
-    touched[size_t(product.row(inner[k]))] = 1;
+  if (product.fold) { // several columns (one per field) fold onto a row
+    for (Index c = 0; c < ops.S.cols(); ++c)
+      if (col[size_t(c + 1)] > col[size_t(c)])
+        touched[size_t(product.row(int(c)))] = 1;
+  } else {
+    detail::parallel_for(
+        n, [&](Index i) { touched[size_t(i)] = col[size_t(i + 1)] > col[size_t(i)]; });
+  }
   // The same numbers of rows can be a window of another shape (8 × 16 and 16 × 8 nodes).
   const bool keep = w == mt.half_width && ops.grid_nodes == mt.grid_nodes &&
                     touched == mt.touched && mt.matrix.rows() == n;
@@ -69,7 +87,8 @@ bool keep_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
   return keep;
 }
 
-// The stencil pattern: row i of a touched node holds every node within the half-width.
+// The stencil pattern: row i of a touched node holds every node within the half-width. The row
+// lengths, then (after their prefix sum) the rows are written in parallel.
 void build_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
   const Operators& ops = product.ops;
   const Index n = product.rows(), ng = product.block();
@@ -84,33 +103,39 @@ void build_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
     for (int a = 0; a < 3; ++a)
       stencil(ijk[a], w[size_t(a)], nodes[size_t(a)], lo[a], c[a]);
   };
-  Index nnz = 0;
-  for (Index i = 0; i < n; ++i)
-    if (mt.touched[size_t(i)]) {
-      int lo[3], c[3];
-      box(i, lo, c);
-      nnz += Index(c[0]) * c[1] * c[2];
-    }
   SparseRowMatrix& A = mt.matrix;
   A.resize(n, n);
-  A.resizeNonZeros(nnz);
   int* ro = A.outerIndexPtr();
+  detail::parallel_for(n, [&](Index i) {
+    int lo[3], c[3];
+    box(i, lo, c);
+    ro[i + 1] = mt.touched[size_t(i)] ? c[0] * c[1] * c[2] : 0;
+  });
+  ro[0] = 0;
+  Index nnz = 0;
+  for (Index i = 1; i <= n; ++i) {
+    nnz += ro[i];
+    SMPM_VERIFY(nnz <= std::numeric_limits<int>::max(),
+                "assemble_consistent_mass: m~ would hold more nonzeros than 32-bit indices allow");
+    ro[i] = int(nnz);
+  }
+  A.resizeNonZeros(nnz);
   int* ri = A.innerIndexPtr();
-  Index pos = 0;
-  for (Index i = 0; i < n; ++i) {
-    ro[i] = int(pos);
+  detail::parallel_for(n, [&](Index i) {
     if (!mt.touched[size_t(i)])
-      continue;
+      return;
     int lo[3], c[3];
     box(i, lo, c);
     const Index block = i - i % ng;
+    int* row = ri + ro[i];
     for (int k2 = 0; k2 < c[2]; ++k2)
-      for (int k1 = 0; k1 < c[1]; ++k1)
+      for (int k1 = 0; k1 < c[1]; ++k1) {
+        const int line =
+            int(block + lo[0] + Index(nodes[0]) * ((lo[1] + k1) + Index(nodes[1]) * (lo[2] + k2)));
         for (int k0 = 0; k0 < c[0]; ++k0)
-          ri[pos++] = int(block + (lo[0] + k0) +
-                          Index(nodes[0]) * ((lo[1] + k1) + Index(nodes[1]) * (lo[2] + k2)));
-  }
-  ro[n] = int(pos);
+          *row++ = line + k0;
+      }
+  });
 }
 
 // The most entries of a row of S: a box of up to 12 nodes per axis (shape_functions.hpp).

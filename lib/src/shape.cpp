@@ -238,7 +238,7 @@ bool build_pattern(const Grid& numbering, const std::vector<ShapeSupport>& suppo
     pos += Index(s.count[0]) * s.count[1] * s.count[2];
   }
   outer[N] = int(pos);
-  // The G_a share S's pattern: each row is copied where it is written, in parallel.
+  // The G_a share S's pattern: each row is written to all of them, in parallel.
   std::array<int*, 3> g_outer{}, g_inner{};
   for (int a = 0; a < 3; ++a) {
     if (a >= d) {
@@ -252,11 +252,12 @@ bool build_pattern(const Grid& numbering, const std::vector<ShapeSupport>& suppo
   }
   detail::parallel_for(N, [&](Index p) {
     const ShapeSupport& s = support[size_t(p)];
-    write_box_row(numbering, s, rows.first_column(p, s), inner + outer[p]);
+    int* row[4] = {inner + outer[p]};
     for (int a = 0; a < d; ++a) {
       g_outer[size_t(a)][p] = outer[p];
-      std::copy(inner + outer[p], inner + outer[p + 1], g_inner[size_t(a)] + outer[p]);
+      row[a + 1] = g_inner[size_t(a)] + outer[p];
     }
+    write_box_row(numbering, s, rows.first_column(p, s), row, d + 1);
   });
   return true;
 }

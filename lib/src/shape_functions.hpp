@@ -86,15 +86,22 @@ inline void interval_box(const Grid& g, const Particles& P, Index p, int a, doub
 /// keeping its size, or some box changed size (S's rows change length: a new pattern).
 enum class BoxChange { None, Moved, Resized };
 
-/// Writes row p's column indices: the nodes of box s, x fastest, from node `first` (its first
-/// node's column).
-inline void write_box_row(const Grid& g, const ShapeSupport& s, Index first, int* row) {
+/// Writes row p's column indices into each of `arrays` rows (S's and the G_a's, which share its
+/// pattern): the nodes of box s, x fastest, from node `first` (its first node's column). The
+/// box's sizes are read once (a write through an int* could alias them) and each index is
+/// stored to every array in the same pass, not copied afterwards (a copy of a row this short is
+/// a call to memmove).
+inline void write_box_row(const Grid& g, const ShapeSupport& s, Index first, int* const* row,
+                          int arrays) {
   const Index nx = g.nodes(0), nxy = nx * g.nodes(1);
-  for (int k2 = 0; k2 < s.count[2]; ++k2)
-    for (int k1 = 0; k1 < s.count[1]; ++k1) {
-      const Index line = first + k1 * nx + k2 * nxy;
-      for (int k0 = 0; k0 < s.count[0]; ++k0)
-        *row++ = int(line + k0);
+  const int c0 = s.count[0], c1 = s.count[1], c2 = s.count[2];
+  int q = 0;
+  for (int k2 = 0; k2 < c2; ++k2)
+    for (int k1 = 0; k1 < c1; ++k1) {
+      const int line = int(first + k1 * nx + k2 * nxy);
+      for (int k0 = 0; k0 < c0; ++k0, ++q)
+        for (int a = 0; a < arrays; ++a)
+          row[a][q] = line + k0;
     }
 }
 
@@ -125,10 +132,11 @@ struct BoxChanges {
     if (s.count != old.count) {
       resized.store(true, std::memory_order_relaxed);
     } else if (rows) {
-      const int begin = rows->outer[p], end = rows->outer[p + 1];
-      write_box_row(*rows->grid, s, rows->first_column(p, s), rows->inner[0] + begin);
-      for (int a = 1; a < rows->arrays; ++a)
-        std::copy(rows->inner[0] + begin, rows->inner[0] + end, rows->inner[size_t(a)] + begin);
+      const int begin = rows->outer[p];
+      int* row[4];
+      for (int a = 0; a < rows->arrays; ++a)
+        row[a] = rows->inner[size_t(a)] + begin;
+      write_box_row(*rows->grid, s, rows->first_column(p, s), row, rows->arrays);
     }
     old = s;
   }
