@@ -182,7 +182,7 @@ struct StencilScatter {
   std::array<int, 3> origin;   // first node of ops.grid in the whole grid
 
   // Box sizes up to kMaxBox = 12 per axis: one hexadecimal digit each; the common sizes at
-  // compile time.
+  // compile time (every box of 2 or 3 nodes per axis in 2D and 3D).
   template <class Place, class Columns>
   static void interior(const ShapeSupport& s, const double* sb, const int* ib, double M, Index off,
                        Index r0, Index r1, Place&& place, Columns&& columns) {
@@ -202,6 +202,18 @@ struct StencilScatter {
       return kernel.template operator()<2, 2, 2>();
     case 0x333:
       return kernel.template operator()<3, 3, 3>();
+    case 0x322: // uGIMP and CPDI boxes crossing cell lines along some axes in 3D
+      return kernel.template operator()<3, 2, 2>();
+    case 0x232:
+      return kernel.template operator()<2, 3, 2>();
+    case 0x223:
+      return kernel.template operator()<2, 2, 3>();
+    case 0x332:
+      return kernel.template operator()<3, 3, 2>();
+    case 0x323:
+      return kernel.template operator()<3, 2, 3>();
+    case 0x233:
+      return kernel.template operator()<2, 3, 3>();
     default:
       return kernel.template operator()<0, 0, 0>();
     }
