@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <string>
 
 namespace smpm {
 
@@ -115,8 +116,13 @@ void build_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
   Index nnz = 0;
   for (Index i = 1; i <= n; ++i) {
     nnz += ro[i];
-    SMPM_VERIFY(nnz <= std::numeric_limits<int>::max(),
-                "assemble_consistent_mass: m~ would hold more nonzeros than 32-bit indices allow");
+    if (nnz > std::numeric_limits<int>::max()) {
+      // As S's pattern (assemble_shape): nothing stale is kept, the next call starts afresh.
+      mt.source = nullptr;
+      A.resize(0, 0);
+      throw NumericalError("m~ would hold at least " + std::to_string(nnz) +
+                           " nonzeros, more than its 32-bit indices allow");
+    }
     ro[i] = int(nnz);
   }
   A.resizeNonZeros(nnz);
