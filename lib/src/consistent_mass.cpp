@@ -329,16 +329,11 @@ void gather_stencil_product(const StencilProduct& product, ConsistentMass& mt) {
       {2 * w[0] + 1, 2 * w[1] + 1, 2 * w[2] + 1},
       {ops.grid.first_node(0), ops.grid.first_node(1), ops.grid.first_node(2)}};
   const Index n = product.rows(), N = ops.S.rows();
-  const Index parts = std::max<Index>(1, std::min<Index>(threads(), n));
-  detail::parallel_for(
-      parts,
-      [&](Index t) {
-        const Index r0 = t * n / parts, r1 = (t + 1) * n / parts;
-        std::fill(scatter.val + scatter.ro[r0], scatter.val + scatter.ro[r1], 0.0);
-        for (Index p = 0; p < N; ++p)
-          scatter.particle(p, r0, r1);
-      },
-      N);
+  detail::parallel_ranges(n, N, nullptr, [&](Index r0, Index r1) {
+    std::fill(scatter.val + scatter.ro[r0], scatter.val + scatter.ro[r1], 0.0);
+    for (Index p = 0; p < N; ++p)
+      scatter.particle(p, r0, r1);
+  });
 }
 
 void assemble_stencil_product(const StencilProduct& product, ConsistentMass& mt) {

@@ -2,6 +2,8 @@
 #pragma once
 // Internal helpers of the single-pass kernels (stages.cpp, products.cpp).
 
+#include "parallel.hpp"
+
 #include "sparsempm/types.hpp"
 
 namespace smpm::detail {
@@ -26,6 +28,32 @@ template <class Kernel>
 void by_dim(int d, Kernel&& k) {
   if (!dispatch_int<1, 2>(d, k))
     k.template operator()<3>();
+}
+
+/// Node sums over the entries of an N × n operator (CSR outer, inner), each node's terms added
+/// in ascending particle order: begin(r0, r1) sets the nodes [r0, r1) of the output to their
+/// start (zero), then add(q, k, i) is called for every entry k of particle q whose node i is in
+/// [r0, r1), particle by particle. Each thread owns a range of nodes (balanced by `col_outer`,
+/// the entries of each node, or null) and reads every particle's row in order, taking the
+/// entries in its range (a row's nodes ascend). A node's sum is then the same sequence of
+/// additions as a serial loop over the particles, for any number of threads, and the rows of S
+/// and the G_b stream from memory while the nodes written are those of neighbouring boxes (a
+/// gather by columns reads each entry from a different particle's row).
+template <class Begin, class Add>
+void scatter_to_nodes(const int* outer, const int* inner, Index rows, Index nodes,
+                      const int* col_outer, Begin&& begin, Add&& add) {
+  parallel_ranges(nodes, rows, col_outer, [&](Index r0, Index r1) {
+    begin(r0, r1);
+    for (Index q = 0; q < rows; ++q) {
+      int k = outer[q], e = outer[q + 1];
+      while (k < e && inner[k] < r0)
+        ++k;
+      while (e > k && inner[e - 1] >= r1)
+        --e;
+      for (; k < e; ++k)
+        add(q, k, Index(inner[k]));
+    }
+  });
 }
 
 /// det of a row-major D × D matrix.

@@ -2,6 +2,7 @@
 #include "sparsempm/operators.hpp"
 
 #include "enum_names.hpp"
+#include "kernels.hpp"
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
@@ -74,21 +75,19 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& c) {
 
 namespace {
 
-// m = Sᵀ M (FMPM 2026 §2.1), gathered node by node in particle order, and the active nodes:
+// m = Sᵀ M (FMPM 2026 §2.1), each node's sum in particle order (kernels.hpp), and the active nodes:
 // m_i > kMassTolerance max m. Multimaterial: the tolerance of single material mode (relative to
 // the largest total nodal mass Σ_α m^α_i), so that a field alone on a node is active exactly
 // when the node is in single material mode and bonded contact reverts to it.
 void lumped_mass_and_active(Operators& ops) {
   const Index n = ops.num_nodes();
   ops.m.resize(n);
-  const ColumnIndex& cols = ops.columns;
   const double* sv = ops.S.valuePtr();
-  detail::parallel_for(n, [&](Index i) {
-    double sum = 0;
-    for (int t = cols.outer[size_t(i)]; t < cols.outer[size_t(i + 1)]; ++t)
-      sum += sv[cols.entry[size_t(t)]] * ops.M[cols.row[size_t(t)]];
-    ops.m[i] = sum;
-  });
+  double* m = ops.m.data();
+  detail::scatter_to_nodes(
+      ops.S.outerIndexPtr(), ops.S.innerIndexPtr(), ops.S.rows(), n, ops.columns.outer.data(),
+      [&](Index r0, Index r1) { std::fill(m + r0, m + r1, 0.0); },
+      [&](Index q, int k, Index i) { m[i] += sv[k] * ops.M[q]; });
   double largest = 0;
   if (ops.fields == 1) {
     largest = ops.m.size() ? ops.m.maxCoeff() : 0.0;

@@ -99,6 +99,33 @@ void parallel_for(Index n, Body&& body, Index rows = -1) {
     std::rethrow_exception(failure);
 }
 
+/// Calls body(begin, end) for consecutive ranges that cover [0, n): one range per thread, run in
+/// parallel, when `rows` (the particles or nodes the work covers) reaches parallel_threshold()
+/// and there are several threads; else body(0, n) on the calling thread. `cumulative` (n + 1
+/// nondecreasing counts, or null) balances the ranges by its increments, say the entries of each
+/// node, instead of by indices. What a range computes must not depend on where the ranges split
+/// (the node sums of scatter_to_nodes in kernels.hpp, the rows of m~ in consistent_mass.cpp).
+template <class Body>
+void parallel_ranges(Index n, Index rows, const int* cumulative, Body&& body) {
+  const Index parts = n > 1 && rows >= parallel_threshold() ? std::min<Index>(threads(), n) : 1;
+  if (parts == 1) {
+    body(Index(0), n);
+    return;
+  }
+  auto split = [&](Index t) -> Index {
+    if (t == parts)
+      return n;
+    if (!cumulative)
+      return t * n / parts;
+    const double target = double(cumulative[n] - cumulative[0]) * double(t) / double(parts);
+    return Index(std::lower_bound(cumulative, cumulative + n + 1, cumulative[0] + target,
+                                  [](int c, double v) { return double(c) < v; }) -
+                 cumulative);
+  };
+  parallel_for(
+      parts, [&](Index t) { body(split(t), split(t + 1)); }, rows);
+}
+
 /// Rows per block of the ordered reductions: a fixed size, so the order of the additions is
 /// the same for any number of threads.
 inline constexpr Index kReductionBlock = 512;

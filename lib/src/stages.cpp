@@ -64,6 +64,20 @@ inline void node_entries(const ParticleOperators& op, Index i, Add&& add) {
     add(Index(*t) - op.first, op.col_entry[t - r]);
 }
 
+// out_i = Σ_q term(q, k) over the entries k of node i, in ascending particle order (the same bits
+// for any number of threads): term(q, k, o) adds particle q's term to o, node i's row of the
+// row-major n × D field `out`. A scatter by node ranges (kernels.hpp) that reads S and the G_b
+// row by row.
+template <int D, class Term>
+void node_sums(const ParticleOperators& op, Field& out, Term&& term) {
+  out.resize(op.nodes, D);
+  double* o = out.data();
+  detail::scatter_to_nodes(
+      op.outer, op.inner, op.rows, op.nodes, op.col_outer,
+      [&](Index r0, Index r1) { std::fill(o + r0 * D, o + r1 * D, 0.0); },
+      [&](Index q, int k, Index i) { term(q, k, o + i * D); });
+}
+
 // Per-particle scratch of the calling thread (its worker threads write disjoint rows of it),
 // kept between steps so that a step allocates nothing.
 double* scratch(Index size) {
@@ -118,16 +132,10 @@ ParticleOperators particle_operators(const Operators& ops) {
 
 void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p) {
   SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
-  p.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    detail::parallel_for(op.nodes, [&](Index i) { // p_i = Σ_q S_qi M_q V_q (FMPM 2026 task 1)
-      double sum[D] = {};
-      node_entries(op, i, [&](Index q, int k) {
-        for (int a = 0; a < D; ++a)
-          sum[a] += op.S[k] * (op.M[q] * V(q, a));
-      });
+    node_sums<D>(op, p, [&](Index q, int k, double* pi) { // p_i = Σ_q S_qi M_q V_q (task 1)
       for (int a = 0; a < D; ++a)
-        p(i, a) = sum[a];
+        pi[a] += op.S[k] * (op.M[q] * V(q, a));
     });
   });
 }
@@ -140,40 +148,29 @@ void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const Co
   const Index ng = grid.num_nodes();
   SMPM_VERIFY(ng > 0 && op.nodes % ng == 0,
               "map_affine_momentum: the grid must be that of the operators' nodes");
-  p.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    detail::parallel_for(op.nodes, [&](Index i) { // p_i = Σ_q S_qi M_q (V_q + L_q (x_i − X_q))
-      const Eigen::Vector3d xi = grid.node_position(i % ng);
-      double sum[D] = {};
-      node_entries(op, i, [&](Index q, int k) {
-        double dx[D];
+    // p_i = Σ_q S_qi M_q (V_q + L_q (x_i − X_q))
+    node_sums<D>(op, p, [&](Index q, int k, double* pi) {
+      const Eigen::Vector3d xi = grid.node_position(op.inner[k] % ng);
+      double dx[D];
+      for (int b = 0; b < D; ++b)
+        dx[b] = xi[b] - X(q, b);
+      for (int a = 0; a < D; ++a) {
+        double v = V(q, a);
         for (int b = 0; b < D; ++b)
-          dx[b] = xi[b] - X(q, b);
-        for (int a = 0; a < D; ++a) {
-          double v = V(q, a);
-          for (int b = 0; b < D; ++b)
-            v += L(q, a * D + b) * dx[b];
-          sum[a] += op.S[k] * (op.M[q] * v);
-        }
-      });
-      for (int a = 0; a < D; ++a)
-        p(i, a) = sum[a];
+          v += L(q, a * D + b) * dx[b];
+        pi[a] += op.S[k] * (op.M[q] * v);
+      }
     });
   });
 }
 
 void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g) {
   SMPM_VERIFY(volume.size() == op.rows, "volume_gradient: one volume per particle");
-  g.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
-    detail::parallel_for(op.nodes, [&](Index i) { // g_i = Σ_q G_qi V_q (contact 2020 Eq. 11)
-      double sum[D] = {};
-      node_entries(op, i, [&](Index q, int k) {
-        for (int b = 0; b < D; ++b)
-          sum[b] += op.G[size_t(b)][k] * volume[q];
-      });
+    node_sums<D>(op, g, [&](Index q, int k, double* gi) { // g_i = Σ_q G_qi V_q (2020 Eq. 11)
       for (int b = 0; b < D; ++b)
-        g(i, b) = sum[b];
+        gi[b] += op.G[size_t(b)][k] * volume[q];
     });
   });
 }
@@ -184,7 +181,6 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
   SMPM_VERIFY(volume0.size() == op.rows && F.rows() == op.rows && F.cols() == d2 &&
                   stress.rows() == op.rows && stress.cols() == d2,
               "internal_force: volume0, F and stress must have one row per particle");
-  f.resize(op.nodes, op.dim);
   by_dim(op.dim, [&]<int D>() {
     double* tau = scratch(op.rows * D * D); // −Ω J σ of every particle
     detail::parallel_for(op.rows, [&](Index q) {
@@ -193,19 +189,14 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
       for (int c = 0; c < D * D; ++c)
         tau[q * D * D + c] = vol * sq[c];
     });
-    detail::parallel_for(op.nodes, [&](Index i) { // f_i = Σ_q Σ_b τ_q,·b G_b(q, i) (Buzzi Eq. 15)
-      double fi[D] = {};
-      node_entries(op, i, [&](Index q, int k) {
-        const double* tq = tau + q * D * D;
-        for (int a = 0; a < D; ++a) {
-          double sum = 0;
-          for (int b = 0; b < D; ++b)
-            sum += tq[a * D + b] * op.G[size_t(b)][k];
-          fi[a] += sum;
-        }
-      });
-      for (int a = 0; a < D; ++a)
-        f(i, a) = fi[a];
+    node_sums<D>(op, f, [&](Index q, int k, double* fi) { // f_i = Σ_q τ_q G_q,i (Buzzi Eq. 15)
+      const double* tq = tau + q * D * D;
+      for (int a = 0; a < D; ++a) {
+        double sum = 0;
+        for (int b = 0; b < D; ++b)
+          sum += tq[a * D + b] * op.G[size_t(b)][k];
+        fi[a] += sum;
+      }
     });
   });
 }
