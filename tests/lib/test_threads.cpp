@@ -5,9 +5,11 @@
 
 #include "support.hpp"
 
+#include "kernels.hpp"  // lib/src: det, scatter_to_nodes
 #include "parallel.hpp" // lib/src: the library's OpenMP loops
 
 #include <sparsempm/input.hpp>
+#include <sparsempm/stages.hpp>
 #include <sparsempm/threads.hpp>
 
 #include <omp.h>
@@ -163,6 +165,103 @@ TEST_CASE("1 and 2 threads give bit-identical heat transport", "[threads][transp
     CHECK(s1.helmholtz == s2.helmholtz);
     CHECK(one.temperature.maxCoeff() > 300.001); // the disks met: compression heated them
   }
+}
+
+TEST_CASE("parallel_ranges cover [0, n) in order, balanced by the counts given", "[threads]") {
+  const ThreadScope scope(3, 0);
+  // Counts with long runs of empty indices (nodes without particles) and one heavy index.
+  std::vector<int> cumulative{0};
+  for (int i = 0; i < 200; ++i)
+    cumulative.push_back(cumulative.back() + (i < 50 || i > 180 ? 0 : (i == 100 ? 500 : 3)));
+  const int* const balances[] = {nullptr, cumulative.data()};
+  for (const int* counts : balances)
+    for (Index n : {Index(1), Index(2), Index(200)}) {
+      CAPTURE(n, counts != nullptr);
+      std::vector<std::pair<Index, Index>> ranges(3, {-1, -1});
+      detail::parallel_ranges(n, 1000, counts, [&](Index r0, Index r1) {
+        ranges[size_t(omp_get_thread_num())] = {r0, r1};
+      });
+      std::sort(ranges.begin(), ranges.end());
+      Index next = 0; // the ranges run that were called, in order, cover [0, n) once
+      for (const auto& [r0, r1] : ranges)
+        if (r0 >= 0) {
+          CHECK(r0 == next);
+          CHECK(r1 >= r0);
+          next = r1;
+        }
+      CHECK(next == n);
+      if (counts && n == 200) // the heavy index 100 (500 of 890 entries) ends the first range
+        CHECK(ranges[0].second == 101);
+    }
+}
+
+TEST_CASE("node sums have the bits of a serial sum over the particles on 1, 2 and 3 threads",
+          "[threads]") {
+  // p = Sᵀ M V (FMPM 2026 task 1), f = −Gᵀ(Ω J σ) (Buzzi Eq. 15) and g = Gᵀ Ω (contact 2020
+  // Eq. 11), each node's terms in ascending particle order (scatter_to_nodes): equal (==) to a
+  // loop over the nodes that adds the same terms in that order, on 1, 2 and 3 threads, for the
+  // whole operators and for a block of rows (one material's particles), with two fields.
+  for (int dim = 1; dim <= 3; ++dim)
+    for (Shape shape : {Shape::GIMP, Shape::CPDI})
+      for (int fields : {1, 2}) {
+        CAPTURE(dim, to_string(shape), fields);
+        const Grid g = smpm::test::test_grid(dim, dim == 3 ? 7 : 12);
+        Particles P = smpm::test::random_cloud(g, dim == 3 ? 400 : 300, 11u * dim, 2.0, true);
+        std::mt19937 rng(3u);
+        std::uniform_real_distribution<double> u(-1, 1);
+        for (Index p = 0; p < P.size(); ++p) {
+          for (int c = 0; c < dim * dim; ++c)
+            P.stress(p, c) = u(rng) * std::pow(10.0, 3 * u(rng));
+          for (int a = 0; a < dim; ++a)
+            P.V(p, a) = u(rng);
+        }
+        Eigen::VectorXi field = Eigen::VectorXi::Zero(P.size());
+        for (Index p = 0; p < P.size(); ++p)
+          field[p] = int(p % fields);
+        Operators ops;
+        assemble(g, P, shape, ops, fields, &field);
+        const ParticleOperators all = particle_operators(ops);
+        const Index first = P.size() / 3, count = P.size() / 2;
+        for (const ParticleOperators& op : {all, all.block(first, count)}) {
+          const Index q0 = op.first, n = op.nodes;
+          const Field V = P.V.middleRows(q0, op.rows);
+          const Field F = P.F.middleRows(q0, op.rows), stress = P.stress.middleRows(q0, op.rows);
+          const Eigen::VectorXd vol = P.volume0.segment(q0, op.rows);
+          Field p_ref = Field::Zero(n, dim), f_ref = Field::Zero(n, dim),
+                g_ref = Field::Zero(n, dim);
+          for (Index i = 0; i < n; ++i) // node by node, particles in order: the reference sums
+            for (Index q = 0; q < op.rows; ++q)
+              for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
+                if (op.inner[k] != i)
+                  continue;
+                double J = dim == 1 ? detail::det<1>(F.row(q).data())
+                                    : (dim == 2 ? detail::det<2>(F.row(q).data())
+                                                : detail::det<3>(F.row(q).data()));
+                const double tau = -vol[q] * J;
+                for (int a = 0; a < dim; ++a) {
+                  p_ref(i, a) += op.S[k] * (op.M[q] * V(q, a));
+                  double sum = 0;
+                  for (int b = 0; b < dim; ++b)
+                    sum += tau * stress(q, a * dim + b) * op.G[size_t(b)][k];
+                  f_ref(i, a) += sum;
+                  g_ref(i, a) += op.G[size_t(a)][k] * vol[q];
+                }
+              }
+          CHECK(p_ref.cwiseAbs().maxCoeff() > 0);
+          CHECK(f_ref.cwiseAbs().maxCoeff() > 0);
+          for (int count_threads : {1, 2, 3}) {
+            CAPTURE(op.rows, count_threads);
+            const ThreadScope scope(count_threads, 0);
+            Field p, f, gv;
+            map_momentum(op, V, p);
+            internal_force(op, vol, F, stress, f);
+            volume_gradient(op, vol, gv);
+            CHECK(p == p_ref);
+            CHECK(f == f_ref);
+            CHECK(gv == g_ref);
+          }
+        }
+      }
 }
 
 TEST_CASE("m~ equals S^T M S and has the same bits on 1, 2 and 3 threads", "[threads]") {
