@@ -7,6 +7,7 @@
 #include "sparsempm/operators.hpp"
 #include "sparsempm/transport.hpp"
 
+#include "kernels.hpp"
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
@@ -65,8 +66,7 @@ bool keep_stencil_pattern(const StencilProduct& product, ConsistentMass& mt) {
       [](double a, double b) { return std::max(a, b); });
   const std::array<int, 3> w{int(widest[0]), int(widest[1]), int(widest[2])};
   const std::vector<int>& col = ops.columns.outer;
-  SMPM_VERIFY(col.size() == size_t(ops.S.cols() + 1) &&
-                  ops.columns.entry.size() == size_t(ops.S.nonZeros()),
+  SMPM_VERIFY(col.size() == size_t(ops.S.cols() + 1) && ops.columns.nonzeros == ops.S.nonZeros(),
               "assemble_consistent_mass: the column index of S is not that of its pattern");
   std::vector<char> touched(size_t(n), 0);
   if (product.fold) { // several columns (one per field) fold onto a row
@@ -187,42 +187,14 @@ struct StencilScatter {
   std::array<int, 3> full;     // full stencil widths 2w + 1
   std::array<int, 3> origin;   // first node of ops.grid in the whole grid
 
-  // Box sizes up to kMaxBox = 12 per axis: one hexadecimal digit each; the common sizes at
-  // compile time (every box of 2 or 3 nodes per axis in 2D and 3D).
+  // The common box sizes at compile time (kernels.hpp dispatch_box).
   template <class Place, class Columns>
   static void interior(const ShapeSupport& s, const double* sb, const int* ib, double M, Index off,
                        Index r0, Index r1, Place&& place, Columns&& columns) {
     auto kernel = [&]<int C0, int C1, int C2>() {
       scatter_box<C0, C1, C2>(s.count, sb, ib, M, off, r0, r1, place, columns);
     };
-    switch ((s.count[0] << 8) | (s.count[1] << 4) | s.count[2]) {
-    case 0x221:
-      return kernel.template operator()<2, 2, 1>();
-    case 0x331:
-      return kernel.template operator()<3, 3, 1>();
-    case 0x231:
-      return kernel.template operator()<2, 3, 1>();
-    case 0x321:
-      return kernel.template operator()<3, 2, 1>();
-    case 0x222:
-      return kernel.template operator()<2, 2, 2>();
-    case 0x333:
-      return kernel.template operator()<3, 3, 3>();
-    case 0x322: // uGIMP and CPDI boxes crossing cell lines along some axes in 3D
-      return kernel.template operator()<3, 2, 2>();
-    case 0x232:
-      return kernel.template operator()<2, 3, 2>();
-    case 0x223:
-      return kernel.template operator()<2, 2, 3>();
-    case 0x332:
-      return kernel.template operator()<3, 3, 2>();
-    case 0x323:
-      return kernel.template operator()<3, 2, 3>();
-    case 0x233:
-      return kernel.template operator()<2, 3, 3>();
-    default:
-      return kernel.template operator()<0, 0, 0>();
-    }
+    detail::dispatch_box(s.count, kernel);
   }
 
   void particle(Index p, Index r0, Index r1) const {

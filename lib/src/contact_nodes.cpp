@@ -263,6 +263,8 @@ void free_directions(const Grid& grid, const BoundaryConditions& bcs, ContactNod
 // entries in its own field's columns only, so a node's cloud sorted by particle is the order of
 // a pass over the rows of S, whatever the number of threads.
 void build_clouds(const Operators& ops, const ParticleOperators& op, ContactNodes& cn) {
+  SMPM_VERIFY(op.col_entry && op.col_row,
+              "contact nodes: the column lists of S are built for several velocity fields");
   const Index ng = ops.grid_node_count, nc = Index(cn.nodes.size());
   auto each = [&](Index c, auto&& visit) { // the entries S_pi ≠ 0 of node c, field by field
     const Index i = cn.nodes[size_t(c)].node;
@@ -397,6 +399,8 @@ void find_contact_nodes(const Grid& grid, const Operators& ops, const ParticleOp
   const bool rigid = std::find(cn.rigid.begin(), cn.rigid.end(), 1) != cn.rigid.end();
   if (uses(contact, ContactNormal::AverageGradient) || rigid) // rigid: NodeGeometry::normal
     volume_gradient(op, P.volume, cn.gradient);
+  SMPM_VERIFY(op.col_entry && op.col_row,
+              "contact nodes: the column lists of S are built for several velocity fields");
   if (rigid) { // Σ_p S_pi V_p per field row, in particle order: the rigid share of a node
     cn.volume.resize(op.nodes);
     detail::parallel_for(op.nodes, [&](Index i) {

@@ -6,6 +6,8 @@
 
 #include "sparsempm/types.hpp"
 
+#include <array>
+
 namespace smpm::detail {
 
 /// The CSR arrays of an N × n operator.
@@ -30,6 +32,42 @@ void by_dim(int d, Kernel&& k) {
     k.template operator()<3>();
 }
 
+/// Calls k.operator()<C0, C1, C2>() with the box of count[0] × count[1] × count[2] nodes as
+/// compile-time sizes for the common boxes (2 or 3 nodes per axis: the hat, uGIMP and CPDI
+/// boxes of 2D and 3D, whole or crossing cell lines), else k.operator()<0, 0, 0>() (sizes read
+/// at run time). Box sizes are at most 12 per axis: one hexadecimal digit each.
+template <class Kernel>
+void dispatch_box(const std::array<int, 3>& count, Kernel&& k) {
+  switch ((count[0] << 8) | (count[1] << 4) | count[2]) {
+  case 0x221:
+    return k.template operator()<2, 2, 1>();
+  case 0x331:
+    return k.template operator()<3, 3, 1>();
+  case 0x231:
+    return k.template operator()<2, 3, 1>();
+  case 0x321:
+    return k.template operator()<3, 2, 1>();
+  case 0x222:
+    return k.template operator()<2, 2, 2>();
+  case 0x333:
+    return k.template operator()<3, 3, 3>();
+  case 0x322:
+    return k.template operator()<3, 2, 2>();
+  case 0x232:
+    return k.template operator()<2, 3, 2>();
+  case 0x223:
+    return k.template operator()<2, 2, 3>();
+  case 0x332:
+    return k.template operator()<3, 3, 2>();
+  case 0x323:
+    return k.template operator()<3, 2, 3>();
+  case 0x233:
+    return k.template operator()<2, 3, 3>();
+  default:
+    return k.template operator()<0, 0, 0>();
+  }
+}
+
 /// Node sums over the entries of an N × n operator (CSR outer, inner), each node's terms added
 /// in ascending particle order: begin(r0, r1) sets the nodes [r0, r1) of the output to their
 /// start (zero), then add(q, k, i) is called for every entry k of particle q whose node i is in
@@ -46,9 +84,11 @@ void scatter_to_nodes(const int* outer, const int* inner, Index rows, Index node
     begin(r0, r1);
     for (Index q = 0; q < rows; ++q) {
       int k = outer[q], e = outer[q + 1];
-      while (k < e && inner[k] < r0)
+      if (k == e || inner[k] >= r1 || inner[e - 1] < r0)
+        continue; // none of the row's nodes is in the range
+      while (inner[k] < r0)
         ++k;
-      while (e > k && inner[e - 1] >= r1)
+      while (inner[e - 1] >= r1)
         --e;
       for (; k < e; ++k)
         add(q, k, Index(inner[k]));

@@ -26,7 +26,7 @@ NodeRange node_range_from_string(std::string_view name) {
   return detail::parse_enum(name, kNodeRanges, "node range");
 }
 
-void build_column_index(const SparseRowMatrix& S, ColumnIndex& c) {
+void build_column_index(const SparseRowMatrix& S, ColumnIndex& c, bool lists) {
   const Index N = S.rows(), n = S.cols(), nnz = S.nonZeros();
   const int* outer = S.outerIndexPtr();
   const int* inner = S.innerIndexPtr();
@@ -57,6 +57,13 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& c) {
     }
   }
   c.outer[size_t(n)] = sum;
+  c.nonzeros = nnz;
+  c.lists = lists;
+  if (!lists) {
+    c.entry.clear();
+    c.row.clear();
+    return;
+  }
   c.entry.resize(size_t(nnz));
   c.row.resize(size_t(nnz));
   detail::parallel_for(
@@ -130,9 +137,9 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
   static std::atomic<long> versions{0}; // unique across all Operators objects
   if (assemble_shape(grid, particles, shape, ops.S, ops.G, ops.support, fields,
                      fields > 1 ? field->data() : nullptr, window ? &ops.grid : nullptr) ||
-      ops.columns.entry.size() != size_t(ops.S.nonZeros())) {
+      ops.columns.nonzeros != ops.S.nonZeros() || ops.columns.lists != (fields > 1)) {
     ops.pattern_version = ++versions;
-    build_column_index(ops.S, ops.columns);
+    build_column_index(ops.S, ops.columns, fields > 1);
   }
   ops.grid_node_count = ops.grid.num_nodes();
   ops.grid_nodes = {ops.grid.nodes(0), ops.grid.nodes(1), ops.grid.nodes(2)};

@@ -36,10 +36,12 @@ inline void unit_axes(double (&w)[3][W], double (&dw)[3][W]) {
 // A row of S and G from the 1D weights w[a][k] and slopes dw[a][k] along each axis: their
 // tensor product over the box of count[0] × count[1] × count[2] nodes, x fastest, written at
 // position q of sv and of each gv[a].
-template <int D, int W>
+// Box sizes C0, C1, C2 are compile-time constants when nonzero.
+template <int D, int W, int C0 = 0, int C1 = 0, int C2 = 0>
 inline void tensor_row(const std::array<int, 3>& count, const double (&w)[3][W],
                        const double (&dw)[3][W], double* sv, double* const* gv, int q) {
-  const int c0 = count[0], c1 = D > 1 ? count[1] : 1, c2 = D > 2 ? count[2] : 1;
+  const int c0 = C0 ? C0 : count[0], c1 = D > 1 ? (C1 ? C1 : count[1]) : 1,
+            c2 = D > 2 ? (C2 ? C2 : count[2]) : 1;
   for (int k2 = 0; k2 < c2; ++k2)
     for (int k1 = 0; k1 < c1; ++k1)
       for (int k0 = 0; k0 < c0; ++k0, ++q) {
@@ -139,7 +141,9 @@ void gimp_values(const Grid& g, const Particles& P, const std::vector<ShapeSuppo
         dw[a][k] = (hat(r + l) - hat(r - l)) * slope;
       }
     }
-    tensor_row<D, kMaxBox>(s.count, w, dw, sv, gv, outer[p]);
+    dispatch_box(s.count, [&]<int C0, int C1, int C2>() {
+      tensor_row<D, kMaxBox, C0, C1, C2>(s.count, w, dw, sv, gv, outer[p]);
+    });
   });
 }
 

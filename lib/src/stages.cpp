@@ -49,21 +49,6 @@ inline void particle_gradient(const ParticleOperators& op, Index q, const Field&
   }
 }
 
-// Calls add(q, k) for every entry of node i in the block, in ascending particle order: q the
-// particle's row in the block, k the entry's position in the CSR arrays of S and the G_b.
-template <class Add>
-inline void node_entries(const ParticleOperators& op, Index i, Add&& add) {
-  const int* r = op.col_row;
-  const int* lo = r + op.col_outer[i];
-  const int* hi = r + op.col_outer[i + 1];
-  if (op.first != 0 || op.rows != op.all_rows) { // the block's particles: a run of the column
-    lo = std::lower_bound(lo, hi, op.first);
-    hi = std::lower_bound(lo, hi, op.first + op.rows);
-  }
-  for (const int* t = lo; t < hi; ++t)
-    add(Index(*t) - op.first, op.col_entry[t - r]);
-}
-
 // out_i = Σ_q term(q, k) over the entries k of node i, in ascending particle order (the same bits
 // for any number of threads): term(q, k, o) adds particle q's term to o, node i's row of the
 // row-major n × D field `out`. A scatter by node ranges (kernels.hpp) that reads S and the G_b
@@ -119,12 +104,12 @@ ParticleOperators particle_operators(const Operators& ops) {
     op.G[size_t(b)] = ops.G[size_t(b)].valuePtr();
   }
   op.M = ops.M.data();
-  SMPM_VERIFY(ops.columns.entry.size() == size_t(ops.S.nonZeros()) &&
+  SMPM_VERIFY(ops.columns.nonzeros == ops.S.nonZeros() &&
                   ops.columns.outer.size() == size_t(op.nodes + 1),
               "particle_operators: the column index must match S (see assemble)");
   op.col_outer = ops.columns.outer.data();
-  op.col_entry = ops.columns.entry.data();
-  op.col_row = ops.columns.row.data();
+  op.col_entry = ops.columns.lists ? ops.columns.entry.data() : nullptr;
+  op.col_row = ops.columns.lists ? ops.columns.row.data() : nullptr;
   op.first = 0;
   op.all_rows = op.rows;
   return op;
@@ -214,16 +199,13 @@ void add_external_forces(const ParticleOperators& op, const Grid& grid, const Ex
     const Field& forces = loads.particle;
     SMPM_VERIFY(forces.rows() == op.rows && forces.cols() == op.dim,
                 "add_external_forces: the body forces must be N x d");
-    by_dim(op.dim, [&]<int D>() {
-      detail::parallel_for(op.nodes, [&](Index i) { // f_i += Σ_q S_qi F_q
-        double sum[D] = {};
-        node_entries(op, i, [&](Index q, int k) {
-          for (int a = 0; a < D; ++a)
-            sum[a] += op.S[k] * forces(q, a);
-        });
+    by_dim(op.dim, [&]<int D>() { // f_i += Σ_q S_qi F_q, the sum first
+      thread_local Field sums;    // kept between steps: a step allocates nothing
+      node_sums<D>(op, sums, [&](Index q, int k, double* si) {
         for (int a = 0; a < D; ++a)
-          f(i, a) += sum[a];
+          si[a] += op.S[k] * forces(q, a);
       });
+      f += sums;
     });
   }
   // The tractions: few points, in their order (the same bits for any number of threads).

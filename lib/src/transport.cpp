@@ -6,10 +6,12 @@
 #include "sparsempm/transport.hpp"
 
 #include "enum_names.hpp"
+#include "kernels.hpp"
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -35,16 +37,31 @@ TransportUpdate transport_update_from_string(std::string_view name) {
 
 namespace {
 
-// Calls add(p, k) for every entry of grid node i (folded over the fields), the fields in order
-// and each field's particles in ascending order: the same order for any number of threads.
+// out_i = the terms add(p, k, out_i) adds for every entry of grid node i folded over the fields,
+// the fields in order and each field's particles in ascending order, from out_i = 0: the same
+// order for any number of threads. Several fields: a gather over the column lists of S; one
+// field: its rows scattered by node ranges in particle order (kernels.hpp), the same order.
 template <class Add>
-inline void folded_entries(const Operators& ops, Index i, Add&& add) {
+void folded_sums(const Operators& ops, double* out, Add&& add) {
+  const Index ng = ops.grid_node_count;
   const ColumnIndex& cols = ops.columns;
-  for (int f = 0; f < ops.fields; ++f) {
-    const Index c = f * ops.grid_node_count + i;
-    for (int t = cols.outer[size_t(c)]; t < cols.outer[size_t(c + 1)]; ++t)
-      add(Index(cols.row[size_t(t)]), cols.entry[size_t(t)]);
+  if (!cols.lists) {
+    SMPM_VERIFY(ops.fields == 1, "transport: the column lists of S are built for several fields");
+    detail::scatter_to_nodes(
+        ops.S.outerIndexPtr(), ops.S.innerIndexPtr(), ops.num_particles(), ng, cols.outer.data(),
+        [&](Index r0, Index r1) { std::fill(out + r0, out + r1, 0.0); },
+        [&](Index p, int k, Index i) { add(p, k, out[i]); });
+    return;
   }
+  detail::parallel_for(ng, [&](Index i) {
+    double sum = 0;
+    for (int f = 0; f < ops.fields; ++f) {
+      const Index c = f * ng + i;
+      for (int t = cols.outer[size_t(c)]; t < cols.outer[size_t(c + 1)]; ++t)
+        add(Index(cols.row[size_t(t)]), cols.entry[size_t(t)], sum);
+    }
+    out[i] = sum;
+  });
 }
 
 // The first column of particle p's field block (0 with one field): its entries minus this are
@@ -109,10 +126,8 @@ void prepare_transport(const Operators& ops, const Particles& P,
     nodes.S.resize(0, ng);
   nodes.m.resize(ng);
   const double* sv = ops.S.valuePtr();
-  detail::parallel_for(ng, [&](Index i) { // c_i = Σ_p S_pi M_p C_V,p
-    double sum = 0;
-    folded_entries(ops, i, [&](Index p, int k) { sum += sv[k] * t.capacity[p]; });
-    nodes.m[i] = sum;
+  folded_sums(ops, nodes.m.data(), [&](Index p, int k, double& sum) { // c_i = Σ_p S_pi M_p C_V,p
+    sum += sv[k] * t.capacity[p];
   });
   const double largest = ng ? nodes.m.maxCoeff() : 0.0;
   nodes.active = nodes.m.array() > tolerance * largest;
@@ -141,10 +156,8 @@ void map_heat(const Operators& ops, const TransportOperators& t, const ConstVect
   const Index ng = ops.grid_node_count;
   tau.resize(ng, 1);
   const double* sv = ops.S.valuePtr();
-  detail::parallel_for(ng, [&](Index i) { // τ_i = Σ_p S_pi M_p C_V,p T_p
-    double sum = 0;
-    folded_entries(ops, i, [&](Index p, int k) { sum += sv[k] * (t.capacity[p] * T[p]); });
-    tau(i, 0) = sum;
+  folded_sums(ops, tau.data(), [&](Index p, int k, double& sum) { // τ_i = Σ_p S_pi M_p C_V,p T_p
+    sum += sv[k] * (t.capacity[p] * T[p]);
   });
 }
 
@@ -176,17 +189,14 @@ void heat_flow(const Operators& ops, const TransportOperators& t, const Field& g
   const bool sources = t.source.size() == N;
   q.resize(ng, 1);
   const double* sv = ops.S.valuePtr();
-  detail::parallel_for(ng, [&](Index i) { // q_i = −Σ_p V_p κ_p G_pi · ∇T_p + Σ_p S_pi M_p r_p
-    double sum = 0;
-    folded_entries(ops, i, [&](Index p, int k) {
-      double flux = 0;
-      for (int b = 0; b < d; ++b)
-        flux += ops.G[size_t(b)].valuePtr()[k] * gradient(p, b);
-      sum -= t.conductance[p] * flux;
-      if (sources)
-        sum += sv[k] * t.source[p];
-    });
-    q(i, 0) = sum;
+  // q_i = −Σ_p V_p κ_p G_pi · ∇T_p + Σ_p S_pi M_p r_p
+  folded_sums(ops, q.data(), [&](Index p, int k, double& sum) {
+    double flux = 0;
+    for (int b = 0; b < d; ++b)
+      flux += ops.G[size_t(b)].valuePtr()[k] * gradient(p, b);
+    sum -= t.conductance[p] * flux;
+    if (sources)
+      sum += sv[k] * t.source[p];
   });
 }
 

@@ -19,20 +19,24 @@ namespace smpm {
 /// Relative tolerance of an active node: m_i > kMassTolerance · max_j m_j (Buzzi §4.4 M_TOL).
 inline constexpr double kMassTolerance = 1e-10;
 
-/// The pattern of an N × n operator by columns (a transpose index of S): the entries of node i
-/// are entry[outer[i]] … entry[outer[i + 1] − 1] (positions in S's CSR arrays) of the particles
-/// row[outer[i]] …, in ascending particle order. The node sums of a step (p = Sᵀ M V, m = Sᵀ M,
-/// f, m̃) are gathers over it: each node adds its particles' terms in the order of the particles,
-/// whatever the number of threads.
+/// The pattern of an N × n operator by columns (a transpose index of S): node i has
+/// outer[i + 1] − outer[i] entries; with `lists`, they are entry[outer[i]] … entry[outer[i + 1] −
+/// 1] (positions in S's CSR arrays) of the particles row[outer[i]] …, in ascending particle order.
+/// The node sums of a step (p = Sᵀ M V, m = Sᵀ M, f, m̃) scatter the rows of S by node ranges
+/// (balanced by `outer`); the lists serve what needs a node's particles (the point clouds and
+/// volumes of multimaterial contact), and are built for operators of several velocity fields.
 struct ColumnIndex {
   std::vector<int> outer; ///< n + 1 offsets
-  std::vector<int> entry; ///< nnz positions in S's arrays
-  std::vector<int> row;   ///< nnz particles
+  std::vector<int> entry; ///< nnz positions in S's arrays (with `lists`, else empty)
+  std::vector<int> row;   ///< nnz particles (with `lists`, else empty)
   std::vector<int> work;  ///< workspace of the build: per-chunk counts and positions
+  bool lists = false;     ///< whether entry and row are built
+  Index nonzeros = -1;    ///< S's nonzeros when the index was built (−1: never)
 };
 
-/// Builds the column index of S (rows: particles, columns: nodes).
-void build_column_index(const SparseRowMatrix& S, ColumnIndex& columns);
+/// Builds the column index of S (rows: particles, columns: nodes): the offsets, and with
+/// `lists` the entries and particles of each column.
+void build_column_index(const SparseRowMatrix& S, ColumnIndex& columns, bool lists = true);
 
 /// The nodes the columns of S number.
 enum class NodeRange {

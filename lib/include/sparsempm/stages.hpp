@@ -36,11 +36,12 @@ struct ParticleOperators {
   const double* S = nullptr;        ///< S_pi of each entry
   std::array<const double*, 3> G{}; ///< ∂S_pi/∂x_b of each entry (b < d)
   const double* M = nullptr;        ///< rows particle masses
-  /// S's pattern by columns (Operators::columns): the node sums gather a node's particles in
-  /// particle order, so they do not depend on the number of threads.
+  /// S's pattern by columns (Operators::columns): the entries of each node (which balance the
+  /// node ranges of the node sums) and, for several velocity fields, each node's entries and
+  /// particles in particle order (null otherwise).
   const int* col_outer = nullptr; ///< n + 1 offsets into col_entry and col_row
-  const int* col_entry = nullptr; ///< positions in inner, S and G
-  const int* col_row = nullptr;   ///< particle of each position (absolute row)
+  const int* col_entry = nullptr; ///< positions in inner, S and G, or null
+  const int* col_row = nullptr;   ///< particle of each position (absolute row), or null
   Index first = 0;                ///< absolute row of the block's first particle
   Index all_rows = 0;             ///< rows of the operators the view was taken from
 
