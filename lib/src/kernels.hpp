@@ -70,11 +70,12 @@ void dispatch_box(const std::array<int, 3>& count, Kernel&& k) {
 
 /// Node sums over the entries of an N × n operator (CSR outer, inner), each node's terms added
 /// in ascending particle order: begin(r0, r1) sets the nodes [r0, r1) of the output to their
-/// start (zero), then add(q, k, i) is called for every entry k of particle q whose node i is in
-/// [r0, r1), particle by particle. Each thread owns a range of nodes (balanced by `col_outer`,
-/// the entries of each node, or null) and reads every particle's row in order, taking the
-/// entries in its range (a row's nodes ascend). A node's sum is then the same sequence of
-/// additions as a serial loop over the particles, for any number of threads, and the rows of S
+/// start (zero), then add(q, k0, k1) is called for each particle q in order with the run of its
+/// entries [k0, k1) whose nodes inner[k] are in [r0, r1) (the particle's values can be read once,
+/// into locals that the output's stores cannot alias). Each thread owns a range of nodes (balanced
+/// by `col_outer`, the entries of each node, or null) and reads every particle's row in order,
+/// taking the entries in its range (a row's nodes ascend). A node's sum is then the same sequence
+/// of additions as a serial loop over the particles, for any number of threads, and the rows of S
 /// and the G_b stream from memory while the nodes written are those of neighbouring boxes (a
 /// gather by columns reads each entry from a different particle's row).
 template <class Begin, class Add>
@@ -90,15 +91,14 @@ void scatter_to_nodes(const int* outer, const int* inner, Index rows, Index node
         ++k;
       while (inner[e - 1] >= r1)
         --e;
-      for (; k < e; ++k)
-        add(q, k, Index(inner[k]));
+      add(q, k, e);
     }
   });
 }
 
 /// det of a row-major D × D matrix.
 template <int D>
-double det(const double* F) {
+[[gnu::always_inline]] inline double det(const double* F) {
   if constexpr (D == 1)
     return F[0];
   else if constexpr (D == 2)

@@ -91,10 +91,15 @@ void lumped_mass_and_active(Operators& ops) {
   ops.m.resize(n);
   const double* sv = ops.S.valuePtr();
   double* m = ops.m.data();
+  const int* inner = ops.S.innerIndexPtr();
   detail::scatter_to_nodes(
-      ops.S.outerIndexPtr(), ops.S.innerIndexPtr(), ops.S.rows(), n, ops.columns.outer.data(),
+      ops.S.outerIndexPtr(), inner, ops.S.rows(), n, ops.columns.outer.data(),
       [&](Index r0, Index r1) { std::fill(m + r0, m + r1, 0.0); },
-      [&](Index q, int k, Index i) { m[i] += sv[k] * ops.M[q]; });
+      [&](Index q, int k0, int k1) {
+        const double Mq = ops.M[q];
+        for (int k = k0; k < k1; ++k)
+          m[inner[k]] += sv[k] * Mq;
+      });
   double largest = 0;
   if (ops.fields == 1) {
     largest = ops.m.size() ? ops.m.maxCoeff() : 0.0;

@@ -35,8 +35,9 @@ auto* row(Ref& A, Index q) {
 }
 
 // L = Σ_i v_i ⊗ G_qi of particle q (row-major D × D): L[a D + b] = Σ_i G_b(q, i) v(i, a).
+// Inlined into each per-particle loop that calls it (left to itself, GCC may call it per particle).
 template <int D>
-inline void particle_gradient(const ParticleOperators& op, Index q, const Field& v, double* L) {
+[[gnu::always_inline]] inline void particle_gradient(const ParticleOperators& op, Index q, const Field& v, double* L) {
   for (int c = 0; c < D * D; ++c)
     L[c] = 0;
   for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
@@ -49,18 +50,18 @@ inline void particle_gradient(const ParticleOperators& op, Index q, const Field&
   }
 }
 
-// out_i = Σ_q term(q, k) over the entries k of node i, in ascending particle order (the same bits
-// for any number of threads): term(q, k, o) adds particle q's term to o, node i's row of the
-// row-major n × D field `out`. A scatter by node ranges (kernels.hpp) that reads S and the G_b
-// row by row.
-template <int D, class Term>
-void node_sums(const ParticleOperators& op, Field& out, Term&& term) {
+// out_i = Σ_q of particle q's terms on node i, in ascending particle order (the same bits for
+// any number of threads): particle(q, k0, k1, o) adds the terms of q's entries [k0, k1) to the
+// rows of the row-major n × D field `out` at o. A scatter by node ranges (kernels.hpp) that
+// reads S and the G_b row by row.
+template <int D, class Particle>
+void node_sums(const ParticleOperators& op, Field& out, Particle&& particle) {
   out.resize(op.nodes, D);
   double* o = out.data();
   detail::scatter_to_nodes(
       op.outer, op.inner, op.rows, op.nodes, op.col_outer,
       [&](Index r0, Index r1) { std::fill(o + r0 * D, o + r1 * D, 0.0); },
-      [&](Index q, int k, Index i) { term(q, k, o + i * D); });
+      [&](Index q, int k0, int k1) { particle(q, k0, k1, o); });
 }
 
 // Per-particle scratch of the calling thread (its worker threads write disjoint rows of it),
@@ -118,9 +119,15 @@ ParticleOperators particle_operators(const Operators& ops) {
 void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p) {
   SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
   by_dim(op.dim, [&]<int D>() {
-    node_sums<D>(op, p, [&](Index q, int k, double* pi) { // p_i = Σ_q S_qi M_q V_q (task 1)
+    node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) { // p_i = Σ_q S_qi M_q V_q
+      double mv[D];
       for (int a = 0; a < D; ++a)
-        pi[a] += op.S[k] * (op.M[q] * V(q, a));
+        mv[a] = op.M[q] * V(q, a);
+      for (int k = k0; k < k1; ++k) {
+        double* pi = o + Index(op.inner[k]) * D;
+        for (int a = 0; a < D; ++a)
+          pi[a] += op.S[k] * mv[a];
+      }
     });
   });
 }
@@ -135,16 +142,19 @@ void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const Co
               "map_affine_momentum: the grid must be that of the operators' nodes");
   by_dim(op.dim, [&]<int D>() {
     // p_i = Σ_q S_qi M_q (V_q + L_q (x_i − X_q))
-    node_sums<D>(op, p, [&](Index q, int k, double* pi) {
-      const Eigen::Vector3d xi = grid.node_position(op.inner[k] % ng);
-      double dx[D];
-      for (int b = 0; b < D; ++b)
-        dx[b] = xi[b] - X(q, b);
-      for (int a = 0; a < D; ++a) {
-        double v = V(q, a);
+    node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) {
+      for (int k = k0; k < k1; ++k) {
+        const Eigen::Vector3d xi = grid.node_position(op.inner[k] % ng);
+        double* pi = o + Index(op.inner[k]) * D;
+        double dx[D];
         for (int b = 0; b < D; ++b)
-          v += L(q, a * D + b) * dx[b];
-        pi[a] += op.S[k] * (op.M[q] * v);
+          dx[b] = xi[b] - X(q, b);
+        for (int a = 0; a < D; ++a) {
+          double v = V(q, a);
+          for (int b = 0; b < D; ++b)
+            v += L(q, a * D + b) * dx[b];
+          pi[a] += op.S[k] * (op.M[q] * v);
+        }
       }
     });
   });
@@ -153,9 +163,13 @@ void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const Co
 void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g) {
   SMPM_VERIFY(volume.size() == op.rows, "volume_gradient: one volume per particle");
   by_dim(op.dim, [&]<int D>() {
-    node_sums<D>(op, g, [&](Index q, int k, double* gi) { // g_i = Σ_q G_qi V_q (2020 Eq. 11)
-      for (int b = 0; b < D; ++b)
-        gi[b] += op.G[size_t(b)][k] * volume[q];
+    node_sums<D>(op, g, [&](Index q, int k0, int k1, double* o) { // g_i = Σ_q G_qi V_q (Eq. 11)
+      const double vq = volume[q];
+      for (int k = k0; k < k1; ++k) {
+        double* gi = o + Index(op.inner[k]) * D;
+        for (int b = 0; b < D; ++b)
+          gi[b] += op.G[size_t(b)][k] * vq;
+      }
     });
   });
 }
@@ -174,13 +188,18 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
       for (int c = 0; c < D * D; ++c)
         tau[q * D * D + c] = vol * sq[c];
     });
-    node_sums<D>(op, f, [&](Index q, int k, double* fi) { // f_i = Σ_q τ_q G_q,i (Buzzi Eq. 15)
-      const double* tq = tau + q * D * D;
-      for (int a = 0; a < D; ++a) {
-        double sum = 0;
-        for (int b = 0; b < D; ++b)
-          sum += tq[a * D + b] * op.G[size_t(b)][k];
-        fi[a] += sum;
+    node_sums<D>(op, f, [&](Index q, int k0, int k1, double* o) { // f_i = Σ_q τ_q G_qi (Eq. 15)
+      double tq[D * D];
+      for (int c = 0; c < D * D; ++c)
+        tq[c] = tau[q * D * D + c];
+      for (int k = k0; k < k1; ++k) {
+        double* fi = o + Index(op.inner[k]) * D;
+        for (int a = 0; a < D; ++a) {
+          double sum = 0;
+          for (int b = 0; b < D; ++b)
+            sum += tq[a * D + b] * op.G[size_t(b)][k];
+          fi[a] += sum;
+        }
       }
     });
   });
@@ -201,9 +220,13 @@ void add_external_forces(const ParticleOperators& op, const Grid& grid, const Ex
                 "add_external_forces: the body forces must be N x d");
     by_dim(op.dim, [&]<int D>() { // f_i += Σ_q S_qi F_q, the sum first
       thread_local Field sums;    // kept between steps: a step allocates nothing
-      node_sums<D>(op, sums, [&](Index q, int k, double* si) {
+      node_sums<D>(op, sums, [&](Index q, int k0, int k1, double* o) {
+        double fq[D];
         for (int a = 0; a < D; ++a)
-          si[a] += op.S[k] * forces(q, a);
+          fq[a] = forces(q, a);
+        for (int k = k0; k < k1; ++k)
+          for (int a = 0; a < D; ++a)
+            o[Index(op.inner[k]) * D + a] += op.S[k] * fq[a];
       });
       f += sums;
     });
