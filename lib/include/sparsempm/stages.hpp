@@ -8,8 +8,9 @@
 /// particle fields N × d or N × d² (one row per particle, tensors row-major).
 ///
 /// Every kernel runs on threads(): the particle kernels one particle per iteration, the node
-/// sums (P2G, internal force) one node per iteration as gathers in particle order, so the
-/// results are the same bit for bit for any number of threads (threads.hpp).
+/// sums (P2G, internal force) each thread over a range of nodes, adding the terms of the
+/// particles' rows in particle order, so the results are the same bit for bit for any number
+/// of threads (threads.hpp).
 ///
 /// The kernels see the particles through ParticleOperators, the CSR rows of a contiguous block
 /// of particles: all of them, or the block of one material (ParticleOperators::block), with
@@ -58,7 +59,7 @@ void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p)
 /// p_i = Σ_p S_pi M_p (V_p + L_p (x_i − X_p)), n × d, with the particles' positions X and
 /// velocity gradients L (N × d², row-major) and the positions x_i of the nodes of `grid` (the
 /// step's grid; node i of a field block α n_g + i is grid node i). As Σ_b D_bᵀ M L_{·b} + Sᵀ M V
-/// with D_b = S ∘ (x_ib − X_pb), one gather per node in particle order (the same bits for any
+/// with D_b = S ∘ (x_ib − X_pb), each node's sum in particle order (the same bits for any
 /// number of threads). An affine field V = V₀ + L x, L_p = L, gives p_i = m_i (V₀ + L x_i).
 void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
                          const ConstFieldRef& V, const ConstFieldRef& L, Field& p);

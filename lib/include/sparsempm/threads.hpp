@@ -2,7 +2,7 @@
 #pragma once
 /// \file threads.hpp
 /// The number of OpenMP threads the kernels of a step use. Results do not depend on it, bit for
-/// bit: sums over the particles of a node are gathers in particle order, reductions are summed
+/// bit: sums over the particles of a node add their terms in particle order, reductions are summed
 /// in blocks of a fixed size (see DESIGN.md, "Threads"). On a machine shared with other busy
 /// processes, OMP_WAIT_POLICY=passive keeps waiting threads from spinning.
 

@@ -63,8 +63,8 @@ struct TransportOperators {
 
 /// Prepares `t` for the step of operators `ops` (assembled for the particles P): 𝗖 and V κ from
 /// each particle's material (Material::heat_capacity, conductivity; V_p = det F_p V_p⁽⁰⁾), the
-/// sources M_p r_p (Particles::heat_source), and c = Sᵀ 𝗖 1 on the n_g nodes of ops.grid, gathered
-/// in particle order. The active nodes are those with c_i > tolerance · max c: with the default
+/// sources M_p r_p (Particles::heat_source), and c = Sᵀ 𝗖 1 on the n_g nodes of ops.grid, each node's
+/// sum in particle order. The active nodes are those with c_i > tolerance · max c: with the default
 /// 0 every node a particle reaches, so that T_p = S θ loses no share of any particle's heat (a
 /// nodal temperature θ_i is an average of particle temperatures, bounded however small c_i, and
 /// the rows of A_c = I − c⁻¹ c̃ stay bounded); the exact solve takes kMassTolerance, which keeps
@@ -78,8 +78,8 @@ void prepare_transport(const Operators& ops, const Particles& P,
 /// Throws InputError naming a material whose reference temperature is not positive and finite.
 void set_reference_temperatures(Particles& P, const std::vector<Material>& materials);
 
-/// τ = Sᵀ (𝗖 T), n_g × 1: the nodal heat content of particle temperatures T (N), gathered node
-/// by node in particle order (FMPM 2026 task 1 with T for V).
+/// τ = Sᵀ (𝗖 T), n_g × 1: the nodal heat content of particle temperatures T (N), each node's sum
+/// in particle order (FMPM 2026 task 1 with T for V).
 void map_heat(const Operators& ops, const TransportOperators& t, const ConstVectorRef& T,
               Field& tau);
 /// ∇T_p = Σ_i G_pi T_i, N × d, from nodal temperatures T (n_g × 1).
