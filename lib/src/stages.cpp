@@ -37,7 +37,8 @@ auto* row(Ref& A, Index q) {
 // L = Σ_i v_i ⊗ G_qi of particle q (row-major D × D): L[a D + b] = Σ_i G_b(q, i) v(i, a).
 // Inlined into each per-particle loop that calls it (left to itself, GCC may call it per particle).
 template <int D>
-[[gnu::always_inline]] inline void particle_gradient(const ParticleOperators& op, Index q, const Field& v, double* L) {
+[[gnu::always_inline]] inline void particle_gradient(const ParticleOperators& op, Index q,
+                                                     const Field& v, double* L) {
   for (int c = 0; c < D * D; ++c)
     L[c] = 0;
   for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {

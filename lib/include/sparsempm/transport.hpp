@@ -63,10 +63,10 @@ struct TransportOperators {
 
 /// Prepares `t` for the step of operators `ops` (assembled for the particles P): 𝗖 and V κ from
 /// each particle's material (Material::heat_capacity, conductivity; V_p = det F_p V_p⁽⁰⁾), the
-/// sources M_p r_p (Particles::heat_source), and c = Sᵀ 𝗖 1 on the n_g nodes of ops.grid, each node's
-/// sum in particle order. The active nodes are those with c_i > tolerance · max c: with the default
-/// 0 every node a particle reaches, so that T_p = S θ loses no share of any particle's heat (a
-/// nodal temperature θ_i is an average of particle temperatures, bounded however small c_i, and
+/// sources M_p r_p (Particles::heat_source), and c = Sᵀ 𝗖 1 on the n_g nodes of ops.grid, each
+/// node's sum in particle order. The active nodes are those with c_i > tolerance · max c: with the
+/// default 0 every node a particle reaches, so that T_p = S θ loses no share of any particle's heat
+/// (a nodal temperature θ_i is an average of particle temperatures, bounded however small c_i, and
 /// the rows of A_c = I − c⁻¹ c̃ stay bounded); the exact solve takes kMassTolerance, which keeps
 /// c̃ positive definite in floating point, as for m̃. Throws InputError naming a material
 /// without a positive heat capacity.
