@@ -113,14 +113,14 @@ ParticleOperators particle_operators(const Operators& ops) {
   op.col_entry = ops.columns.lists ? ops.columns.entry.data() : nullptr;
   op.col_row = ops.columns.lists ? ops.columns.row.data() : nullptr;
   op.first = 0;
-  op.all_rows = op.rows;
   return op;
 }
 
 void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p) {
   SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
   by_dim(op.dim, [&]<int D>() {
-    node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) { // p_i = Σ_q S_qi M_q V_q
+    // p_i = Σ_q S_qi M_q V_q (FMPM 2026 task 1)
+    node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) {
       double mv[D];
       for (int a = 0; a < D; ++a)
         mv[a] = op.M[q] * V(q, a);
@@ -164,7 +164,8 @@ void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const Co
 void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g) {
   SMPM_VERIFY(volume.size() == op.rows, "volume_gradient: one volume per particle");
   by_dim(op.dim, [&]<int D>() {
-    node_sums<D>(op, g, [&](Index q, int k0, int k1, double* o) { // g_i = Σ_q G_qi V_q (Eq. 11)
+    // g_i = Σ_q G_qi V_q (contact 2020 Eq. 11)
+    node_sums<D>(op, g, [&](Index q, int k0, int k1, double* o) {
       const double vq = volume[q];
       for (int k = k0; k < k1; ++k) {
         double* gi = o + Index(op.inner[k]) * D;
@@ -189,7 +190,8 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
       for (int c = 0; c < D * D; ++c)
         tau[q * D * D + c] = vol * sq[c];
     });
-    node_sums<D>(op, f, [&](Index q, int k0, int k1, double* o) { // f_i = Σ_q τ_q G_qi (Eq. 15)
+    // f_i = Σ_q Σ_b τ_q,·b G_b(q, i) (Buzzi Eq. 15)
+    node_sums<D>(op, f, [&](Index q, int k0, int k1, double* o) {
       double tq[D * D];
       for (int c = 0; c < D * D; ++c)
         tq[c] = tau[q * D * D + c];

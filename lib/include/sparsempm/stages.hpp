@@ -44,7 +44,6 @@ struct ParticleOperators {
   const int* col_entry = nullptr; ///< positions in inner, S and G, or null
   const int* col_row = nullptr;   ///< particle of each position (absolute row), or null
   Index first = 0;                ///< absolute row of the block's first particle
-  Index all_rows = 0;             ///< rows of the operators the view was taken from
 
   /// The rows [first, first + count) of this block (one material's particles).
   ParticleOperators block(Index first, Index count) const;
