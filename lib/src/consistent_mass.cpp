@@ -235,15 +235,18 @@ struct StencilScatter {
 
   template <class MakeColumns>
   void scatter_particle(Index p, Index r0, Index r1, MakeColumns&& make_columns) const {
+    // The row's first and last column (ColumnIndex::span; not S's column indices, which then
+    // stay in the cache of the thread that writes them, kernels.hpp scatter_to_nodes).
+    const int lo = ops.columns.span[size_t(2 * p)], hi = ops.columns.span[size_t(2 * p + 1)];
+    if (hi < 0)
+      return; // an empty row
+    // Folded: the columns of p's field block minus the block's first column are rows.
+    const Index off = product.fold ? lo - product.row(lo) : 0;
+    if (lo - off >= r1 || hi - off < r0)
+      return; // no row of p's box is in this range (columns ascend along a row of S)
     const int* outer = ops.S.outerIndexPtr();
     const int begin = outer[p], end = outer[p + 1];
     const int* ib = ops.S.innerIndexPtr() + begin;
-    if (begin == end)
-      return;
-    // Folded: the columns of p's field block minus the block's first column are rows.
-    const Index off = product.fold ? ib[0] - product.row(ib[0]) : 0;
-    if (ib[0] - off >= r1 || ib[end - begin - 1] - off < r0)
-      return; // no row of p's box is in this range (columns ascend along a row of S)
     const ShapeSupport& s = ops.support[size_t(p)];
     const double *sb = ops.S.valuePtr() + begin, M = product.weight[p];
     const auto columns = make_columns(sb, begin, end - begin);
@@ -290,6 +293,8 @@ struct StencilScatter {
 // and the common box sizes have compile-time loops.
 void gather_stencil_product(const StencilProduct& product, ConsistentMass& mt) {
   const Operators& ops = product.ops;
+  SMPM_VERIFY(ops.columns.span.size() == size_t(2 * ops.S.rows()),
+              "assemble_consistent_mass: the row spans of S are not those of its pattern");
   const auto& w = mt.half_width;
   SparseRowMatrix& A = mt.matrix;
   const StencilScatter scatter{

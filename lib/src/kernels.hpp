@@ -68,25 +68,30 @@ void dispatch_box(const std::array<int, 3>& count, Kernel&& k) {
   }
 }
 
-/// Node sums over the entries of an N × n operator (CSR outer, inner), each node's terms added
-/// in ascending particle order: begin(r0, r1) sets the nodes [r0, r1) of the output to their
-/// start (zero), then add(q, k0, k1) is called for each particle q in order with the run of its
-/// entries [k0, k1) whose nodes inner[k] are in [r0, r1) (the particle's values can be read once,
-/// into locals that the output's stores cannot alias). Each thread owns a range of nodes (balanced
-/// by `col_outer`, the entries of each node, or null) and reads every particle's row in order,
-/// taking the entries in its range (a row's nodes ascend). A node's sum is then the same sequence
+/// Node sums over the entries of an N × n operator (CSR outer, inner; span: each row's first and
+/// last node, ColumnIndex::span), each node's terms added in ascending particle order:
+/// begin(r0, r1) sets the nodes [r0, r1) of the output to their start (zero), then add(q, k0, k1)
+/// is called for each particle q in order with the run of its entries [k0, k1) whose nodes
+/// inner[k] are in [r0, r1) (the particle's values can be read once, into locals that the
+/// output's stores cannot alias). Each thread owns a range of nodes (balanced by `col_outer`, the
+/// entries of each node, or null) and reads every particle's span in order, taking the entries
+/// of the rows that meet its range (a row's nodes ascend). A node's sum is then the same sequence
 /// of additions as a serial loop over the particles, for any number of threads, and the rows of S
 /// and the G_b stream from memory while the nodes written are those of neighbouring boxes (a
-/// gather by columns reads each entry from a different particle's row).
+/// gather by columns reads each entry from a different particle's row). A thread reads only the
+/// rows of its nodes, not every row's column indices: those stay in the cache of the thread
+/// that writes them when the pattern changes (writing a line that another core has read costs
+/// a round trip to take it back; with every row read by every thread, rewriting S's pattern on
+/// two threads took longer than on one).
 template <class Begin, class Add>
-void scatter_to_nodes(const int* outer, const int* inner, Index rows, Index nodes,
+void scatter_to_nodes(const int* outer, const int* inner, const int* span, Index rows, Index nodes,
                       const int* col_outer, Begin&& begin, Add&& add) {
   parallel_ranges(nodes, rows, col_outer, [&](Index r0, Index r1) {
     begin(r0, r1);
     for (Index q = 0; q < rows; ++q) {
-      int k = outer[q], e = outer[q + 1];
-      if (k == e || inner[k] >= r1 || inner[e - 1] < r0)
+      if (span[2 * q] >= r1 || span[2 * q + 1] < r0)
         continue; // none of the row's nodes is in the range
+      int k = outer[q], e = outer[q + 1];
       while (inner[k] < r0)
         ++k;
       while (inner[e - 1] >= r1)

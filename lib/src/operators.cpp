@@ -38,12 +38,25 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& c, bool lists) {
   auto chunk_begin = [&](Index t) { return t * N / chunks; };
   c.work.assign(size_t(chunks * n), 0);
   auto count = [&](Index t) { return c.work.data() + t * n; };
+  c.span.resize(size_t(2 * N));
   detail::parallel_for(
       chunks,
       [&](Index t) {
         int* ct = count(t);
-        for (int k = outer[chunk_begin(t)]; k < outer[chunk_begin(t + 1)]; ++k)
-          ++ct[inner[k]];
+        int* span = c.span.data();
+        for (Index p = chunk_begin(t); p < chunk_begin(t + 1); ++p) {
+          const int b = outer[p], e = outer[p + 1];
+          // A row's nodes ascend. Stored only when changed: every thread of a node sum reads
+          // every span, and a store to a line another core holds must first take it back.
+          const int lo = b < e ? inner[b] : std::numeric_limits<int>::max(),
+                    hi = b < e ? inner[e - 1] : -1;
+          if (span[2 * p] != lo)
+            span[2 * p] = lo;
+          if (span[2 * p + 1] != hi)
+            span[2 * p + 1] = hi;
+          for (int k = b; k < e; ++k)
+            ++ct[inner[k]];
+        }
       },
       N);
   c.outer.resize(size_t(n + 1));
@@ -93,8 +106,8 @@ void lumped_mass_and_active(Operators& ops) {
   double* m = ops.m.data();
   const int* inner = ops.S.innerIndexPtr();
   detail::scatter_to_nodes(
-      ops.S.outerIndexPtr(), inner, ops.S.rows(), n, ops.columns.outer.data(),
-      [&](Index r0, Index r1) { std::fill(m + r0, m + r1, 0.0); },
+      ops.S.outerIndexPtr(), inner, ops.columns.span.data(), ops.S.rows(), n,
+      ops.columns.outer.data(), [&](Index r0, Index r1) { std::fill(m + r0, m + r1, 0.0); },
       [&](Index q, int k0, int k1) {
         const double Mq = ops.M[q];
         for (int k = k0; k < k1; ++k)

@@ -60,7 +60,7 @@ void node_sums(const ParticleOperators& op, Field& out, Particle&& particle) {
   out.resize(op.nodes, D);
   double* o = out.data();
   detail::scatter_to_nodes(
-      op.outer, op.inner, op.rows, op.nodes, op.col_outer,
+      op.outer, op.inner, op.span, op.rows, op.nodes, op.col_outer,
       [&](Index r0, Index r1) { std::fill(o + r0 * D, o + r1 * D, 0.0); },
       [&](Index q, int k0, int k1) { particle(q, k0, k1, o); });
 }
@@ -88,6 +88,7 @@ ParticleOperators ParticleOperators::block(Index first, Index count) const {
   b.rows = count;
   b.first = this->first + first;
   b.outer = outer + first;
+  b.span = span + 2 * first;
   b.M = M + first;
   return b;
 }
@@ -107,8 +108,10 @@ ParticleOperators particle_operators(const Operators& ops) {
   }
   op.M = ops.M.data();
   SMPM_VERIFY(ops.columns.nonzeros == ops.S.nonZeros() &&
-                  ops.columns.outer.size() == size_t(op.nodes + 1),
+                  ops.columns.outer.size() == size_t(op.nodes + 1) &&
+                  ops.columns.span.size() == size_t(2 * op.rows),
               "particle_operators: the column index must match S (see assemble)");
+  op.span = ops.columns.span.data();
   op.col_outer = ops.columns.outer.data();
   op.col_entry = ops.columns.lists ? ops.columns.entry.data() : nullptr;
   op.col_row = ops.columns.lists ? ops.columns.row.data() : nullptr;

@@ -49,7 +49,7 @@ void folded_sums(const Operators& ops, double* out, Add&& add) {
     SMPM_VERIFY(ops.fields == 1, "transport: the column lists of S are built for several fields");
     const int* inner = ops.S.innerIndexPtr();
     detail::scatter_to_nodes(
-        ops.S.outerIndexPtr(), inner, ops.num_particles(), ng, cols.outer.data(),
+        ops.S.outerIndexPtr(), inner, cols.span.data(), ops.num_particles(), ng, cols.outer.data(),
         [&](Index r0, Index r1) { std::fill(out + r0, out + r1, 0.0); },
         [&](Index p, int k0, int k1) {
           for (int k = k0; k < k1; ++k)

@@ -140,7 +140,7 @@ TEST_CASE("the sparsity pattern is reused while no particle changes its node box
 
 namespace {
 // Pattern and values equal (==): outer and inner indices and values of S and G, m and the
-// column index.
+// column index with its row spans.
 void check_same_operators(const Operators& a, const Operators& b, int dim) {
   auto same = [](const SparseRowMatrix& x, const SparseRowMatrix& y) {
     REQUIRE(x.nonZeros() == y.nonZeros());
@@ -155,6 +155,17 @@ void check_same_operators(const Operators& a, const Operators& b, int dim) {
   CHECK(a.m == b.m);
   CHECK(a.columns.entry == b.columns.entry);
   CHECK(a.columns.row == b.columns.row);
+  // The row spans the node sums read (ColumnIndex::span): each row's first and last node, kept
+  // up to date as rows move in place (stored only where they changed).
+  REQUIRE(a.columns.span.size() == size_t(2 * a.S.rows()));
+  CHECK(a.columns.span == b.columns.span);
+  const int* outer = a.S.outerIndexPtr();
+  const int* inner = a.S.innerIndexPtr();
+  for (Index p = 0; p < a.S.rows(); ++p) {
+    REQUIRE(outer[p + 1] > outer[p]);
+    CHECK(a.columns.span[size_t(2 * p)] == inner[outer[p]]);
+    CHECK(a.columns.span[size_t(2 * p + 1)] == inner[outer[p + 1] - 1]);
+  }
 }
 } // namespace
 

@@ -23,10 +23,16 @@ inline constexpr double kMassTolerance = 1e-10;
 /// outer[i + 1] − outer[i] entries; with `lists`, they are entry[outer[i]] … entry[outer[i + 1] −
 /// 1] (positions in S's CSR arrays) of the particles row[outer[i]] …, in ascending particle order.
 /// The node sums of a step (p = Sᵀ M V, m = Sᵀ M, f, m̃) scatter the rows of S by node ranges
-/// (balanced by `outer`); the lists serve what needs a node's particles (the point clouds and
-/// volumes of multimaterial contact), and are built for operators of several velocity fields.
+/// (balanced by `outer`), each range taking the rows whose `span` meets it; the lists serve what
+/// needs a node's particles (the point clouds and volumes of multimaterial contact), and are
+/// built for operators of several velocity fields.
 struct ColumnIndex {
   std::vector<int> outer; ///< n + 1 offsets
+  /// 2N: the first and last node of each row of S (an empty row: INT_MAX, −1). The threads of a
+  /// node sum each read the spans of every row, not S's column indices, so that those stay in
+  /// the cache of the thread that writes them when the pattern changes (a line another core
+  /// has read must be taken back from it before it is written).
+  std::vector<int> span;
   std::vector<int> entry; ///< nnz positions in S's arrays (with `lists`, else empty)
   std::vector<int> row;   ///< nnz particles (with `lists`, else empty)
   std::vector<int> work;  ///< workspace of the build: per-chunk counts and positions
@@ -34,8 +40,8 @@ struct ColumnIndex {
   Index nonzeros = -1;    ///< S's nonzeros when the index was built (−1: never)
 };
 
-/// Builds the column index of S (rows: particles, columns: nodes): the offsets, and with
-/// `lists` the entries and particles of each column.
+/// Builds the column index of S (rows: particles, columns: nodes): the offsets, the row spans,
+/// and with `lists` the entries and particles of each column.
 void build_column_index(const SparseRowMatrix& S, ColumnIndex& columns, bool lists = true);
 
 /// The nodes the columns of S number.

@@ -34,6 +34,7 @@ struct ParticleOperators {
   Index nodes = 0;                  ///< n, the columns
   const int* outer = nullptr;       ///< rows + 1 offsets into inner, S and G (absolute)
   const int* inner = nullptr;       ///< node of each entry
+  const int* span = nullptr;        ///< 2 rows: each row's first and last node (ColumnIndex)
   const double* S = nullptr;        ///< S_pi of each entry
   std::array<const double*, 3> G{}; ///< ∂S_pi/∂x_b of each entry (b < d)
   const double* M = nullptr;        ///< rows particle masses
