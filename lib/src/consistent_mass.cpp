@@ -235,18 +235,24 @@ struct StencilScatter {
 
   template <class MakeColumns>
   void scatter_particle(Index p, Index r0, Index r1, MakeColumns&& make_columns) const {
-    // The row's first and last column (ColumnIndex::span; not S's column indices, which then
-    // stay in the cache of the thread that writes them, kernels.hpp scatter_to_nodes).
-    const int lo = ops.columns.span[size_t(2 * p)], hi = ops.columns.span[size_t(2 * p + 1)];
-    if (hi < 0)
-      return; // an empty row
-    // Folded: the columns of p's field block minus the block's first column are rows.
-    const Index off = product.fold ? lo - product.row(lo) : 0;
-    if (lo - off >= r1 || hi - off < r0)
-      return; // no row of p's box is in this range (columns ascend along a row of S)
     const int* outer = ops.S.outerIndexPtr();
     const int begin = outer[p], end = outer[p + 1];
     const int* ib = ops.S.innerIndexPtr() + begin;
+    if (begin == end)
+      return;
+    Index off = 0;
+    if (r0 > 0 || r1 < product.rows()) {
+      // Several ranges: the row's first and last column (ColumnIndex::span; not S's column
+      // indices, which then stay in the cache of the thread that writes them, kernels.hpp
+      // scatter_to_nodes). Folded: the columns of p's field block minus the block's first
+      // column are rows.
+      const int lo = ops.columns.span[size_t(2 * p)], hi = ops.columns.span[size_t(2 * p + 1)];
+      off = product.fold ? lo - product.row(lo) : 0;
+      if (lo - off >= r1 || hi - off < r0)
+        return; // no row of p's box is in this range (columns ascend along a row of S)
+    } else if (product.fold) {
+      off = ib[0] - product.row(ib[0]);
+    }
     const ShapeSupport& s = ops.support[size_t(p)];
     const double *sb = ops.S.valuePtr() + begin, M = product.weight[p];
     const auto columns = make_columns(sb, begin, end - begin);

@@ -88,6 +88,11 @@ void scatter_to_nodes(const int* outer, const int* inner, const int* span, Index
                       const int* col_outer, Begin&& begin, Add&& add) {
   parallel_ranges(nodes, rows, col_outer, [&](Index r0, Index r1) {
     begin(r0, r1);
+    if (r0 == 0 && r1 == nodes) { // one range (one thread): every row, no span read
+      for (Index q = 0; q < rows; ++q)
+        add(q, outer[q], outer[q + 1]);
+      return;
+    }
     for (Index q = 0; q < rows; ++q) {
       if (span[2 * q] >= r1 || span[2 * q + 1] < r0)
         continue; // none of the row's nodes is in the range
