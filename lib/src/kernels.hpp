@@ -75,7 +75,8 @@ void dispatch_box(const std::array<int, 3>& count, Kernel&& k) {
 /// inner[k] are in [r0, r1) (the particle's values can be read once, into locals that the
 /// output's stores cannot alias). Each thread owns a range of nodes (balanced by `col_outer`, the
 /// entries of each node, or null) and reads every particle's span in order, taking the entries
-/// of the rows that meet its range (a row's nodes ascend). A node's sum is then the same sequence
+/// of the rows that meet its range (a row's nodes ascend); a single range takes every row and
+/// reads no span. A node's sum is then the same sequence
 /// of additions as a serial loop over the particles, for any number of threads, and the rows of S
 /// and the G_b stream from memory while the nodes written are those of neighbouring boxes (a
 /// gather by columns reads each entry from a different particle's row). A thread reads only the
