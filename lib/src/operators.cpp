@@ -36,13 +36,14 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& c, bool lists) {
   // the chunks, so the index does not depend on the number of threads.
   const Index chunks = std::max<Index>(1, std::min<Index>(threads(), N));
   auto chunk_begin = [&](Index t) { return t * N / chunks; };
-  c.work.assign(size_t(chunks * n), 0);
+  c.work.resize(size_t(chunks * n));
   auto count = [&](Index t) { return c.work.data() + t * n; };
   c.span.resize(size_t(2 * N));
   detail::parallel_for(
       chunks,
       [&](Index t) {
         int* ct = count(t);
+        std::fill(ct, ct + n, 0); // zeroed by the thread that counts into it
         int* span = c.span.data();
         for (Index p = chunk_begin(t); p < chunk_begin(t + 1); ++p) {
           const int b = outer[p], e = outer[p + 1];
@@ -59,17 +60,28 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& c, bool lists) {
         }
       },
       N);
+  // Column offsets, an exclusive prefix sum over the nodes in parallel blocks (parallel.hpp);
+  // each chunk's count becomes its start.
   c.outer.resize(size_t(n + 1));
-  int sum = 0;
-  for (Index i = 0; i < n; ++i) { // column offsets; each chunk's count becomes its start
-    c.outer[size_t(i)] = sum;
-    for (Index t = 0; t < chunks; ++t) {
-      const int k = count(t)[i];
-      count(t)[i] = sum;
-      sum += k;
+  std::vector<Index> starts;
+  detail::prefix_block_starts(n, starts, [&](Index i) {
+    Index k = 0;
+    for (Index t = 0; t < chunks; ++t)
+      k += count(t)[i];
+    return k;
+  });
+  detail::for_prefix_blocks(n, starts, [&](Index begin, Index end, Index start) {
+    int sum = int(start);
+    for (Index i = begin; i < end; ++i) {
+      c.outer[size_t(i)] = sum;
+      for (Index t = 0; t < chunks; ++t) {
+        const int k = count(t)[i];
+        count(t)[i] = sum;
+        sum += k;
+      }
     }
-  }
-  c.outer[size_t(n)] = sum;
+  });
+  c.outer[size_t(n)] = int(starts.back());
   c.nonzeros = nnz;
   c.lists = lists;
   if (!lists) {
@@ -113,20 +125,29 @@ void lumped_mass_and_active(Operators& ops) {
         for (int k = k0; k < k1; ++k)
           m[inner[k]] += sv[k] * Mq;
       });
+  // The largest mass (a maximum: the same for any order of the nodes), then the active nodes
+  // and m⁻¹, each in node ranges.
+  const Index ng = ops.fields == 1 ? n : ops.grid_node_count;
   double largest = 0;
-  if (ops.fields == 1) {
-    largest = ops.m.size() ? ops.m.maxCoeff() : 0.0;
-  } else {
-    const Index ng = ops.grid_node_count;
-    for (Index i = 0; i < ng; ++i) {
-      double total = 0;
-      for (int f = 0; f < ops.fields; ++f)
-        total += ops.m[f * ng + i];
-      largest = std::max(largest, total);
+  detail::ordered_reduce(
+      ng, 1, 0.0, &largest,
+      [&](Index i, double* acc) {
+        double total = 0;
+        for (int f = 0; f < ops.fields; ++f)
+          total += m[f * ng + i];
+        acc[0] = std::max(acc[0], total);
+      },
+      [](double a, double b) { return std::max(a, b); });
+  ops.active.resize(n);
+  ops.m_inv.resize(n);
+  const double least = kMassTolerance * largest;
+  detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
+    for (Index i = r0; i < r1; ++i) {
+      const bool on = m[i] > least;
+      ops.active[i] = on;
+      ops.m_inv[i] = on ? 1 / m[i] : 0.0;
     }
-  }
-  ops.active = ops.m.array() > kMassTolerance * largest;
-  ops.m_inv = ops.active.select(ops.m.array().inverse(), 0.0).matrix();
+  });
 }
 
 } // namespace
@@ -161,7 +182,10 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
   }
   ops.grid_node_count = ops.grid.num_nodes();
   ops.grid_nodes = {ops.grid.nodes(0), ops.grid.nodes(1), ops.grid.nodes(2)};
-  ops.M = particles.mass;
+  ops.M.resize(particles.mass.size());
+  detail::parallel_ranges(ops.M.size(), ops.M.size(), nullptr, [&](Index r0, Index r1) {
+    ops.M.segment(r0, r1 - r0) = particles.mass.segment(r0, r1 - r0);
+  });
   lumped_mass_and_active(ops);
 }
 

@@ -157,6 +157,38 @@ void ordered_reduce_blocks(Index n, int k, double init, double* out, Block&& blo
   }
 }
 
+/// An exclusive prefix sum over [0, n) in blocks of kReductionBlock indices: starts[b] =
+/// Σ count(i) over the indices before block b (blocks + 1 entries, the last the total), the
+/// blocks' totals computed in parallel. for_prefix_blocks then visits the blocks in parallel.
+template <class Count>
+void prefix_block_starts(Index n, std::vector<Index>& starts, Count&& count) {
+  const Index blocks = (n + kReductionBlock - 1) / kReductionBlock;
+  starts.assign(size_t(blocks + 1), 0);
+  parallel_for(
+      blocks,
+      [&](Index b) {
+        Index total = 0;
+        for (Index i = b * kReductionBlock; i < std::min(n, (b + 1) * kReductionBlock); ++i)
+          total += count(i);
+        starts[size_t(b + 1)] = total;
+      },
+      n);
+  for (Index b = 0; b < blocks; ++b)
+    starts[size_t(b + 1)] += starts[size_t(b)];
+}
+
+/// body(begin, end, start) for each block of prefix_block_starts, in parallel: start is the sum
+/// of the counts before index begin.
+template <class Body>
+void for_prefix_blocks(Index n, const std::vector<Index>& starts, Body&& body) {
+  parallel_for(
+      Index(starts.size()) - 1,
+      [&](Index b) {
+        body(b * kReductionBlock, std::min(n, (b + 1) * kReductionBlock), starts[size_t(b)]);
+      },
+      n);
+}
+
 /// ordered_reduce_blocks with term(i, acc) adding index i's values into acc.
 template <class Term, class Combine>
 void ordered_reduce(Index n, int k, double init, double* out, Term&& term, Combine&& combine) {

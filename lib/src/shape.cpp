@@ -217,47 +217,47 @@ void record_boxes(const Grid& grid, const Particles& P, Shape shape,
 }
 
 // A new pattern of S and the G_a from the boxes: row offsets (an exclusive prefix sum of the box
-// sizes), then the rows in parallel, copied to every G_a. Returns false (with the count in
-// `nnz`) when the nonzeros would exceed 32-bit indices.
+// sizes) and the rows, each written to S and every G_a, both in parallel over blocks of
+// particles (parallel.hpp). Returns false (with the count in `nnz`) when the nonzeros would
+// exceed 32-bit indices.
 bool build_pattern(const Grid& numbering, const std::vector<ShapeSupport>& support,
                    const BoxChanges::Rows& rows, Index n, int d, SparseRowMatrix& S,
                    std::array<SparseRowMatrix, 3>& G, Index& nnz) {
   const Index N = Index(support.size());
-  nnz = 0;
-  for (const ShapeSupport& s : support)
-    nnz += Index(s.count[0]) * s.count[1] * s.count[2];
+  auto entries = [&](Index p) {
+    const ShapeSupport& s = support[size_t(p)];
+    return Index(s.count[0]) * s.count[1] * s.count[2];
+  };
+  std::vector<Index> starts;
+  detail::prefix_block_starts(N, starts, entries);
+  nnz = starts.back();
   if (nnz > Index(std::numeric_limits<int>::max()))
     return false;
   set_pattern(S, N, n, nnz);
-  int* outer = S.outerIndexPtr();
-  int* inner = S.innerIndexPtr();
-  Index pos = 0;
-  for (Index p = 0; p < N; ++p) {
-    outer[p] = int(pos);
-    const ShapeSupport& s = support[size_t(p)];
-    pos += Index(s.count[0]) * s.count[1] * s.count[2];
-  }
-  outer[N] = int(pos);
-  // The G_a share S's pattern: each row is written to all of them, in parallel.
-  std::array<int*, 3> g_outer{}, g_inner{};
+  std::array<int*, 4> outer{S.outerIndexPtr()}, inner{S.innerIndexPtr()};
   for (int a = 0; a < 3; ++a) {
     if (a >= d) {
       G[a].resize(0, 0);
       continue;
     }
     set_pattern(G[a], N, n, nnz);
-    g_outer[size_t(a)] = G[a].outerIndexPtr();
-    g_inner[size_t(a)] = G[a].innerIndexPtr();
-    g_outer[size_t(a)][N] = outer[N];
+    outer[size_t(a + 1)] = G[a].outerIndexPtr();
+    inner[size_t(a + 1)] = G[a].innerIndexPtr();
   }
-  detail::parallel_for(N, [&](Index p) {
-    const ShapeSupport& s = support[size_t(p)];
-    int* row[4] = {inner + outer[p]};
-    for (int a = 0; a < d; ++a) {
-      g_outer[size_t(a)][p] = outer[p];
-      row[a + 1] = g_inner[size_t(a)] + outer[p];
+  for (int a = 0; a <= d; ++a)
+    outer[size_t(a)][N] = int(nnz);
+  detail::for_prefix_blocks(N, starts, [&](Index begin, Index end, Index start) {
+    Index pos = start;
+    for (Index p = begin; p < end; ++p) {
+      int* row[4];
+      for (int a = 0; a <= d; ++a) {
+        outer[size_t(a)][p] = int(pos);
+        row[a] = inner[size_t(a)] + pos;
+      }
+      const ShapeSupport& s = support[size_t(p)];
+      write_box_row(numbering, s, rows.first_column(p, s), row, d + 1);
+      pos += entries(p);
     }
-    write_box_row(numbering, s, rows.first_column(p, s), row, d + 1);
   });
   return true;
 }

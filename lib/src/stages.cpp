@@ -264,9 +264,14 @@ void add_external_forces(const ParticleOperators& op, const Grid& grid, const Ex
 
 void lumped_solve(const Eigen::VectorXd& m_inv, const Field& x, Field& v) {
   SMPM_VERIFY(x.rows() == m_inv.size(), "lumped_solve: x must have a row per node");
-  // One multiply per entry: on one thread, vectorised; a parallel region's fork and join cost
-  // more than the whole loop on the grids of the examples.
-  v.noalias() = m_inv.asDiagonal() * x;
+  // One multiply per entry, vectorised, in node ranges: on two threads each range mostly reads
+  // the nodes its own thread summed (scatter_to_nodes), not lines held in the other core's cache.
+  v.resize(x.rows(), x.cols());
+  const Index n = x.rows();
+  detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
+    v.middleRows(r0, r1 - r0).noalias() =
+        m_inv.segment(r0, r1 - r0).asDiagonal() * x.middleRows(r0, r1 - r0);
+  });
 }
 
 void update_particles_flip(const ParticleOperators& op, const Field& v_plus, const Field& a,

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/step_preparation.hpp"
 
+#include "parallel.hpp"
+
 #include "sparsempm/errors.hpp"
 #include "sparsempm/stages.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -39,13 +42,25 @@ namespace {
 
 // Masses and initial volumes must stay positive and finite (a program, or Python through the
 // arrays' views, can set any value between steps).
+// One pass in particle ranges, branch-free within a range (NaN fails both comparisons); the
+// first bad particle is then found serially, so the message does not depend on the threads.
 void check_amounts(const Eigen::VectorXd& amount, const char* name) {
-  if ((amount.array() > 0 && amount.array() < std::numeric_limits<double>::infinity()).all())
+  const Index n = amount.size();
+  const double* a = amount.data();
+  std::atomic<bool> bad{false};
+  detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
+    bool ok = true;
+    for (Index p = r0; p < r1; ++p)
+      ok &= (a[p] > 0) & (a[p] < std::numeric_limits<double>::infinity());
+    if (!ok)
+      bad.store(true, std::memory_order_relaxed);
+  });
+  if (!bad.load())
     return;
   Index p = 0;
-  while (amount[p] > 0 && std::isfinite(amount[p]))
+  while (a[p] > 0 && std::isfinite(a[p]))
     ++p;
-  throw InputError("particle " + std::to_string(p) + ": " + name + " " + number_text(amount[p]) +
+  throw InputError("particle " + std::to_string(p) + ": " + name + " " + number_text(a[p]) +
                    " must be positive and finite");
 }
 

@@ -10,11 +10,13 @@
 
 #include <sparsempm/input.hpp>
 #include <sparsempm/stages.hpp>
+#include <sparsempm/step_preparation.hpp>
 #include <sparsempm/threads.hpp>
 
 #include <omp.h>
 
 #include <cstdlib>
+#include <limits>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -193,6 +195,63 @@ TEST_CASE("parallel_ranges cover [0, n) in order, balanced by the counts given",
       if (counts && n == 200) // the heavy index 100 (500 of 890 entries) ends the first range
         CHECK(ranges[0].second == 101);
     }
+}
+
+TEST_CASE("blocked prefix sums equal the serial exclusive prefix sum on 1, 2 and 3 threads",
+          "[threads]") {
+  // The row offsets of S and the column offsets of its index are built this way (shape.cpp,
+  // operators.cpp): starts[b] = the counts before block b, and each block, given its start,
+  // must rebuild the serial offsets exactly. n spans a partial last block.
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> box(0, 27);
+  for (Index n : {Index(0), Index(1), 3 * detail::kReductionBlock + 17}) {
+    std::vector<Index> counts(static_cast<size_t>(n));
+    for (Index& k : counts)
+      k = box(rng);
+    std::vector<Index> serial(size_t(n + 1), 0);
+    for (Index i = 0; i < n; ++i)
+      serial[size_t(i + 1)] = serial[size_t(i)] + counts[size_t(i)];
+    for (int t : {1, 2, 3}) {
+      CAPTURE(n, t);
+      const ThreadScope scope(t, 0);
+      std::vector<Index> starts, offsets(size_t(n + 1), -1);
+      detail::prefix_block_starts(n, starts, [&](Index i) { return counts[size_t(i)]; });
+      REQUIRE(starts.back() == serial.back());
+      detail::for_prefix_blocks(n, starts, [&](Index begin, Index end, Index start) {
+        for (Index i = begin; i < end; ++i) {
+          offsets[size_t(i)] = start;
+          start += counts[size_t(i)];
+        }
+      });
+      offsets[size_t(n)] = starts.back();
+      CHECK(offsets == serial);
+    }
+  }
+}
+
+TEST_CASE("a bad particle mass is reported at the first bad particle on any number of threads",
+          "[threads]") {
+  // prepare_step checks masses and initial volumes in parallel ranges: the message must name the
+  // particle a serial scan stops at (here 700 on the first thread's half, 1500 on the second's).
+  Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {40, 40, 1}));
+  model.materials = {smpm::test::material("m", MaterialModel::Linear, 100, 0.3)};
+  model.particles = smpm::test::random_cloud(model.grid, 2000, 5, 2.0, false);
+  model.particles.mass[1500] = std::numeric_limits<double>::quiet_NaN();
+  model.particles.volume0[1500] = -2;
+  for (int t : {1, 2, 3}) {
+    const ThreadScope scope(t, 0);
+    StepPreparation prep;
+    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep), "particle 1500: mass nan must be "
+                                                              "positive and finite");
+    model.particles.mass[700] = 0;
+    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
+                      "particle 700: mass 0 must be positive and finite");
+    model.particles.mass[700] = 1;
+    model.particles.mass[1500] = 1;
+    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
+                      "particle 1500: volume0 -2 must be positive and finite");
+    model.particles.mass[1500] = std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 TEST_CASE("node sums have the bits of a serial sum over the particles on 1, 2 and 3 threads",
