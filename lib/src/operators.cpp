@@ -126,27 +126,31 @@ void lumped_mass_and_active(Operators& ops) {
           m[inner[k]] += sv[k] * Mq;
       });
   // The largest mass (a maximum: the same for any order of the nodes), then the active nodes
-  // and m⁻¹, each in node ranges.
+  // and m⁻¹, each in node ranges, vectorised.
   const Index ng = ops.fields == 1 ? n : ops.grid_node_count;
   double largest = 0;
-  detail::ordered_reduce(
+  detail::ordered_reduce_blocks(
       ng, 1, 0.0, &largest,
-      [&](Index i, double* acc) {
-        double total = 0;
-        for (int f = 0; f < ops.fields; ++f)
-          total += m[f * ng + i];
-        acc[0] = std::max(acc[0], total);
+      [&](Index begin, Index end, double* acc) {
+        if (ops.fields == 1) {
+          acc[0] = std::max(acc[0], ops.m.segment(begin, end - begin).maxCoeff());
+          return;
+        }
+        for (Index i = begin; i < end; ++i) {
+          double total = 0;
+          for (int f = 0; f < ops.fields; ++f)
+            total += m[f * ng + i];
+          acc[0] = std::max(acc[0], total);
+        }
       },
       [](double a, double b) { return std::max(a, b); });
   ops.active.resize(n);
   ops.m_inv.resize(n);
-  const double least = kMassTolerance * largest;
   detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
-    for (Index i = r0; i < r1; ++i) {
-      const bool on = m[i] > least;
-      ops.active[i] = on;
-      ops.m_inv[i] = on ? 1 / m[i] : 0.0;
-    }
+    const auto mass = ops.m.segment(r0, r1 - r0).array();
+    auto on = ops.active.segment(r0, r1 - r0);
+    on = mass > kMassTolerance * largest;
+    ops.m_inv.segment(r0, r1 - r0) = on.select(mass.inverse(), 0.0).matrix();
   });
 }
 

@@ -41,18 +41,19 @@ const SparseRowMatrix& StepPreparation::consistent_capacity() {
 namespace {
 
 // Masses and initial volumes must stay positive and finite (a program, or Python through the
-// arrays' views, can set any value between steps).
-// One pass in particle ranges, branch-free within a range (NaN fails both comparisons); the
-// first bad particle is then found serially, so the message does not depend on the threads.
+// arrays' views, can set any value between steps). Each particle range takes its smallest and
+// largest value, vectorised, a NaN propagating to both; the first bad particle is then found
+// serially, so the message does not depend on the threads.
 void check_amounts(const Eigen::VectorXd& amount, const char* name) {
   const Index n = amount.size();
   const double* a = amount.data();
   std::atomic<bool> bad{false};
   detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
-    bool ok = true;
-    for (Index p = r0; p < r1; ++p)
-      ok &= (a[p] > 0) & (a[p] < std::numeric_limits<double>::infinity());
-    if (!ok)
+    if (r1 == r0)
+      return;
+    const auto range = amount.segment(r0, r1 - r0);
+    if (!(range.minCoeff<Eigen::PropagateNaN>() > 0 &&
+          range.maxCoeff<Eigen::PropagateNaN>() < std::numeric_limits<double>::infinity()))
       bad.store(true, std::memory_order_relaxed);
   });
   if (!bad.load())
