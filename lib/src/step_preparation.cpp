@@ -41,28 +41,27 @@ const SparseRowMatrix& StepPreparation::consistent_capacity() {
 namespace {
 
 // Masses and initial volumes must stay positive and finite (a program, or Python through the
-// arrays' views, can set any value between steps). Each particle range takes its smallest and
-// largest value, vectorised, a NaN propagating to both; the first bad particle is then found
-// serially, so the message does not depend on the threads.
+// arrays' views, can set any value between steps). Each particle range is checked by vectorised
+// reductions: its smallest value > 0, its largest < ∞, its sum finite (a NaN makes the sum NaN;
+// a sum of finite values too large for a double only sends the check to the scan). The first
+// bad particle is then found by a serial scan, so the message does not depend on the threads.
 void check_amounts(const Eigen::VectorXd& amount, const char* name) {
   const Index n = amount.size();
-  const double* a = amount.data();
-  std::atomic<bool> bad{false};
+  std::atomic<bool> suspect{false};
   detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
     if (r1 == r0)
       return;
     const auto range = amount.segment(r0, r1 - r0);
-    if (!(range.minCoeff<Eigen::PropagateNaN>() > 0 &&
-          range.maxCoeff<Eigen::PropagateNaN>() < std::numeric_limits<double>::infinity()))
-      bad.store(true, std::memory_order_relaxed);
+    if (!(range.minCoeff() > 0 && range.maxCoeff() < std::numeric_limits<double>::infinity() &&
+          std::isfinite(range.sum())))
+      suspect.store(true, std::memory_order_relaxed);
   });
-  if (!bad.load())
+  if (!suspect.load())
     return;
-  Index p = 0;
-  while (a[p] > 0 && std::isfinite(a[p]))
-    ++p;
-  throw InputError("particle " + std::to_string(p) + ": " + name + " " + number_text(a[p]) +
-                   " must be positive and finite");
+  for (Index p = 0; p < n; ++p)
+    if (!(amount[p] > 0 && std::isfinite(amount[p])))
+      throw InputError("particle " + std::to_string(p) + ": " + name + " " +
+                       number_text(amount[p]) + " must be positive and finite");
 }
 
 } // namespace
