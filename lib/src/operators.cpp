@@ -146,11 +146,11 @@ void lumped_mass_and_active(Operators& ops) {
       [](double a, double b) { return std::max(a, b); });
   ops.active.resize(n);
   ops.m_inv.resize(n);
-  detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
-    const auto mass = ops.m.segment(r0, r1 - r0).array();
-    auto on = ops.active.segment(r0, r1 - r0);
+  detail::parallel_segments(n, [&](Index i0, Index count) {
+    const auto mass = ops.m.segment(i0, count).array();
+    auto on = ops.active.segment(i0, count);
     on = mass > kMassTolerance * largest;
-    ops.m_inv.segment(r0, r1 - r0) = on.select(mass.inverse(), 0.0).matrix();
+    ops.m_inv.segment(i0, count) = on.select(mass.inverse(), 0.0).matrix();
   });
 }
 
@@ -187,8 +187,8 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
   ops.grid_node_count = ops.grid.num_nodes();
   ops.grid_nodes = {ops.grid.nodes(0), ops.grid.nodes(1), ops.grid.nodes(2)};
   ops.M.resize(particles.mass.size());
-  detail::parallel_ranges(ops.M.size(), ops.M.size(), nullptr, [&](Index r0, Index r1) {
-    ops.M.segment(r0, r1 - r0) = particles.mass.segment(r0, r1 - r0);
+  detail::parallel_segments(ops.M.size(), [&](Index p0, Index count) {
+    ops.M.segment(p0, count) = particles.mass.segment(p0, count);
   });
   lumped_mass_and_active(ops);
 }

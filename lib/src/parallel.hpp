@@ -126,6 +126,13 @@ void parallel_ranges(Index n, Index rows, const int* cumulative, Body&& body) {
       parts, [&](Index t) { body(split(t), split(t + 1)); }, rows);
 }
 
+/// fn(first, count) for the ranges of parallel_ranges(n, n, nullptr, …): element-wise work on
+/// the rows of a node or particle field, with Eigen's segment or middleRows.
+template <class Fn>
+void parallel_segments(Index n, Fn&& fn) {
+  parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) { fn(r0, r1 - r0); });
+}
+
 /// Rows per block of the ordered reductions: a fixed size, so the order of the additions is
 /// the same for any number of threads.
 inline constexpr Index kReductionBlock = 512;

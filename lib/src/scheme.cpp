@@ -150,12 +150,6 @@ struct Stages {
 
   bool correct_bcs() const { return opt.bc_ordering == BCOrdering::Correct; }
 
-  // fn(first, count) over ranges of the n node rows, one per thread (element-wise work).
-  template <class Fn>
-  static void node_ranges(Index n, Fn&& fn) {
-    detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) { fn(r0, r1 - r0); });
-  }
-
   // Multimaterial contact on momenta p (contact 2020 §3.2): after each extrapolation to the
   // grid (Eq. 26, no force), and after the momentum update with the contact force
   // f^{αC,1} = Δp^{α+}/Δt added to f, so that a^α = (m^α)⁻¹(f^{α0} + f^{αC,1}) (Eqs. 32–34).
@@ -269,17 +263,18 @@ struct Stages {
       c.bcs->zero_directions(*c.grid, g.f); // BC2 alone: zero rate of momentum (Buzzi Eq. 28)
     // Node-wise, in node ranges (each thread mostly on the nodes it summed).
     g.p_plus.resize(g.p.rows(), g.p.cols());
-    node_ranges(g.p.rows(), [&](Index r0, Index m) {
+    detail::parallel_segments(g.p.rows(), [&](Index r0, Index m) {
       g.p_plus.middleRows(r0, m).noalias() = g.p.middleRows(r0, m) + c.dt * g.f.middleRows(r0, m);
     });
     contact(g.p_plus, &g.f);
     // Task 2.a (correct ordering): p⁺ takes the BC velocity and f the reaction f^(BC) = Δp/Δt,
     // by the BC method of §3.1; then v⁺ (task 3.b). The reaction is f's change (storage reused).
     g.reaction.resize(g.f.rows(), g.f.cols());
-    node_ranges(g.f.rows(),
-                [&](Index r0, Index m) { g.reaction.middleRows(r0, m) = g.f.middleRows(r0, m); });
+    detail::parallel_segments(g.f.rows(), [&](Index r0, Index m) {
+      g.reaction.middleRows(r0, m) = g.f.middleRows(r0, m);
+    });
     grid_velocity(g.p_plus, g.v_plus, correct_bcs(), &g.f);
-    node_ranges(g.f.rows(), [&](Index r0, Index m) {
+    detail::parallel_segments(g.f.rows(), [&](Index r0, Index m) {
       g.reaction.middleRows(r0, m) = g.f.middleRows(r0, m) - g.reaction.middleRows(r0, m);
     });
     lumped_solve(c.ops->m_inv, g.f, g.a);

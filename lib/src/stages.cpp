@@ -267,10 +267,8 @@ void lumped_solve(const Eigen::VectorXd& m_inv, const Field& x, Field& v) {
   // One multiply per entry, vectorised, in node ranges: on two threads each range mostly reads
   // the nodes its own thread summed (scatter_to_nodes), not lines held in the other core's cache.
   v.resize(x.rows(), x.cols());
-  const Index n = x.rows();
-  detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
-    v.middleRows(r0, r1 - r0).noalias() =
-        m_inv.segment(r0, r1 - r0).asDiagonal() * x.middleRows(r0, r1 - r0);
+  detail::parallel_segments(x.rows(), [&](Index r0, Index m) {
+    v.middleRows(r0, m).noalias() = m_inv.segment(r0, m).asDiagonal() * x.middleRows(r0, m);
   });
 }
 

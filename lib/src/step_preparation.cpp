@@ -48,10 +48,10 @@ namespace {
 void check_amounts(const Eigen::VectorXd& amount, const char* name) {
   const Index n = amount.size();
   std::atomic<bool> suspect{false};
-  detail::parallel_ranges(n, n, nullptr, [&](Index r0, Index r1) {
-    if (r1 == r0)
+  detail::parallel_segments(n, [&](Index p0, Index count) {
+    if (count == 0)
       return;
-    const auto range = amount.segment(r0, r1 - r0);
+    const auto range = amount.segment(p0, count);
     if (!(range.minCoeff() > 0 && range.maxCoeff() < std::numeric_limits<double>::infinity() &&
           std::isfinite(range.sum())))
       suspect.store(true, std::memory_order_relaxed);
