@@ -10,6 +10,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
 
@@ -142,14 +143,22 @@ Grid particle_window(const Grid& grid, const std::vector<ShapeSupport>& support)
   if (support.empty()) // no particle: one node
     return grid.window(first, count);
   double bound[6]; // −(smallest first node), largest last node, per axis
-  detail::ordered_reduce(
+  detail::ordered_reduce_blocks(
       Index(support.size()), 2 * d, -std::numeric_limits<double>::infinity(), bound,
-      [&](Index p, double* acc) {
-        const ShapeSupport& s = support[size_t(p)];
+      [&](Index begin, Index end, double* acc) {
+        // Integer extremes in registers over the block (through acc, each particle's maxima
+        // would wait on the stores of the one before).
+        int lo[3] = {INT_MAX, INT_MAX, INT_MAX}, hi[3] = {INT_MIN, INT_MIN, INT_MIN};
+        for (Index p = begin; p < end; ++p) {
+          const ShapeSupport& s = support[size_t(p)];
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], s.first[size_t(a)]);
+            hi[a] = std::max(hi[a], s.first[size_t(a)] + s.count[size_t(a)] - 1);
+          }
+        }
         for (int a = 0; a < d; ++a) {
-          acc[2 * a] = std::max(acc[2 * a], -double(s.first[size_t(a)]));
-          acc[2 * a + 1] =
-              std::max(acc[2 * a + 1], double(s.first[size_t(a)] + s.count[size_t(a)] - 1));
+          acc[2 * a] = std::max(acc[2 * a], -double(lo[a]));
+          acc[2 * a + 1] = std::max(acc[2 * a + 1], double(hi[a]));
         }
       },
       [](double a, double b) { return std::max(a, b); });
