@@ -6,10 +6,12 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/stages.hpp"
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace smpm {
 
@@ -43,25 +45,32 @@ namespace {
 // Masses and initial volumes must stay positive and finite (a program, or Python through the
 // arrays' views, can set any value between steps). Each particle range is checked by vectorised
 // reductions: its smallest value > 0, its largest < ∞, its sum finite (a NaN makes the sum NaN;
-// a sum of finite values too large for a double only sends the check to the scan). The first
-// bad particle is then found by a serial scan, so the message does not depend on the threads.
-void check_amounts(const Eigen::VectorXd& amount, const char* name) {
-  const Index n = amount.size();
+// a sum of finite values too large for a double only sends the check to the scan), both arrays
+// in one parallel region. The first bad particle is then found by a serial scan, masses first,
+// so the message does not depend on the threads.
+void check_amounts(const Eigen::VectorXd& mass, const Eigen::VectorXd& volume0) {
+  const std::array<std::pair<const Eigen::VectorXd*, const char*>, 2> amounts{
+      {{&mass, "mass"}, {&volume0, "volume0"}}};
+  const Index n = mass.size();
+  SMPM_VERIFY(volume0.size() == n, "check_amounts: one mass and one volume0 per particle");
   std::atomic<bool> suspect{false};
   detail::parallel_segments(n, [&](Index p0, Index count) {
     if (count == 0)
       return;
-    const auto range = amount.segment(p0, count);
-    if (!(range.minCoeff() > 0 && range.maxCoeff() < std::numeric_limits<double>::infinity() &&
-          std::isfinite(range.sum())))
-      suspect.store(true, std::memory_order_relaxed);
+    for (const auto& [amount, name] : amounts) {
+      const auto range = amount->segment(p0, count);
+      if (!(range.minCoeff() > 0 && range.maxCoeff() < std::numeric_limits<double>::infinity() &&
+            std::isfinite(range.sum())))
+        suspect.store(true, std::memory_order_relaxed);
+    }
   });
   if (!suspect.load())
     return;
-  for (Index p = 0; p < n; ++p)
-    if (!(amount[p] > 0 && std::isfinite(amount[p])))
-      throw InputError("particle " + std::to_string(p) + ": " + name + " " +
-                       number_text(amount[p]) + " must be positive and finite");
+  for (const auto& [amount, name] : amounts)
+    for (Index p = 0; p < n; ++p)
+      if (!((*amount)[p] > 0 && std::isfinite((*amount)[p])))
+        throw InputError("particle " + std::to_string(p) + ": " + name + " " +
+                         number_text((*amount)[p]) + " must be positive and finite");
 }
 
 } // namespace
@@ -69,8 +78,7 @@ void check_amounts(const Eigen::VectorXd& amount, const char* name) {
 void prepare_step(const Model& model, Shape shape, StepPreparation& s, TransportUpdate transport) {
   PhaseClock clock;
   const Particles& P = model.particles;
-  check_amounts(P.mass, "mass");
-  check_amounts(P.volume0, "volume0");
+  check_amounts(P.mass, P.volume0);
   s.mt_current_ = false;
   s.mtL_current_ = false;
   s.ct_current_ = false;
