@@ -247,7 +247,15 @@ TEST_CASE("a bad particle mass is reported at the first bad particle on any numb
     CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
                       "particle 700: mass 0 must be positive and finite");
     model.particles.mass[700] = 1;
+    // Masses are checked before initial volumes (one region checks both): a bad volume0 at an
+    // earlier particle does not hide a bad mass.
+    model.particles.volume0[700] = 0;
+    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep), "particle 1500: mass nan must be "
+                                                              "positive and finite");
     model.particles.mass[1500] = 1;
+    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
+                      "particle 700: volume0 0 must be positive and finite");
+    model.particles.volume0[700] = 1;
     CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
                       "particle 1500: volume0 -2 must be positive and finite");
     model.particles.mass[1500] = std::numeric_limits<double>::quiet_NaN();
