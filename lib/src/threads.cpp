@@ -6,10 +6,15 @@
 #if defined(_OPENMP)
 #include <omp.h>
 #endif
+#if defined(__linux__)
+#include <sched.h>
+#endif
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 namespace smpm {
 
@@ -48,6 +53,43 @@ int threads_from_environment() {
                      std::to_string(kMaxThreads) + "), the number of threads");
   set_threads(count);
   return count;
+}
+
+bool unbind_initial_thread() {
+#if defined(_OPENMP)
+  if (omp_get_proc_bind() == omp_proc_bind_false)
+    return true;
+#if defined(__linux__)
+  // The CPUs of every place: libgomp built the places from the process's CPUs at load time,
+  // before it bound this thread to the first place.
+  std::vector<int> cpus;
+  for (int place = 0; place < omp_get_num_places(); ++place) {
+    std::vector<int> ids(size_t(omp_get_place_num_procs(place)));
+    omp_get_place_proc_ids(place, ids.data());
+    cpus.insert(cpus.end(), ids.begin(), ids.end());
+  }
+  int largest = -1;
+  for (int id : cpus)
+    largest = std::max(largest, id);
+  if (largest < 0)
+    return false;
+  cpu_set_t* set = CPU_ALLOC(largest + 1);
+  if (!set)
+    return false;
+  const size_t size = CPU_ALLOC_SIZE(largest + 1);
+  CPU_ZERO_S(size, set);
+  for (int id : cpus)
+    if (id >= 0)
+      CPU_SET_S(id, size, set);
+  const bool done = sched_setaffinity(0, size, set) == 0;
+  CPU_FREE(set);
+  return done;
+#else
+  return false;
+#endif
+#else
+  return true;
+#endif
 }
 
 Index parallel_threshold() {

@@ -23,6 +23,14 @@ void set_threads(int count);
 /// unless it is a positive integer.
 int threads_from_environment();
 
+/// Lets the calling thread run on the CPUs of every OpenMP place again when thread binding is on
+/// (OMP_PROC_BIND other than false, OMP_PLACES or GOMP_CPU_AFFINITY). libgomp binds the initial
+/// thread to the first place when it loads; a program that then replaces itself (exec) starts
+/// with that place's CPUs alone, and its libgomp puts every thread there. Call it before such an
+/// exec. Returns true when binding is off or the calling thread's CPUs were set (Linux), false
+/// when they could not be.
+bool unbind_initial_thread();
+
 /// Rows (particles, nodes) below which a kernel runs on the calling thread alone, since starting
 /// the threads costs more than the work (default 1024). 0 runs every kernel on all threads,
 /// which tests use to exercise the parallel paths on small problems.
