@@ -55,35 +55,40 @@ int threads_from_environment() {
   return count;
 }
 
-bool unbind_initial_thread() {
+bool unbind_initial_thread() noexcept {
 #if defined(_OPENMP)
-  if (omp_get_proc_bind() == omp_proc_bind_false)
-    return true;
+  if (omp_get_proc_bind() == omp_proc_bind_false || omp_get_num_places() == 0)
+    return true; // nothing was bound
 #if defined(__linux__)
-  // The CPUs of every place: libgomp built the places from the process's CPUs at load time,
-  // before it bound this thread to the first place.
-  std::vector<int> cpus;
-  for (int place = 0; place < omp_get_num_places(); ++place) {
-    std::vector<int> ids(size_t(omp_get_place_num_procs(place)));
-    omp_get_place_proc_ids(place, ids.data());
-    cpus.insert(cpus.end(), ids.begin(), ids.end());
+  try {
+    // The CPUs of every place: libgomp built the places from the process's CPUs at load time
+    // (GOMP_CPU_AFFINITY's from its list, as libgomp itself would use them), before it bound
+    // this thread to the first place.
+    std::vector<int> cpus;
+    for (int place = 0; place < omp_get_num_places(); ++place) {
+      std::vector<int> ids(size_t(omp_get_place_num_procs(place)));
+      omp_get_place_proc_ids(place, ids.data());
+      cpus.insert(cpus.end(), ids.begin(), ids.end());
+    }
+    int largest = -1;
+    for (int id : cpus)
+      largest = std::max(largest, id);
+    if (largest < 0)
+      return false;
+    cpu_set_t* set = CPU_ALLOC(largest + 1);
+    if (!set)
+      return false;
+    const size_t size = CPU_ALLOC_SIZE(largest + 1);
+    CPU_ZERO_S(size, set);
+    for (int id : cpus)
+      if (id >= 0)
+        CPU_SET_S(id, size, set);
+    const bool done = sched_setaffinity(0, size, set) == 0;
+    CPU_FREE(set);
+    return done;
+  } catch (...) { // out of memory
+    return false;
   }
-  int largest = -1;
-  for (int id : cpus)
-    largest = std::max(largest, id);
-  if (largest < 0)
-    return false;
-  cpu_set_t* set = CPU_ALLOC(largest + 1);
-  if (!set)
-    return false;
-  const size_t size = CPU_ALLOC_SIZE(largest + 1);
-  CPU_ZERO_S(size, set);
-  for (int id : cpus)
-    if (id >= 0)
-      CPU_SET_S(id, size, set);
-  const bool done = sched_setaffinity(0, size, set) == 0;
-  CPU_FREE(set);
-  return done;
 #else
   return false;
 #endif

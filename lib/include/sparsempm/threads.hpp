@@ -26,10 +26,11 @@ int threads_from_environment();
 /// Lets the calling thread run on the CPUs of every OpenMP place again when thread binding is on
 /// (OMP_PROC_BIND other than false, OMP_PLACES or GOMP_CPU_AFFINITY). libgomp binds the initial
 /// thread to the first place when it loads; a program that then replaces itself (exec) starts
-/// with that place's CPUs alone, and its libgomp puts every thread there. Call it before such an
-/// exec. Returns true when binding is off or the calling thread's CPUs were set (Linux), false
-/// when they could not be.
-bool unbind_initial_thread();
+/// with that place's CPUs alone, and its libgomp sees one CPU: one thread by default, every
+/// thread on that place when a count is given. Call it before such an exec (and restore the
+/// thread's CPUs if the exec fails). Returns true when nothing was bound or the calling thread's
+/// CPUs were set (Linux), false when they could not be.
+bool unbind_initial_thread() noexcept;
 
 /// Rows (particles, nodes) below which a kernel runs on the calling thread alone, since starting
 /// the threads costs more than the work (default 1024). 0 runs every kernel on all threads,
