@@ -238,27 +238,26 @@ TEST_CASE("a bad particle mass is reported at the first bad particle on any numb
   model.particles = smpm::test::random_cloud(model.grid, 2000, 5, 2.0, false);
   model.particles.mass[1500] = std::numeric_limits<double>::quiet_NaN();
   model.particles.volume0[1500] = -2;
+  auto& P = model.particles;
   for (int t : {1, 2, 3}) {
     const ThreadScope scope(t, 0);
     StepPreparation prep;
-    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep), "particle 1500: mass nan must be "
-                                                              "positive and finite");
-    model.particles.mass[700] = 0;
-    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
-                      "particle 700: mass 0 must be positive and finite");
-    model.particles.mass[700] = 1;
+    const auto reports = [&](const std::string& message) {
+      CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep), message);
+    };
+    reports("particle 1500: mass nan must be positive and finite");
+    P.mass[700] = 0;
+    reports("particle 700: mass 0 must be positive and finite");
+    P.mass[700] = 1;
     // Masses are checked before initial volumes (one region checks both): a bad volume0 at an
     // earlier particle does not hide a bad mass.
-    model.particles.volume0[700] = 0;
-    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep), "particle 1500: mass nan must be "
-                                                              "positive and finite");
-    model.particles.mass[1500] = 1;
-    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
-                      "particle 700: volume0 0 must be positive and finite");
-    model.particles.volume0[700] = 1;
-    CHECK_THROWS_WITH(prepare_step(model, Shape::GIMP, prep),
-                      "particle 1500: volume0 -2 must be positive and finite");
-    model.particles.mass[1500] = std::numeric_limits<double>::quiet_NaN();
+    P.volume0[700] = 0;
+    reports("particle 1500: mass nan must be positive and finite");
+    P.mass[1500] = 1;
+    reports("particle 700: volume0 0 must be positive and finite");
+    P.volume0[700] = 1;
+    reports("particle 1500: volume0 -2 must be positive and finite");
+    P.mass[1500] = std::numeric_limits<double>::quiet_NaN();
   }
   // Finite masses whose sum overflows a double are valid (the ranges' sums only flag them for
   // the scan, which finds nothing).
