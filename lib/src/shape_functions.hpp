@@ -126,10 +126,18 @@ struct BoxChanges {
   const Rows* rows = nullptr;
   /// Stores particle p's new box s over its previous box.
   void record(Index p, ShapeSupport& old, const ShapeSupport& s) {
-    if (s == old)
+    // Compared entry by entry: ShapeSupport's == compares memory (memcmp), which keeps the new
+    // box on the stack and loads it back wider than it was stored, a store-forwarding stall
+    // per particle.
+    bool same_count = true, same_first = true;
+    for (size_t a = 0; a < 3; ++a) {
+      same_count &= s.count[a] == old.count[a];
+      same_first &= s.first[a] == old.first[a];
+    }
+    if (same_count && same_first)
       return; // written only when changed: the pattern is usually kept
     moved.store(true, std::memory_order_relaxed);
-    if (s.count != old.count) {
+    if (!same_count) {
       resized.store(true, std::memory_order_relaxed);
     } else if (rows) {
       const int begin = rows->outer[p];
