@@ -234,10 +234,11 @@ BENCHMARK_CAPTURE(BM_TwoBlocks, single_material, false, false)->Unit(benchmark::
 BENCHMARK_CAPTURE(BM_TwoBlocks, contact_AG_CP, true, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_TwoBlocks, contact_LR, true, true)->Unit(benchmark::kMillisecond);
 
-// STREAM triad a = b + s c on 3 × 10⁷ doubles: the machine's sustainable memory bandwidth, the
-// bound for passes that stream S, G or m̃ from memory; on `threads` threads, each a contiguous
-// share (what memory-bound kernels can gain from the second core). `sweeps` passes per thread
-// and iteration keep the threads' start small beside short arrays.
+// STREAM triad a = b + s c on three arrays of n doubles (3 × 10⁷ below: the machine's
+// sustainable memory bandwidth), the bound for passes that stream S, G or m̃ from memory; on
+// `threads` threads, each a contiguous share (what memory-bound kernels can gain from the second
+// core). `sweeps` passes per thread and iteration keep the threads' start small beside short
+// arrays.
 void BM_StreamTriad(benchmark::State& state, int threads, size_t n, int sweeps) {
   std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
   auto part = [&](int t) {
