@@ -74,7 +74,8 @@ void print_timings(const smpm::PhaseTimes& t, double wall, long steps) {
 }
 
 int run_command(const std::string& input, const std::vector<std::string>& sets,
-                const std::string& output, const std::string& restart, bool quiet, bool timings) {
+                const std::string& output, const std::string& restart, bool discard, bool quiet,
+                bool timings) {
   using namespace smpm;
   using app::print_notes;
   RunOptions options;
@@ -92,6 +93,7 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
     print_notes(cfg);
   }
   options.output = output;
+  options.discard_partial = discard;
   options.interrupt = &g_signal;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -139,6 +141,7 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
 struct RunArgs {
   std::string input, output, restart;
   std::vector<std::string> sets;
+  bool discard = false;
   bool quiet = false;
   bool timings = false;
 };
@@ -150,6 +153,9 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
       ->allow_extra_args(false);
   run->add_option("-o,--output", a.output, "output HDF5 file (default: output.file of the input)");
   run->add_option("--restart", a.restart, "continue the run stored in this HDF5 file");
+  run->add_flag("--discard-partial", a.discard,
+                "start again over the partial file of an earlier run that did not complete "
+                "(its frames are lost; without it, that restart point stops the run)");
   run->add_flag("-q,--quiet", a.quiet, "no progress and no summary");
   run->add_flag("--timings", a.timings,
                 "print where the time loop's wall time went (assembly, contact, stages, ...)");
@@ -299,7 +305,8 @@ int main(int argc, char** argv) {
   try {
     smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core
     if (*run)
-      code = run_command(ra.input, ra.sets, ra.output, ra.restart, ra.quiet, ra.timings);
+      code =
+          run_command(ra.input, ra.sets, ra.output, ra.restart, ra.discard, ra.quiet, ra.timings);
     else if (*stab) {
       st.position_alpha_given = stab->count("--position-alpha") > 0; // a NaN given is refused
       code = smpm::app::stability_command(st);

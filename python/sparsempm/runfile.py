@@ -7,11 +7,16 @@
     g = run.grid(0)                           # nodes with mass: g["nodes"], g["m"], g["X"], ...
     S = run.matrices(0)["S"]                  # with [output] matrices = true: scipy CSR
 
-Only complete frames are listed, so the file of a live run (run.partial.h5) reads as the frames
-written so far (the file is opened without HDF5's lock, which the writer holds); the file is
-closed after each call.
+A completed run is one file. A run in progress, or one that was stopped, is its partial file
+(run.partial.h5: the run's input, status and series) beside a directory of frame files
+(run.partial.frames/000012.h5), each file complete once it has its name: read_run lists the
+frame files there, so it reads exactly the completed frames of a live run, and a file is opened
+only for the call that reads it.
 """
 
+import os
+import re
+import time
 import tomllib
 
 import numpy as np
@@ -19,18 +24,25 @@ import numpy as np
 __all__ = ["Run", "read_run"]
 
 
-def _open(path):
-    """The file read-only; without HDF5's lock when a writer holds it (a live run) or when this
-    process holds it open without the lock already (HDF5 refuses a second open that differs)."""
+def _open(path, attempts=20):
+    """The file read-only. A run of an earlier version held HDF5's lock on its file while it
+    ran: such a file is read without the lock (as is one this process holds open without it),
+    and an open that meets a write in progress is tried again for half a second."""
     import h5py  # an optional dependency (python3-h5py), needed only here
 
-    try:
-        return h5py.File(path, "r")
-    except OSError as first:
+    for attempt in range(attempts):
         try:
-            return h5py.File(path, "r", locking=False)
-        except OSError:
-            raise first from None
+            return h5py.File(path, "r")
+        except OSError as first:
+            try:
+                return h5py.File(path, "r", locking=False)
+            except OSError:
+                if attempt + 1 == attempts or not os.path.isfile(path):
+                    raise first from None
+        time.sleep(0.025)
+
+
+_FRAME_FILE = re.compile(r"^([0-9]{6,})\.h5$")
 
 
 def _text(value):
@@ -42,11 +54,17 @@ class Run:
 
     def __init__(self, path):
         self.path = str(path)
+        self._dir = None  # the directory of the frame files of a run in progress
+        # Only a regular file: opening a FIFO would wait for a writer forever.
+        if not os.path.exists(self.path):
+            raise FileNotFoundError(f"{self.path}: no such run file")
+        if not os.path.isfile(self.path):
+            raise ValueError(f"{self.path}: a run file must be a regular file, not a directory, "
+                             "FIFO or device")
         with _open(self.path) as f:
             attrs = f.attrs
-            if "input" not in attrs or "particles" not in f or "series" not in f:
-                raise ValueError(f"{self.path}: not a sparsempm run file (no input, particles "
-                                 "or series)")
+            if "input" not in attrs or "series" not in f:
+                raise ValueError(f"{self.path}: not a sparsempm run file (no input or series)")
             #: The input file with the --set overrides appended, its name, the overrides.
             self.input = _text(attrs["input"])
             self.source = _text(attrs.get("source", ""))
@@ -54,30 +72,63 @@ class Run:
             self.version = _text(attrs.get("version", ""))
             #: running | completed | failed: ... | interrupted: ...
             self.status = _text(attrs.get("status", ""))
-            parts = f["particles"]
-            #: The complete frames' numbers, ascending, and their times.
-            self.frames = sorted(int(k) for k in parts if k.isdigit()
-                                 and int(parts[k].attrs.get("complete", 0)) == 1)
-            self.times = np.array([parts["%06d" % k].attrs["time"] for k in self.frames])
-            #: Every series as an array, one row per step (row 0: t = 0).
-            self.series = {k: f["series"][k][()] for k in f["series"]}
+            index_series = {k: f["series"][k][()] for k in f["series"]}
+            if "frame_files" in attrs:
+                self._dir = os.path.join(os.path.dirname(self.path), _text(attrs["frame_files"]))
+                last, rows = int(attrs["last_frame"]), int(attrs["frame_rows"])
+            elif "particles" not in f:
+                raise ValueError(f"{self.path}: not a sparsempm run file (no particles)")
+            else:
+                parts = f["particles"]
+                #: The complete frames' numbers, ascending, and their times.
+                self.frames = sorted(int(k) for k in parts if k.isdigit()
+                                     and int(parts[k].attrs.get("complete", 0)) == 1)
+                self.times = np.array([parts["%06d" % k].attrs["time"] for k in self.frames])
+                #: Every series as an array, one row per step (row 0: t = 0).
+                self.series = index_series
+        if self._dir is not None:
+            self._read_frame_files(index_series, last, rows)
         config = tomllib.loads(self.input)
         #: The material names, by material id.
         self.materials = [m.get("name", str(i)) for i, m in enumerate(config.get("material", []))]
         #: The grid's dimension.
         self.dim = int(config.get("grid", {}).get("dim", 1))
 
+    def _read_frame_files(self, index_series, last, rows):
+        """The frames of a run in progress: the files of its directory. The index holds the
+        series rows up to frame `last` (`rows` of them; after them, a stopped run's last
+        steps); the rows of later frames are in their files."""
+        names = os.listdir(self._dir) if os.path.isdir(self._dir) else []
+        self.frames = sorted(int(m.group(1)) for m in map(_FRAME_FILE.match, names) if m)
+        times, later = [], []
+        for k in self.frames:
+            with _open(self._frame_path(k)) as f:
+                times.append(f["particles"]["%06d" % k].attrs["time"])
+                if k > last and "series" in f:
+                    later.append({n: f["series"][n][()] for n in f["series"]})
+        self.times = np.array(times)
+        if not later:
+            self.series = index_series
+            return
+        self.series = {n: np.concatenate([v[:rows]] + [p[n] for p in later if n in p])
+                       for n, v in index_series.items()}
+
+    def _frame_path(self, number):
+        if self._dir is None:
+            return self.path
+        return os.path.join(self._dir, "%06d.h5" % number)
+
     def _frame(self, k):
         if not self.frames:
             raise IndexError(f"{self.path}: no complete frame")
-        number = self.frames[k]  # an index into frames (negative from the end)
-        return "%06d" % number
+        return self.frames[k]  # an index into frames (negative from the end)
 
     def _group(self, group, k):
-        name = self._frame(k)
-        with _open(self.path) as f:
+        number = self._frame(k)
+        name = "%06d" % number
+        with _open(self._frame_path(number)) as f:
             if group not in f or name not in f[group]:
-                raise KeyError(f"{self.path}: frame {int(name)} has no /{group}")
+                raise KeyError(f"{self.path}: frame {number} has no /{group}")
             g = f[group][name]
             out = {key: g[key][()] for key in g}
             out.update({"@" + key: g.attrs[key] for key in g.attrs})
@@ -100,10 +151,11 @@ class Run:
         matrices = true)."""
         import scipy.sparse
 
-        name = self._frame(k)
-        with _open(self.path) as f:
+        number = self._frame(k)
+        name = "%06d" % number
+        with _open(self._frame_path(number)) as f:
             if "matrices" not in f or name not in f["matrices"]:
-                raise KeyError(f"{self.path}: frame {int(name)} has no matrices (run with "
+                raise KeyError(f"{self.path}: frame {number} has no matrices (run with "
                                "[output] matrices = true)")
             out = {}
             for key, g in f["matrices"][name].items():

@@ -11,6 +11,7 @@ import csv
 import hashlib
 import os
 import pathlib
+import shutil
 import signal
 import subprocess
 import sys
@@ -51,7 +52,8 @@ class Base(unittest.TestCase):
 
     def completed(self, name="run.h5", *sets):
         out = self.dir / name
-        args = [a for s in ("time.end=80", *sets) for a in ("--set", s)]
+        args = [a for s in ("time.end=80", *sets) for a in
+                (("--set", s) if not s.startswith("--") else (s,))]
         r = smpm("run", BAR, "-o", out, "-q", *args)
         self.assertEqual(r.returncode, 0, r.stderr)
         return out
@@ -545,7 +547,7 @@ class DiskFull(Base):
             self.skipTest("mounting a small tmpfs needs root")
         mnt = self.dir / "small"
         mnt.mkdir()
-        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=600k", "tmpfs", str(mnt)]).returncode:
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=700k", "tmpfs", str(mnt)]).returncode:
             self.skipTest("cannot mount a tmpfs here")
         try:
             out = mnt / "disks.h5"
@@ -557,17 +559,20 @@ class DiskFull(Base):
             self.assertIn("step", line)
             info = smpm("info", mnt / "disks.partial.h5")  # lists the complete frames
             self.assertEqual(info.returncode, 0, info.stderr)
-            with h5py.File(mnt / "disks.partial.h5", "r") as f:
-                # The run stops before a frame that might not fit (its size, an upper bound, and
-                # 64 kB): two of the 117 kB frames fit in 600 kB (the third was begun before,
-                # and the fourth filled the disk).
-                groups = [f["particles"].get(name) for name in f["particles"]]
-                frames = [g for g in groups if g is not None and "complete" in g.attrs]
-                self.assertEqual(len(frames), len(groups))
-                self.assertGreaterEqual(len(frames), 2)
-                self.assertIn("frames:   %d" % len(frames), info.stdout)
-                for g in frames:
-                    self.assertTrue(np.all(np.isfinite(g["X"][:])))
+            def frames_in_index():
+                # h5py through the index's links: (frames, complete ones, all X finite). The
+                # frame files it opens close with the objects of this function.
+                with h5py.File(mnt / "disks.partial.h5", "r") as f:
+                    groups = [f["particles"].get(name) for name in f["particles"]]
+                    whole = [g for g in groups if g is not None and "complete" in g.attrs]
+                    return len(groups), len(whole), all(np.all(np.isfinite(g["X"][:])) for g in whole)
+            # The run stops before a frame that might not fit (its size, an upper bound, and the
+            # index written again after it): two of the 165 kB frame files fit in 700 kB.
+            linked, whole, finite = frames_in_index()
+            self.assertEqual(whole, linked)
+            self.assertGreaterEqual(whole, 2)
+            self.assertIn("frames:   %d" % whole, info.stdout)
+            self.assertTrue(finite)
         finally:
             subprocess.run(["umount", str(mnt)])
 
@@ -595,8 +600,9 @@ class DiskFull(Base):
                     self.assertIn("no file is kept", line)
                     self.assertEqual(sorted(p.name for p in mnt.iterdir()), [])
                     continue
-                kept = self.dir / "k.partial.h5"
+                kept = self.dir / "k.partial.h5"  # the index and its frame files
                 kept.write_bytes((mnt / "x.partial.h5").read_bytes())
+                shutil.copytree(mnt / "x.partial.frames", self.dir / "x.partial.frames")
             finally:
                 subprocess.run(["umount", str(mnt)])
             with h5py.File(kept, "r") as f:
@@ -758,17 +764,19 @@ class SecondLook(Base):
                 with h5py.File(self.dir / out.replace(".h5", ".partial.h5"), "r") as f:
                     self.assertIn("failed", f.attrs["status"])
         self.assertTrue(precious.exists() and not (self.dir / "x.partial.h5").is_symlink())
-        # A restart of the completed run whose partial name is a link to it: the link is
-        # replaced by a copy, the file it named (and its other names) stay as they were.
+        # A restart of the completed run into an output whose partial name is a link to it: the
+        # link is replaced by the new run's index, the file it named (and its other names) stay
+        # as they were.
         for make in (os.symlink, os.link):
             with self.subTest(link=make.__name__):
-                (self.dir / "precious.partial.h5").unlink(missing_ok=True)
-                make(precious, self.dir / "precious.partial.h5")
-                r = smpm("run", "--restart", precious, "-q")
+                (self.dir / "more.partial.h5").unlink(missing_ok=True)
+                make(precious, self.dir / "more.partial.h5")
+                r = smpm("run", "--restart", precious, "-o", self.dir / "more.h5", "-q")
                 self.assertEqual(r.returncode, 0, r.stderr)
                 self.assertFalse(precious.is_symlink())
+                self.assertEqual(digest(precious), before)
                 self.assertEqual(digest(backup), before)
-                with h5py.File(precious, "r") as f:
+                with h5py.File(self.dir / "more.h5", "r") as f:
                     self.assertEqual(f.attrs["status"], "completed")
 
     def test_a_rerun_keeps_a_killed_runs_restart_point(self):
@@ -788,11 +796,17 @@ class SecondLook(Base):
         self.assertEqual(r.returncode, 0, r.stderr)
         with h5py.File(self.dir / "k.h5", "r") as f:
             self.assertEqual(f.attrs["status"], "completed")
-        # A failed run's partial file is replaced by the rerun (test_failed_rerun_keeps_the_result).
+        # A failed run's partial file (or one whose restart failed) is a restart point too: a
+        # rerun replaces it only with --discard-partial.
         Restart.cut(full, self.dir / "f.partial.h5", 3)
         with h5py.File(self.dir / "f.partial.h5", "r+") as f:
             f.attrs["status"] = "failed: at step 5"
-        self.completed("f.h5")
+        before = digest(self.dir / "f.partial.h5")
+        line = one_line(self, smpm("run", BAR, "-o", self.dir / "f.h5", "-q"), 2)
+        self.assertIn("holds 4 frames of a run that failed", line)
+        self.assertIn("--discard-partial", line)
+        self.assertEqual(digest(self.dir / "f.partial.h5"), before)
+        self.completed("f.h5", "--discard-partial")
 
     def test_damaged_files_are_named_as_such(self):
         full = self.completed()

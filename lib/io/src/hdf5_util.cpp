@@ -7,7 +7,7 @@ namespace smpm::h5 {
 
 void check(long status, const std::string& what) {
   if (status < 0)
-    throw std::runtime_error("HDF5: " + what);
+    throw Error("HDF5: " + what);
 }
 
 Id create_group(hid_t parent, const std::string& name) {
@@ -177,9 +177,9 @@ std::vector<std::string> get_strings_attribute(hid_t obj, const std::string& nam
   return out;
 }
 
-void create_series(hid_t group, const std::string& name, hsize_t cols) {
+void create_series(hid_t group, const std::string& name, hsize_t cols, hsize_t rows) {
   const hsize_t dims[2] = {0, cols}, maxdims[2] = {H5S_UNLIMITED, cols};
-  const hsize_t chunk[2] = {kSeriesChunk, cols ? cols : 1};
+  const hsize_t chunk[2] = {rows, cols ? cols : 1};
   Id space(H5Screate_simple(cols ? 2 : 1, dims, maxdims), H5Sclose);
   Id plist(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_chunk(plist.get(), cols ? 2 : 1, chunk);

@@ -5,6 +5,7 @@
 #include "sparsempm/types.hpp"
 
 #include <hdf5.h>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,12 @@ public:
     id_ = -1;
   }
   hid_t get() const { return id_; }
+  /// Gives up the identifier without closing it.
+  hid_t release() {
+    const hid_t id = id_;
+    id_ = -1;
+    return id;
+  }
   explicit operator bool() const { return id_ >= 0; }
 
 private:
@@ -39,7 +46,12 @@ private:
   herr_t (*close_)(hid_t) = nullptr;
 };
 
-/// Throws std::runtime_error "HDF5: <what>" when status < 0.
+/// An HDF5 call that failed: an object that cannot be created, opened, read or written.
+struct Error : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Throws Error "HDF5: <what>" when status < 0.
 void check(long status, const std::string& what);
 
 Id create_group(hid_t parent, const std::string& name);
@@ -68,8 +80,9 @@ bool has_attribute(hid_t obj, const std::string& name);
 
 /// Rows per chunk of a series.
 inline constexpr hsize_t kSeriesChunk = 1024;
-/// An extendible 1D (cols = 0) or 2D double dataset in chunks of kSeriesChunk rows; appends rows.
-void create_series(hid_t group, const std::string& name, hsize_t cols);
+/// An extendible 1D (cols = 0) or 2D double dataset in chunks of `chunk` rows; appends rows.
+void create_series(hid_t group, const std::string& name, hsize_t cols,
+                   hsize_t chunk = kSeriesChunk);
 void append_series(hid_t group, const std::string& name, const double* rows, hsize_t count,
                    hsize_t cols);
 void truncate_series(hid_t group, const std::string& name, hsize_t rows);

@@ -6,6 +6,7 @@
 
 #include "hdf5_util.hpp"
 #include "output_format.hpp"
+#include "run_reader.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/run_file.hpp"
 
@@ -23,6 +24,11 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/@source", "text", "the input file's name", ""},
       {"/@version", "text", "the sparsempm version that wrote the file", ""},
       {"/@status", "text", "running | completed | failed: ... | interrupted: ...", ""},
+      {"/@frame_files", "text", "the directory of the frame files, beside the index",
+       "in progress"},
+      {"/@last_frame", "scalar", "the last frame linked here (-1: none)", "in progress"},
+      {"/@frame_rows", "scalar", "the series rows up to that frame (later: a stopped run's)",
+       "in progress"},
       {"/particles/<frame>/X", "N x d", "positions", ""},
       {"/particles/<frame>/V", "N x d", "velocities", ""},
       {"/particles/<frame>/stress", "N x d^2", "Cauchy stresses (row-major)", ""},
@@ -179,29 +185,26 @@ void visit(Walk& w, hid_t file, const std::string& path) {
 
 std::vector<FileObject> walk_run_file(const std::string& path) {
   check_regular_file(path, kMaxRunFileBytes, "run file");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const h5::Id file(open_for_reading(path), H5Fclose);
+  RunReader r(path);
   Walk w;
-  attributes(w, file.get(), "/");
-  const std::vector<int> frames = complete_frames(file.get());
-  for (const char* group : {"grid", "matrices", "particles", "series", "state"}) {
-    const std::string g = std::string("/") + group;
-    if (!h5::exists(file.get(), group))
-      continue;
-    if (g == "/series")
-      visit(w, file.get(), g);
-    else if (!frames.empty() && h5::exists(file.get(), g + "/" + frame_name(frames.back())))
-      visit(w, file.get(), g + "/" + frame_name(frames.back()));
+  attributes(w, r.index(), "/");
+  if (h5::exists(r.index(), "series"))
+    visit(w, r.index(), "/series");
+  if (r.frames().empty())
+    return w.out;
+  // The last frame's objects, from the file that holds them, and its particles' vertex list.
+  const int last = r.frames().back();
+  const hid_t file = r.frame(last);
+  for (const char* group : {"grid", "matrices", "particles", "state"}) {
+    const std::string g = std::string("/") + group + "/" + frame_name(last);
+    if (h5::exists(file, group) && h5::exists(file, g.substr(1)))
+      visit(w, file, g);
   }
-  if (!frames.empty()) { // of the vertex lists, the one of the last frame's particles
-    const std::string x = "/particles/" + frame_name(frames.back()) + "/X";
-    const std::string v = h5::exists(file.get(), "vertices") && h5::exists(file.get(), x.substr(1))
-                              ? "/vertices/" + std::to_string(h5::rows_of(file.get(), x.substr(1)))
-                              : "";
-    if (!v.empty() && h5::exists(file.get(), v.substr(1))) {
-      const h5::Id set(H5Dopen2(file.get(), v.c_str(), H5P_DEFAULT), H5Dclose);
-      w.out.push_back({v, shape_of(set.get()), layout_entry(v)});
-    }
+  const std::string x = "particles/" + frame_name(last) + "/X";
+  const std::string v = "/vertices/" + std::to_string(h5::rows_of(file, x));
+  if (h5::exists(file, "vertices") && h5::exists(file, v.substr(1))) {
+    const h5::Id set(H5Dopen2(file, v.c_str(), H5P_DEFAULT), H5Dclose);
+    w.out.push_back({v, shape_of(set.get()), layout_entry(v)});
   }
   return w.out;
 }

@@ -17,22 +17,25 @@ namespace smpm::detail {
 
 /// "000042" for frame 42.
 std::string frame_name(int frame);
-/// File access with the metadata cache never evicting: metadata reaches the disk only at
-/// H5Fflush, so the file on disk is always the state of the last flush.
-h5::Id access_plist();
 
 /// The one-column series, in the order of SeriesRow's fields.
 extern const char* const kSeries[];
 inline constexpr int kNumSeries = 11;
-/// The per-material series (mass, momentum, centre of mass) and their widths.
+/// The per-material series (mass, momentum, centre of mass).
 extern const char* const kMaterialSeries[];
-hsize_t material_width(int s, int materials, int dim);
-void create_material_series(hid_t series, int materials, int dim);
+/// The values of the rows for every series of `layout`, in the order of its columns() (rows ×
+/// width; NaN where a row lacks a value).
+std::vector<Field> series_values(const SeriesLayout& layout, const std::vector<SeriesRow>& rows);
+/// Creates /series with every series of `layout`, empty and extendible in chunks of `chunk`
+/// rows.
+void create_series_group(hid_t file, const SeriesLayout& layout, hsize_t chunk = h5::kSeriesChunk);
+/// Rows per chunk of the series of a run's index, which is written again after frames.
+inline constexpr hsize_t kIndexSeriesChunk = 128;
+/// Appends the rows to the extendible series of /series.
+void append_series_rows(hid_t file, const SeriesLayout& layout, const std::vector<SeriesRow>& rows);
+/// Writes /series with the rows as datasets of their size (a frame file's rows).
+void write_series_rows(hid_t file, const SeriesLayout& layout, const std::vector<SeriesRow>& rows);
 
-/// Opens a run file read-only; InputError saying why not (not HDF5, or locked by a writer).
-hid_t open_for_reading(const std::string& path);
-/// Complete frames of an open file, ascending.
-std::vector<int> complete_frames(hid_t file);
 /// Writes the contact nodes of a multimaterial frame into its /grid group `g` (contact_nodes,
 /// contact_fields, contact_normal, contact_separation, contact_approaching, contact_X) from the
 /// frame's preparation (prepare_step) and momenta p = SᵀMV (output_contact.cpp).
@@ -51,13 +54,11 @@ std::string xml_escaped(const std::string& text);
 void write_particles(hid_t file, const std::string& name, const Model& model);
 void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape, bool matrices,
                 const StepPreparation* prepared);
-void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim);
 void write_run_state(hid_t file, const std::string& name, const RunState& state);
-/// An upper bound of the bytes a frame of `model` (and the `series_rows` rows before it, after
-/// `series_written` rows already in the file) adds to a run file and its sidecar: what
-/// write_frame makes sure the disk has before writing it.
+/// An upper bound of the bytes of a frame file of `model` with `series_rows` rows of `columns`
+/// values each: what write_frame makes sure the disk has before writing it.
 double frame_bytes(const Model& model, const StepPreparation* prepared, bool matrices,
-                   size_t series_rows, size_t series_written);
+                   size_t series_rows, size_t columns);
 /// Loads one frame's particle state and clock into `model`.
 void load_frame_from(hid_t file, int frame, Model& model);
 

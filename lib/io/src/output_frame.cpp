@@ -160,69 +160,8 @@ void write_grid(hid_t file, const std::string& name, const Model& model, Shape s
   }
 }
 
-// Appends the buffered rows to /series.
-void append_series_rows(hid_t file, const std::vector<SeriesRow>& rows, int dim) {
-  h5::Id series = h5::open_group(file, "series");
-  const size_t k = rows.size();
-  std::vector<double> col(k), mom(k * size_t(dim));
-  for (int s = 0; s < kNumSeries; ++s) {
-    for (size_t r = 0; r < k; ++r) {
-      const SeriesRow& row = rows[r];
-      const double vals[kNumSeries] = {double(row.step),
-                                       row.t,
-                                       row.e.kinetic,
-                                       row.e.strain,
-                                       row.e.total,
-                                       row.velocity_change,
-                                       row.velocity_change_sum,
-                                       row.friction,
-                                       row.viscous,
-                                       row.fmpm_order,
-                                       row.plastic};
-      col[r] = vals[s];
-    }
-    h5::append_series(series.get(), kSeries[s], col.data(), k, 0);
-  }
-  for (size_t r = 0; r < k; ++r)
-    for (int a = 0; a < dim; ++a)
-      mom[r * size_t(dim) + size_t(a)] = rows[r].e.momentum[a];
-  h5::append_series(series.get(), "momentum", mom.data(), k, hsize_t(dim));
-  // Heat transport: the thermal sums, one series each.
-  if (k > 0 && !rows[0].thermal.empty())
-    for (size_t s = 0; s < std::size(kThermalSeries); ++s) {
-      for (size_t r = 0; r < k; ++r)
-        col[r] = rows[r].thermal.size() > s ? rows[r].thermal[s] : std::nan("");
-      h5::append_series(series.get(), kThermalSeries[s], col.data(), k, 0);
-    }
-  // The velocity conditions' reactions, one column per condition.
-  if (k > 0 && !rows[0].reactions.empty()) {
-    const size_t nc = rows[0].reactions.size();
-    std::vector<double> data(k * nc, std::nan(""));
-    for (size_t r = 0; r < k; ++r)
-      for (size_t c = 0; c < std::min(nc, rows[r].reactions.size()); ++c)
-        data[r * nc + c] = rows[r].reactions[c];
-    h5::append_series(series.get(), "reaction", data.data(), k, hsize_t(nc));
-  }
-  // Per material: material_sums lays out (mass, momentum d, centre d) per material.
-  if (k == 0 || rows[0].materials.empty())
-    return;
-  const size_t nm = rows[0].materials.size() / size_t(1 + 2 * dim);
-  for (int s = 0; s < 3; ++s) {
-    const size_t w = size_t(material_width(s, int(nm), dim)), per = w / nm;
-    std::vector<double> data(k * w);
-    for (size_t r = 0; r < k; ++r)
-      for (size_t m = 0; m < nm; ++m)
-        for (size_t a = 0; a < per; ++a)
-          data[r * w + m * per + a] = rows[r].materials[m * size_t(1 + 2 * dim) +
-                                                        (s == 0   ? 0
-                                                         : s == 1 ? 1
-                                                                  : 1 + size_t(dim)) +
-                                                        a];
-    h5::append_series(series.get(), kMaterialSeries[s], data.data(), k, hsize_t(w));
-  }
-}
 double frame_bytes(const Model& model, const StepPreparation* prepared, bool matrices,
-                   size_t series_rows, size_t series_written) {
+                   size_t series_rows, size_t columns) {
   const double N = double(model.particles.size()), d = model.grid.dim();
   const double fields = model.contact.fields();
   // The particle fields: X, V, half-lengths (d each), σ, F (d² each), five scalars, the ids,
@@ -249,14 +188,10 @@ double frame_bytes(const Model& model, const StepPreparation* prepared, bool mat
     bytes += 8 * N * d * d;
   if (heat && matrices)
     bytes += 2 * (12 * std::pow(5, d) + 4) * double(model.grid.num_nodes());
-  // The series' chunks of kSeriesChunk rows that the new rows begin (every column of them, with
-  // the seven of heat transport).
-  const double chunks = std::ceil(double(series_written + series_rows) / h5::kSeriesChunk) -
-                        std::ceil(double(series_written) / h5::kSeriesChunk);
-  bytes += 8 * chunks * h5::kSeriesChunk *
-           (10 + d + double(model.materials.size()) * (1 + 2 * d) + (heat ? 7 : 0));
-  // HDF5's metadata (under 1 kB an object, ~30 objects) and the sidecar's frame.
-  return bytes + 32 * 1024 + 8 * 1024;
+  // The series rows since the frame before.
+  bytes += 8 * double(series_rows) * double(columns);
+  // HDF5's metadata (under 1 kB an object, ~60 objects with the series) and the sidecar's frame.
+  return bytes + 64 * 1024 + 8 * 1024;
 }
 
 // /state/<name>: what a restart continues (RunState).

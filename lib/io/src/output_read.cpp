@@ -6,126 +6,57 @@
 
 #include "hdf5_util.hpp"
 #include "output_format.hpp"
+#include "run_reader.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/plasticity.hpp"
 #include "sparsempm/run_file.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace smpm {
 
 using namespace detail;
 
-namespace detail {
-
-// Opens a run file read-only; InputError saying why not (not HDF5, locked by a writer, or
-// damaged).
-hid_t open_for_reading(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  // A live run holds HDF5's lock: its file is read without the lock. Its frames are flushed
-  // whole and named only then, so a reader sees the complete frames of the last flush; a read
-  // that meets a flush in progress is tried again. (The lock's setting must match that of a
-  // file this process already has open, as a restart in place does: hence the default first.)
-  if (f < 0 && held_by_writer(path)) {
-    const h5::Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-    h5::check(H5Pset_file_locking(fapl.get(), false, true), "file access without locking");
-    f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get());
-    for (int attempt = 0; f < 0 && attempt < 20 && held_by_writer(path); ++attempt) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(25));
-      f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get());
-    }
-  }
-  if (f >= 0)
-    return f;
-  if (H5Fis_hdf5(path.c_str()) <= 0)
-    throw InputError(path + ": not an HDF5 run file");
-  if (held_by_writer(path))
-    throw InputError(path + ": an HDF5 file that cannot be opened now (another process is "
-                            "writing it and holds its lock); try again when that run ends");
-  throw InputError(path + ": a damaged HDF5 file (cut short or overwritten); it cannot be "
-                          "opened");
-}
-
-// Complete frames of a file, ascending.
-std::vector<int> complete_frames(hid_t file) {
-  std::vector<int> frames;
-  h5::Id parts = h5::open_group(file, "particles");
-  H5G_info_t info;
-  H5Gget_info(parts.get(), &info);
-  for (hsize_t k = 0; k < info.nlinks; ++k) {
-    char name[64] = {};
-    if (H5Lget_name_by_idx(parts.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
-                           H5P_DEFAULT) < 0)
-      continue;
-    const std::string s(name);
-    if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos)
-      continue; // not a frame of ours
-    // A frame whose write failed (a full disk) may be a dangling link: not complete.
-    const hid_t g = H5Gopen2(parts.get(), s.c_str(), H5P_DEFAULT);
-    if (g < 0)
-      continue;
-    const h5::Id group(g, H5Gclose);
-    if (h5::has_attribute(g, "complete"))
-      frames.push_back(std::stoi(s));
-  }
-  std::sort(frames.begin(), frames.end()); // numerically, past 999999 too
-  return frames;
-}
-} // namespace detail
-
 StoredRun read_stored_run(const std::string& path) {
   check_regular_file(path, kMaxRunFileBytes, "run file");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
+  RunReader r(path);
+  const hid_t f = r.index();
   StoredRun run;
   try {
     run.input = h5::get_string_attribute(f, "input");
     run.overrides = h5::get_strings_attribute(f, "overrides");
     run.version = h5::get_string_attribute(f, "version");
     run.status = h5::get_string_attribute(f, "status");
-    h5::Id parts = h5::open_group(f, "particles");
-    for (int frame : complete_frames(f)) {
-      h5::Id g = h5::open_group(parts.get(), frame_name(frame));
+    for (int frame : r.frames()) {
+      h5::Id g = h5::open_group(r.frame(frame), "particles/" + frame_name(frame));
       run.frame_times.push_back(h5::get_double_attribute(g.get(), "time"));
     }
-    h5::Id series = h5::open_group(f, "series");
-    const Field step = h5::read_doubles(series.get(), "step"),
-                t = h5::read_doubles(series.get(), "t");
-    const Field kin = h5::read_doubles(series.get(), "kinetic");
-    const Field str = h5::read_doubles(series.get(), "strain");
-    const Field tot = h5::read_doubles(series.get(), "total");
-    const bool mms = h5::exists(series.get(), "velocity_change_sum");
-    const Field vc = mms ? h5::read_doubles(series.get(), "velocity_change") : Field();
-    const Field vs = mms ? h5::read_doubles(series.get(), "velocity_change_sum") : Field();
-    const bool dis = h5::exists(series.get(), "viscous"); // files of earlier versions lack them
-    const Field fw = dis ? h5::read_doubles(series.get(), "friction") : Field();
-    const Field vw = dis ? h5::read_doubles(series.get(), "viscous") : Field();
-    const bool pl = h5::exists(series.get(), "plastic"); // files before J2 plasticity lack it
-    const Field pw = pl ? h5::read_doubles(series.get(), "plastic") : Field();
-    for (Index r = 0; r < step.rows(); ++r) {
+    // The series; files of earlier versions lack some (their rows keep the defaults).
+    auto column = [&](const char* name) { return r.has_series(name) ? r.series(name) : Field(); };
+    const Field step = r.series("step"), t = r.series("t");
+    const Field kin = r.series("kinetic"), str = r.series("strain"), tot = r.series("total");
+    const Field vc = column("velocity_change"), vs = column("velocity_change_sum");
+    const Field fw = column("friction"), vw = column("viscous"), pw = column("plastic");
+    for (Index k = 0; k < step.rows(); ++k) {
       SeriesRow row;
-      row.step = long(step(r, 0));
-      row.t = t(r, 0);
-      row.e.kinetic = kin(r, 0);
-      row.e.strain = str(r, 0);
-      row.e.total = tot(r, 0);
-      if (mms && r < vs.rows() && r < vc.rows()) {
-        row.velocity_change = vc(r, 0);
-        row.velocity_change_sum = vs(r, 0);
+      row.step = long(step(k, 0));
+      row.t = t(k, 0);
+      row.e.kinetic = kin(k, 0);
+      row.e.strain = str(k, 0);
+      row.e.total = tot(k, 0);
+      if (k < vs.rows() && k < vc.rows()) {
+        row.velocity_change = vc(k, 0);
+        row.velocity_change_sum = vs(k, 0);
       }
-      if (dis && r < fw.rows() && r < vw.rows()) {
-        row.friction = fw(r, 0);
-        row.viscous = vw(r, 0);
+      if (k < fw.rows() && k < vw.rows()) {
+        row.friction = fw(k, 0);
+        row.viscous = vw(k, 0);
       }
-      if (pl && r < pw.rows())
-        row.plastic = pw(r, 0);
+      if (k < pw.rows())
+        row.plastic = pw(k, 0);
       run.series.push_back(row);
     }
   } catch (const std::runtime_error& e) {
@@ -260,10 +191,7 @@ void load_frame_from(hid_t file, int frame, Model& model) {
 
 std::vector<int> run_frames(const std::string& path) {
   check_regular_file(path, kMaxRunFileBytes, "run file");
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
-  return complete_frames(f);
+  return RunReader(path).frames();
 }
 
 namespace {
@@ -299,12 +227,11 @@ RunState read_run_state(const std::string& path, int frame) {
 
 namespace {
 RunState read_state(const std::string& path, int frame) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   RunState state;
   long step = 0;
   {
-    const hid_t f = open_for_reading(path);
-    h5::Id file(f, H5Fclose);
+    RunReader r(path);
+    const hid_t f = r.frame(frame);
     const std::string name = frame_name(frame);
     if (h5::exists(f, "state") && !h5::exists(f, "state/" + name))
       throw std::runtime_error("/state/" + name + " is missing (the state a restart continues)");
@@ -338,11 +265,9 @@ RunState read_state(const std::string& path, int frame) {
 } // namespace
 
 void load_frame(const std::string& path, int frame, Model& model) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = open_for_reading(path);
-  h5::Id file(f, H5Fclose);
+  RunReader r(path);
   try {
-    load_frame_from(f, frame, model);
+    load_frame_from(r.frame(frame), frame, model);
   } catch (const std::runtime_error& e) {
     throw InputError(path + ": frame " + std::to_string(frame) + ": " + e.what());
   }

@@ -198,75 +198,29 @@ bool has_sidecar(Sidecar which, const std::vector<FrameRecord>& frames) {
 }
 } // namespace
 
-OutputFile::FrameRecord OutputFile::record_of(long file, int frame) {
-  const std::string name = frame_name(frame);
-  FrameRecord r;
-  r.frame = frame;
-  h5::Id parts = h5::open_group(hid_t(file), "particles");
-  h5::Id pg = h5::open_group(parts.get(), name);
-  r.time = h5::get_double_attribute(pg.get(), "time");
-  r.particles = Index(h5::rows_of(pg.get(), "X"));
-  r.has_J = h5::exists(pg.get(), "J");
-  r.has_energy = h5::exists(pg.get(), "energy");
-  r.has_temperature = h5::exists(pg.get(), "temperature");
-  r.has_gradient = h5::exists(pg.get(), "gradient");
-  r.has_plastic_strain = h5::exists(pg.get(), "plastic_strain");
-  h5::Id grid = h5::open_group(hid_t(file), "grid");
-  if (!h5::exists(grid.get(), name))
-    return r;
-  h5::Id gg = h5::open_group(grid.get(), name);
-  r.fields = int(h5::get_long_attribute(gg.get(), "velocity_fields"));
-  if (h5::exists(gg.get(), "X")) // files of earlier versions have no node positions
-    r.nodes = Index(h5::rows_of(gg.get(), "nodes"));
-  if (h5::exists(gg.get(), "contact_X"))
-    r.contact = Index(h5::rows_of(gg.get(), "contact_nodes"));
-  return r;
-}
-
-// Appends frame k to each sidecar in place: the new <Grid> replaces the closing tags, which are
-// written again after it, so writing frame n costs the size of frame n.
-void OutputFile::write_xdmf_frame(size_t k) {
-  const std::string h5_name = std::filesystem::path(path_).filename().string();
-  for (const Sidecar which : {Sidecar::Particles, Sidecar::Nodes, Sidecar::Contact}) {
-    if (!has_sidecar(which, frames_))
-      continue;
-    const std::string xmf = xdmf_path(path_, which);
-    long& trailer = xmf_trailer_[size_t(which)];
-    if (trailer < 0 || !std::filesystem::exists(xmf)) { // new, or removed meanwhile
-      std::ofstream out(xmf, std::ios::binary | std::ios::trunc);
-      std::string head = xdmf_header(which, h5_name, material_names_);
-      for (size_t j = 0; j < k; ++j)
-        head += xdmf_frame(which, h5_name, frames_[j], dim_);
-      out << head << kXdmfTrailer;
-      if (!out.flush())
-        throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
-      trailer = long(head.size());
-    }
-    const std::string block = xdmf_frame(which, h5_name, frames_[k], dim_);
-    if (block.empty())
-      continue;
-    std::fstream out(xmf, std::ios::binary | std::ios::in | std::ios::out);
-    out.seekp(trailer);
-    out << block << kXdmfTrailer;
-    if (!out.flush())
-      throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
-    trailer += long(block.size());
-  }
-}
-
-// The sidecars of `h5_path`, whole (each through a temporary file).
-void OutputFile::write_xdmf_whole(const std::string& h5_path) const {
+// The sidecars of `h5_path`, each written whole and renamed into place (a reader never meets
+// one half written): the frames in their files (`split`: a run in progress) or in `h5_path`.
+void OutputFile::write_sidecars(const std::string& h5_path, bool split) const {
   const std::string h5_name = std::filesystem::path(h5_path).filename().string();
+  const std::string dir_name = std::filesystem::path(dir_).filename().string();
   for (const Sidecar which : {Sidecar::Particles, Sidecar::Nodes, Sidecar::Contact}) {
-    if (!has_sidecar(which, frames_))
+    const std::string xmf = xdmf_path(h5_path, which);
+    if (!has_sidecar(which, frames_)) { // one of an earlier run of this path that this one has not
+      std::error_code ec;
+      std::filesystem::remove(xmf, ec);
       continue;
-    const std::string xmf = xdmf_path(h5_path, which), tmp = xmf + ".tmp";
+    }
+    std::string text = xdmf_header(which, h5_name, material_names_);
+    for (const FrameRecord& f : frames_)
+      text += xdmf_frame(which, split ? dir_name + "/" + frame_name(f.frame) + ".h5" : h5_name, f,
+                         dim_);
+    text += kXdmfTrailer;
+    const std::string tmp =
+        (std::filesystem::path(dir_) / (std::filesystem::path(xmf).filename().string() + ".tmp"))
+            .string();
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      out << xdmf_header(which, h5_name, material_names_);
-      for (const FrameRecord& f : frames_)
-        out << xdmf_frame(which, h5_name, f, dim_);
-      out << kXdmfTrailer;
+      out << text;
       if (!out.flush())
         throw std::runtime_error("cannot write the ParaView sidecar " + xmf);
     }

@@ -11,52 +11,23 @@
 #include <filesystem>
 #include <optional>
 #include <string>
-#include <sys/stat.h>
 #include <utility>
 
 namespace smpm {
 
 namespace {
-// The partial file of a fresh run, or a copy of the restart file continued from its last
-// complete frame (the restart file itself is never written). Sets next_frame and e0.
+// The partial run of a fresh run, or the restart file's frames continued from its last
+// complete frame (the restart file itself is written only when it is the partial run, continued
+// in place). Sets next_frame and e0.
 OutputFile open_partial(RunConfig& cfg, const RunOptions& options, const std::string& partial,
                         int& next_frame, std::optional<double>& e0) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  // In place only when the partial name is the restart file itself, not a link to it (a
-  // symbolic or a second hard link to a completed run, which must stay as it is).
-  struct stat named {};
-  const bool in_place =
-      !options.restart_from.empty() && fs::equivalent(options.restart_from, partial, ec) &&
-      ::lstat(partial.c_str(), &named) == 0 && S_ISREG(named.st_mode) && named.st_nlink == 1;
-  std::optional<StoredRun> stored;
-  if (!options.restart_from.empty()) {
-    stored = read_stored_run(options.restart_from);
-    if (stored->frame_times.empty())
-      throw InputError(options.restart_from + ": no complete frame to restart from");
-    // The frame and state continued, checked in the restart file itself: a damaged one is
-    // refused by that file's name before anything is written.
-    const int last = run_frames(options.restart_from).back();
-    Model probe = cfg.model;
-    load_frame(options.restart_from, last, probe);
-    (void)read_run_state(options.restart_from, last);
-    if (!stored->series.empty())
-      e0 = stored->series.front().e.total;
-  }
-  // A partial file that check_run_output let through (a failed run's) is replaced, never
-  // written through: a link at its name leaves the file it points to as it was.
-  if (!in_place)
-    fs::remove(partial, ec);
-  if (!stored)
+  if (options.restart_from.empty())
     return OutputFile(partial, cfg);
-  if (!in_place) {
-    std::filesystem::copy_file(options.restart_from, partial,
-                               std::filesystem::copy_options::overwrite_existing, ec);
-    if (ec)
-      throw InputError(partial + ": cannot copy the restart file " + options.restart_from +
-                       " there (" + ec.message() + ")");
-  }
-  return OutputFile::reopen(partial, cfg, next_frame);
+  OutputFile out = OutputFile::reopen(partial, options.restart_from, cfg, next_frame);
+  const StoredRun stored = read_stored_run(partial);
+  if (!stored.series.empty())
+    e0 = stored.series.front().e.total;
+  return out;
 }
 } // namespace
 
@@ -220,9 +191,16 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   const std::string target = !options.output.empty() ? options.output
                              : restart               ? final_path(options.restart_from)
                                                      : cfg.output.file;
-  if (restart)
+  if (restart) {
     check_regular_file(options.restart_from, kMaxRunFileBytes, "run file");
-  check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from);
+    std::error_code ec;
+    if (std::filesystem::equivalent(target, options.restart_from, ec))
+      throw InputError("-o " + target +
+                       ": is the run file the restart continues, which a restart "
+                       "never writes; give another -o");
+  }
+  check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from,
+                   options.discard_partial);
   const OutputLock lock(target); // a second run on this path stops here, before any write
   const std::string partial = partial_path(target);
   Run r(cfg, options, partial);

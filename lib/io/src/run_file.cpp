@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/run_file.hpp"
 
+#include "frame_files.hpp"
 #include "hdf5_util.hpp"
 #include "output_format.hpp"
+#include "run_reader.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/output.hpp"
 
@@ -39,28 +41,23 @@ enum class FileKind { Run, Locked, Damaged, Other };
 struct ExistingFile {
   FileKind kind = FileKind::Other;
   std::string status;
-  bool has_frame = false;
+  size_t frames = 0; // its complete frames
 };
 ExistingFile existing_file(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   if (H5Fis_hdf5(path.c_str()) <= 0)
     return {};
   if (held_by_writer(path))
-    return ExistingFile{FileKind::Locked, {}, false};
-  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0)
-    return ExistingFile{FileKind::Damaged, {}, false};
-  const h5::Id file(f, H5Fclose);
-  if (H5Aexists(f, "version") <= 0 || H5Aexists(f, "status") <= 0 || H5Aexists(f, "input") <= 0)
-    return {};
-  ExistingFile e{FileKind::Run, {}, false};
+    return ExistingFile{FileKind::Locked, {}, 0};
   try {
-    e.status = h5::get_string_attribute(f, "status");
-    e.has_frame = h5::exists(f, "particles") && !detail::complete_frames(f).empty();
+    detail::RunReader r(path);
+    const hid_t f = r.index();
+    if (H5Aexists(f, "version") <= 0 || H5Aexists(f, "status") <= 0 || H5Aexists(f, "input") <= 0)
+      return {};
+    return ExistingFile{FileKind::Run, h5::get_string_attribute(f, "status"), r.frames().size()};
   } catch (const std::exception&) {
-    return ExistingFile{FileKind::Damaged, {}, false};
+    return ExistingFile{FileKind::Damaged, {}, 0};
   }
-  return e;
 }
 
 // The first 4 kB of a file (where an XDMF sidecar names itself and its data file).
@@ -170,7 +167,7 @@ void check_output_name(const std::string& path, const std::string& option) {
 // The output path or its partial twin `p` as a file found there: never the input, a
 // directory, a locked or damaged file, another program's file, or a killed run's restart point.
 void check_existing_output(const std::string& path, const std::string& p, const std::string& input,
-                           const std::string& option, const std::string& restart) {
+                           const std::string& option, const std::string& restart, bool discard) {
   const std::string who = option + " " + path + ": ";
   std::error_code ec;
   if (!input.empty() && same_file(p, input))
@@ -191,18 +188,41 @@ void check_existing_output(const std::string& path, const std::string& p, const 
                      "it away)");
   if (e.kind == FileKind::Other)
     throw InputError(who + found + " and is not a sparsempm run file; not overwritten");
-  // A run that was killed or interrupted: its partial file is the point to restart from.
-  if (p != path && e.has_frame && (e.status == "running" || e.status.starts_with("interrupted")) &&
+  // A run that did not complete (killed, interrupted, failed, or whose restart failed): its
+  // partial file is the point to restart from, replaced only when asked.
+  if (p != path && e.frames > 0 && e.status != "completed" && !discard &&
       !(!restart.empty() && same_file(p, restart)))
-    throw InputError(who + "its partial file " + p + " holds a run that " +
-                     (e.status == "running" ? "was stopped" : "was interrupted") +
-                     "; continue it with --restart " + p + ", or move it away to start again");
+    throw InputError(who + "its partial file " + p + " holds " + std::to_string(e.frames) +
+                     " frame" + (e.frames == 1 ? "" : "s") + " of a run that " +
+                     (e.status == "running"                 ? "was stopped"
+                      : e.status.starts_with("interrupted") ? "was interrupted"
+                                                            : "failed") +
+                     "; continue it with --restart " + p +
+                     ", or start again with --discard-partial (its frames are then lost)");
+}
+
+// The frames directory of the partial twin `p`: a run's (or absent), and not holding frames
+// that no index names.
+void check_frames_directory(const std::string& path, const std::string& p,
+                            const std::string& option) {
+  const std::string dir = detail::frames_directory(p);
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir, ec)))
+    return;
+  const std::string who = option + " " + path + ": ";
+  if (!detail::holds_only_frames(dir))
+    throw InputError(who + "its frames directory " + dir +
+                     " exists and is not the frames directory of a run; not touched (move it "
+                     "away)");
+  if (!fs::exists(p, ec) && !detail::frame_files_in(dir).empty())
+    throw InputError(who + "its frames directory " + dir + " holds frames whose index " + p +
+                     " is missing; not touched (move it away)");
 }
 
 } // namespace
 
 void check_run_output(const std::string& path, const std::string& input, const std::string& option,
-                      const std::string& restart) {
+                      const std::string& restart, bool discard) {
   check_output_name(path, option);
   // A live run on this path (also where HDF5's own file locks are off) is named as such
   // before its files are judged.
@@ -210,7 +230,8 @@ void check_run_output(const std::string& path, const std::string& input, const s
     throw InputError(path + ": another run is writing this file (" + path +
                      ".lock is locked); wait for it or choose another -o");
   for (const std::string& p : {path, partial_path(path)})
-    check_existing_output(path, p, input, option, restart);
+    check_existing_output(path, p, input, option, restart, discard);
+  check_frames_directory(path, partial_path(path), option);
   const std::string who = option + " " + path + ": ";
   std::error_code ec;
   for (const std::string& p : {path, partial_path(path)})

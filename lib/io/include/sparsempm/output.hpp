@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file output.hpp
-/// HDF5 output of a run, one file per run, with an XDMF sidecar for ParaView. Its layout is
+/// HDF5 output of a run, one file per run, with XDMF sidecars for ParaView. Its layout is
 /// stated once, in run_file_layout() (frames named 000000, 000001, …): the writer makes those
 /// objects and no others (a test walks a file against it), `smpm info --layout` prints it and
-/// the README shows that print. Every frame is flushed when written; the HDF5 metadata cache
-/// keeps evictions off, so a run killed between two flushes leaves a file that opens with every
-/// completed frame.
+/// the README shows that print. While the run is in progress its frames are files of their
+/// own, each complete once named (OutputFile), so a kill at any instant keeps every completed
+/// frame.
 
 #include "sparsempm/diagnostics.hpp"
 #include "sparsempm/input.hpp"
@@ -83,44 +83,74 @@ struct RunState {
   double velocity_change_sum = 0; ///< SeriesRow::velocity_change_sum at the frame
 };
 
-/// A run's HDF5 file while it is written: the frames, the energy series, the XDMF sidecars
-/// and the run's status; for a restart, reopened at its last complete frame.
+namespace detail {
+class RunReader;
+/// The series of a run file (/series): the run's dimension, materials, whether it has heat
+/// transport's series and the velocity conditions of its reactions.
+struct SeriesLayout {
+  int dim = 1;                        ///< d
+  int materials = 0;                  ///< the materials of the per-material series
+  bool thermal = false;               ///< heat transport's series (kThermalSeries)
+  std::vector<std::string> reactions; ///< the reaction columns' conditions (reaction_labels)
+  SeriesLayout() = default;
+  /// The series of a run of `cfg`.
+  explicit SeriesLayout(const RunConfig& cfg);
+  /// The name and width (0: one column) of every series, in the file's order.
+  std::vector<std::pair<std::string, size_t>> columns() const;
+};
+} // namespace detail
+
+/// A run's files while it is written, and their assembly into one file when it completes.
+///
+/// A run in progress is an index file (`path`, e.g. run.partial.h5) beside a directory of frame
+/// files (run.partial.frames/000012.h5, one per frame, each holding the frame's objects at the
+/// paths of run_file_layout() and the series rows since the frame before). Every file is
+/// written under a temporary name, synced and renamed into place, so that a kill or a power
+/// loss at any instant leaves each name whole or absent: the frames named in the directory are
+/// the completed ones. The index (the run's input and status, external links to the frames for
+/// h5py, the series) and the XDMF sidecars are replaced the same way after a frame, as often as
+/// their own cost allows (at most a fifth of the run's time), and always when the status
+/// changes. finish() assembles the frames into one file of the layout and moves it into place.
 class OutputFile {
 public:
-  /// Creates `path` (truncating it) for the run `cfg`. Throws InputError naming the path when
-  /// it cannot be created. A run writes its partial file this way (run_file.hpp).
+  /// Starts the run `cfg` at `path` (its index; the frames directory beside it is made anew).
+  /// Throws InputError naming the path when it cannot be created.
   OutputFile(const std::string& path, const RunConfig& cfg);
-  /// Opens an existing run for restart: the state of its last complete frame is loaded into
-  /// `cfg.model` (the rest of `cfg` must come from the run's stored input), later frames and
-  /// series rows are discarded, and `next_frame` is set to the frame that follows.
-  static OutputFile reopen(const std::string& path, RunConfig& cfg, int& next_frame);
+  /// Continues the run stored in `restart_from` (either layout, complete or not) at `path`:
+  /// the state of its last complete frame is loaded into `cfg.model` (the rest of `cfg` must
+  /// come from the run's stored input), later frames and series rows are dropped, and
+  /// `next_frame` is set to the frame that follows. `restart_from` is written only when it is
+  /// `path` itself (a run in progress continued in place); a file of one piece there (a run of
+  /// an earlier version) is replaced, in one rename, by the index of its frames.
+  static OutputFile reopen(const std::string& path, const std::string& restart_from, RunConfig& cfg,
+                           int& next_frame);
+  /// Names in the index the frames written since it was last written (best effort).
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
-  /// Takes over the open file (the moved-from object holds none).
   OutputFile(OutputFile&&) noexcept = default;
 
   /// Buffers one row of the series (written with the next frame).
   void add_series(const SeriesRow& row) { pending_.push_back(row); }
-  /// Writes frame `frame` of the model (and its matrices when cfg.output.matrices), the
-  /// buffered series rows, and flushes the file. The grid fields and contact nodes come from
-  /// `prepared`, the preparation of the step that starts at this frame (Stepper::prepare), when
-  /// given; otherwise (and for the matrices on the whole grid) from prepare_step on the frame.
+  /// Writes frame `frame` of the model (and its matrices when asked) with the buffered series
+  /// rows as one frame file. The grid fields and contact nodes come from `prepared`, the
+  /// preparation of the step that starts at this frame (Stepper::prepare), when given;
+  /// otherwise (and for the matrices on the whole grid) from prepare_step on the frame.
   void write_frame(int frame, const Model& model, Shape shape, bool matrices,
                    const StepPreparation* prepared = nullptr);
   /// Records the run's end (the failure or interruption) with the series rows buffered since
-  /// the last frame, and flushes. Writes what it can and does not throw: it is called while
-  /// another failure is being reported.
+  /// the last frame in the index. Does not throw: it is called while another failure is being
+  /// reported (on a full disk the index keeps its status "running").
   void set_status(const std::string& status) noexcept;
-  /// Marks the run completed, closes the file and moves it (with a fresh sidecar) to `target`,
-  /// replacing what was there; the partial sidecars are removed.
+  /// Marks the run completed, assembles its frames into one file moved (with fresh sidecars)
+  /// to `target`, replacing what was there, and removes the index, its sidecars and frames.
   void finish(const std::string& target);
-  /// Closes and removes the file and its sidecars: for a run whose first frame could not be
+  /// Removes the index, its sidecars and frames: for a run whose first frame could not be
   /// written (nothing to keep, and no file that looks like a run). Does not throw.
   void discard() noexcept;
   /// The state a restart needs, stored with the frames written from now on.
   void set_run_state(const RunState& state) { state_ = state; }
-  /// The path being written (a run's partial twin).
+  /// The path of the index (a run's partial twin).
   const std::string& path() const { return path_; }
 
   /// What the sidecars need of a written frame: its number, time and point counts (contact: 0
@@ -142,46 +172,34 @@ public:
     bool has_temperature = false;          ///< whether they have temperatures (heat transport)
     bool has_gradient = false;             ///< velocity gradients (the velocity-gradient transfer)
     bool has_plastic_strain = false;       ///< equivalent plastic strains (J2 plasticity)
+    bool has_matrices = false;             ///< whether the frame has /matrices/<frame>
   };
 
 private:
-  /// The open HDF5 file: closed by the destructor, left closed (−1) by a move.
-  class File {
-  public:
-    File() = default;
-    explicit File(long id) : id_(id) {}
-    File(File&& o) noexcept : id_(o.id_) { o.id_ = -1; }
-    File& operator=(File&& o) noexcept;
-    ~File() { close(); }
-    long get() const { return id_; }
-    bool is_open() const { return id_ >= 0; }
-    /// Closes the file; returns the status of H5Fclose (0 when it was not open).
-    long close();
-
-  private:
-    long id_ = -1;
-  };
-
-  /// The file is closed and opened again after this many frames (its metadata cache emptied).
-  static constexpr size_t kFramesPerOpen = 64;
   OutputFile() = default;
-  /// Opens the file again if write_frame closed it (retrying for 2 s while a reader holds it).
-  void ensure_open();
-  void initialize(const RunConfig& cfg);
-  void write_xdmf_frame(size_t k);
-  void write_xdmf_whole(const std::string& h5_path) const;
+  void start(const RunConfig& cfg);
+  void restore_frames(detail::RunReader& source, int last, bool in_place);
+  // Writes the index and the sidecars again (`force`: now; else when their cost allows).
+  void publish(bool force);
+  void write_index(long file);
+  void write_sidecars(const std::string& h5_path, bool split) const;
   static FrameRecord record_of(long file, int frame);
-  std::string path_;
-  File file_;
+  std::string path_, dir_; // the index and the frames directory
+  std::string input_, source_, status_ = "running";
+  std::vector<std::string> overrides_, material_names_;
+  detail::SeriesLayout layout_;
   int dim_ = 1;
-  int materials_ = 0; // columns of the per-material series
   RunState state_;
   std::vector<FrameRecord> frames_; // the frames written so far
-  std::vector<std::string> material_names_;
-  std::vector<SeriesRow> pending_;
-  size_t series_written_ = 0; // rows of the series in the file
-  // Byte offsets of the closing tags of each sidecar (−1: not written).
-  std::array<long, 3> xmf_trailer_{-1, -1, -1};
+  std::vector<SeriesRow> pending_;  // the rows since the last frame
+  /// The rows of the frames written since the index was: it holds the rows of its last frame
+  /// (indexed_frame_) and before, indexed_rows_ of them.
+  std::vector<SeriesRow> unindexed_;
+  int indexed_frame_ = -1;
+  long indexed_rows_ = 0;
+  // The index's last writing: when it ended, what it cost (seconds) and the bytes of the index
+  // and sidecars it wrote, for publish() and the room a frame needs.
+  double published_at_ = 0, publish_cost_ = 0, published_bytes_ = 0;
 };
 
 /// The input text, overrides and frame list stored in a run file.

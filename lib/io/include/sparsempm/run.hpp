@@ -21,9 +21,14 @@ struct RunOptions {
   /// Output path; empty: cfg.output.file, or for a restart the final path of the restart file.
   std::string output;
   /// Continue the run stored in this file from its last complete frame. A completed run file
-  /// is copied to the output's partial file and never modified; the partial file of a killed
-  /// run is continued in place (its incomplete frames and series rows are dropped).
+  /// is copied to the output's partial run and never modified (nor may it be the output); the
+  /// partial run of a stopped run is continued in place (its series rows after that frame are
+  /// dropped).
   std::string restart_from;
+  /// Replace the partial run of an earlier run of the output path that did not complete (its
+  /// frames are lost); without it, such a restart point stops the run before anything is
+  /// written (check_run_output).
+  bool discard_partial = false;
   /// Set asynchronously to a signal number (SIGINT, SIGTERM): the run stops after the step in
   /// progress with Interrupted.
   const std::atomic<int>* interrupt = nullptr;

@@ -23,12 +23,13 @@ bool is_partial_path(const std::string& path);
 /// Throws InputError (one line naming the option, the path and the reason) unless `path` may
 /// receive a run's output: not a directory, not the input file, not an .xmf name, not an
 /// existing file other than a sparsempm run, not a lock file's name, with a partial file that
-/// is not a damaged file or the restart point of a killed or interrupted run, and with a
-/// sidecar that is neither the input nor an XDMF file of another run. `option` names the
-/// option in messages ("-o"); `restart` is the run file a restart continues (its own partial
-/// file is the one it continues into).
+/// is not a damaged file or a restart point (a run with a complete frame that did not complete
+/// or whose file was not yet assembled, whatever its status; replaced only when `discard`), a
+/// frames directory that is a run's, and a sidecar that is neither the input nor an XDMF file of
+/// another run. `option` names the option in messages ("-o"); `restart` is the run file a
+/// restart continues (its own partial file is the one it continues into).
 void check_run_output(const std::string& path, const std::string& input, const std::string& option,
-                      const std::string& restart = {});
+                      const std::string& restart = {}, bool discard = false);
 /// Throws InputError unless `path` may receive a table (CSV) of `smpm stability` or `smpm
 /// spectrum`: not a directory, none of `inputs` (the input file first, then run files read), not an
 /// existing HDF5 file or XDMF sidecar, not a lock file or a path a run holds, in a writable

@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Continuing a stored run (OutputFile::reopen): the frames of the restart file, in either
+// layout, become the frame files of the run's partial twin, up to the last frame that can be
+// continued; the index is written anew with the series up to that frame.
+
+#include "sparsempm/output.hpp"
+
+#include "frame_files.hpp"
+#include "hdf5_util.hpp"
+#include "output_format.hpp"
+#include "run_reader.hpp"
+#include "sparsempm/errors.hpp"
+
+#include <filesystem>
+#include <limits>
+
+namespace smpm {
+
+using namespace detail;
+namespace fs = std::filesystem;
+
+namespace detail {
+void make_frames_directory(const std::string& dir); // output.cpp
+}
+
+namespace {
+
+// Whether frame `frame` of the run opens whole: the objects a restart reads (a file of an
+// earlier version cut short may hold links to objects that never reached the disk). A value
+// out of range is the frame's content, refused by the caller with its message.
+bool opens_whole(RunReader& source, int frame, Model probe) {
+  try {
+    load_frame_from(source.frame(frame), frame, probe);
+  } catch (const h5::Error&) {
+    return false;
+  } catch (const std::runtime_error&) {
+  }
+  return true;
+}
+
+// The frame a restart continues: the last one that opens whole.
+int restart_frame(RunReader& source, const std::string& path, const Model& model) {
+  const std::vector<int>& frames = source.frames();
+  for (auto it = frames.rbegin(); it != frames.rend(); ++it)
+    if (opens_whole(source, *it, model))
+      return *it;
+  throw InputError(path + ": no complete frame to restart from");
+}
+
+// A frame of a file of one piece as a frame file of its own (its series rows stay in the
+// index).
+void copy_frame(hid_t from, int frame, const std::string& file) {
+  const std::string name = frame_name(frame);
+  write_file_atomically(file, file + ".tmp", [&](hid_t f) {
+    for (const char* group : {"particles", "grid", "state", "matrices"}) {
+      const std::string path = std::string(group) + "/" + name;
+      if (!h5::exists(from, group) || !h5::exists(from, path))
+        continue;
+      if (!h5::exists(f, group))
+        h5::create_group(f, group);
+      h5::check(H5Ocopy(from, path.c_str(), f, path.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+                "cannot copy " + path);
+    }
+    const h5::Id parts = h5::open_group(from, "particles/" + name);
+    const long n = long(h5::rows_of(parts.get(), "X"));
+    const std::string vertices = "vertices/" + std::to_string(n);
+    if (h5::exists(from, "vertices") && h5::exists(from, vertices)) {
+      h5::create_group(f, "vertices");
+      h5::check(H5Ocopy(from, vertices.c_str(), f, vertices.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+                "cannot copy " + vertices);
+    }
+  });
+}
+
+} // namespace
+
+OutputFile OutputFile::reopen(const std::string& path, const std::string& restart_from,
+                              RunConfig& cfg, int& next_frame) {
+  RunReader source(restart_from);
+  if (source.frames().empty())
+    throw InputError(restart_from + ": no complete frame to restart from");
+  const int last = restart_frame(source, restart_from, cfg.model);
+  try { // the state of the last frame, checked in the restart file before anything is written
+    load_frame_from(source.frame(last), last, cfg.model);
+  } catch (const std::runtime_error& e) {
+    throw InputError(restart_from + ": frame " + std::to_string(last) + ": " + e.what());
+  }
+  (void)read_run_state(restart_from, last); // its state, refused by the file's name if damaged
+  OutputFile out;
+  out.path_ = path;
+  out.dir_ = frames_directory(path);
+  out.start(cfg);
+  // The run's description as stored (cfg.text would append the overrides a second time).
+  const hid_t index = source.index();
+  out.input_ = h5::get_string_attribute(index, "input");
+  out.overrides_ = h5::get_strings_attribute(index, "overrides");
+  if (h5::has_attribute(index, "source"))
+    out.source_ = h5::get_string_attribute(index, "source");
+  std::error_code ec;
+  const bool in_place = source.split() && fs::equivalent(source.frames_directory(), out.dir_, ec);
+  out.restore_frames(source, last, in_place);
+  // The series up to the frame's step (a stopped run's later rows are dropped), every series of
+  // the run (a file of an earlier version lacks some: NaN in its rows).
+  const Field steps = source.series("step");
+  Index rows = 0;
+  while (rows < steps.rows() && steps(rows, 0) <= double(cfg.model.step))
+    ++rows;
+  std::vector<Field> base;
+  for (const auto& [name, width] : out.layout_.columns()) {
+    Field values = source.has_series(name) ? source.series(name) : Field();
+    if (values.rows() < rows || values.cols() != Index(std::max<size_t>(width, 1)))
+      values = Field::Constant(rows, Index(std::max<size_t>(width, 1)),
+                               std::numeric_limits<double>::quiet_NaN());
+    base.push_back(values.topRows(rows));
+  }
+  write_file_atomically(path, (fs::path(out.dir_) / "index.h5.tmp").string(), [&](hid_t f) {
+    out.write_index(f); // the frames, with empty series
+    h5::Id series = h5::open_group(f, "series");
+    const auto columns = out.layout_.columns();
+    for (size_t c = 0; c < columns.size(); ++c)
+      h5::append_series(series.get(), columns[c].first, base[c].data(), hsize_t(rows),
+                        hsize_t(columns[c].second));
+    h5::set_attribute(f, "frame_rows", long(rows));
+  });
+  out.indexed_frame_ = last;
+  out.indexed_rows_ = long(rows);
+  out.write_sidecars(path, true);
+  sync_directory(out.dir_);
+  sync_directory(fs::path(path).parent_path().string());
+  next_frame = last + 1;
+  return out;
+}
+
+void OutputFile::restore_frames(RunReader& source, int last, bool in_place) {
+  if (in_place) {
+    // A run continued in place: its frames after the restart frame (that could not be read) go.
+    remove_temporaries(dir_);
+    for (int f : frame_files_in(dir_))
+      if (f > last)
+        fs::remove(frame_file(dir_, f));
+  } else {
+    make_frames_directory(dir_);
+  }
+  for (int f : source.frames()) {
+    if (f > last)
+      break;
+    const std::string file = frame_file(dir_, f);
+    if (!in_place && source.split()) {
+      const std::string tmp = file + ".tmp";
+      fs::copy_file(source.frame_path(f), tmp, fs::copy_options::overwrite_existing);
+      sync_file(tmp);
+      fs::rename(tmp, file);
+    } else if (!in_place) {
+      try {
+        copy_frame(source.frame(f), f, file);
+      } catch (const h5::Error&) {
+        continue; // a frame of an earlier version's file cut short: not a frame
+      }
+    }
+    const h5::Id h(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    h5::check(h.get(), "cannot open " + file);
+    frames_.push_back(record_of(h.get(), f));
+  }
+}
+
+} // namespace smpm
