@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/advance.hpp"
 
+#include "sparsempm/diagnostics.hpp"
 #include "sparsempm/errors.hpp"
+#include "sparsempm/transport.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -68,6 +70,68 @@ void check_time_step(const Model& model, double dt, double dt0, const FailureTes
 }
 } // namespace
 
+namespace {
+// The conduction limit F Δx_min² / D_max of heat transport (+∞ without it).
+double conduction_limit(const Model& model, const AdvanceOptions& o, bool transport) {
+  if (!(o.fourier >= 0) || !std::isfinite(o.fourier))
+    throw InputError("the Fourier number must be positive (0: the default), got " +
+                     number_text(o.fourier));
+  if (!transport)
+    return std::numeric_limits<double>::infinity();
+  return (o.fourier > 0 ? o.fourier : default_fourier(model.grid.dim())) *
+         diffusion_time(model.grid, model.materials, model.particles);
+}
+
+// The particle with the largest speed, for messages: " (particle p moves at |V| = v)".
+std::string fastest_particle(const Model& model) {
+  const Particles& P = model.particles;
+  if (P.size() == 0)
+    return "";
+  Index fastest = 0;
+  P.V.rowwise().squaredNorm().maxCoeff(&fastest);
+  // stableNorm: a speed of 1e200 is told as such (its square overflows)
+  return " (particle " + std::to_string(fastest) +
+         " moves at |V| = " + number_text(P.V.row(fastest).stableNorm()) + ")";
+}
+
+// The first step's Δt and why: the Courant or the conduction limit.
+double first_time_step(const Model& model, const AdvanceOptions& o, bool transport,
+                       std::string& why) {
+  const double speed = signal_speed(model), courant = stable_time_step(model, o.courant, speed);
+  const double conduction = conduction_limit(model, o, transport);
+  const double h = model.grid.min_cell_size();
+  if (conduction < courant) {
+    why = "the conduction limit time.fourier = " +
+          number_text(o.fourier > 0 ? o.fourier : default_fourier(model.grid.dim())) +
+          " times dx^2 / D with dx = " + number_text(h) +
+          " and the largest diffusivity D = conductivity / (density heat_capacity) = " +
+          number_text(h * h / diffusion_time(model.grid, model.materials, model.particles)) +
+          " of the materials";
+    return conduction;
+  }
+  const bool moving = max_particle_speed(model.particles) >= speed;
+  why = "the Courant limit time.courant = " + number_text(o.courant) +
+        " times dx = " + number_text(h) + " over the signal speed" +
+        (moving ? fastest_particle(model)
+                : " " + number_text(speed) + " (the materials' wave speed)");
+  return courant;
+}
+} // namespace
+
+void check_step_count(const Model& model, const AdvanceOptions& o, bool transport) {
+  if (!(o.max_steps > 0))
+    throw InputError("max_steps must be positive, got " + std::to_string(o.max_steps));
+  if (!(o.end > model.time) || model.particles.size() == 0)
+    return;
+  std::string why;
+  const double dt = first_time_step(model, o, transport, why);
+  const double steps = (o.end - model.time) / dt;
+  if (!(steps <= double(o.max_steps)))
+    throw InputError("time.end = " + number_text(o.end) + " would take about " +
+                     number_text(steps) + " steps of dt = " + number_text(dt) + ", from " + why +
+                     ": more than time.max_steps = " + std::to_string(o.max_steps));
+}
+
 AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
                       const StepObserver& observer) {
   const Stepper::Exclusive hold(stepper); // no other thread steps it between our steps
@@ -101,18 +165,24 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   double speed = signal_speed(model);
   double dt0 = o.time_step_start.value_or(0); // the first step's Courant time step
   // Heat transport: the explicit conduction limit F Δx² / D_max (the materials do not change).
-  if (!(o.fourier >= 0) || !std::isfinite(o.fourier))
-    throw InputError("the Fourier number must be positive (0: the default), got " +
-                     number_text(o.fourier));
-  const double conduction = stepper.options().transport.update == TransportUpdate::Off
-                                ? std::numeric_limits<double>::infinity()
-                                : (o.fourier > 0 ? o.fourier : default_fourier(model.grid.dim())) *
-                                      diffusion_time(model.grid, model.materials, model.particles);
+  const bool transport = stepper.options().transport.update != TransportUpdate::Off;
+  const double conduction = conduction_limit(model, o, transport);
+  check_step_count(model, o, transport);
   PhaseTimes& times = stepper.times();
   const PhaseTimes times_start = times;
   while (model.time < o.end - eps) {
     PhaseClock clock;
     double dt = stable_time_step(model, o.courant, speed);
+    if (!(dt > 0) || !std::isfinite(dt)) // a speed so large that C Δx / speed underflows
+      throw at_step(NumericalError("the time step " + number_text(dt) + " is not positive" +
+                                   fastest_particle(model)),
+                    model.step + 1, model.time);
+    if (report.steps >= o.max_steps)
+      throw at_step(
+          NumericalError("the run has taken time.max_steps = " + std::to_string(o.max_steps) +
+                         " steps and is at t = " + number_text(model.time) + " of end " +
+                         number_text(o.end) + " (its time step shrank to " + number_text(dt) + ")"),
+          model.step + 1, model.time);
     if (report.steps == 0 && !o.time_step_start)
       dt0 = dt;
     check_time_step(model, dt, dt0, o.failure);

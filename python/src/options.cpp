@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace smpm::python {
@@ -193,15 +194,26 @@ void bind_step_options(py::module_& m) {
 
 void bind_material(py::module_& m) {
   py::class_<Material> c(m, "Material",
-                         "A material (material.hpp): Material(name, model, **parameters) with the "
-                         "keys of the [[material]] tables, each also an attribute.");
-  c.def(py::init([](const std::string& name, const std::string& model, const py::kwargs& kw) {
+                         "A material (material.hpp): Material(name, model, density, youngs, "
+                         "poisson, **parameters) with the keys of the [[material]] tables, each "
+                         "also an attribute.");
+  // density, youngs and poisson may also be given by position, as before the keyword form.
+  c.def(py::init([](const std::string& name, const std::string& model,
+                    std::optional<double> density, std::optional<double> youngs,
+                    std::optional<double> poisson, const py::kwargs& kw) {
           Material mat{.name = name, .model = material_model_from_string(model)};
+          if (density)
+            mat.density = *density;
+          if (youngs)
+            mat.youngs = *youngs;
+          if (poisson)
+            mat.poisson = *poisson;
           mat = from_keywords(std::move(mat), kw, "Material");
           validate_material(mat);
           return mat;
         }),
-        py::arg("name") = "material", py::arg("model") = "linear");
+        py::arg("name") = "material", py::arg("model") = "linear", py::arg("density") = py::none(),
+        py::arg("youngs") = py::none(), py::arg("poisson") = py::none());
   c.def_readwrite("name", &Material::name, "the [[material]] name");
   name_property(
       c, "model", [](const Material& mat) { return mat.model; },

@@ -412,7 +412,8 @@ ppc = [2, 2]
   CHECK_THAT(error(head + replace(disk, "levels = [0, 100]", "levels = [0, 300]")),
              Catch::Contains("body.0.levels") && Catch::Contains("0 <= lo <= hi <= 255"));
   CHECK_THAT(error(head + replace(disk, "origin = [1.0, 1.0]", "origin = [5.0, 5.0]")),
-             Catch::Contains("body.0.image") && Catch::Contains("reaches outside the grid"));
+             Catch::Contains("body.0.image") &&
+                 Catch::Contains("reaches (17.8, 17.8), outside the grid"));
   const std::string head3 =
       replace(replace(replace(replace(head, "dim = 2", "dim = 3"), "[0.0, 0.0]", "[0.0, 0.0, 0.0]"),
                       "cells = [32, 32]", "cells = [32, 32, 2]"),

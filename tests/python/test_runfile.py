@@ -1,13 +1,15 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """sparsempm.read_run: a run file's frames, series and matrices as numpy and scipy, against the
 file itself (h5py) and the identities its arrays obey."""
+import os
+
 import h5py
 import numpy as np
 import pytest
 
 import sparsempm as smpm
 
-from conftest import BAR, TWO_BLOCKS, run_smpm
+from conftest import BAR, SOURCE, TWO_BLOCKS, run_smpm
 
 
 @pytest.fixture(scope="module")
@@ -85,3 +87,57 @@ def test_a_file_that_is_no_run_is_refused(tmp_path):
         f["x"] = [1.0]
     with pytest.raises(ValueError, match="not a sparsempm run file"):
         smpm.read_run(other)
+
+
+def test_a_live_partial_run_reads_its_completed_frames(tmp_path):
+    # read_run on a live run's partial file failed in most calls ("unable to lock file"). A run
+    # in progress is an index beside one file per frame, each complete once named: every call
+    # reads the frames completed so far, each frame's arrays whole, and their number grows.
+    import subprocess
+    import time
+    out = tmp_path / "live.h5"
+    p = subprocess.Popen([os.environ.get("SMPM", "smpm"), "run",
+                          str(SOURCE / "examples" / "block_impact.toml"), "-o", str(out), "-q",
+                          "--set", "time.end=100", "--set", "output.every=0.01"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    partial = tmp_path / "live.partial.h5"
+    counts = []
+    try:
+        deadline = time.time() + 120
+        while len(counts) < 20 and time.time() < deadline and p.poll() is None:
+            if partial.exists():
+                run = smpm.read_run(partial)
+                assert run.status == "running"
+                if run.frames:
+                    X = run.particles(-1)["X"]
+                    assert X.shape[1] == 2 and np.all(np.isfinite(X))
+                    # the series reach the last frame's step
+                    assert run.series["step"][-1] >= run.particles(-1)["@step"]
+                counts.append(len(run.frames))
+            time.sleep(0.05)
+        assert p.poll() is None, "the run ended before the reads"
+    finally:
+        p.kill()
+        p.wait()
+    assert len(counts) == 20 and counts == sorted(counts) and counts[-1] > counts[0]
+
+
+def test_a_fifo_is_refused_not_waited_on(tmp_path):
+    # read_run("fifo.h5") blocked forever: only regular files are opened.
+    os.mkfifo(tmp_path / "fifo.h5")
+    with pytest.raises(ValueError, match="must be a regular file"):
+        smpm.read_run(tmp_path / "fifo.h5")
+    with pytest.raises(FileNotFoundError):
+        smpm.read_run(tmp_path / "none.h5")
+
+
+def test_material_takes_its_first_parameters_by_position():
+    # Material("steel", "linear", density, youngs, poisson) worked until the keyword form
+    # replaced it; both forms make the same material.
+    a = smpm.Material("steel", "linear", 7.8, 200.0, 0.3)
+    b = smpm.Material("steel", "linear", density=7.8, youngs=200.0, poisson=0.3)
+    for key in ("name", "model", "density", "youngs", "poisson"):
+        assert getattr(a, key) == getattr(b, key)
+    assert a.wave_speed(1) == pytest.approx((200.0 / 7.8) ** 0.5, rel=1e-15)  # c = sqrt(E / rho)
+    c = smpm.Material("steel", "hyperelastic", 7.8, 200.0, 0.3, yield_stress=1.5)
+    assert c.yield_stress == 1.5 and c.poisson == 0.3

@@ -38,6 +38,10 @@ struct AdvanceOptions {
   /// With heat transport (the stepper's options), no step is longer than F Δx_min² / D_max, the
   /// Fourier number F of conduction (diffusion_time); 0: default_fourier(d).
   double fourier = 0;
+  /// The most steps this call may take: a call whose first time step implies more (to `end`)
+  /// throws InputError naming the limit that sets it, and one that reaches it with the time
+  /// step shrunk since throws NumericalError.
+  long max_steps = 10'000'000;
   /// > 0: report a stop at every multiple of this time (output frames); the observer is told
   /// which steps reach one.
   double stop_every = 0;
@@ -72,6 +76,11 @@ struct AdvanceReport {
   double wall_seconds = 0; ///< wall time of the loop
   PhaseTimes times;        ///< where the loop's wall time went (Stepper::times in the loop)
 };
+
+/// Throws InputError when the first time step of advance() from `model` (the Courant limit
+/// and, with `transport`, the conduction limit of `options`) implies more than
+/// options.max_steps steps to options.end, naming the limit that sets it and the Δt.
+void check_step_count(const Model& model, const AdvanceOptions& options, bool transport);
 
 /// Steps `model` with `stepper` until options.end (see AdvanceOptions), testing the energy
 /// after every step. Throws InputError for bad options and NumericalError on failure (the model

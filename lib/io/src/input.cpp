@@ -280,14 +280,42 @@ OutputSettings read_output(const Reader& r, const toml::table& root, const std::
 } // namespace
 
 namespace {
-// The TOML text of `source`, parsed; InputError naming the line of a syntax error.
+// The key a line of TOML text sets, with the table it is in ("time.end"; "" when the line sets
+// none): for the message of a value the parser refuses (a float out of range, 1e309).
+std::string key_of_line(const std::string& text, size_t line) {
+  std::istringstream in(text);
+  std::string row, table;
+  for (size_t k = 1; std::getline(in, row) && k <= line; ++k) {
+    const size_t first = row.find_first_not_of(" \t");
+    if (first == std::string::npos || row[first] == '#')
+      continue;
+    if (row[first] == '[') { // [table] or [[array of tables]]
+      const size_t open = row.find_first_not_of('[', first), close = row.find(']', open);
+      if (close != std::string::npos)
+        table = row.substr(open, close - open);
+      continue;
+    }
+    const size_t eq = row.find('=');
+    if (k == line && eq != std::string::npos) {
+      std::string key = row.substr(first, eq - first);
+      key.erase(key.find_last_not_of(" \t") + 1);
+      return table.empty() ? key : table + "." + key;
+    }
+  }
+  return "";
+}
+
+// The TOML text of `source`, parsed; InputError naming the line (and the key) of a syntax error.
 toml::table parse_text(const std::string& text, const std::string& source) {
   detail::check_non_ascii(text, source);
   try {
     return toml::parse(text, std::string_view(source));
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
-    os << source << ":" << e.source().begin.line << ": " << e.description();
+    os << source << ":" << e.source().begin.line << ": ";
+    if (const std::string key = key_of_line(text, e.source().begin.line); !key.empty())
+      os << key << ": ";
+    os << e.description();
     throw InputError(os.str());
   }
 }
@@ -310,6 +338,12 @@ TimeSettings read_time(const Reader& r, const toml::table& root) {
   t.land_on_frames = r.boolean(*time, "land_on_frames", "time.land_on_frames", true);
   if (time->get("fourier"))
     t.fourier = r.positive(*time, "fourier", "time.fourier", std::nullopt);
+  if (const toml::node* n = time->get("max_steps")) {
+    const double v = r.positive(*time, "max_steps", "time.max_steps", std::nullopt);
+    if (!n->is_integer() || v > 1e15)
+      r.fail(n, "time.max_steps", "expected a whole number of steps from 1 to 1e15");
+    t.max_steps = long(v);
+  }
   return t;
 }
 
@@ -404,7 +438,15 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   std::vector<detail::BodyRange> bodies;
   cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials, &bodies);
   for (RigidMotion& m : cfg.model.rigid) { // the rigid particles start with the body's velocity
-    const Eigen::Vector3d v0 = m.at(0.0);
+    Eigen::Vector3d v0;
+    try {
+      v0 = m.at(0.0);
+    } catch (const NumericalError& e) { // not finite from the start: the input's value
+      const std::string name = cfg.model.materials[size_t(m.material)].name;
+      const auto tables = r.tables(root, "material", true);
+      r.fail(tables[size_t(m.material)]->get("velocity"), "material." + name + ".velocity",
+             std::string(e.what()) + " (a rigid velocity must be finite at t = 0)");
+    }
     for (Index p = 0; p < cfg.model.particles.size(); ++p)
       if (cfg.model.particles.material[p] == m.material)
         for (int a = 0; a < grid.dim(); ++a)

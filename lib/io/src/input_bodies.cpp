@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <memory>
 
 namespace smpm::detail {
@@ -19,6 +20,14 @@ int axis_index(const Reader& r, const toml::node* n, const std::string& name, in
 }
 
 namespace {
+
+// A body's particles and the region they fill: a point of a later body that lies in it is the
+// earlier body's (NairnMPM's MPMReadHandler::MPMPts: a particle position an earlier body filled
+// is not filled again).
+struct Region {
+  Particles particles;
+  std::function<bool(const double* x)> contains;
+};
 
 // The particles `keep` of a lattice `box`, of material `id`.
 Particles subset(const Particles& box, const std::vector<Index>& keep, int id) {
@@ -97,8 +106,8 @@ void check_particle_count(const Reader& r, const toml::table& t, const std::stri
 // the lattice of ppc per cell over the image whose point lies in a pixel of the body; each
 // [[body]] reading the same image with other levels and material makes a multimaterial map.
 // 2D only; pixel row 0 is the image's top row.
-Particles image_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
-                       const std::array<int, 3>& ppc, double density, int id) {
+Region image_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
+                    const std::array<int, 3>& ppc, double density, int id) {
   const int d = g.dim();
   if (d != 2)
     r.fail(t.get("region"), key + "region", "an image body needs a 2D grid");
@@ -106,15 +115,11 @@ Particles image_region(const Reader& r, const toml::table& t, const std::string&
   std::filesystem::path path(file);
   if (path.is_relative() && t.source().path && !t.source().path->empty())
     path = std::filesystem::path(*t.source().path).parent_path() / path;
-  GreyImage image;
-  try {
-    image = read_grey_png(path.string());
-  } catch (const std::runtime_error& e) {
-    r.fail(t.get("image"), key + "image", "cannot read " + path.string() + ": " + e.what());
-  }
   const double s = r.positive(t, "pixel_size", key + "pixel_size", std::nullopt);
   const auto origin =
       r.vector(t, "origin", key + "origin", d, false, {g.origin(0), g.origin(1), 0});
+  if (!g.contains(origin))
+    r.fail(t.get("origin"), key + "origin", "the image's lower-left corner is outside the grid");
   std::array<double, 3> levels{0, 127, 0};
   if (t.get("levels")) {
     levels = r.vector(t, "levels", key + "levels", 2, true);
@@ -122,11 +127,40 @@ Particles image_region(const Reader& r, const toml::table& t, const std::string&
       r.fail(t.get("levels"), key + "levels", "expected [lo, hi] with 0 <= lo <= hi <= 255");
   }
   const std::array<double, 3> lo{origin[0], origin[1], 0};
-  const std::array<double, 3> hi{origin[0] + s * image.width, origin[1] + s * image.height, 0};
-  if (!g.contains(lo) || !g.contains(hi))
-    r.fail(t.get("pixel_size"), key + "image",
-           "the image (" + std::to_string(image.width) + " x " + std::to_string(image.height) +
-               " pixels) reaches outside the grid");
+  std::array<double, 3> hi{0, 0, 0};
+  // Its size, from the file's header, checked before any pixel is read: it must fit in the grid
+  // from the origin, span the grid's lattice and hold at most kMaxImagePixels pixels.
+  auto check_size = [&](int width, int height) {
+    hi = {origin[0] + s * width, origin[1] + s * height, 0};
+    const std::string size = std::to_string(width) + " x " + std::to_string(height) + " pixels";
+    if (double(width) * double(height) > kMaxImagePixels)
+      r.fail(t.get("image"), key + "image",
+             path.string() + " claims " + size + ", more than the " +
+                 std::to_string(long(kMaxImagePixels)) + " pixels an image body may have");
+    for (int a = 0; a < d; ++a)
+      if (!(hi[a] > lo[a]))
+        r.fail(t.get("pixel_size"), key + "pixel_size",
+               "the image (" + size + ") of pixel_size = " + number_text(s) +
+                   " has no extent beside its origin");
+    if (!g.contains(hi))
+      r.fail(t.get("image"), key + "image",
+             "the image (" + size + " of pixel_size = " + number_text(s) + " from the origin (" +
+                 number_text(lo[0]) + ", " + number_text(lo[1]) + ")) reaches (" +
+                 number_text(hi[0]) + ", " + number_text(hi[1]) + "), outside the grid");
+  };
+  if (!std::filesystem::is_regular_file(path))
+    r.fail(t.get("image"), key + "image",
+           "cannot read " + path.string() +
+               (std::filesystem::exists(path) ? ": not a regular file (a directory, FIFO or device)"
+                                              : ": no such file"));
+  GreyImage image;
+  try {
+    image = read_grey_png(path.string(), check_size);
+  } catch (const InputError&) {
+    throw; // check_size's
+  } catch (const std::runtime_error& e) {
+    r.fail(t.get("image"), key + "image", "cannot read " + path.string() + ": " + e.what());
+  }
   // The lattice over the cells the image covers.
   std::array<double, 3> cell_lo{0, 0, 0}, cell_hi{0, 0, 0};
   for (int a = 0; a < d; ++a) {
@@ -136,20 +170,24 @@ Particles image_region(const Reader& r, const toml::table& t, const std::string&
   }
   check_particle_count(r, t, key, g, ppc, cell_lo, cell_hi);
   Particles box = make_block(g, cell_lo, cell_hi, ppc, density, id);
+  // A point is the body's where it lies in a pixel of its levels.
+  auto shared = std::make_shared<const GreyImage>(std::move(image));
+  auto contains = [shared, lo, hi, s, levels](const double* x) {
+    const double u = (x[0] - lo[0]) / s, v = (hi[1] - x[1]) / s;
+    if (!(u >= 0 && u < shared->width && v >= 0 && v < shared->height))
+      return false;
+    const int level = shared->at(int(u), int(v));
+    return level >= levels[0] && level <= levels[1];
+  };
   std::vector<Index> keep;
-  for (Index p = 0; p < box.size(); ++p) {
-    const double u = (box.X(p, 0) - lo[0]) / s, v = (hi[1] - box.X(p, 1)) / s;
-    if (!(u >= 0 && u < image.width && v >= 0 && v < image.height))
-      continue;
-    const int level = image.at(int(u), int(v));
-    if (level >= levels[0] && level <= levels[1])
+  for (Index p = 0; p < box.size(); ++p)
+    if (contains(box.X.row(p).data()))
       keep.push_back(p);
-  }
-  return subset(box, keep, id);
+  return {subset(box, keep, id), contains};
 }
 
-Particles body_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
-                      const std::array<int, 3>& ppc, double density, int id) {
+Region body_region(const Reader& r, const toml::table& t, const std::string& key, const Grid& g,
+                   const std::array<int, 3>& ppc, double density, int id) {
   const int d = g.dim();
   const std::string region = r.string(t, "region", key + "region", "box");
   if (region == "image")
@@ -163,7 +201,13 @@ Particles body_region(const Reader& r, const toml::table& t, const std::string& 
     if (!g.contains(lo) || !g.contains(hi))
       r.fail(t.get("max"), key + "min/max", "particles outside the grid");
     check_particle_count(r, t, key, g, ppc, lo, hi);
-    return make_block(g, lo, hi, ppc, density, id);
+    auto contains = [lo, hi, d](const double* x) {
+      for (int a = 0; a < d; ++a)
+        if (!(x[a] >= lo[a] && x[a] <= hi[a]))
+          return false;
+      return true;
+    };
+    return {make_block(g, lo, hi, ppc, density, id), contains};
   }
   if (region != "disk" && region != "ellipse")
     r.fail(t.get("region"), key + "region",
@@ -187,7 +231,15 @@ Particles body_region(const Reader& r, const toml::table& t, const std::string& 
   if (!g.contains(lo) || !g.contains(hi))
     r.fail(t.get("center"), key + "center", "particles outside the grid");
   check_particle_count(r, t, key, g, ppc, lo, hi);
-  return lattice_in(g, c, semi, ppc, density, id);
+  auto contains = [c, semi, d](const double* x) {
+    double r2 = 0;
+    for (int a = 0; a < d; ++a) {
+      const double u = (x[a] - c[a]) / semi[a];
+      r2 += u * u;
+    }
+    return r2 <= 1;
+  };
+  return {lattice_in(g, c, semi, ppc, density, id), contains};
 }
 
 // Initial velocity: numbers or expressions of the initial position X, Y, Z.
@@ -258,14 +310,31 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
   Particles all;
   all.resize(d, 0);
   int index = 0;
+  std::vector<std::function<bool(const double*)>> claimed; // the regions of the bodies before
   for (const toml::table* t : r.tables(root, "body", true)) {
     r.check_keys(*t, "body");
     const std::string key = "body." + std::to_string(index++) + ".";
     const int id = body_material(r, *t, key, mats);
     const auto ppc = r.counts(*t, "ppc", key + "ppc", d);
-    Particles P = body_region(r, *t, key, g, ppc, mats[size_t(id)].density, id);
-    if (P.size() == 0)
+    Region region = body_region(r, *t, key, g, ppc, mats[size_t(id)].density, id);
+    if (region.particles.size() == 0)
       r.fail(t->get("region"), key + "region", "holds no particle");
+    // Overlapping bodies: a point belongs to the first body whose region holds it (NairnMPM's
+    // rule), so that no place has the mass of two bodies.
+    std::vector<Index> keep;
+    for (Index p = 0; p < region.particles.size(); ++p) {
+      const double* x = region.particles.X.row(p).data();
+      if (std::none_of(claimed.begin(), claimed.end(), [&](const auto& in) { return in(x); }))
+        keep.push_back(p);
+    }
+    Particles P = Index(keep.size()) == region.particles.size()
+                      ? std::move(region.particles)
+                      : subset(region.particles, keep, id);
+    if (P.size() == 0)
+      r.fail(t->get("region"), key + "region",
+             "holds no particle that an earlier [[body]] does not already fill (a point belongs "
+             "to the first body whose region holds it)");
+    claimed.push_back(std::move(region.contains));
     if (mats[size_t(id)].model == MaterialModel::Rigid && t->get("velocity"))
       r.fail(t->get("velocity"), key + "velocity",
              "a rigid body moves with its material's velocity (material." + mats[size_t(id)].name +

@@ -63,7 +63,9 @@ const std::vector<LayoutEntry>& run_file_layout() {
       {"/grid/<frame>/contact_nodes", "nc", "grid index of each contact node", "contact"},
       {"/grid/<frame>/contact_fields", "2 nc", "its two fields (-1, -1: three or more)", "contact"},
       {"/grid/<frame>/contact_normal", "nc x d", "the normal from the first field", "contact"},
-      {"/grid/<frame>/contact_separation", "nc", "the separation of the detection (-1: none)",
+      {"/grid/<frame>/contact_separation", "nc",
+       "the separation of the detection (-1: none, at a node of 3+ fields or of a rigid "
+       "partner under 30% of its volume)",
        "contact"},
       {"/grid/<frame>/contact_approaching", "nc", "1 where the fields approach", "contact"},
       {"/grid/<frame>/contact_X", "nc x d", "positions of the contact nodes", "contact"},

@@ -5,6 +5,7 @@
 
 #include "sparsempm/contact.hpp"
 
+#include <cmath>
 #include <vector>
 
 namespace smpm::detail {
@@ -32,7 +33,9 @@ void write_contact_nodes(hid_t g, const StepPreparation& prep, const Field& p) {
     pair[size_t(2 * c + 1)] = n.b;
     if (n.a < 0)
       continue;
-    separation[c] = n.separation;
+    // +∞: no detection here (a rigid partner under kRigidShare of the node's volume), which
+    // the layout writes as none (−1), as for a node of three or more fields.
+    separation[c] = std::isfinite(n.separation) ? n.separation : -1.0;
     const Index ra = n.a * ng + n.node, rb = n.b * ng + n.node;
     const double ma = ops.m[ra], mb = ops.m[rb];
     double dn = 0;

@@ -85,6 +85,11 @@ OutputFile OutputFile::reopen(const std::string& path, const std::string& restar
   } catch (const std::runtime_error& e) {
     throw InputError(restart_from + ": frame " + std::to_string(last) + ": " + e.what());
   }
+  const double end = cfg.time.end;
+  if (cfg.model.time > end + 1e-12 * std::abs(end))
+    throw InputError(restart_from + ": frame " + std::to_string(last) +
+                     ": its time t = " + number_text(cfg.model.time) +
+                     " is past the run's end time.end = " + number_text(end) + " (a damaged file)");
   (void)read_run_state(restart_from, last); // its state, refused by the file's name if damaged
   OutputFile out;
   out.path_ = path;

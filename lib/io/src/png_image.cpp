@@ -3,11 +3,13 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace smpm::detail {
 
-GreyImage read_grey_png(const std::string& path) {
+GreyImage read_grey_png(const std::string& path,
+                        const std::function<void(int width, int height)>& check) {
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&image, path.c_str())) {
@@ -16,6 +18,13 @@ GreyImage read_grey_png(const std::string& path) {
     throw std::runtime_error(message);
   }
   image.format = PNG_FORMAT_GRAY;
+  try {
+    check(int(std::min<png_uint_32>(image.width, 1u << 30)),
+          int(std::min<png_uint_32>(image.height, 1u << 30)));
+  } catch (...) {
+    png_image_free(&image);
+    throw;
+  }
   GreyImage out;
   out.width = int(image.width);
   out.height = int(image.height);

@@ -3,6 +3,7 @@
 // Grey-level images read with libpng (bitmap bodies, [[body]] region = "image").
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,8 +19,10 @@ struct GreyImage {
 };
 
 /// Reads a PNG of any colour type and bit depth as 8-bit grey levels (libpng's simplified API
-/// converts colour to grey and composes transparency on white). Throws std::runtime_error with
-/// libpng's message when the file cannot be read or is not a PNG.
-GreyImage read_grey_png(const std::string& path);
+/// converts colour to grey and composes transparency on white). `check` sees the size its header
+/// claims before any pixel buffer is made, and throws to refuse it. Throws std::runtime_error
+/// with libpng's message when the file cannot be read or is not a PNG.
+GreyImage read_grey_png(const std::string& path,
+                        const std::function<void(int width, int height)>& check);
 
 } // namespace smpm::detail

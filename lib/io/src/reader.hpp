@@ -29,6 +29,8 @@
 namespace smpm::detail {
 
 inline constexpr double kMaxParticles = SMPM_INPUT_MAX_PARTICLES;
+/// Largest bitmap body, in pixels (2^28: a 16384 x 16384 image, 256 MB of grey levels).
+inline constexpr double kMaxImagePixels = double(1 << 28);
 inline constexpr double kMaxNodes = SMPM_INPUT_MAX_NODES;
 inline constexpr long kMaxCount = 100000000; // cells or particles per cell along one axis
 

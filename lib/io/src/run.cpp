@@ -67,6 +67,7 @@ public:
     const AdvanceOptions adv{.end = cfg_.time.end,
                              .courant = cfg_.time.courant,
                              .fourier = cfg_.time.fourier,
+                             .max_steps = cfg_.time.max_steps,
                              .stop_every = cfg_.output.every,
                              .land_on_stops = cfg_.time.land_on_frames,
                              .failure = {},
@@ -201,6 +202,13 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   }
   check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from,
                    options.discard_partial);
+  if (!restart) // a run that would not end (a Δt far too small) is refused before any write
+    check_step_count(cfg.model,
+                     {.end = cfg.time.end,
+                      .courant = cfg.time.courant,
+                      .fourier = cfg.time.fourier,
+                      .max_steps = cfg.time.max_steps},
+                     cfg.step.transport.update != TransportUpdate::Off);
   const OutputLock lock(target); // a second run on this path stops here, before any write
   const std::string partial = partial_path(target);
   Run r(cfg, options, partial);

@@ -30,7 +30,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
       {"bc.plane", {"axis", "at"}},
       {"bc.box", {"min", "max"}},
       {"bc.velocity", {"direction", "value"}},
-      {"time", {"courant", "end", "land_on_frames", "fourier"}},
+      {"time", {"courant", "end", "land_on_frames", "fourier", "max_steps"}},
       {"step",
        {"scheme", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
         "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization",

@@ -27,6 +27,9 @@ struct TimeSettings {
   /// diffusion_time), positive when given; unset (0): default_fourier (0.1, below the smallest
   /// critical Fourier number of transport_stability.hpp's study, 0.229).
   double fourier = 0;
+  /// The most steps a run may take (AdvanceOptions::max_steps): a run whose first time step
+  /// implies more is refused before it starts.
+  long max_steps = 10'000'000;
 };
 
 /// The [output] table of an input file.

@@ -128,6 +128,7 @@ public:
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
+  /// Takes over the run's files (the moved-from object names no frame).
   OutputFile(OutputFile&&) noexcept = default;
 
   /// Buffers one row of the series (written with the next frame).
@@ -172,7 +173,7 @@ public:
     bool has_temperature = false;          ///< whether they have temperatures (heat transport)
     bool has_gradient = false;             ///< velocity gradients (the velocity-gradient transfer)
     bool has_plastic_strain = false;       ///< equivalent plastic strains (J2 plasticity)
-    bool has_matrices = false;             ///< whether the frame has /matrices/<frame>
+    bool has_matrices = false;             ///< whether the frame has its matrices
   };
 
 private:
