@@ -62,8 +62,8 @@ std::vector<int> frame_files_in(const std::string& dir) {
   return frames;
 }
 
-void write_file_atomically(const std::string& path, const std::string& temporary,
-                           const std::function<void(hid_t)>& fill) {
+void write_temporary(const std::string& temporary, const std::function<void(hid_t)>& fill,
+                     bool in_memory) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   std::error_code ec;
   fs::remove(temporary, ec); // a temporary left by a killed writer
@@ -71,7 +71,8 @@ void write_file_atomically(const std::string& path, const std::string& temporary
   // Built in memory and written at the close in one piece (HDF5's core driver): a frame's
   // hundred small metadata writes become one.
   const h5::Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-  h5::check(H5Pset_fapl_core(fapl.get(), 64 * 1024, true), "core file driver");
+  if (in_memory)
+    h5::check(H5Pset_fapl_core(fapl.get(), 64 * 1024, true), "core file driver");
   h5::Id file(H5Fcreate(temporary.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()), H5Fclose);
   if (!file)
     throw std::runtime_error("cannot create " + temporary + " (" +
@@ -79,19 +80,36 @@ void write_file_atomically(const std::string& path, const std::string& temporary
   try {
     fill(file.get());
     h5::check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush");
-    const hid_t id = file.release();
-    // The data reach the disk before the name: after a power loss the name holds the whole
-    // file or the name does not exist.
-    if (H5Fclose(id) < 0 || !sync_path(temporary, O_RDONLY))
+    if (H5Fclose(file.release()) < 0)
       throw std::runtime_error("cannot close " + temporary + " (" + std::strerror(errno) + ")");
-    if (std::rename(temporary.c_str(), path.c_str()) != 0)
-      throw std::runtime_error("cannot rename " + temporary + " to " + path + " (" +
-                               std::strerror(errno) + ")");
   } catch (...) {
     file = h5::Id();
     fs::remove(temporary, ec);
     throw;
   }
+}
+
+void commit_file(const std::string& temporary, const std::string& path) {
+  // The data reach the disk before the name: after a power loss the name holds the whole file
+  // or the name does not exist.
+  std::error_code ec;
+  if (!sync_path(temporary, O_RDONLY)) {
+    const int why = errno;
+    fs::remove(temporary, ec);
+    throw std::runtime_error("cannot sync " + temporary + " (" + std::strerror(why) + ")");
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const int why = errno;
+    fs::remove(temporary, ec);
+    throw std::runtime_error("cannot rename " + temporary + " to " + path + " (" +
+                             std::strerror(why) + ")");
+  }
+}
+
+void write_file_atomically(const std::string& path, const std::string& temporary,
+                           const std::function<void(hid_t)>& fill, bool in_memory) {
+  write_temporary(temporary, fill, in_memory);
+  commit_file(temporary, path);
 }
 
 void sync_file(const std::string& path) {

@@ -26,9 +26,18 @@ std::vector<int> frame_files_in(const std::string& dir);
 
 /// Creates the HDF5 file `path` whole or not at all: `fill` writes it as `temporary` (a name
 /// no reader takes for a run's file), which is then closed, synced to the disk and renamed to
-/// `path`. A failure throws std::runtime_error and leaves `path` as it was.
+/// `path`. `in_memory`: the file is built in memory and written at its close in one piece
+/// (HDF5's core driver; for files that fit in memory). A failure throws std::runtime_error and
+/// leaves `path` as it was.
 void write_file_atomically(const std::string& path, const std::string& temporary,
-                           const std::function<void(hid_t)>& fill);
+                           const std::function<void(hid_t)>& fill, bool in_memory = true);
+/// The first half of write_file_atomically: `fill` writes the HDF5 file `temporary`, which is
+/// closed. Throws std::runtime_error (and removes it) on failure.
+void write_temporary(const std::string& temporary, const std::function<void(hid_t)>& fill,
+                     bool in_memory = true);
+/// The second half: `temporary` is synced to the disk and renamed to `path`. Touches no HDF5
+/// object, so it may run on another thread while HDF5 is used. Throws std::runtime_error.
+void commit_file(const std::string& temporary, const std::string& path);
 /// Flushes a file's data to the disk; best effort.
 void sync_file(const std::string& path);
 /// Flushes a directory's entries to the disk (the renames into it); best effort.

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <map>
 #include <sys/statvfs.h>
 
@@ -50,6 +51,9 @@ void check_room(const std::string& path, double bytes) {
                              std::to_string(long(bytes / 1024)) + " kB and the disk has " +
                              std::to_string(long(room / 1024)) + " kB free");
 }
+
+// The largest frame (frame_bytes) built in memory before it is written.
+constexpr double kFrameInMemory = 64.0 * 1024 * 1024;
 
 // The groups that hold one group per frame.
 constexpr const char* kFrameGroups[] = {"particles", "grid", "state", "matrices"};
@@ -105,11 +109,11 @@ void OutputFile::start(const RunConfig& cfg) {
 OutputFile::~OutputFile() {
   // The frames written since the index was, named in it (a run that neither finished nor
   // stopped: a test's or a program's own writer).
-  if (!frames_.empty() && indexed_frame_ != frames_.back().frame && status_ != "completed") {
-    try {
+  try {
+    settle();
+    if (!frames_.empty() && indexed_frame_ != frames_.back().frame && status_ != "completed")
       publish(true);
-    } catch (const std::exception&) {
-    }
+  } catch (const std::exception&) {
   }
 }
 
@@ -122,35 +126,57 @@ void OutputFile::write_frame(int frame, const Model& model, Shape shape, bool ma
   // then does: the index always names the frames a full disk leaves).
   const double series_bytes =
       8.0 * double(columns) * double(unindexed_.size() + pending_.size() + kIndexSeriesChunk);
-  check_room(path_, frame_bytes(model, prepared, matrices, pending_.size(), columns) +
-                        1.25 * published_bytes_ + series_bytes);
+  const double bytes = frame_bytes(model, prepared, matrices, pending_.size(), columns);
+  check_room(path_, bytes + 1.25 * published_bytes_ + series_bytes);
+  settle(); // the frame before named (its failure is this write's)
+  publish(false);
   const std::string name = frame_name(frame), file = frame_file(dir_, frame);
   FrameRecord record;
-  write_file_atomically(file, file + ".tmp", [&](hid_t f) {
-    for (const char* g : {"particles", "grid", "state"})
-      h5::create_group(f, g);
-    write_particles(f, name, model);
-    write_grid(f, name, model, shape, matrices, prepared);
-    write_run_state(f, name, state_);
-    write_series_rows(f, layout_, pending_); // the rows since the frame before
-    h5::Id g = h5::open_group(f, "particles/" + name);
-    h5::set_attribute(g.get(), "complete", 1L); // the mark of a whole frame (earlier layouts)
-    record = record_of(f, frame);
-  });
-  frames_.push_back(record);
-  unindexed_.insert(unindexed_.end(), pending_.begin(), pending_.end());
+  // Frames of up to kFrameInMemory bytes are built in memory and written in one piece.
+  write_temporary(
+      file + ".tmp",
+      [&](hid_t f) {
+        for (const char* g : {"particles", "grid", "state"})
+          h5::create_group(f, g);
+        write_particles(f, name, model);
+        write_grid(f, name, model, shape, matrices, prepared);
+        write_run_state(f, name, state_);
+        write_series_rows(f, layout_, pending_); // the rows since the frame before
+        h5::Id g = h5::open_group(f, "particles/" + name);
+        h5::set_attribute(g.get(), "complete", 1L); // the mark of a whole frame (earlier layouts)
+        record = record_of(f, frame);
+      },
+      bytes < kFrameInMemory);
+  // Synced and named on another thread while the run goes on (no HDF5 call there); the next
+  // frame, a stop or the end waits for it (settle).
+  committing_ =
+      std::async(std::launch::async, [tmp = file + ".tmp", file] { commit_file(tmp, file); });
+  committing_record_ = record;
+  committing_rows_ = std::move(pending_);
   pending_.clear();
-  publish(false);
+  if (indexed_frame_ < 0) { // the first frame is named in the index at once
+    settle();
+    publish(false);
+  }
 }
 
-void OutputFile::publish(bool force) {
+void OutputFile::settle() {
+  if (!committing_.valid())
+    return;
+  committing_.get(); // rethrows the commit's failure
+  frames_.push_back(committing_record_);
+  unindexed_.insert(unindexed_.end(), committing_rows_.begin(), committing_rows_.end());
+  committing_rows_.clear();
+}
+
+void OutputFile::publish(bool force, bool tail) {
   const double begin = seconds_now();
   // The index and sidecars cost at most a fifth of the run's time (the first frame is named
   // at once).
   if (!force && indexed_frame_ >= 0 && begin - published_at_ < 4 * publish_cost_)
     return;
   write_file_atomically(path_, (fs::path(dir_) / "index.h5.tmp").string(),
-                        [&](hid_t f) { write_index(f); });
+                        [&](hid_t f) { write_index(f, tail); });
   indexed_frame_ = frames_.empty() ? -1 : frames_.back().frame;
   indexed_rows_ += long(unindexed_.size());
   unindexed_.clear();
@@ -166,7 +192,7 @@ void OutputFile::publish(bool force) {
       published_bytes_ += double(fs::file_size(xmf, ec));
 }
 
-void OutputFile::write_index(long f) {
+void OutputFile::write_index(long f, bool tail) {
   h5::set_attribute(f, "input", input_);
   h5::set_attribute(f, "overrides", overrides_);
   h5::set_attribute(f, "source", source_);
@@ -202,7 +228,7 @@ void OutputFile::write_index(long f) {
               "cannot link the vertex list " + std::to_string(n));
   }
   // The series: those of the index written before (its frames' rows), the rows of the frames
-  // since, and the rows since the last frame (a stopped run's last steps).
+  // since, and with `tail` the rows since the last frame (a stopped run's last steps).
   if (indexed_rows_ > 0 || indexed_frame_ >= 0) {
     const h5::Id old(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     h5::check(old.get(), "cannot open the index " + path_);
@@ -215,19 +241,36 @@ void OutputFile::write_index(long f) {
     create_series_group(f, layout_, kIndexSeriesChunk);
   }
   append_series_rows(f, layout_, unindexed_);
-  append_series_rows(f, layout_, pending_);
+  if (tail)
+    append_series_rows(f, layout_, pending_);
 }
 
 void OutputFile::set_status(const std::string& status) noexcept {
   status_ = status;
   try {
-    publish(true); // with the rows since the last frame
+    settle();
   } catch (const std::exception&) {
-    // A full disk: the index keeps its status "running"; the frames stay readable.
+    // the last frame could not be named (a full disk): the rows it held are lost with it
+    committing_rows_.clear();
+  }
+  try {
+    publish(true, true); // with the rows since the last frame
+    return;
+  } catch (const std::exception&) {
+  }
+  // A full disk: the rows since the last frame (no restart needs them) are left out.
+  try {
+    publish(true, false);
+  } catch (const std::exception&) {
+    // Still no room: the index keeps its status "running"; the frames stay readable.
   }
 }
 
 void OutputFile::discard() noexcept {
+  try {
+    settle();
+  } catch (const std::exception&) {
+  }
   frames_.clear(); // nothing left to name
   std::error_code ec;
   fs::remove(path_, ec);

@@ -21,6 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The largest run (its frame files' bytes) assembled in memory.
+constexpr double kAssembleInMemory = 256.0 * 1024 * 1024;
+
 // Copies `path` of `from` to the same path of `to` (its parent group made when missing).
 void copy_object(hid_t from, hid_t to, const std::string& group, const std::string& name) {
   const std::string path = group + "/" + name;
@@ -73,20 +76,29 @@ void assemble(hid_t f, RunReader& r, const SeriesLayout& layout) {
 void OutputFile::finish(const std::string& target) {
   // The index keeps its status until the assembled file has its name: a kill before leaves a
   // restart point, whose restart continues no step and assembles again.
+  settle();
   if (!pending_.empty())
-    publish(true); // the rows after the last frame, for the assembly
+    publish(true, true); // the rows after the last frame, for the assembly
   std::error_code ec;
   const bool in_place = fs::equivalent(path_, target, ec);
   {
+    // Built in memory when the frames are small (their files' sum under kAssembleInMemory): one
+    // write instead of a write per object of every frame.
+    double bytes = 0;
+    for (const int frame : frame_files_in(dir_))
+      bytes += double(fs::file_size(frame_file(dir_, frame), ec));
     RunReader r(path_);
-    write_file_atomically(target, (fs::path(dir_) / "assembled.h5.tmp").string(), [&](hid_t f) {
-      h5::set_attribute(f, "input", input_);
-      h5::set_attribute(f, "overrides", overrides_);
-      h5::set_attribute(f, "source", source_);
-      h5::set_attribute(f, "version", std::string(kVersion));
-      h5::set_attribute(f, "status", std::string("completed"));
-      assemble(f, r, layout_);
-    });
+    write_file_atomically(
+        target, (fs::path(dir_) / "assembled.h5.tmp").string(),
+        [&](hid_t f) {
+          h5::set_attribute(f, "input", input_);
+          h5::set_attribute(f, "overrides", overrides_);
+          h5::set_attribute(f, "source", source_);
+          h5::set_attribute(f, "version", std::string(kVersion));
+          h5::set_attribute(f, "status", std::string("completed"));
+          assemble(f, r, layout_);
+        },
+        bytes < kAssembleInMemory);
   }
   sync_directory(fs::path(target).parent_path().string());
   // The target's sidecars, each replaced whole, and the partial run's files removed.

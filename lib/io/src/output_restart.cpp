@@ -119,7 +119,7 @@ OutputFile OutputFile::reopen(const std::string& path, const std::string& restar
     base.push_back(values.topRows(rows));
   }
   write_file_atomically(path, (fs::path(out.dir_) / "index.h5.tmp").string(), [&](hid_t f) {
-    out.write_index(f); // the frames, with empty series
+    out.write_index(f, false); // the frames, with empty series
     h5::Id series = h5::open_group(f, "series");
     const auto columns = out.layout_.columns();
     for (size_t c = 0; c < columns.size(); ++c)

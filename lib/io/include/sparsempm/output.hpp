@@ -15,6 +15,7 @@
 #include "sparsempm/step_preparation.hpp"
 
 #include <array>
+#include <future>
 #include <string>
 #include <vector>
 
@@ -107,10 +108,12 @@ struct SeriesLayout {
 /// paths of run_file_layout() and the series rows since the frame before). Every file is
 /// written under a temporary name, synced and renamed into place, so that a kill or a power
 /// loss at any instant leaves each name whole or absent: the frames named in the directory are
-/// the completed ones. The index (the run's input and status, external links to the frames for
-/// h5py, the series) and the XDMF sidecars are replaced the same way after a frame, as often as
-/// their own cost allows (at most a fifth of the run's time), and always when the status
-/// changes. finish() assembles the frames into one file of the layout and moves it into place.
+/// the completed ones. A frame's sync and rename run on a second thread (no HDF5 call there)
+/// while the run goes on; the next frame, a stop or the end waits for them. The index (the run's
+/// input and status, external links to the frames for h5py, the series) and the XDMF sidecars are
+/// replaced the same way after a frame, as often as their own cost allows (at most a fifth of the
+/// run's time), and always when the status changes. finish() assembles the frames into one file of
+/// the layout and moves it into place.
 class OutputFile {
 public:
   /// Starts the run `cfg` at `path` (its index; the frames directory beside it is made anew).
@@ -180,9 +183,12 @@ private:
   OutputFile() = default;
   void start(const RunConfig& cfg);
   void restore_frames(detail::RunReader& source, int last, bool in_place);
-  // Writes the index and the sidecars again (`force`: now; else when their cost allows).
-  void publish(bool force);
-  void write_index(long file);
+  // Writes the index and the sidecars again (`force`: now; else when their cost allows), with
+  // the series rows since the last frame when `tail` (a stop, the end).
+  void publish(bool force, bool tail = false);
+  // Waits for the frame being synced and named, and adds it to the frames.
+  void settle();
+  void write_index(long file, bool tail);
   void write_sidecars(const std::string& h5_path, bool split) const;
   static FrameRecord record_of(long file, int frame);
   std::string path_, dir_; // the index and the frames directory
@@ -191,8 +197,12 @@ private:
   detail::SeriesLayout layout_;
   int dim_ = 1;
   RunState state_;
-  std::vector<FrameRecord> frames_; // the frames written so far
-  std::vector<SeriesRow> pending_;  // the rows since the last frame
+  std::vector<FrameRecord> frames_; // the frames written and named so far
+  // The frame being synced and named on another thread, with its series rows.
+  std::future<void> committing_;
+  FrameRecord committing_record_;
+  std::vector<SeriesRow> committing_rows_;
+  std::vector<SeriesRow> pending_; // the rows since the last frame
   /// The rows of the frames written since the index was: it holds the rows of its last frame
   /// (indexed_frame_) and before, indexed_rows_ of them.
   std::vector<SeriesRow> unindexed_;
