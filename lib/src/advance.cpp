@@ -121,7 +121,9 @@ double first_time_step(const Model& model, const AdvanceOptions& o, bool transpo
 void check_step_count(const Model& model, const AdvanceOptions& o, bool transport) {
   if (!(o.max_steps > 0))
     throw InputError("max_steps must be positive, got " + std::to_string(o.max_steps));
-  if (!(o.end > model.time) || model.particles.size() == 0)
+  // From t = 0 only: a run continued from a later step is held to the count of the whole run
+  // in the loop (its first step's Δt need not be the run's).
+  if (!(o.end > model.time) || model.particles.size() == 0 || model.step > 0)
     return;
   std::string why;
   const double dt = first_time_step(model, o, transport, why);
@@ -177,7 +179,7 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
       throw at_step(NumericalError("the time step " + number_text(dt) + " is not positive" +
                                    fastest_particle(model)),
                     model.step + 1, model.time);
-    if (report.steps >= o.max_steps)
+    if (model.step >= o.max_steps) // the steps of the whole run, a restart's before it included
       throw at_step(
           NumericalError("the run has taken time.max_steps = " + std::to_string(o.max_steps) +
                          " steps and is at t = " + number_text(model.time) + " of end " +

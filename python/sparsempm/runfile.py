@@ -42,7 +42,7 @@ def _open(path, attempts=20):
         time.sleep(0.025)
 
 
-_FRAME_FILE = re.compile(r"^([0-9]{6,})\.h5$")
+_FRAME_FILE = re.compile(r"^([0-9]{6,9})\.h5$")
 
 
 def _text(value):
@@ -101,11 +101,15 @@ class Run:
         names = os.listdir(self._dir) if os.path.isdir(self._dir) else []
         self.frames = sorted(int(m.group(1)) for m in map(_FRAME_FILE.match, names) if m)
         times, later = [], []
-        for k in self.frames:
-            with _open(self._frame_path(k)) as f:
-                times.append(f["particles"]["%06d" % k].attrs["time"])
-                if k > last and "series" in f:
-                    later.append({n: f["series"][n][()] for n in f["series"]})
+        for i, k in enumerate(self.frames):
+            try:
+                with _open(self._frame_path(k), attempts=1) as f:
+                    times.append(f["particles"]["%06d" % k].attrs["time"])
+                    if k > last and "series" in f:
+                        later.append({n: f["series"][n][()] for n in f["series"]})
+            except (OSError, KeyError):  # a frame file that cannot be read: no frame from it on
+                self.frames = self.frames[:i]
+                break
         self.times = np.array(times)
         if not later:
             self.series = index_series

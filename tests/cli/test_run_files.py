@@ -93,6 +93,27 @@ class RestartPoints(Base):
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertFalse((self.dir / "j.partial.frames").exists())
 
+    def test_a_damaged_newest_frame_restarts_from_the_frame_before(self):
+        # A frame file cut short (the disk's fault, not a kill: a kill leaves no named frame
+        # half written) is passed over: the restart continues from the frame before, keeps
+        # every series row up to it, and ends with the uninterrupted run's file. (A restart
+        # that read the damaged frame's rows failed and its writer's destructor then wrote an
+        # index with no series.)
+        r = smpm("run", *HEAT, "-o", self.dir / "ref.h5", "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        partial = self.killed()
+        frames = sorted((self.dir / "k.partial.frames").glob("[0-9]*.h5"))
+        frames[-1].write_bytes(frames[-1].read_bytes()[:1000])
+        r = smpm("run", "--restart", partial, "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(self.dir / "ref.h5", "r") as a, h5py.File(self.dir / "k.h5", "r") as b:
+            self.assertEqual(sorted(a["particles"]), sorted(b["particles"]))
+            for name in ("step", "t", "heat", "temperature_max"):
+                self.assertTrue(np.array_equal(a["series"][name][()], b["series"][name][()]), name)
+            last = sorted(a["particles"])[-1]
+            self.assertTrue(np.array_equal(a["particles"][last]["temperature"][()],
+                                           b["particles"][last]["temperature"][()]))
+
     def test_a_restart_frame_past_the_end_is_a_damaged_file(self):
         # A restart file whose last frame claims t = 1e9, beyond time.end: exit 2 naming the
         # file and frame as damaged (it was exit 1).

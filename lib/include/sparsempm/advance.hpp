@@ -38,9 +38,10 @@ struct AdvanceOptions {
   /// With heat transport (the stepper's options), no step is longer than F Δx_min² / D_max, the
   /// Fourier number F of conduction (diffusion_time); 0: default_fourier(d).
   double fourier = 0;
-  /// The most steps this call may take: a call whose first time step implies more (to `end`)
-  /// throws InputError naming the limit that sets it, and one that reaches it with the time
-  /// step shrunk since throws NumericalError.
+  /// The most steps the run may take (Model::step, a restart's earlier steps included): a run
+  /// from step 0 whose first time step implies more (to `end`) throws InputError naming the
+  /// limit that sets it, and one that reaches it with the time step shrunk since throws
+  /// NumericalError.
   long max_steps = 10'000'000;
   /// > 0: report a stop at every multiple of this time (output frames); the observer is told
   /// which steps reach one.
@@ -77,8 +78,8 @@ struct AdvanceReport {
   PhaseTimes times;        ///< where the loop's wall time went (Stepper::times in the loop)
 };
 
-/// Throws InputError when the first time step of advance() from `model` (the Courant limit
-/// and, with `transport`, the conduction limit of `options`) implies more than
+/// Throws InputError when the first time step of advance() from `model` at step 0 (the Courant
+/// limit and, with `transport`, the conduction limit of `options`) implies more than
 /// options.max_steps steps to options.end, naming the limit that sets it and the Δt.
 void check_step_count(const Model& model, const AdvanceOptions& options, bool transport);
 

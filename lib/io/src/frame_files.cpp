@@ -55,7 +55,7 @@ std::vector<int> frame_files_in(const std::string& dir) {
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (is_frame_name(name) && name.size() < 14)
+    if (is_frame_name(name) && name.size() <= 12) // at most 9 digits: an int
       frames.push_back(std::stoi(name.substr(0, name.size() - 3)));
   }
   std::sort(frames.begin(), frames.end());

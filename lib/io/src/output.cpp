@@ -67,10 +67,16 @@ std::string frame_name(int frame) {
   return buf;
 }
 
+std::string removed_frames_directory(const std::string& dir) {
+  return dir + ".removed";
+}
+
 // A frames directory made anew: one left by an earlier run of this path (it holds only frame
 // files and temporaries) is removed; anything else at its name is not touched.
 void make_frames_directory(const std::string& dir) {
   std::error_code ec;
+  if (holds_only_frames(removed_frames_directory(dir))) // a completed run's, killed while removed
+    fs::remove_all(removed_frames_directory(dir), ec);
   if (fs::exists(fs::symlink_status(dir, ec))) {
     if (!holds_only_frames(dir))
       throw InputError(dir + ": exists and is not the frames directory of a run; not touched "
@@ -250,7 +256,9 @@ void OutputFile::set_status(const std::string& status) noexcept {
   try {
     settle();
   } catch (const std::exception&) {
-    // the last frame could not be named (a full disk): the rows it held are lost with it
+    // The last frame could not be named (a full disk): its rows stay in the series, before
+    // those since.
+    pending_.insert(pending_.begin(), committing_rows_.begin(), committing_rows_.end());
     committing_rows_.clear();
   }
   try {

@@ -19,6 +19,10 @@ namespace smpm {
 using namespace detail;
 namespace fs = std::filesystem;
 
+namespace detail {
+std::string removed_frames_directory(const std::string& dir); // output.cpp
+}
+
 namespace {
 
 // The largest run (its frame files' bytes) assembled in memory.
@@ -103,13 +107,20 @@ void OutputFile::finish(const std::string& target) {
   sync_directory(fs::path(target).parent_path().string());
   // The target's sidecars, each replaced whole, and the partial run's files removed.
   write_sidecars(target, false);
+  // The frames leave their name in one rename (a kill while they are removed one by one must
+  // not leave a partial run of some of them), then the index, the sidecars and the frames go.
+  const std::string removed = removed_frames_directory(dir_);
+  if (holds_only_frames(dir_)) {
+    fs::remove_all(removed, ec);
+    fs::rename(dir_, removed, ec);
+  }
   if (!in_place) {
     fs::remove(path_, ec);
     for (const std::string& xmf : xdmf_paths(path_))
       fs::remove(xmf, ec);
   }
-  if (holds_only_frames(dir_))
-    fs::remove_all(dir_, ec);
+  if (holds_only_frames(removed))
+    fs::remove_all(removed, ec);
   path_ = target;
   status_ = "completed";
 }

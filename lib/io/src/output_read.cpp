@@ -31,8 +31,12 @@ StoredRun read_stored_run(const std::string& path) {
     run.version = h5::get_string_attribute(f, "version");
     run.status = h5::get_string_attribute(f, "status");
     for (int frame : r.frames()) {
-      h5::Id g = h5::open_group(r.frame(frame), "particles/" + frame_name(frame));
-      run.frame_times.push_back(h5::get_double_attribute(g.get(), "time"));
+      try {
+        h5::Id g = h5::open_group(r.frame(frame), "particles/" + frame_name(frame));
+        run.frame_times.push_back(h5::get_double_attribute(g.get(), "time"));
+      } catch (const h5::Error&) {
+        break; // a frame file that cannot be read (damaged): no frame from it on
+      }
     }
     // The series; files of earlier versions lack some (their rows keep the defaults).
     auto column = [&](const char* name) { return r.has_series(name) ? r.series(name) : Field(); };

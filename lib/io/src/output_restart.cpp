@@ -61,11 +61,18 @@ void copy_frame(hid_t from, int frame, const std::string& file) {
       h5::check(H5Ocopy(from, path.c_str(), f, path.c_str(), H5P_DEFAULT, H5P_DEFAULT),
                 "cannot copy " + path);
     }
-    const h5::Id parts = h5::open_group(from, "particles/" + name);
-    const long n = long(h5::rows_of(parts.get(), "X"));
-    const std::string vertices = "vertices/" + std::to_string(n);
-    if (h5::exists(from, "vertices") && h5::exists(from, vertices)) {
-      h5::create_group(f, "vertices");
+    // The vertex lists of its particles, nodes with mass and contact nodes (the sidecars').
+    std::vector<long> counts{long(h5::rows_of(from, "particles/" + name + "/X"))};
+    for (const char* set : {"nodes", "contact_nodes"})
+      if (h5::exists(from, "grid/" + name) && h5::exists(from, "grid/" + name + "/" + set))
+        counts.push_back(long(h5::rows_of(from, "grid/" + name + "/" + set)));
+    for (const long n : counts) {
+      const std::string vertices = "vertices/" + std::to_string(n);
+      if (n == 0 || !h5::exists(from, "vertices") || !h5::exists(from, vertices) ||
+          (h5::exists(f, "vertices") && h5::exists(f, vertices)))
+        continue;
+      if (!h5::exists(f, "vertices"))
+        h5::create_group(f, "vertices");
       h5::check(H5Ocopy(from, vertices.c_str(), f, vertices.c_str(), H5P_DEFAULT, H5P_DEFAULT),
                 "cannot copy " + vertices);
     }
@@ -101,23 +108,49 @@ OutputFile OutputFile::reopen(const std::string& path, const std::string& restar
   out.overrides_ = h5::get_strings_attribute(index, "overrides");
   if (h5::has_attribute(index, "source"))
     out.source_ = h5::get_string_attribute(index, "source");
-  std::error_code ec;
-  const bool in_place = source.split() && fs::equivalent(source.frames_directory(), out.dir_, ec);
-  out.restore_frames(source, last, in_place);
-  // The series up to the frame's step (a stopped run's later rows are dropped), every series of
-  // the run (a file of an earlier version lacks some: NaN in its rows).
-  const Field steps = source.series("step");
+  // The series up to the frame's step (a stopped run's later rows, and those of frames after
+  // it, are dropped), every series of the run (a file of an earlier version lacks some: NaN in
+  // its rows); read before any file is written.
+  const Field steps = source.series("step", last);
   Index rows = 0;
   while (rows < steps.rows() && steps(rows, 0) <= double(cfg.model.step))
     ++rows;
   std::vector<Field> base;
   for (const auto& [name, width] : out.layout_.columns()) {
-    Field values = source.has_series(name) ? source.series(name) : Field();
+    Field values = source.has_series(name) ? source.series(name, last) : Field();
     if (values.rows() < rows || values.cols() != Index(std::max<size_t>(width, 1)))
       values = Field::Constant(rows, Index(std::max<size_t>(width, 1)),
                                std::numeric_limits<double>::quiet_NaN());
     base.push_back(values.topRows(rows));
   }
+  std::error_code ec;
+  const bool in_place = source.split() && fs::equivalent(source.frames_directory(), out.dir_, ec);
+  try {
+    out.restore_frames(source, last, in_place);
+    // The frame files' names reach the disk before the index that names them (which, for a
+    // file of one piece continued in place, replaces the only other copy of its frames).
+    sync_directory(out.dir_);
+    sync_directory(fs::path(path).parent_path().string());
+    out.write_restart_index(path, base, rows);
+  } catch (...) {
+    // Nothing half made stays: a copy's frames go; a run continued in place keeps its files.
+    if (!in_place && holds_only_frames(out.dir_))
+      fs::remove_all(out.dir_, ec);
+    out.frames_.clear(); // the destructor names nothing
+    throw;
+  }
+  out.indexed_frame_ = last;
+  out.indexed_rows_ = long(rows);
+  out.write_sidecars(path, true);
+  sync_directory(fs::path(path).parent_path().string());
+  next_frame = last + 1;
+  return out;
+}
+
+// The index of a restarted run: its frames, and `rows` rows of the series `base`.
+void OutputFile::write_restart_index(const std::string& path, const std::vector<Field>& base,
+                                     Index rows) {
+  OutputFile& out = *this;
   write_file_atomically(path, (fs::path(out.dir_) / "index.h5.tmp").string(), [&](hid_t f) {
     out.write_index(f, false); // the frames, with empty series
     h5::Id series = h5::open_group(f, "series");
@@ -127,13 +160,6 @@ OutputFile OutputFile::reopen(const std::string& path, const std::string& restar
                         hsize_t(columns[c].second));
     h5::set_attribute(f, "frame_rows", long(rows));
   });
-  out.indexed_frame_ = last;
-  out.indexed_rows_ = long(rows);
-  out.write_sidecars(path, true);
-  sync_directory(out.dir_);
-  sync_directory(fs::path(path).parent_path().string());
-  next_frame = last + 1;
-  return out;
 }
 
 void OutputFile::restore_frames(RunReader& source, int last, bool in_place) {

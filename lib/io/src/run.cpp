@@ -210,6 +210,10 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
                       .max_steps = cfg.time.max_steps},
                      cfg.step.transport.update != TransportUpdate::Off);
   const OutputLock lock(target); // a second run on this path stops here, before any write
+  // Again under the lock: a run of this path that stopped between the check and the lock left
+  // a restart point the first check could not see.
+  check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from,
+                   options.discard_partial, true);
   const std::string partial = partial_path(target);
   Run r(cfg, options, partial);
   RunReport report;

@@ -222,11 +222,11 @@ void check_frames_directory(const std::string& path, const std::string& p,
 } // namespace
 
 void check_run_output(const std::string& path, const std::string& input, const std::string& option,
-                      const std::string& restart, bool discard) {
+                      const std::string& restart, bool discard, bool locked) {
   check_output_name(path, option);
   // A live run on this path (also where HDF5's own file locks are off) is named as such
   // before its files are judged.
-  if (held_by_writer(path + ".lock"))
+  if (!locked && held_by_writer(path + ".lock"))
     throw InputError(path + ": another run is writing this file (" + path +
                      ".lock is locked); wait for it or choose another -o");
   for (const std::string& p : {path, partial_path(path)})

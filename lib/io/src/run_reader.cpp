@@ -119,7 +119,7 @@ bool RunReader::has_series(const std::string& name) {
   return h5::exists(index_.get(), "series") && h5::exists(series_group(), name);
 }
 
-Field RunReader::series(const std::string& name) {
+Field RunReader::series(const std::string& name, int up_to) {
   Field rows = h5::read_doubles(series_group(), name);
   if (!split() || frames_.empty() || frames_.back() <= index_last_)
     return rows; // the index has every row: the frames' and the stopped run's last steps
@@ -129,11 +129,19 @@ Field RunReader::series(const std::string& name) {
   for (int f : frames_) {
     if (f <= index_last_)
       continue;
-    const hid_t file = frame(f);
-    if (!h5::exists(file, "series/" + name))
-      continue;
-    h5::Id g = h5::open_group(file, "series");
-    parts.push_back(h5::read_doubles(g.get(), name));
+    if (f > up_to)
+      break;
+    Field rows_of_frame;
+    try {
+      const hid_t file = frame(f);
+      if (!h5::exists(file, "series/" + name))
+        continue;
+      h5::Id g = h5::open_group(file, "series");
+      rows_of_frame = h5::read_doubles(g.get(), name);
+    } catch (const h5::Error&) {
+      break; // a frame file that cannot be read (damaged): the rows end before it
+    }
+    parts.push_back(std::move(rows_of_frame));
     if (parts.back().cols() != rows.cols())
       throw std::runtime_error("the series " + name + " of frame " + std::to_string(f) + " has " +
                                std::to_string(parts.back().cols()) + " columns, not " +

@@ -8,6 +8,7 @@
 
 #include "hdf5_util.hpp"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -42,8 +43,10 @@ public:
   /// Whether the run has the series `name`.
   bool has_series(const std::string& name);
   /// Every row of the series `name` from t = 0 (rows × width; one column for a scalar): the
-  /// rows of the complete frames and, after the last, those a stopped run recorded.
-  Field series(const std::string& name);
+  /// rows of the complete frames and, after the last, those a stopped run recorded (up to a
+  /// frame file that cannot be read, if any). With
+  /// `up_to`, the rows of the frames up to that one (at least; the caller cuts by step).
+  Field series(const std::string& name, int up_to = std::numeric_limits<int>::max());
   /// The names of the series, in alphabetical order.
   std::vector<std::string> series_names();
   /// The conditions of the reaction series' columns (empty without it).

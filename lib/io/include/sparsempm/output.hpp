@@ -183,6 +183,7 @@ private:
   OutputFile() = default;
   void start(const RunConfig& cfg);
   void restore_frames(detail::RunReader& source, int last, bool in_place);
+  void write_restart_index(const std::string& path, const std::vector<Field>& base, Index rows);
   // Writes the index and the sidecars again (`force`: now; else when their cost allows), with
   // the series rows since the last frame when `tail` (a stop, the end).
   void publish(bool force, bool tail = false);

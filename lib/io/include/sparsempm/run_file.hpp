@@ -27,9 +27,10 @@ bool is_partial_path(const std::string& path);
 /// or whose file was not yet assembled, whatever its status; replaced only when `discard`), a
 /// frames directory that is a run's, and a sidecar that is neither the input nor an XDMF file of
 /// another run. `option` names the option in messages ("-o"); `restart` is the run file a
-/// restart continues (its own partial file is the one it continues into).
+/// restart continues (its own partial file is the one it continues into). `locked`: the caller
+/// holds the output's OutputLock (its own lock is not another run's).
 void check_run_output(const std::string& path, const std::string& input, const std::string& option,
-                      const std::string& restart = {}, bool discard = false);
+                      const std::string& restart = {}, bool discard = false, bool locked = false);
 /// Throws InputError unless `path` may receive a table (CSV) of `smpm stability` or `smpm
 /// spectrum`: not a directory, none of `inputs` (the input file first, then run files read), not an
 /// existing HDF5 file or XDMF sidecar, not a lock file or a path a run holds, in a writable
