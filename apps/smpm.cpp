@@ -304,6 +304,9 @@ int main(int argc, char** argv) {
   int code = 0;
   try {
     smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core
+    if (*run && run->count("--output") > 0 && ra.output.empty())
+      throw smpm::InputError("-o '': an empty path; name the output file (or leave -o out "
+                             "for the input's output.file)");
     if (*run)
       code =
           run_command(ra.input, ra.sets, ra.output, ra.restart, ra.discard, ra.quiet, ra.timings);

@@ -121,13 +121,18 @@ double first_time_step(const Model& model, const AdvanceOptions& o, bool transpo
 void check_step_count(const Model& model, const AdvanceOptions& o, bool transport) {
   if (!(o.max_steps > 0))
     throw InputError("max_steps must be positive, got " + std::to_string(o.max_steps));
-  // From t = 0 only: a run continued from a later step is held to the count of the whole run
-  // in the loop (its first step's Δt need not be the run's).
+  // From t = 0 only: the first step's Δt of a run continued from a later step need not be the
+  // run's, and the run was checked when it began.
   if (!(o.end > model.time) || model.particles.size() == 0 || model.step > 0)
     return;
   std::string why;
   const double dt = first_time_step(model, o, transport, why);
-  const double steps = (o.end - model.time) / dt;
+  const double span = o.end - model.time;
+  // Landing on each stop: ceil(every / dt) steps per whole interval between stops.
+  const double whole = o.land_on_stops && o.stop_every > 0 ? std::floor(span / o.stop_every) : 0;
+  const double steps = whole > 0 ? whole * std::ceil(o.stop_every / dt) +
+                                       std::ceil((span - whole * o.stop_every) / dt)
+                                 : span / dt;
   if (!(steps <= double(o.max_steps)))
     throw InputError("time.end = " + number_text(o.end) + " would take about " +
                      number_text(steps) + " steps of dt = " + number_text(dt) + ", from " + why +
@@ -179,12 +184,6 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
       throw at_step(NumericalError("the time step " + number_text(dt) + " is not positive" +
                                    fastest_particle(model)),
                     model.step + 1, model.time);
-    if (model.step >= o.max_steps) // the steps of the whole run, a restart's before it included
-      throw at_step(
-          NumericalError("the run has taken time.max_steps = " + std::to_string(o.max_steps) +
-                         " steps and is at t = " + number_text(model.time) + " of end " +
-                         number_text(o.end) + " (its time step shrank to " + number_text(dt) + ")"),
-          model.step + 1, model.time);
     if (report.steps == 0 && !o.time_step_start)
       dt0 = dt;
     check_time_step(model, dt, dt0, o.failure);

@@ -17,6 +17,7 @@ import unittest
 import zlib
 
 import h5py
+import numpy as np
 
 SMPM = os.environ.get("SMPM", "smpm")
 SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
@@ -209,6 +210,34 @@ class Images(Base):
         self.assertIn("has no extent", line)
         inp.write_text(IMAGE.format(image="small.png", pixel="1.0"))
         r = smpm("run", inp, "-o", self.dir / "ok.h5", "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+
+    def test_a_restart_finds_the_image_beside_its_input(self):
+        # The image is named relative to the input file; a restart reads the input stored in
+        # the run file, which may be elsewhere. It looked for the image beside the run file
+        # only: a run written to another directory could not be continued. Now it looks beside
+        # the input the run was given first (its name as the run was given it, from the same
+        # working directory), then beside the run file; the restart's body equals the run's.
+        (self.dir / "in").mkdir()
+        (self.dir / "out").mkdir()
+        png(self.dir / "in" / "small.png", 4, 4, [[0, 0, 255, 255]] * 4)
+        (self.dir / "in" / "img.toml").write_text(IMAGE.format(image="small.png", pixel="1.0"))
+        def run(*args):
+            return subprocess.run([SMPM, "run", *map(str, args), "-q"], capture_output=True,
+                                  text=True, timeout=120, cwd=self.dir)
+        r = run("in/img.toml", "-o", "out/run.h5", "--set", "time.end=0.5")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        r = run("--restart", "out/run.h5", "-o", "out/again.h5")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with h5py.File(self.dir / "out" / "run.h5", "r") as a, \
+                h5py.File(self.dir / "out" / "again.h5", "r") as b:
+            # 8 dark pixels (two of each row of four) at ppc 2 x 2: 32 particles
+            self.assertEqual(b["particles"]["000000"]["X"].shape, (32, 2))
+            self.assertTrue(np.array_equal(a["particles"]["000001"]["X"][()],
+                                           b["particles"]["000001"]["X"][()]))
+        # Without the input's directory (moved away), beside the run file.
+        (self.dir / "in" / "small.png").rename(self.dir / "out" / "small.png")
+        r = run("--restart", "out/run.h5", "-o", "out/third.h5")
         self.assertEqual(r.returncode, 0, r.stderr)
 
 

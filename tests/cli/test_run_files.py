@@ -104,6 +104,10 @@ class RestartPoints(Base):
         partial = self.killed()
         frames = sorted((self.dir / "k.partial.frames").glob("[0-9]*.h5"))
         frames[-1].write_bytes(frames[-1].read_bytes()[:1000])
+        # smpm info lists the objects of the frame before (it stopped on the damaged one).
+        info = smpm("info", partial)
+        self.assertEqual(info.returncode, 0, info.stderr)
+        self.assertIn("/particles/" + frames[-2].stem + "/X ", info.stdout)
         r = smpm("run", "--restart", partial, "-q")
         self.assertEqual(r.returncode, 0, r.stderr)
         with h5py.File(self.dir / "ref.h5", "r") as a, h5py.File(self.dir / "k.h5", "r") as b:
@@ -141,6 +145,16 @@ class RestartPoints(Base):
                 self.assertIn("is the run file the restart continues, which a restart never "
                               "writes", r.stderr)
                 self.assertEqual(digests(self.dir), before)
+
+
+class Options(Base):
+    def test_an_empty_output_name_is_refused(self):
+        # -o '' was taken as "no -o": the run wrote the input's output.file without a word.
+        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "-o", "", "-q")
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertEqual(r.stderr.strip().splitlines(),
+                         ["smpm: error: -o '': an empty path; name the output file (or leave -o "
+                          "out for the input's output.file)"])
 
 
 class Layout(Base):

@@ -38,10 +38,9 @@ struct AdvanceOptions {
   /// With heat transport (the stepper's options), no step is longer than F Δx_min² / D_max, the
   /// Fourier number F of conduction (diffusion_time); 0: default_fourier(d).
   double fourier = 0;
-  /// The most steps the run may take (Model::step, a restart's earlier steps included): a run
-  /// from step 0 whose first time step implies more (to `end`) throws InputError naming the
-  /// limit that sets it, and one that reaches it with the time step shrunk since throws
-  /// NumericalError.
+  /// The most steps a run may take: a run from step 0 whose first time step implies more (to
+  /// `end`, with a step more per stop it lands on) throws InputError naming the limit that sets
+  /// it (check_step_count). A time step that collapses later is FailureTest's.
   long max_steps = 10'000'000;
   /// > 0: report a stop at every multiple of this time (output frames); the observer is told
   /// which steps reach one.

@@ -410,8 +410,9 @@ Contact read_contact_tables(const std::string& text, const std::string& source,
 }
 
 RunConfig read_input(const std::string& input_text, const std::string& source,
-                     const std::vector<std::string>& overrides) {
-  const Reader r(source);
+                     const std::vector<std::string>& overrides,
+                     const std::vector<std::string>& file_directories) {
+  const Reader r(source, file_directories);
   // A UTF-8 byte-order mark (written by some editors) is not part of the TOML text.
   const std::string bom = "\xEF\xBB\xBF";
   const std::string text = input_text.rfind(bom, 0) == 0 ? input_text.substr(3) : input_text;

@@ -113,8 +113,21 @@ Region image_region(const Reader& r, const toml::table& t, const std::string& ke
     r.fail(t.get("region"), key + "region", "an image body needs a 2D grid");
   const std::string file = r.string(t, "image", key + "image", std::nullopt);
   std::filesystem::path path(file);
-  if (path.is_relative() && t.source().path && !t.source().path->empty())
-    path = std::filesystem::path(*t.source().path).parent_path() / path;
+  if (path.is_relative()) {
+    // The input file's directory; a stored input (a restart) tries its input file's first.
+    std::vector<std::filesystem::path> dirs(r.file_directories().begin(),
+                                            r.file_directories().end());
+    if (t.source().path && !t.source().path->empty())
+      dirs.push_back(std::filesystem::path(*t.source().path).parent_path());
+    std::error_code ec;
+    const auto holds = std::find_if(dirs.begin(), dirs.end(), [&](const auto& dir) {
+      return std::filesystem::exists(dir / path, ec);
+    });
+    if (holds != dirs.end())
+      path = *holds / path;
+    else if (!dirs.empty()) // named in the message
+      path = dirs.back() / path;
+  }
   const double s = r.positive(t, "pixel_size", key + "pixel_size", std::nullopt);
   const auto origin =
       r.vector(t, "origin", key + "origin", d, false, {g.origin(0), g.origin(1), 0});

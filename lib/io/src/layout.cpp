@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <regex>
+#include <stdexcept>
 
 namespace smpm {
 
@@ -194,9 +195,19 @@ std::vector<FileObject> walk_run_file(const std::string& path) {
     visit(w, r.index(), "/series");
   if (r.frames().empty())
     return w.out;
-  // The last frame's objects, from the file that holds them, and its particles' vertex list.
-  const int last = r.frames().back();
-  const hid_t file = r.frame(last);
+  // The objects of the last frame that opens (a killed run's newest frame file may be damaged),
+  // from the file that holds them, and its particles' vertex list.
+  int last = -1;
+  hid_t file = -1;
+  for (auto f = r.frames().rbegin(); f != r.frames().rend() && last < 0; ++f) {
+    try {
+      file = r.frame(*f);
+      last = *f;
+    } catch (const std::runtime_error&) { // the frame before it, then
+    }
+  }
+  if (last < 0)
+    return w.out;
   for (const char* group : {"grid", "matrices", "particles", "state"}) {
     const std::string g = std::string("/") + group + "/" + frame_name(last);
     if (h5::exists(file, group) && h5::exists(file, g.substr(1)))

@@ -70,13 +70,18 @@ std::string frame_name(int frame) {
 std::string removed_frames_directory(const std::string& dir) {
   return dir + ".removed";
 }
+std::string copying_frames_directory(const std::string& dir) {
+  return dir + ".copying";
+}
 
 // A frames directory made anew: one left by an earlier run of this path (it holds only frame
 // files and temporaries) is removed; anything else at its name is not touched.
 void make_frames_directory(const std::string& dir) {
   std::error_code ec;
-  if (holds_only_frames(removed_frames_directory(dir))) // a completed run's, killed while removed
-    fs::remove_all(removed_frames_directory(dir), ec);
+  // A completed run's, killed while removed, and a restart's copy, killed while it copied.
+  for (const std::string& other : {removed_frames_directory(dir), copying_frames_directory(dir)})
+    if (holds_only_frames(other))
+      fs::remove_all(other, ec);
   if (fs::exists(fs::symlink_status(dir, ec))) {
     if (!holds_only_frames(dir))
       throw InputError(dir + ": exists and is not the frames directory of a run; not touched "

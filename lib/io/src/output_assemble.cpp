@@ -107,18 +107,19 @@ void OutputFile::finish(const std::string& target) {
   sync_directory(fs::path(target).parent_path().string());
   // The target's sidecars, each replaced whole, and the partial run's files removed.
   write_sidecars(target, false);
-  // The frames leave their name in one rename (a kill while they are removed one by one must
-  // not leave a partial run of some of them), then the index, the sidecars and the frames go.
+  // The partial run's sidecars go first (they only view its frames); the frames leave their
+  // name in one rename (a kill while they are removed one by one must not leave a partial run
+  // of some of them); then the index and the frames go.
+  if (!in_place)
+    for (const std::string& xmf : xdmf_paths(path_))
+      fs::remove(xmf, ec);
   const std::string removed = removed_frames_directory(dir_);
   if (holds_only_frames(dir_)) {
     fs::remove_all(removed, ec);
     fs::rename(dir_, removed, ec);
   }
-  if (!in_place) {
+  if (!in_place)
     fs::remove(path_, ec);
-    for (const std::string& xmf : xdmf_paths(path_))
-      fs::remove(xmf, ec);
-  }
   if (holds_only_frames(removed))
     fs::remove_all(removed, ec);
   path_ = target;

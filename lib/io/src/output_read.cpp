@@ -28,6 +28,8 @@ StoredRun read_stored_run(const std::string& path) {
   try {
     run.input = h5::get_string_attribute(f, "input");
     run.overrides = h5::get_strings_attribute(f, "overrides");
+    if (h5::has_attribute(f, "source"))
+      run.source = h5::get_string_attribute(f, "source");
     run.version = h5::get_string_attribute(f, "version");
     run.status = h5::get_string_attribute(f, "status");
     for (int frame : r.frames()) {

@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 
 namespace detail {
 void make_frames_directory(const std::string& dir); // output.cpp
-}
+std::string copying_frames_directory(const std::string& dir);
+} // namespace detail
 
 namespace {
 
@@ -134,8 +135,9 @@ OutputFile OutputFile::reopen(const std::string& path, const std::string& restar
     out.write_restart_index(path, base, rows);
   } catch (...) {
     // Nothing half made stays: a copy's frames go; a run continued in place keeps its files.
-    if (!in_place && holds_only_frames(out.dir_))
-      fs::remove_all(out.dir_, ec);
+    for (const std::string& dir : {out.dir_, copying_frames_directory(out.dir_)})
+      if (!in_place && holds_only_frames(dir))
+        fs::remove_all(dir, ec);
     out.frames_.clear(); // the destructor names nothing
     throw;
   }
@@ -163,6 +165,9 @@ void OutputFile::write_restart_index(const std::string& path, const std::vector<
 }
 
 void OutputFile::restore_frames(RunReader& source, int last, bool in_place) {
+  // A copy is made under another name and given the frames directory's name whole: a kill while
+  // it copies leaves no frames directory without its index.
+  const std::string into = in_place ? dir_ : copying_frames_directory(dir_);
   if (in_place) {
     // A run continued in place: its frames after the restart frame (that could not be read) go.
     remove_temporaries(dir_);
@@ -170,12 +175,12 @@ void OutputFile::restore_frames(RunReader& source, int last, bool in_place) {
       if (f > last)
         fs::remove(frame_file(dir_, f));
   } else {
-    make_frames_directory(dir_);
+    make_frames_directory(into);
   }
   for (int f : source.frames()) {
     if (f > last)
       break;
-    const std::string file = frame_file(dir_, f);
+    const std::string file = frame_file(into, f);
     if (!in_place && source.split()) {
       const std::string tmp = file + ".tmp";
       fs::copy_file(source.frame_path(f), tmp, fs::copy_options::overwrite_existing);
@@ -191,6 +196,13 @@ void OutputFile::restore_frames(RunReader& source, int last, bool in_place) {
     const h5::Id h(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     h5::check(h.get(), "cannot open " + file);
     frames_.push_back(record_of(h.get(), f));
+  }
+  if (!in_place) {
+    sync_directory(into);
+    std::error_code ec;
+    if (holds_only_frames(dir_)) // a stale one of this path (check_run_output saw no other)
+      fs::remove_all(dir_, ec);
+    fs::rename(into, dir_);
   }
 }
 

@@ -37,7 +37,12 @@ inline constexpr long kMaxCount = 100000000; // cells or particles per cell alon
 // Reads one input; carries the file name for messages.
 class Reader {
 public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
+  explicit Reader(std::string source, std::vector<std::string> file_directories = {})
+      : source_(std::move(source)), file_directories_(std::move(file_directories)) {}
+
+  // Where a file the input names by a relative path (an image) is looked for before the input
+  // file's own directory: a stored input's first input file's directory (stored_config).
+  const std::vector<std::string>& file_directories() const { return file_directories_; }
 
   // "file:line: key = value" for a node, "file: key" without one.
   std::string where(const toml::node* n, const std::string& key) const {
@@ -218,6 +223,7 @@ public:
   }
 
   std::string source_;
+  std::vector<std::string> file_directories_;
 };
 
 int axis_index(const Reader& r, const toml::node* n, const std::string& name, int dim);

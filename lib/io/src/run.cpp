@@ -34,7 +34,12 @@ OutputFile open_partial(RunConfig& cfg, const RunOptions& options, const std::st
 RunConfig stored_config(const std::string& path) {
   check_regular_file(path, kMaxRunFileBytes, "run file");
   const StoredRun stored = read_stored_run(path);
-  return read_input(stored.input, path + " (stored input)", stored.overrides);
+  // An image body's file is looked for beside the input the run was given (as its name
+  // resolves from here), then beside the run file.
+  std::vector<std::string> dirs;
+  if (!stored.source.empty())
+    dirs.push_back(std::filesystem::path(stored.source).parent_path().string());
+  return read_input(stored.input, path + " (stored input)", stored.overrides, dirs);
 }
 
 namespace {
@@ -200,19 +205,28 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
                        ": is the run file the restart continues, which a restart "
                        "never writes; give another -o");
   }
-  check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from,
+  // The option that named the path: -o, or the input's output.file.
+  const std::string option = options.output.empty() && !restart ? "output.file" : "-o";
+  check_run_output(target, restart ? std::string() : cfg.source, option, options.restart_from,
                    options.discard_partial);
-  if (!restart) // a run that would not end (a Δt far too small) is refused before any write
-    check_step_count(cfg.model,
-                     {.end = cfg.time.end,
-                      .courant = cfg.time.courant,
-                      .fourier = cfg.time.fourier,
-                      .max_steps = cfg.time.max_steps},
-                     cfg.step.transport.update != TransportUpdate::Off);
+  if (!restart) { // a run that would not end (a Δt far too small) is refused before any write
+    try {
+      check_step_count(cfg.model,
+                       {.end = cfg.time.end,
+                        .courant = cfg.time.courant,
+                        .fourier = cfg.time.fourier,
+                        .max_steps = cfg.time.max_steps,
+                        .stop_every = cfg.output.every,
+                        .land_on_stops = cfg.time.land_on_frames},
+                       cfg.step.transport.update != TransportUpdate::Off);
+    } catch (const InputError& e) {
+      throw InputError(cfg.source + ": " + e.what());
+    }
+  }
   const OutputLock lock(target); // a second run on this path stops here, before any write
   // Again under the lock: a run of this path that stopped between the check and the lock left
   // a restart point the first check could not see.
-  check_run_output(target, restart ? std::string() : cfg.source, "-o", options.restart_from,
+  check_run_output(target, restart ? std::string() : cfg.source, option, options.restart_from,
                    options.discard_partial, true);
   const std::string partial = partial_path(target);
   Run r(cfg, options, partial);

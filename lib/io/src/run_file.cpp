@@ -204,7 +204,7 @@ void check_existing_output(const std::string& path, const std::string& p, const 
 // The frames directory of the partial twin `p`: a run's (or absent), and not holding frames
 // that no index names.
 void check_frames_directory(const std::string& path, const std::string& p,
-                            const std::string& option) {
+                            const std::string& option, bool discard) {
   const std::string dir = detail::frames_directory(p);
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(dir, ec)))
@@ -214,9 +214,10 @@ void check_frames_directory(const std::string& path, const std::string& p,
     throw InputError(who + "its frames directory " + dir +
                      " exists and is not the frames directory of a run; not touched (move it "
                      "away)");
-  if (!fs::exists(p, ec) && !detail::frame_files_in(dir).empty())
+  if (!fs::exists(p, ec) && !detail::frame_files_in(dir).empty() && !discard)
     throw InputError(who + "its frames directory " + dir + " holds frames whose index " + p +
-                     " is missing; not touched (move it away)");
+                     " is missing (no run can continue them); not touched: move it away or "
+                     "start again with --discard-partial");
 }
 
 } // namespace
@@ -231,7 +232,7 @@ void check_run_output(const std::string& path, const std::string& input, const s
                      ".lock is locked); wait for it or choose another -o");
   for (const std::string& p : {path, partial_path(path)})
     check_existing_output(path, p, input, option, restart, discard);
-  check_frames_directory(path, partial_path(path), option);
+  check_frames_directory(path, partial_path(path), option, discard);
   const std::string who = option + " " + path + ": ";
   std::error_code ec;
   for (const std::string& p : {path, partial_path(path)})

@@ -28,7 +28,7 @@ struct TimeSettings {
   /// critical Fourier number of transport_stability.hpp's study, 0.229).
   double fourier = 0;
   /// The most steps a run may take (AdvanceOptions::max_steps): a run whose first time step
-  /// implies more is refused before it starts.
+  /// implies more (with a step more per frame it lands on) is refused before it starts.
   long max_steps = 10'000'000;
 };
 
@@ -55,9 +55,12 @@ struct RunConfig {
 
 /// Parses `text` (the contents of the file `source`) after applying `overrides`, each
 /// "section.key=value" (value parsed as a TOML value, else taken as a string; arrays of
-/// tables are addressed by name or index, e.g. "material.bar.youngs=3"). Throws InputError.
+/// tables are addressed by name or index, e.g. "material.bar.youngs=3"). A file the input names
+/// by a relative path (an image body's) is looked for in `file_directories`, in order, then in
+/// the directory of `source`. Throws InputError.
 RunConfig read_input(const std::string& text, const std::string& source,
-                     const std::vector<std::string>& overrides = {});
+                     const std::vector<std::string>& overrides = {},
+                     const std::vector<std::string>& file_directories = {});
 /// The conditions of [[bc]] tables: velocity conditions and moving walls (Model::bcs), and
 /// temperature conditions (Model::temperature_bcs).
 struct ConditionTables {

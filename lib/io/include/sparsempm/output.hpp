@@ -218,6 +218,7 @@ private:
 struct StoredRun {
   std::string input;                  ///< the input text, with the --set overrides appended
   std::vector<std::string> overrides; ///< the --set overrides
+  std::string source;                 ///< the input file's name, as the run was given it
   /// The sparsempm version that wrote the file.
   std::string version, status;     ///< running | completed | failed: ... | interrupted: ...
   std::vector<double> frame_times; ///< the time of each complete frame, ascending
