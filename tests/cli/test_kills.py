@@ -4,7 +4,8 @@
 plasticity, contact and many small frames are killed with SIGKILL at random instants, uniform
 over the run and concentrated on the writing of frame files, of the index, of the assembled
 file and on restarts; every file left must list its completed frames and restart from the
-last of them into a file equal to the uninterrupted run's, dataset by dataset, bit for bit.
+last of them into a file equal to the uninterrupted run's, dataset by dataset, bit for bit
+(and so must what a killed restart into another file left).
 The count of unrecoverable files is asserted to be 0.
 
 The random seed is printed; SMPM_KILL_SEED=<seed> replays a campaign, SMPM_KILLS=<n> sets its
@@ -183,24 +184,36 @@ class Campaign(unittest.TestCase):
                 time.sleep(rng.uniform(0, 0.8 * durations[name]))
                 killed = kill_on(p, frames, {"frame": "0.h5.tmp", "index": "index.h5.tmp"}[mode],
                                  rng)
+            elsewhere = None
             if mode == "restart" and (work / "k.partial.h5").exists():
-                # The restart killed too, early (while it copies or indexes) or later.
-                q = start(["run", "--restart", work / "k.partial.h5", "-q"])
+                # The restart killed too, early (while it copies or indexes) or later; in place
+                # or into another file (its copy of the frames made under another name).
+                more = []
+                if rng.random() < 0.5:
+                    elsewhere = work / "r.h5"
+                    more = ["-o", elsewhere]
+                q = start(["run", "--restart", work / "k.partial.h5", "-q", *more])
                 kill_at(q, rng.choice([rng.uniform(0, 0.05), rng.uniform(0, durations[name])]))
             left, why = recover(out, references[name])
+            other = None
+            if elsewhere and not why:  # what the killed restart left restarts too
+                other, why = recover(elsewhere, references[name])
             shutil.rmtree(work, ignore_errors=True)
-            return k, name, mode, ("killed, " if killed else "ended, ") + left, why
+            return k, name, mode, ("killed, " if killed else "ended, ") + left, other, why
 
-        failures, counts, outcomes = [], {}, {}
+        failures, counts, outcomes, elsewhere = [], {}, {}, {}
         with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
-            for k, name, mode, outcome, why in pool.map(one, cases):
+            for k, name, mode, outcome, other, why in pool.map(one, cases):
                 counts[(name, mode)] = counts.get((name, mode), 0) + 1
                 outcomes[outcome] = outcomes.get(outcome, 0) + 1
+                if other:
+                    elsewhere[other] = elsewhere.get(other, 0) + 1
                 if why:
                     failures.append((k, name, mode, why))
                     print("case %d (%s, %s): %s" % (k, name, mode, why), flush=True)
         print("kills by problem and mode:", dict(sorted(counts.items())))
         print("what the kills left:", dict(sorted(outcomes.items())))
+        print("what killed restarts into another file left:", dict(sorted(elsewhere.items())))
         print("unrecoverable: %d of %d" % (len(failures), len(cases)))
         tmp.cleanup()
         self.assertEqual(failures, [], "seed %d" % SEED)
