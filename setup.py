@@ -3,7 +3,10 @@
 `_sparsempm` (python/CMakeLists.txt), which setuptools puts beside sparsempm/__init__.py.
 
 Extra CMake arguments come from SPARSEMPM_CMAKE_ARGS (space-separated), the number of build
-jobs from SPARSEMPM_BUILD_JOBS (default 2).
+jobs from SPARSEMPM_BUILD_JOBS (default 2), the CMake build directory from SPARSEMPM_BUILD_DIR
+(default: under setuptools' build directory). A build directory beside an earlier build of the
+same flags (`build` and `build.pip`), with CCACHE_BASEDIR set to the source tree for both, has
+every object served by ccache.
 """
 
 import os
@@ -30,7 +33,8 @@ class CMakeExtension(Extension):
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
         target = pathlib.Path(self.get_ext_fullpath(ext.name)).resolve()
-        build = pathlib.Path(self.build_temp).resolve() / "cmake"
+        build = pathlib.Path(os.environ.get("SPARSEMPM_BUILD_DIR", "")
+                             or pathlib.Path(self.build_temp) / "cmake").resolve()
         build.mkdir(parents=True, exist_ok=True)
         args = [f"-DPython_EXECUTABLE={sys.executable}", "-DCMAKE_BUILD_TYPE=Release",
                 "-DSMPM_BUILD_TESTS=OFF", "-DSMPM_BUILD_BENCHMARKS=OFF",

@@ -1,8 +1,11 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # `pip install --no-build-isolation .` as README says, into a scratch virtual environment that
-# sees the system's numpy and scipy: the package builds offline (setup.py drives CMake; with
-# the test build's flags, so that ccache serves its objects) and imports from the environment.
-file(REMOVE_RECURSE ${WORK_DIR})
+# sees the system's numpy and scipy: the package builds offline (setup.py drives CMake) and
+# imports from the environment. Its CMake build is made beside the test build, BUILD_DIR.pip,
+# with the test build's flags: the same relative paths, so that ccache (with CCACHE_BASEDIR at
+# the source tree, as scripts/test sets it) serves every object of the test build.
+set(PIP_BUILD_DIR ${BUILD_DIR}.pip)
+file(REMOVE_RECURSE ${WORK_DIR} ${PIP_BUILD_DIR})
 execute_process(COMMAND ${PYTHON} -m venv --system-site-packages ${WORK_DIR}/venv
                 RESULT_VARIABLE rc)
 if(rc)
@@ -10,6 +13,7 @@ if(rc)
 endif()
 execute_process(
   COMMAND ${CMAKE_COMMAND} -E env SPARSEMPM_CMAKE_ARGS=-DSMPM_WERROR=ON
+          SPARSEMPM_BUILD_DIR=${PIP_BUILD_DIR}
           ${WORK_DIR}/venv/bin/pip install --no-build-isolation --no-deps --no-index -q ${SOURCE_DIR}
   WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(rc)
@@ -29,3 +33,4 @@ if(NOT out MATCHES "^${WORK_DIR}/venv/lib/python3[.0-9]*/site-packages/sparsempm
    OR NOT out MATCHES "\n${VERSION}\n" OR NOT out MATCHES "rho\\(A\\) = 0\\.9459")
   message(FATAL_ERROR "unexpected output of the pip-installed module")
 endif()
+file(REMOVE_RECURSE ${PIP_BUILD_DIR})
