@@ -255,7 +255,7 @@ TEST_CASE("Coulomb friction: a sliding block decelerates at mu g, without fricti
 }
 
 TEST_CASE("with the default contact a block slides down an inclined, grid-unaligned slab",
-          "[contact]") {
+          "[contact][long]") {
   // A block on a slab at 25° and 35° to the grid's axes, under gravity, with ContactPair's
   // defaults (LR normals and LR separation, contact 2020 §5): its acceleration along the slope
   // is g(sin θ − μ cos θ) within 5% while it slides (μ = 0, 0.2: the least-squares slope of the

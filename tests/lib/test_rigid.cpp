@@ -363,7 +363,7 @@ TEST_CASE("rigid motions that cannot run are refused with the material's name", 
 }
 
 TEST_CASE("with the default contact a block slides down an inclined, grid-unaligned rigid slab",
-          "[rigid][contact]") {
+          "[rigid][contact][long]") {
   // The slab of tests/lib/test_contact.cpp's inclined block made rigid (prescribed v = 0, no
   // velocity conditions of its own), at 25° and 35° to the grid's axes, ContactPair's defaults
   // (LR normals and separation, which against a rigid field take the rigid body's outward

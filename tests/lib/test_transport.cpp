@@ -273,7 +273,7 @@ TEST_CASE("the steady state of the bar is linear to round-off (FMPM form)", "[tr
 }
 
 TEST_CASE("a sudden temperature at the end of a long bar follows the erfc solution",
-          "[transport]") {
+          "[transport][long]") {
   // A bar of length 10 at T0 = 300 whose end x = 0 is held at T1 = 500 from t = 0, the other
   // end insulated (heat reaches it in negligible amounts by t = 0.5: erfc(10/√2) ≈ 1e-23):
   // T(x, t) = T1 + (T0 − T1) erf(x / (2√(D t))) (Carslaw & Jaeger §2.4), F = 0.1. FMPM(4): the
@@ -351,7 +351,8 @@ TEST_CASE("a uniform heat source heats every particle at r / C_V", "[transport]"
   }
 }
 
-TEST_CASE("heat crosses bonded materials: the composite wall's steady state", "[transport]") {
+TEST_CASE("heat crosses bonded materials: the composite wall's steady state",
+          "[transport][long]") {
   // Two materials bonded on [0, 0.5] and [0.5, 1] (two velocity fields, stick, always), one
   // temperature per node shared by both: κ_a = 1, κ_b = 3, ends at 400 and 300. The steady
   // flux is continuous, so T(0.5) = (κ_a 400 + κ_b 300)/(κ_a + κ_b) = 325 and T is linear in
