@@ -359,7 +359,9 @@ class BoundThreads(Base):
         finally:
             p.kill()
             err = p.communicate()[1].decode(errors="replace")
-        self.assertEqual(len(cpus), 2, f"{bind}: the run never had two threads: {err}")
+        # Two OpenMP threads, and at a frame the thread that syncs and names the frame file
+        # (created by the first, whose CPUs it inherits).
+        self.assertIn(len(cpus), (2, 3), f"{bind}: the run never had two threads: {err}")
         self.assertIn(b"OMP_WAIT_POLICY=passive", environ, f"{bind}: smpm did not restart")
         return cpus
 
