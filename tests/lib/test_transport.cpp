@@ -351,8 +351,7 @@ TEST_CASE("a uniform heat source heats every particle at r / C_V", "[transport]"
   }
 }
 
-TEST_CASE("heat crosses bonded materials: the composite wall's steady state",
-          "[transport][long]") {
+TEST_CASE("heat crosses bonded materials: the composite wall's steady state", "[transport][long]") {
   // Two materials bonded on [0, 0.5] and [0.5, 1] (two velocity fields, stick, always), one
   // temperature per node shared by both: κ_a = 1, κ_b = 3, ends at 400 and 300. The steady
   // flux is continuous, so T(0.5) = (κ_a 400 + κ_b 300)/(κ_a + κ_b) = 325 and T is linear in
