@@ -84,6 +84,16 @@ Field elastic_state_of(const ConstFieldRef& F, int dim) {
   return B;
 }
 
+Eigen::Matrix3d elastic_state_stress(const Material& mat, const Eigen::Matrix3d& F,
+                                     const Eigen::Matrix3d& be) {
+  const double J = F.determinant();
+  const double vol = mat.model == MaterialModel::MieGruneisen
+                         ? -mie_gruneisen_pressure(mat, J, 0)
+                         : 0.5 * mat.bulk_modulus() * (J * J - 1) / J;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  return (mat.shear_modulus() / J) * (be - (be.trace() / 3) * I) + vol * I;
+}
+
 void initial_plastic_state(Particles& P) {
   const Index N = P.size();
   if (P.elastic_cauchy_green.rows() == N && P.elastic_cauchy_green.cols() == 9 &&

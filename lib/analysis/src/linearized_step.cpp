@@ -3,6 +3,7 @@
 
 #include "sparsempm/errors.hpp"
 #include "sparsempm/scheme.hpp"
+#include "sparsempm/step_part.hpp"
 
 #include "radius.hpp"
 
@@ -37,29 +38,21 @@ private:
   Field& L_;
 };
 
-// Material tangents 𝕂_p = ∂σ/∂L (N × d⁴, row-major ab, cd) from σ((I ± ε E_cd) F) by central
-// differences.
-Field material_tangents(const Model& model) {
+// Material tangents 𝕂_p = ∂σ/∂L (N × d⁴, row-major ab, cd) of σ(f F) of each particle's
+// material (stress_tangent), then of the parts whose particles' stress is another function of
+// their state (StepPart::tangents: plasticity).
+Field material_tangents(const Model& model, const std::vector<std::unique_ptr<StepPart>>& parts) {
   const Particles& P = model.particles;
   const int d = P.dim, d2 = d * d;
   Field K = Field::Zero(P.size(), d2 * d2);
-  const double eps = 1e-6;
   for (Index q = 0; q < P.size(); ++q) {
     const Material& mat = model.materials.at(size_t(P.material[q]));
     const Eigen::Matrix3d F = embed_3d(P.F.row(q).data(), d);
-    for (int c = 0; c < d; ++c)
-      for (int e = 0; e < d; ++e) {
-        Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
-        E(c, e) = eps;
-        const Eigen::Matrix3d dsig =
-            (cauchy_stress(mat, d, (Eigen::Matrix3d::Identity() + E) * F) -
-             cauchy_stress(mat, d, (Eigen::Matrix3d::Identity() - E) * F)) /
-            (2 * eps);
-        for (int a = 0; a < d; ++a)
-          for (int b = 0; b < d; ++b)
-            K(q, (a * d + b) * d2 + c * d + e) = dsig(a, b);
-      }
+    stress_tangent(
+        d, [&](const Eigen::Matrix3d& f) { return cauchy_stress(mat, d, f * F); }, K.row(q).data());
   }
+  for (const std::unique_ptr<StepPart>& part : parts)
+    part->tangents(model, K);
   return K;
 }
 } // namespace
@@ -96,10 +89,9 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
     : impl_(std::make_unique<Impl>()) {
   if (!model.bcs.walls.empty())
     throw InputError("the linearised step across processes does not take moving walls yet");
-  if (options.velocity == VelocityUpdate::XPIC || options.transfer == Transfer::VelocityGradient)
+  if (options.velocity == VelocityUpdate::XPIC)
     throw InputError("the linearised step across processes is FLIP, PIC, FMPM(k) or the exact "
-                     "update with the standard transfer (not XPIC, not the velocity-gradient "
-                     "transfer) for now");
+                     "update (not XPIC) for now");
   init(model, options, dt, &sums);
   if (impl_->solver && !impl_->solver->across_processes())
     throw InputError("the exact update across processes needs a MassSolver that solves across "
@@ -114,9 +106,13 @@ void LinearizedStep::init(const Model& model, const StepOptions& options, double
       (options.velocity == VelocityUpdate::FMPM || options.velocity == VelocityUpdate::XPIC))
     throw InputError("the linearised step needs a fixed FMPM order: dynamic FMPM stops at an "
                      "order that depends on the state, which is not a linear map");
-  if (model.contact.fields() > 1)
-    throw InputError("the linearised step needs one velocity field: contact detection switches "
-                     "with the state ([[contact]]), which is not a linear map");
+  const std::vector<std::unique_ptr<StepPart>> parts = step_parts(options);
+  for (const std::unique_ptr<StepPart>& part : parts) { // one rule for every part
+    if (const std::string why = part->not_linearised(model); !why.empty())
+      throw InputError(why);
+    if (const std::string why = sums ? part->not_distributed(model) : ""; !why.empty())
+      throw InputError("the linearised step across processes does not take " + why + " yet");
+  }
   Impl& I = *impl_;
   I.sums = sums;
   I.model = model;
@@ -147,7 +143,7 @@ void LinearizedStep::init(const Model& model, const StepOptions& options, double
   if (uses_consistent_mass(options, true))
     I.mt = options.transfer == Transfer::VelocityGradient ? &I.prep.transfer_mass(model.particles.X)
                                                           : &I.prep.consistent_mass();
-  I.K = material_tangents(model);
+  I.K = material_tangents(model, parts);
   I.F = model.particles.F;
   set_dt(dt);
 }

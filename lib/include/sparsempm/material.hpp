@@ -145,6 +145,26 @@ double thermal_coupling(const Material& mat, int dim, const Eigen::Matrix3d& F, 
 /// rows and columns: the form cauchy_stress takes.
 Eigen::Matrix3d embed_3d(const double* F, int d);
 
+/// 𝕂 = ∂σ/∂L of a stress law σ(f) of the relative deformation gradient f (3 × 3) at f = I, the
+/// material tangent of a linearised step (σ̇ = 𝕂 : L): d⁴ values, row-major over (ab, cd), written
+/// to K, by central differences (σ(I + εE_cd) − σ(I − εE_cd)) / 2ε with ε = 10⁻⁶.
+template <class StressOfF>
+void stress_tangent(int d, const StressOfF& stress, double* K) {
+  const double eps = 1e-6;
+  const int d2 = d * d;
+  for (int c = 0; c < d; ++c)
+    for (int e = 0; e < d; ++e) {
+      Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+      E(c, e) = eps;
+      const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+      const Eigen::Matrix3d dsig =
+          (stress(Eigen::Matrix3d(I + E)) - stress(Eigen::Matrix3d(I - E))) / (2 * eps);
+      for (int a = 0; a < d; ++a)
+        for (int b = 0; b < d; ++b)
+          K[(a * d + b) * d2 + c * d + e] = dsig(a, b);
+    }
+}
+
 /// σ_p = σ(F_p) for every particle (rows of F and stress, N × d²), each with its own material
 /// id (N). With `density`, also W(F_p) of each particle (resized to N; the same bits as
 /// strain_energy_density), so that the energies of the step need no second pass over F. Throws

@@ -41,6 +41,13 @@ struct J2Return {
 J2Return j2_return(const Material& mat, const Eigen::Matrix3d& f, const Eigen::Matrix3d& be_n,
                    double plastic_strain_n);
 
+/// The Cauchy stress of a particle of the plastic material `mat` at the total deformation F
+/// (3 × 3) in the elastic state b̄ᵉ: σ = G dev(b̄ᵉ)/J + the elastic law's volumetric term at
+/// J = det F (Mie–Grüneisen at U = 0, as cauchy_stress), the stress of the return when it does
+/// not yield. With b̄ᵉ = J^{−2/3} F Fᵀ (no plastic flow) this is cauchy_stress(mat, F).
+Eigen::Matrix3d elastic_state_stress(const Material& mat, const Eigen::Matrix3d& F,
+                                     const Eigen::Matrix3d& be);
+
 /// Whether a material of the list is elastic–plastic (Material::plastic).
 bool uses_plasticity(const std::vector<Material>& materials);
 

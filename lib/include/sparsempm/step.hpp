@@ -17,9 +17,9 @@
 
 namespace smpm {
 
-struct GridState;        // scheme.hpp
-struct TransportState;   // scheme.hpp
-struct TransportContext; // scheme.hpp
+struct GridState;      // scheme.hpp
+struct TransportState; // scheme.hpp
+struct StepContext;    // scheme.hpp
 
 /// What a Stepper accumulates over a run besides the model: the state a restart sets back
 /// (Stepper::restore) to continue bit for bit.
@@ -139,8 +139,11 @@ public:
   const std::vector<double>& reactions() const { return reactions_; }
 
 private:
-  bool heat() const; // heat transport is on
-  const TransportContext& transport_context(Model& model);
+  // Whether this step updates the particles from grid velocities (periodic FMPM: the steps
+  // that cross the budget C_X); advances the budget.
+  bool grid_velocity_step(const Model& model, double dt);
+  // What the stages of a step of length dt from the model read, before the parts add theirs.
+  StepContext stage_context(const Model& model, double dt) const;
   struct Buffers;
   StepOptions opt_;
   std::unique_ptr<MassSolver> solver_;

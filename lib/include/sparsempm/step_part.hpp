@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// \file step_part.hpp
+/// The parts of a step: what one capability (heat transport, shock physics, plasticity, loads,
+/// rigid bodies, the velocity-gradient transfer, contact) adds to the one step, scheme_step.
+/// A Stepper holds a list of parts, built once from its options (step_parts); each step it
+///   1. lets every part start the particle columns it carries that the model lacks (start),
+///   2. prepares the step (prepare_step),
+///   3. lets every part add what it brings to the stages: its operators, its state in the
+///      strain update, its fields (begin),
+///   4. runs scheme_step, the stages in the order of FMPM 2026 Fig. 1,
+///   5. lets every part finish: the motions it imposes, its tallies (end).
+/// A part is called once per step on whole fields, never per particle.
+
+#include "sparsempm/scheme.hpp"
+#include "sparsempm/step.hpp"
+#include "sparsempm/step_preparation.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace smpm {
+
+/// The states the strain update (MaterialStrainUpdate) carries for the parts of one step; null:
+/// the part is not in the step.
+struct StrainCouplings {
+  ShockState* shock = nullptr;           ///< Mie–Grüneisen energies and viscosity (shocks)
+  ThermalStrainState* thermal = nullptr; ///< the temperatures the couplings change (heat)
+  PlasticState* plastic = nullptr;       ///< b̄ᵉ and ε̄ᵖ of the J2 return (plasticity)
+};
+
+/// What a part reads and sets before the stages of a step (StepPart::begin).
+struct StepStart {
+  Model& model;               ///< the model at the step's start, t = model.time
+  const StepOptions& options; ///< the Stepper's options
+  StepPreparation& prep;      ///< the step's operators, conditions and contact nodes
+  StepContext& context;       ///< what the stages read; a part sets its own entries
+  ParticleFields& fields;     ///< the particle fields the stages update
+  StrainCouplings& strain;    ///< the strain update's states; a part sets its own
+};
+
+/// What a part reads and sets after the stages of a step (StepPart::end).
+struct StepEnd {
+  Model& model;                ///< the model after the stages, its clock still at t
+  double dt;                   ///< Δt, the length of the step
+  const StepPreparation& prep; ///< the step's preparation
+  /// The reaction of each velocity condition of prep.bcs along its direction in the step (the
+  /// model's conditions, then the rigid materials' axes: reaction_labels).
+  const std::vector<double>& reactions;
+  /// The mass Σ m_i on each condition's nodes (every field's block, or its own field's).
+  const std::vector<double>& condition_mass;
+  /// W(F_p) the strain update stored for the energies; a part that changes what it was
+  /// evaluated at empties it (energies are then evaluated anew).
+  Eigen::VectorXd& density;
+  StepperState& state; ///< the run's tallies, to which a part adds its step's work
+};
+
+/// A part of the step (this file's comment). The default hooks do nothing.
+class StepPart {
+public:
+  virtual ~StepPart() = default;
+  /// Before the step is prepared: gives the model's particles the columns this part carries
+  /// when they have none yet (their start values).
+  virtual void start(Model& /*model*/) {}
+  /// Before the stages: the part's operators and fields in the step's context.
+  virtual void begin(StepStart& /*step*/) {}
+  /// After the stages: the part's own motions and its tallies.
+  virtual void end(StepEnd& /*step*/) {}
+
+  /// Why the linearised step (LinearizedStep, stability.hpp) cannot take this part at the frozen
+  /// configuration `model`: a sentence for the user; empty when it can. The linearised and the
+  /// simulated step run the same stages, so a part that sets only operators and fields the
+  /// linearised step also sets is taken without a word.
+  virtual std::string not_linearised(const Model& /*model*/) const { return {}; }
+  /// Why the step across processes (a NodeSums) cannot take this part on `model`; empty when it
+  /// can.
+  virtual std::string not_distributed(const Model& /*model*/) const { return {}; }
+  /// The material tangents 𝕂 = ∂σ/∂L of the linearised step, N × d⁴ in stress_tangent's layout,
+  /// which start as those of σ(F) of each particle's material (cauchy_stress): a part whose
+  /// particles' stress is another function of their state sets their rows.
+  virtual void tangents(const Model& /*model*/, Field& /*K*/) const {}
+};
+
+/// The parts a Stepper with these options holds, in the order their hooks run: the gradient
+/// transfer, heat transport, shocks, plasticity, loads, rigid bodies, contact (a part whose
+/// capability the options leave off is not in the list; a part whose capability the model
+/// lacks, e.g. shocks without Mie–Grüneisen materials, does nothing in its step).
+std::vector<std::unique_ptr<StepPart>> step_parts(const StepOptions& options);
+
+} // namespace smpm

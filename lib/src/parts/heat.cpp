@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Heat transport as a part of the step (FMPM 2026 §3.5, transport.hpp): the particles carry
+// temperatures (T_ref of their material to start), the stages run the transport on the step's
+// transport operators, and the strain update takes the materials' thermal couplings.
+#include "parts.hpp"
+
+#include "sparsempm/transport.hpp"
+
+namespace smpm::parts {
+namespace {
+
+class Heat final : public StepPart {
+public:
+  explicit Heat(const StepOptions& options) {
+    if (options.transport.update == TransportUpdate::Exact)
+      solver_ = options.exact_solver(options.exact);
+  }
+  void start(Model& model) override {
+    Particles& P = model.particles;
+    if (P.temperature.size() != P.size()) // no temperatures yet: T_ref
+      set_reference_temperatures(P, model.materials);
+  }
+  void begin(StepStart& s) override {
+    Particles& P = s.model.particles;
+    TransportContext& t = transport_;
+    t.update = s.options.transport.update;
+    t.fmpm = transport_fmpm_options(s.options);
+    t.ops = &s.prep.transport;
+    t.ct = uses_consistent_capacity(s.options) ? &s.prep.consistent_capacity() : nullptr;
+    t.solver = solver_.get();
+    t.bcs = &s.prep.temperature_bcs;
+    t.temperature = &P.temperature;
+    t.energy = uses_shock_physics(s.model.materials) ? &P.energy : nullptr;
+    t.materials = &s.model.materials;
+    t.material = &P.material;
+    s.context.transport = &transport_;
+    thermal_.temperature = &P.temperature;
+    s.strain.thermal = &thermal_;
+    usf_ = s.options.scheme == UpdateScheme::USF;
+  }
+  void end(StepEnd& e) override {
+    // USF updates the stresses (and stores W) before the transport changes the temperatures:
+    // with thermal expansion that W is of the old temperature, so energies() evaluates it anew.
+    if (usf_)
+      for (const Material& m : e.model.materials)
+        if (m.thermal_expansion != 0)
+          e.density.resize(0);
+  }
+
+  std::string not_distributed(const Model&) const override {
+    return "heat transport (step.transport)";
+  }
+
+private:
+  std::unique_ptr<MassSolver> solver_; // the exact transport update's solver
+  TransportContext transport_;
+  ThermalStrainState thermal_;
+  bool usf_ = false;
+};
+
+} // namespace
+
+std::unique_ptr<StepPart> heat(const StepOptions& options) {
+  if (options.transport.update == TransportUpdate::Off)
+    return nullptr;
+  return std::make_unique<Heat>(options);
+}
+
+} // namespace smpm::parts

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// J2 plasticity as a part of the step (plasticity.hpp): particles of a plastic material carry
+// b̄ᵉ and ε̄ᵖ (b̄ᵉ of F and ε̄ᵖ = 0 to start), which the strain update returns to the yield
+// surface, and the run tallies the plastic work.
+#include "parts.hpp"
+
+#include "sparsempm/plasticity.hpp"
+
+#include <Eigen/LU>
+
+#include <cmath>
+
+namespace smpm::parts {
+namespace {
+
+class Plasticity final : public StepPart {
+public:
+  void start(Model& model) override {
+    if (uses_plasticity(model.materials))
+      initial_plastic_state(model.particles); // none yet: b̄ᵉ of F, ε̄ᵖ = 0
+  }
+  void begin(StepStart& s) override {
+    on_ = uses_plasticity(s.model.materials);
+    if (!on_)
+      return;
+    state_.elastic_cauchy_green = &s.model.particles.elastic_cauchy_green;
+    state_.plastic_strain = &s.model.particles.plastic_strain;
+    state_.plastic_work = 0;
+    s.strain.plastic = &state_;
+  }
+  void end(StepEnd& e) override {
+    if (on_)
+      e.state.plastic_work += state_.plastic_work;
+  }
+
+  // A yielded particle's stress is that of its elastic state b̄ᵉ, not of F: the linearised step
+  // takes the elastic branch there (elastic_state_stress under f = I ± εE, b̄ᵉ_tr = f̄ b̄ᵉ f̄ᵀ as
+  // the return's trial state): the stiffer branch, and the one NairnMPM's time step assumes for
+  // plastic materials (HEIsotropic::WaveSpeed, the elastic √((K + 4G/3)/ρ)). A particle on the
+  // yield surface loading further takes the softer plastic branch: not a linear map.
+  void tangents(const Model& model, Field& K) const override {
+    const Particles& P = model.particles;
+    if (!uses_plasticity(model.materials) || P.elastic_cauchy_green.rows() != P.size())
+      return; // no plastic state yet: b̄ᵉ of F, whose stress is σ(F)
+    for (Index q = 0; q < P.size(); ++q) {
+      const Material& mat = model.materials[size_t(P.material[q])];
+      if (!mat.plastic())
+        continue;
+      const Eigen::Matrix3d F = embed_3d(P.F.row(q).data(), P.dim);
+      const Eigen::Matrix3d be = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+          P.elastic_cauchy_green.row(q).data());
+      stress_tangent(
+          P.dim,
+          [&](const Eigen::Matrix3d& f) {
+            const Eigen::Matrix3d fbar = std::cbrt(1 / f.determinant()) * f;
+            return elastic_state_stress(mat, f * F, fbar * be * fbar.transpose());
+          },
+          K.row(q).data());
+    }
+  }
+
+private:
+  PlasticState state_;
+  bool on_ = false;
+};
+
+} // namespace
+
+std::unique_ptr<StepPart> plasticity(const StepOptions&) {
+  return std::make_unique<Plasticity>();
+}
+
+} // namespace smpm::parts
