@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/particles.hpp"
 
-#include "sparsempm/plasticity.hpp"
+#include "sparsempm/particle_columns.hpp"
 
 #include "sparsempm/errors.hpp"
 
@@ -26,12 +26,11 @@ void Particles::resize(int d, Index N) {
   volume0.setZero(N);
   material.setZero(N);
   half_length.setZero(N, d);
-  energy.setZero(N);
-  temperature.resize(0);
-  heat_source.resize(0);
-  gradient.resize(0, 0);
-  elastic_cauchy_green.resize(0, 0);
-  plastic_strain.resize(0);
+  for (const ParticleColumn& c : particle_columns()) { // the parts' columns: none yet
+    clear_column(*this, c);
+    if (c.always)
+      set_column(*this, c, Field::Zero(N, column_width(c, d)));
+  }
 }
 
 Eigen::VectorXd Particles::jacobian() const {
@@ -63,6 +62,7 @@ void Particles::append(const Particles& o) {
     return;
   SMPM_VERIFY(o.dim == dim, "cannot append " + std::to_string(o.dim) + "D particles to " +
                                 std::to_string(dim) + "D particles");
+  const Particles first = *this; // the first set, for its columns' absent values
   auto stack = [](auto& a, const auto& b) {
     auto c = a;
     a.resize(c.rows() + b.rows(), c.cols());
@@ -77,44 +77,22 @@ void Particles::append(const Particles& o) {
   stack(material, o.material);
   stack(half_length, o.half_length);
   const Index n0 = size() - o.size();
-  // An optional column (empty: absent) of both sets, an absent one counting as zeros.
-  auto stack_optional = [&](Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-    if (a.size() != n0 && b.size() != o.size())
-      return;
-    const Eigen::VectorXd a0 = a.size() == n0 ? a : Eigen::VectorXd::Zero(n0);
-    const Eigen::VectorXd b0 = b.size() == o.size() ? b : Eigen::VectorXd::Zero(o.size());
-    a.resize(n0 + o.size());
-    a << a0, b0;
-  };
-  if (energy.size() != n0 && o.energy.size() != o.size()) { // both absent: all 0
-    energy.setZero(n0 + o.size());
-  } else {
-    stack_optional(energy, o.energy);
-  }
-  SMPM_VERIFY((temperature.size() == n0) == (o.temperature.size() == o.size()),
-              "append: particles with temperatures and particles without");
-  stack_optional(temperature, o.temperature);
-  stack_optional(heat_source, o.heat_source);
-  if (gradient.rows() == n0 || o.gradient.rows() == o.size()) { // absent: zero gradients
-    const Field g0 = gradient.rows() == n0 ? gradient : Field::Zero(n0, dim * dim);
-    const Field g1 = o.gradient.rows() == o.size() ? o.gradient : Field::Zero(o.size(), dim * dim);
-    gradient.resize(n0 + o.size(), dim * dim);
-    gradient << g0, g1;
-  }
-  // The plastic state: a set without one starts elastic (b̄ᵉ of its F, ε̄ᵖ = 0).
-  if (elastic_cauchy_green.rows() == n0 || o.elastic_cauchy_green.rows() == o.size()) {
-    const Field b0 = elastic_cauchy_green.rows() == n0 ? elastic_cauchy_green
-                                                       : elastic_state_of(F.topRows(n0), dim);
-    const Field b1 = o.elastic_cauchy_green.rows() == o.size() ? o.elastic_cauchy_green
-                                                               : elastic_state_of(o.F, dim);
-    const Eigen::VectorXd e0 =
-        plastic_strain.size() == n0 ? plastic_strain : Eigen::VectorXd::Zero(n0);
-    const Eigen::VectorXd e1 =
-        o.plastic_strain.size() == o.size() ? o.plastic_strain : Eigen::VectorXd::Zero(o.size());
-    elastic_cauchy_green.resize(n0 + o.size(), 9);
-    elastic_cauchy_green << b0, b1;
-    plastic_strain.resize(n0 + o.size());
-    plastic_strain << e0, e1;
+  // The parts' columns: where one set has a column the other lacks, the other's particles take
+  // the column's start values (ParticleColumn::absent).
+  for (const ParticleColumn& c : particle_columns()) {
+    const bool a = has_column(first, c), b = has_column(o, c);
+    if (!a && !b) {
+      clear_column(*this, c);
+      if (c.always)
+        set_column(*this, c, Field::Zero(size(), column_width(c, dim)));
+      continue;
+    }
+    SMPM_VERIFY(c.absent || (a && b),
+                "append: particles with " + std::string(c.name) + " and particles without");
+    Field values(size(), column_width(c, dim));
+    values.topRows(n0) = a ? Field(column_values(first, c)) : c.absent(first);
+    values.bottomRows(o.size()) = b ? Field(column_values(o, c)) : c.absent(o);
+    set_column(*this, c, values);
   }
 }
 

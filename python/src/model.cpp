@@ -9,10 +9,12 @@
 #include <sparsempm/diagnostics.hpp>
 #include <sparsempm/errors.hpp>
 #include <sparsempm/exact.hpp>
+#include <sparsempm/particle_columns.hpp>
 
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <deque>
 #include <sstream>
 
 namespace smpm::python {
@@ -73,22 +75,35 @@ particles_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleArray&
   return P;
 }
 
-// Particles::temperature or heat_source from a number or N values: temperatures absolute
-// (positive and finite), sources finite, as the input reader holds [[body]] temperature and
-// heat_source. The particles' storage is kept when it has N entries already (views stay valid).
-void set_heat_vector(Particles& P, Eigen::VectorXd Particles::*member, const DoubleArray& a,
-                     const char* name) {
-  const bool absolute = member == &Particles::temperature;
-  Eigen::VectorXd v = particle_vector(a, P.size(), name);
-  for (Index p = 0; p < v.size(); ++p)
-    if (absolute ? !(v[p] > 0) || !std::isfinite(v[p]) : !std::isfinite(v[p]))
-      throw InputError(
-          std::string(name) + ": particle " + std::to_string(p) + " has " + number_text(v[p]) +
-          (absolute ? " (temperatures are absolute: positive and finite)" : " (must be finite)"));
-  if ((P.*member).size() == v.size())
-    P.*member = v; // copied into the same storage: numpy views of it stay valid
+// Column `col` of the particles (particle_columns) from a number or the particles' values (N,
+// or N × width), each in the column's range (positive temperatures, non-negative plastic
+// strains, finite values), as the input reader holds [[body]] temperature and heat_source. The
+// particles' storage is kept when it has the column already (numpy views stay valid).
+void set_part_column(Particles& P, const ParticleColumn& col, const DoubleArray& a) {
+  const std::string name(col.name);
+  Field v(P.size(), column_width(col, P.dim));
+  if (col.vector) // a number or shape (N,)
+    v.col(0) = particle_vector(a, P.size(), name.c_str());
+  else if (a.ndim() == 0)
+    v.setConstant(*a.data());
   else
-    P.*member = std::move(v); // was empty: no view holds any of it
+    assign_field(v, a, name.c_str());
+  for (Index k = 0; k < v.size(); ++k) {
+    const double x = v.data()[k];
+    const bool ok = std::isfinite(x) && (col.range == ColumnRange::Positive      ? x > 0
+                                         : col.range == ColumnRange::NonNegative ? x >= 0
+                                                                                 : true);
+    if (!ok)
+      throw InputError(
+          name + ": particle " + std::to_string(k / v.cols()) + " has " + number_text(x) +
+          (col.range == ColumnRange::Positive      ? " (it must be positive and finite)"
+           : col.range == ColumnRange::NonNegative ? " (it must be non-negative and finite)"
+                                                   : " (it must be finite)"));
+  }
+  if (has_column(P, col))
+    column_values(P, col) = v; // copied into the same storage: numpy views of it stay valid
+  else
+    set_column(P, col, v); // was empty: no view holds any of it
 }
 
 // sparsempm.Model(grid, X, mass, volume0, ...): `earlier` holds the earlier names volume and
@@ -131,10 +146,12 @@ PyModel model_from_arrays(const Grid& grid, const DoubleArray& X, const DoubleAr
   if (P.half_length.cols() != grid.dim())
     throw InputError("half_length: expected " + std::to_string(grid.dim()) + " columns");
   update_stress(pm.model.materials, P.material, P.F, P.stress);
-  if (temperature)
-    set_heat_vector(P, &Particles::temperature, *temperature, "temperature");
-  if (heat_source)
-    set_heat_vector(P, &Particles::heat_source, *heat_source, "heat_source");
+  for (const ParticleColumn& col : particle_columns()) {
+    if (col.name == "temperature" && temperature)
+      set_part_column(P, col, *temperature);
+    if (col.name == "heat_source" && heat_source)
+      set_part_column(P, col, *heat_source);
+  }
   for (const py::handle plane : fixed) {
     const py::tuple t = plane.cast<py::tuple>();
     if (t.size() != 3)
@@ -205,15 +222,22 @@ void field_property(py::class_<Particles>& c, const char* name, Member member, c
       doc);
 }
 
-// An optional vector of the particles (temperature, heat_source): a numpy view of the C++
-// storage, empty when absent; assigning a number or N values sets it (set_heat_vector).
-void heat_property(py::class_<Particles>& c, const char* name, Eigen::VectorXd Particles::*member,
-                   const char* doc) {
+// A column a part of the step adds to the particles (particle_columns): a numpy view of the C++
+// storage, empty when absent; assigning a number or the particles' values (N, or N × width)
+// sets it (set_part_column).
+void column_property(py::class_<Particles>& c, const ParticleColumn& col) {
+  static std::deque<std::string> docs; // pybind11 keeps the pointer
+  docs.push_back(std::string(col.shape) + " " + std::string(col.meaning) + "; empty: none" +
+                 (col.needs.empty() ? "" : " (" + std::string(col.needs) + " brings it)") +
+                 ". Assign a number or the particles' values to set them");
   c.def_property(
-      name,
-      [member](py::object self) { return vector_view(self.cast<Particles&>().*member, self); },
-      [member, name](Particles& P, const DoubleArray& a) { set_heat_vector(P, member, a, name); },
-      doc);
+      std::string(col.name).c_str(),
+      [col](py::object self) {
+        Particles& P = self.cast<Particles&>();
+        return col.vector ? vector_view(P.*col.vector, self) : field_view(P.*col.field, self);
+      },
+      [col](Particles& P, const DoubleArray& a) { set_part_column(P, col, a); },
+      docs.back().c_str());
 }
 
 void bind_particles(py::module_& m) {
@@ -232,39 +256,8 @@ void bind_particles(py::module_& m) {
       "volume0", [](py::object self) { return vector_view(self.cast<Particles&>().volume0, self); },
       [](Particles& P, const DoubleArray& a) { assign_vector(P.volume0, a, "volume0"); },
       "N initial volumes");
-  c.def_property(
-      "energy", [](py::object self) { return vector_view(self.cast<Particles&>().energy, self); },
-      [](Particles& P, const DoubleArray& a) { assign_vector(P.energy, a, "energy"); },
-      "N internal energies per unit mass U (Mie-Gruneisen materials)");
-  c.def_property(
-      "gradient",
-      [](py::object self) { return field_view(self.cast<Particles&>().gradient, self); },
-      [](Particles& P, const DoubleArray& a) {
-        if (P.gradient.rows() != P.size() || P.gradient.cols() != P.dim * P.dim)
-          P.gradient.setZero(P.size(), P.dim * P.dim);
-        assign_field(P.gradient, a, "gradient");
-      },
-      "N × d² velocity gradients L_p (row-major) of the velocity-gradient transfer "
-      "(StepOptions.transfer); empty until a step with that transfer (it starts from zeros) "
-      "or an assignment sets them");
-  c.def_property_readonly(
-      "plastic_strain",
-      [](py::object self) { return vector_view(self.cast<Particles&>().plastic_strain, self); },
-      "N equivalent plastic strains of J2 plasticity (empty without plastic materials)");
-  c.def_property_readonly(
-      "elastic_cauchy_green",
-      [](py::object self) {
-        return field_view(self.cast<Particles&>().elastic_cauchy_green, self);
-      },
-      "N × 9 isochoric elastic left Cauchy-Green tensors b̄ᵉ (row-major 3 × 3) of J2 "
-      "plasticity (empty without plastic materials)");
-  heat_property(c, "temperature", &Particles::temperature,
-                "N absolute temperatures T_p (heat transport); empty: none yet (a step with "
-                "transport starts from each material's reference_temperature). Assign a number or "
-                "N values to set them");
-  heat_property(c, "heat_source", &Particles::heat_source,
-                "N heat sources r_p, power per unit mass (heat transport); empty: none. Assign a "
-                "number or N values to set them");
+  for (const ParticleColumn& col : particle_columns()) // the parts' columns, one rule
+    column_property(c, col);
   c.def_property_readonly(
       "material",
       [](py::object self) { return vector_view(self.cast<Particles&>().material, self); },

@@ -3,6 +3,7 @@
 // the sidecars replaced whole, each through a temporary name (frame_files.hpp).
 
 #include "sparsempm/output.hpp"
+#include "sparsempm/particle_columns.hpp"
 
 #include "frame_files.hpp"
 #include "hdf5_util.hpp"
@@ -302,10 +303,9 @@ OutputFile::FrameRecord OutputFile::record_of(long file, int frame) {
   r.time = h5::get_double_attribute(pg.get(), "time");
   r.particles = Index(h5::rows_of(pg.get(), "X"));
   r.has_J = h5::exists(pg.get(), "J");
-  r.has_energy = h5::exists(pg.get(), "energy");
-  r.has_temperature = h5::exists(pg.get(), "temperature");
-  r.has_gradient = h5::exists(pg.get(), "gradient");
-  r.has_plastic_strain = h5::exists(pg.get(), "plastic_strain");
+  for (const ParticleColumn& c : particle_columns())
+    if (c.in_frames && h5::exists(pg.get(), std::string(c.name)))
+      r.columns.emplace_back(c.name);
   r.has_matrices =
       h5::exists(hid_t(file), "matrices") && h5::exists(hid_t(file), "matrices/" + name);
   if (!h5::exists(hid_t(file), "grid") || !h5::exists(hid_t(file), "grid/" + name))

@@ -5,6 +5,7 @@
 #include "output_format.hpp"
 
 #include "sparsempm/material.hpp"
+#include "sparsempm/particle_columns.hpp"
 #include "sparsempm/stages.hpp"
 
 #include <Eigen/LU> // Matrix3d::determinant
@@ -61,16 +62,12 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
   h5::write_doubles(g.get(), "volume0", P.volume0.data(), N, 0);
   h5::write_doubles(g.get(), "half_length", P.half_length.data(), N, d);
   h5::write_ints(g.get(), "material", P.material.data(), N);
-  if (P.energy.size() == P.size()) // internal energy per unit mass (Mie–Grüneisen)
-    h5::write_doubles(g.get(), "energy", P.energy.data(), N, 0);
-  if (P.temperature.size() == P.size()) // heat transport
-    h5::write_doubles(g.get(), "temperature", P.temperature.data(), N, 0);
-  if (P.gradient.rows() == P.size()) // the velocity-gradient transfer's L_p (state: restart)
-    h5::write_doubles(g.get(), "gradient", P.gradient.data(), N, d * d);
-  if (P.plastic_strain.size() == P.size() && P.elastic_cauchy_green.rows() == P.size()) {
-    h5::write_doubles(g.get(), "plastic_strain", P.plastic_strain.data(), N, 0); // J2 plasticity
-    h5::write_doubles(g.get(), "elastic_cauchy_green", P.elastic_cauchy_green.data(), N, 9);
-  }
+  for (const ParticleColumn& c : particle_columns()) // the columns the parts of the step carry
+    if (c.in_frames && has_column(P, c)) {
+      const Eigen::Map<const Field> v = column_values(P, c);
+      h5::write_doubles(g.get(), std::string(c.name), v.data(), N,
+                        c.width == ColumnWidth::One ? 0 : hsize_t(v.cols()));
+    }
   Eigen::VectorXd J(P.size()); // det F, the volume ratio V/V₀
   for (Index k = 0; k < P.size(); ++k)
     J[k] = embed_3d(P.F.row(k).data(), P.dim).determinant();

@@ -3,6 +3,7 @@
 // the state of one frame.
 
 #include "sparsempm/output.hpp"
+#include "sparsempm/particle_columns.hpp"
 
 #include "hdf5_util.hpp"
 #include "output_format.hpp"
@@ -90,14 +91,11 @@ void check_frame_shapes(const Particles& P, int d) {
   expect("volume0", P.volume0.rows(), 1, 1);
   expect("half_length", P.half_length.rows(), P.half_length.cols(), d);
   expect("material", P.material.rows(), 1, 1);
-  expect("energy", P.energy.rows(), 1, 1);
-  if (P.temperature.size() > 0)
-    expect("temperature", P.temperature.rows(), 1, 1);
-  if (P.gradient.size() > 0)
-    expect("gradient", P.gradient.rows(), P.gradient.cols(), d * d);
-  if (P.plastic_strain.size() > 0 || P.elastic_cauchy_green.size() > 0) {
-    expect("plastic_strain", P.plastic_strain.rows(), 1, 1);
-    expect("elastic_cauchy_green", P.elastic_cauchy_green.rows(), P.elastic_cauchy_green.cols(), 9);
+  for (const ParticleColumn& c : particle_columns()) { // the parts' columns it holds
+    const Index rows = c.vector ? (P.*c.vector).size() : (P.*c.field).rows();
+    const Index cols = c.vector ? 1 : (P.*c.field).cols();
+    if (c.always || rows > 0)
+      expect(std::string(c.name).c_str(), rows, cols, column_width(c, d));
   }
 }
 
@@ -110,20 +108,22 @@ void check_frame_values(const Particles& P, const Model& model) {
   for (const auto& [name, f] : finite)
     if (!f->allFinite())
       throw std::runtime_error(std::string(name) + " holds a value that is not finite");
-  if (!P.energy.allFinite())
-    throw std::runtime_error("energy holds a value that is not finite");
-  if (!P.gradient.allFinite())
-    throw std::runtime_error("gradient holds a value that is not finite");
-  if (!P.elastic_cauchy_green.allFinite())
-    throw std::runtime_error("elastic_cauchy_green holds a value that is not finite");
-  for (Index p = 0; p < P.plastic_strain.size(); ++p)
-    if (!(P.plastic_strain[p] >= 0) || !std::isfinite(P.plastic_strain[p]))
-      throw std::runtime_error("plastic_strain holds " + number_text(P.plastic_strain[p]) +
-                               " (it must be non-negative and finite)");
-  for (Index p = 0; p < P.temperature.size(); ++p)
-    if (!(P.temperature[p] > 0) || !std::isfinite(P.temperature[p]))
-      throw std::runtime_error("temperature holds " + number_text(P.temperature[p]) +
-                               " (temperatures are absolute: positive and finite)");
+  for (const ParticleColumn& c : particle_columns()) { // the parts' columns it holds
+    if (!has_column(P, c))
+      continue;
+    const Eigen::Map<const Field> v = column_values(P, c);
+    if (c.range == ColumnRange::Finite && !v.allFinite())
+      throw std::runtime_error(std::string(c.name) + " holds a value that is not finite");
+    for (Index k = 0; c.range != ColumnRange::Finite && k < v.size(); ++k) {
+      const double x = v.data()[k];
+      if (std::isfinite(x) && (c.range == ColumnRange::Positive ? x > 0 : x >= 0))
+        continue;
+      throw std::runtime_error(std::string(c.name) + " holds " + number_text(x) +
+                               (c.range == ColumnRange::Positive
+                                    ? " (it must be positive and finite)"
+                                    : " (it must be non-negative and finite)"));
+    }
+  }
   const std::pair<const char*, const double*> positive[] = {{"mass", P.mass.data()},
                                                             {"volume0", P.volume0.data()},
                                                             {"half_length", P.half_length.data()}};
@@ -157,31 +157,26 @@ void load_frame_from(hid_t file, int frame, Model& model) {
   P.mass = h5::read_doubles(g.get(), "mass").col(0);
   P.volume0 = h5::read_doubles(g.get(), "volume0").col(0);
   P.half_length = h5::read_doubles(g.get(), "half_length");
-  if (h5::exists(g.get(), "energy"))
-    P.energy = h5::read_doubles(g.get(), "energy").col(0);
-  else if (uses_shock_physics(model.materials)) // their internal energy U is part of the state
-    throw std::runtime_error("energy is missing (the Mie-Gruneisen materials need it)");
-  else
-    P.energy.setZero(P.X.rows());
-  // Heat transport: the temperatures of the frame; the heat sources are the input's (the model
-  // holds them for the same particles).
-  if (h5::exists(g.get(), "temperature"))
-    P.temperature = h5::read_doubles(g.get(), "temperature").col(0);
-  else if (model.particles.temperature.size() > 0)
-    throw std::runtime_error("temperature is missing (the run has heat transport)");
-  if (model.particles.heat_source.size() == P.X.rows())
-    P.heat_source = model.particles.heat_source;
-  if (h5::exists(g.get(), "gradient")) // the velocity-gradient transfer's state
-    P.gradient = h5::read_doubles(g.get(), "gradient");
-  if (h5::exists(g.get(), "plastic_strain") || h5::exists(g.get(), "elastic_cauchy_green")) {
-    P.plastic_strain = h5::read_doubles(g.get(), "plastic_strain").col(0); // J2 plasticity
-    P.elastic_cauchy_green = h5::read_doubles(g.get(), "elastic_cauchy_green");
-  } else if (uses_plasticity(model.materials)) {
-    throw std::runtime_error("plastic_strain is missing (the run has plastic materials)");
+  P.dim = model.grid.dim();
+  for (const ParticleColumn& c : particle_columns()) { // the parts' columns
+    if (!c.in_frames) { // the input's (the model holds them for the same particles)
+      if (has_column(model.particles, c) && model.particles.size() == P.X.rows())
+        set_column(P, c, column_values(model.particles, c));
+    } else if (h5::exists(g.get(), std::string(c.name))) {
+      const Field v = h5::read_doubles(g.get(), std::string(c.name));
+      if (c.vector)
+        P.*c.vector = v.col(0);
+      else
+        P.*c.field = v;
+    } else if (c.required && c.required(model)) { // part of the state
+      throw std::runtime_error(std::string(c.name) + " is missing (" + std::string(c.why_required) +
+                               ")");
+    } else if (c.always) {
+      set_column(P, c, Field::Zero(P.X.rows(), column_width(c, P.dim)));
+    }
   }
   const std::vector<int> mat = h5::read_ints(g.get(), "material");
   P.material = Eigen::Map<const Eigen::VectorXi>(mat.data(), Index(mat.size()));
-  P.dim = model.grid.dim();
   check_frame_shapes(P, P.dim);
   check_frame_values(P, model);
   const double time = h5::get_double_attribute(g.get(), "time");

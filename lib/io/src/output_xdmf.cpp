@@ -13,6 +13,9 @@
 #include "output_format.hpp"
 
 #include "sparsempm/output.hpp"
+#include "sparsempm/particle_columns.hpp"
+
+#include <algorithm>
 
 #include <filesystem>
 #include <fstream>
@@ -152,14 +155,11 @@ std::string xdmf_frame(Sidecar which, const std::string& h5_name, const FrameRec
     g.attribute("F", "F", d == 1 ? 0 : dd);
     if (f.has_J)
       g.attribute("J", "J", 0);
-    if (f.has_energy)
-      g.attribute("energy", "energy", 0);
-    if (f.has_temperature)
-      g.attribute("temperature", "temperature", 0);
-    if (f.has_gradient)
-      g.attribute("velocity_gradient", "gradient", d == 1 ? 0 : dd);
-    if (f.has_plastic_strain)
-      g.attribute("plastic_strain", "plastic_strain", 0);
+    for (const ParticleColumn& c : particle_columns()) // the parts' columns, as they name them
+      if (!c.xdmf.empty() &&
+          std::find(f.columns.begin(), f.columns.end(), c.name) != f.columns.end())
+        g.attribute(std::string(c.xdmf), std::string(c.name),
+                    d == 1 || c.width == ColumnWidth::One ? 0 : column_width(c, d));
     for (const char* s : {"mass", "volume", "volume0"})
       g.attribute(s, s, 0);
     g.attribute("half_length", "half_length", d == 1 ? 0 : d);

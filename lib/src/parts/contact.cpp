@@ -32,10 +32,12 @@ private:
   bool on_ = false;
 };
 
-} // namespace
-
-std::unique_ptr<StepPart> contact(const StepOptions&) {
+std::unique_ptr<StepPart> make(const StepOptions&) {
   return std::make_unique<Contact>();
 }
+
+} // namespace
+
+const Entry contact{make, {}};
 
 } // namespace smpm::parts

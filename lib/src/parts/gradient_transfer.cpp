@@ -24,12 +24,23 @@ public:
   }
 };
 
-} // namespace
-
-std::unique_ptr<StepPart> gradient_transfer(const StepOptions& options) {
+std::unique_ptr<StepPart> make(const StepOptions& options) {
   if (options.transfer != Transfer::VelocityGradient)
     return nullptr;
   return std::make_unique<GradientTransfer>();
 }
+
+constexpr ParticleColumn kColumns[] = {
+    {.name = "gradient",
+     .field = &Particles::gradient,
+     .width = ColumnWidth::Tensor,
+     .absent = [](const Particles& P) { return Field(Field::Zero(P.size(), P.dim * P.dim)); },
+     .shape = "N x d^2",
+     .meaning = "velocity gradients L_p (row-major)",
+     .needs = "step.transfer",
+     .xdmf = "velocity_gradient"}};
+} // namespace
+
+const Entry gradient_transfer{make, kColumns};
 
 } // namespace smpm::parts

@@ -58,12 +58,32 @@ private:
   bool usf_ = false;
 };
 
-} // namespace
-
-std::unique_ptr<StepPart> heat(const StepOptions& options) {
+std::unique_ptr<StepPart> make(const StepOptions& options) {
   if (options.transport.update == TransportUpdate::Off)
     return nullptr;
   return std::make_unique<Heat>(options);
 }
+
+constexpr ParticleColumn kColumns[] = {
+    {.name = "temperature",
+     .vector = &Particles::temperature,
+     .range = ColumnRange::Positive,
+     .required = [](const Model& model) { return model.particles.temperature.size() > 0; },
+     .why_required = "the run has heat transport",
+     .shape = "N",
+     .meaning = "absolute temperatures T",
+     .needs = "step.transport",
+     .xdmf = "temperature"},
+    {.name = "heat_source",
+     .vector = &Particles::heat_source,
+     .in_frames = false, // the input's, every run
+     .absent = [](const Particles& P) { return Field(Field::Zero(P.size(), 1)); },
+     .shape = "N",
+     .meaning = "heat sources r_p, power per unit mass",
+     .needs = "heat_source",
+     .xdmf = ""}};
+} // namespace
+
+const Entry heat{make, kColumns};
 
 } // namespace smpm::parts

@@ -24,10 +24,12 @@ private:
   ExternalForces forces_;
 };
 
-} // namespace
-
-std::unique_ptr<StepPart> loads(const StepOptions& options) {
+std::unique_ptr<StepPart> make(const StepOptions& options) {
   return std::make_unique<Loads>(options);
 }
+
+} // namespace
+
+const Entry loads{make, {}};
 
 } // namespace smpm::parts

@@ -2,24 +2,31 @@
 #pragma once
 // The parts of the step (step_part.hpp), one file each; step_parts lists them in this order.
 
+#include "sparsempm/particle_columns.hpp"
 #include "sparsempm/step_part.hpp"
+
+#include <span>
 
 namespace smpm::parts {
 
-/// Each returns its part for a Stepper with `options`, or null when the options leave its
-/// capability off.
-using Factory = std::unique_ptr<StepPart> (*)(const StepOptions& options);
+/// A part of the step as the list knows it: its maker, which returns the part for a Stepper
+/// with these options or null when the options leave its capability off, and the particle
+/// columns it carries.
+struct Entry {
+  std::unique_ptr<StepPart> (*make)(const StepOptions& options);
+  std::span<const ParticleColumn> columns;
+};
 
-std::unique_ptr<StepPart> gradient_transfer(const StepOptions& options); // gradient_transfer.cpp
-std::unique_ptr<StepPart> heat(const StepOptions& options);              // heat.cpp
-std::unique_ptr<StepPart> shocks(const StepOptions& options);            // shocks.cpp
-std::unique_ptr<StepPart> plasticity(const StepOptions& options);        // plasticity.cpp
-std::unique_ptr<StepPart> loads(const StepOptions& options);             // loads.cpp
-std::unique_ptr<StepPart> rigid_bodies(const StepOptions& options);      // rigid_bodies.cpp
-std::unique_ptr<StepPart> contact(const StepOptions& options);           // contact.cpp
+extern const Entry gradient_transfer; // gradient_transfer.cpp
+extern const Entry heat;              // heat.cpp
+extern const Entry shocks;            // shocks.cpp
+extern const Entry plasticity;        // plasticity.cpp
+extern const Entry loads;             // loads.cpp
+extern const Entry rigid_bodies;      // rigid_bodies.cpp
+extern const Entry contact;           // contact.cpp
 
 /// The list, in the order the hooks run.
-inline constexpr Factory kList[] = {gradient_transfer, heat,   shocks, plasticity, loads,
-                                    rigid_bodies,      contact};
+inline const Entry* const kList[] = {&gradient_transfer, &heat,   &shocks, &plasticity, &loads,
+                                     &rigid_bodies,      &contact};
 
 } // namespace smpm::parts

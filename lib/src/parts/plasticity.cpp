@@ -64,10 +64,34 @@ private:
   bool on_ = false;
 };
 
-} // namespace
-
-std::unique_ptr<StepPart> plasticity(const StepOptions&) {
+std::unique_ptr<StepPart> make(const StepOptions&) {
   return std::make_unique<Plasticity>();
 }
+
+constexpr ParticleColumn kColumns[] = {
+    {.name = "plastic_strain",
+     .vector = &Particles::plastic_strain,
+     .range = ColumnRange::NonNegative,
+     .absent = [](const Particles& P) { return Field(Field::Zero(P.size(), 1)); },
+     .required = [](const Model& model) { return uses_plasticity(model.materials); },
+     .why_required = "the run has plastic materials",
+     .shape = "N",
+     .meaning = "equivalent plastic strains (J2 plasticity)",
+     .needs = "yield_stress",
+     .xdmf = "plastic_strain"},
+    {.name = "elastic_cauchy_green",
+     .field = &Particles::elastic_cauchy_green,
+     .width = ColumnWidth::Nine,
+     // A set without a plastic state starts elastic: b̄ᵉ of its F.
+     .absent = [](const Particles& P) { return elastic_state_of(P.F, P.dim); },
+     .required = [](const Model& model) { return uses_plasticity(model.materials); },
+     .why_required = "the run has plastic materials",
+     .shape = "N x 9",
+     .meaning = "isochoric elastic left Cauchy-Green tensors (3 x 3 row-major)",
+     .needs = "yield_stress",
+     .xdmf = ""}};
+} // namespace
+
+const Entry plasticity{make, kColumns};
 
 } // namespace smpm::parts

@@ -37,10 +37,12 @@ private:
   std::vector<Eigen::Vector3d> velocity_; // each rigid motion's velocity at t
 };
 
-} // namespace
-
-std::unique_ptr<StepPart> rigid_bodies(const StepOptions&) {
+std::unique_ptr<StepPart> make(const StepOptions&) {
   return std::make_unique<RigidBodies>();
 }
+
+} // namespace
+
+const Entry rigid_bodies{make, {}};
 
 } // namespace smpm::parts

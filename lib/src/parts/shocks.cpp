@@ -33,10 +33,23 @@ private:
   bool on_ = false;
 };
 
-} // namespace
-
-std::unique_ptr<StepPart> shocks(const StepOptions&) {
+std::unique_ptr<StepPart> make(const StepOptions&) {
   return std::make_unique<Shocks>();
 }
+
+constexpr ParticleColumn kColumns[] = {
+    {.name = "energy",
+     .vector = &Particles::energy,
+     .always = true,
+     .absent = [](const Particles& P) { return Field(Field::Zero(P.size(), 1)); },
+     .required = [](const Model& model) { return uses_shock_physics(model.materials); },
+     .why_required = "the Mie-Gruneisen materials need it",
+     .shape = "N",
+     .meaning = "internal energy per unit mass U (mie-gruneisen)",
+     .needs = "",
+     .xdmf = "energy"}};
+} // namespace
+
+const Entry shocks{make, kColumns};
 
 } // namespace smpm::parts

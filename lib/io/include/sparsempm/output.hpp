@@ -172,11 +172,10 @@ public:
     Index particles = 0, nodes = 0, contact = 0;
     int fields = 1; ///< n_f, the run's velocity fields
     /// Whether the particles have J = det F (files of earlier versions do not).
-    bool has_J = true, has_energy = false; ///< whether they have the internal energy U
-    bool has_temperature = false;          ///< whether they have temperatures (heat transport)
-    bool has_gradient = false;             ///< velocity gradients (the velocity-gradient transfer)
-    bool has_plastic_strain = false;       ///< equivalent plastic strains (J2 plasticity)
-    bool has_matrices = false;             ///< whether the frame has its matrices
+    bool has_J = true;
+    /// The names of the parts' particle columns (particle_columns) the frame holds.
+    std::vector<std::string> columns;
+    bool has_matrices = false; ///< whether the frame has its matrices
   };
 
 private:
