@@ -210,33 +210,50 @@ FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopCon
   return hooks;
 }
 
+namespace {
+// The algebra of fmpm_bc_sequence and grid_velocity_bc_sequence on Eigen fields.
+struct EigenSequence {
+  const Operators& ops;
+  const SparseRowMatrix* mt;
+  const FmpmOptions& opt;
+  const LoopConstraints& bc;
+  double dt;
+  Field& p_plus;
+  Field* reaction;
+  Field& v;
+  FmpmWorkspace& w;
+  const std::function<void(int, Field&, const Field&)>& contact;
+
+  void constrain_momentum() {
+    if (reaction) // task 2.a: p⁺ takes the BC velocity and f the reaction Δp/Δt
+      bc.bcs->constrain_update(*bc.grid, ops.m, bc.time, dt, p_plus, *reaction);
+    else
+      bc.bcs->constrain_momentum(*bc.grid, ops.m, bc.time, p_plus);
+  }
+  void lumped_solve() { smpm::lumped_solve(ops.m_inv, p_plus, v); }
+  FmpmReport loop() {
+    SMPM_VERIFY(mt, "updated_velocity: FMPM(k > 1) needs m~");
+    FmpmHooks hooks = fmpm_hooks(ops, opt, bc);
+    hooks.contact = contact;
+    return fmpm_loop(ops.m_inv, *mt, opt, hooks, v, w);
+  }
+  void constrain_velocity() { bc.bcs->constrain_velocity(*bc.grid, bc.time, v, &ops.active); }
+};
+} // namespace
+
 FmpmReport fmpm_velocity(const Operators& ops, const SparseRowMatrix& mt, const FmpmOptions& opt,
                          const LoopConstraints& bc, Field& v, FmpmWorkspace& w,
                          const std::function<void(int, Field&, const Field&)>& contact) {
-  FmpmHooks hooks = fmpm_hooks(ops, opt, bc);
-  hooks.contact = contact;
-  const FmpmReport report = fmpm_loop(ops.m_inv, mt, opt, hooks, v, w);
-  if (bc.bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
-    bc.bcs->constrain_velocity(*bc.grid, bc.time, v, &ops.active);
-  return report;
+  EigenSequence seq{ops, &mt, opt, bc, 0, v, nullptr, v, w, contact};
+  return fmpm_bc_sequence(opt, bc.bcs != nullptr, seq);
 }
 
 FmpmReport updated_velocity(const Operators& ops, const SparseRowMatrix* mt, const FmpmOptions& opt,
                             const LoopConstraints& bc, bool lumped_bcs, double dt, Field& p_plus,
                             Field* reaction, Field& v, FmpmWorkspace& w,
                             const std::function<void(int, Field&, const Field&)>& contact) {
-  const bool loop = opt.order > 1;
-  if (lumped_bcs && bc.bcs && !(loop && opt.bc_method == BCMethod::Velocity)) {
-    if (reaction) // task 2.a: p⁺ takes the BC velocity and f the reaction Δp/Δt
-      bc.bcs->constrain_update(*bc.grid, ops.m, bc.time, dt, p_plus, *reaction);
-    else
-      bc.bcs->constrain_momentum(*bc.grid, ops.m, bc.time, p_plus);
-  }
-  lumped_solve(ops.m_inv, p_plus, v); // v⁺(1) = m⁻¹ p⁺
-  if (!loop)
-    return FmpmReport{};
-  SMPM_VERIFY(mt, "updated_velocity: FMPM(k > 1) needs m~");
-  return fmpm_velocity(ops, *mt, opt, bc, v, w, contact);
+  EigenSequence seq{ops, mt, opt, bc, dt, p_plus, reaction, v, w, contact};
+  return grid_velocity_bc_sequence(opt, bc.bcs != nullptr, lumped_bcs, seq);
 }
 
 void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, const Field& v,

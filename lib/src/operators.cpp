@@ -132,29 +132,40 @@ void lumped_mass_and_active(Operators& ops) {
   detail::ordered_reduce_blocks(
       ng, 1, 0.0, &largest,
       [&](Index begin, Index end, double* acc) {
-        if (ops.fields == 1) {
-          acc[0] = std::max(acc[0], ops.m.segment(begin, end - begin).maxCoeff());
-          return;
-        }
-        for (Index i = begin; i < end; ++i) {
-          double total = 0;
-          for (int f = 0; f < ops.fields; ++f)
-            total += m[f * ng + i];
-          acc[0] = std::max(acc[0], total);
-        }
+        acc[0] = std::max(acc[0], largest_total_mass(ops.m, ops.fields, ng, begin, end));
       },
       [](double a, double b) { return std::max(a, b); });
   ops.active.resize(n);
   ops.m_inv.resize(n);
   detail::parallel_segments(n, [&](Index i0, Index count) {
-    const auto mass = ops.m.segment(i0, count).array();
-    auto on = ops.active.segment(i0, count);
-    on = mass > kMassTolerance * largest;
-    ops.m_inv.segment(i0, count) = on.select(mass.inverse(), 0.0).matrix();
+    active_nodes_of(ops.m, largest, i0, i0 + count, ops.active, ops.m_inv);
   });
 }
 
 } // namespace
+
+double largest_total_mass(const Eigen::Ref<const Eigen::VectorXd>& m, int fields, Index ng,
+                          Index begin, Index end) {
+  if (fields == 1)
+    return end > begin ? m.segment(begin, end - begin).maxCoeff() : 0.0;
+  double largest = 0;
+  for (Index i = begin; i < end; ++i) {
+    double total = 0;
+    for (int f = 0; f < fields; ++f)
+      total += m[f * ng + i];
+    largest = std::max(largest, total);
+  }
+  return largest;
+}
+
+void active_nodes_of(const Eigen::Ref<const Eigen::VectorXd>& m, double largest, Index begin,
+                     Index end, Eigen::Array<bool, Eigen::Dynamic, 1>& active,
+                     Eigen::VectorXd& m_inv) {
+  const auto mass = m.segment(begin, end - begin).array();
+  auto on = active.segment(begin, end - begin);
+  on = mass > kMassTolerance * largest;
+  m_inv.segment(begin, end - begin) = on.select(mass.inverse(), 0.0).matrix();
+}
 
 void assemble(const Grid& grid, const Particles& particles, Shape shape, Operators& ops, int fields,
               const Eigen::VectorXi* field) {

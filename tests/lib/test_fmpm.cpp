@@ -251,3 +251,38 @@ TEST_CASE("the FMPM loop calls its hooks on every increment (Table 1, lines 1-3)
   CHECK(stop.metric == 1.0 / 6);
   CHECK(rel(v, loop(s, {.order = 6})) < 1e-14);
 }
+
+TEST_CASE("the BC method's sequence around the loop is FMPM 2026 §3.1's, for any algebra",
+          "[fmpm][boundary]") {
+  // grid_velocity_bc_sequence is the one sequence of the serial updated_velocity and of its PETSc
+  // twin (both instantiate it on their vectors). Here on an algebra that records its calls,
+  // against §3.1's text: the lumped method applies the BCs in step 2.a (on p⁺) only; the
+  // velocity method skips 2.a and sets the BC velocities on v⁺(k) after step 3.b; the combined
+  // method does both; the incremental method (the paper's new one) applies 2.a and corrects
+  // each increment inside the loop (Table 2's bottom block, a hook of the loop). With k = 1
+  // there is no loop: every method is the lumped update (2.a, then v⁺(1) = m⁻¹ p⁺).
+  struct Recorder {
+    std::string calls;
+    void constrain_momentum() { calls += "2a "; }
+    void lumped_solve() { calls += "v1 "; }
+    FmpmReport loop() {
+      calls += "loop ";
+      return {};
+    }
+    void constrain_velocity() { calls += "vk "; }
+  };
+  const std::pair<BCMethod, const char*> expected[] = {{BCMethod::Lumped, "2a v1 loop "},
+                                                       {BCMethod::Velocity, "v1 loop vk "},
+                                                       {BCMethod::Combined, "2a v1 loop vk "},
+                                                       {BCMethod::Incremental, "2a v1 loop "}};
+  for (const auto& [method, calls] : expected) {
+    CAPTURE(int(method));
+    Recorder k4, k1, free;
+    grid_velocity_bc_sequence({.order = 4, .bc_method = method}, true, true, k4);
+    CHECK(k4.calls == calls);
+    grid_velocity_bc_sequence({.order = 1, .bc_method = method}, true, true, k1);
+    CHECK(k1.calls == "2a v1 ");
+    grid_velocity_bc_sequence({.order = 4, .bc_method = method}, false, true, free);
+    CHECK(free.calls == "v1 loop "); // no conditions: nothing to constrain
+  }
+}

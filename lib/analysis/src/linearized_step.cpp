@@ -129,9 +129,9 @@ void LinearizedStep::init(const Model& model, const StepOptions& options, double
     Field m = ops.m;
     sums->add(m);
     ops.m = m.col(0);
-    const double largest = sums->maximum(ops.m.size() ? ops.m.maxCoeff() : 0.0);
-    ops.active = ops.m.array() > kMassTolerance * largest;
-    ops.m_inv = ops.active.select(ops.m.array().inverse(), 0.0).matrix();
+    const Index n = ops.m.size();
+    const double largest = sums->maximum(largest_total_mass(ops.m, 1, n, 0, n));
+    active_nodes_of(ops.m, largest, 0, n, ops.active, ops.m_inv);
   }
   // The BC directions with zero values: walls frozen on the nodes they select now.
   for (VelocityCondition c : I.prep.bcs.conditions) {

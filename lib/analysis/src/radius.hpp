@@ -53,54 +53,49 @@ struct SpectraOperator {
   void perform_op(const double* in, double* out) const { T.perform_op(in, out); }
 };
 
-/// spectral_radius of stability.hpp for any operator Op of this kind.
+/// spectral_radius of stability.hpp for any operator Op of this kind: spectral_radius_rule on
+/// Eigen vectors, with T's dense eigenvalues up to `dense_limit` rows and Spectra's Arnoldi
+/// solver (GenEigsSolver) from the power iterate above.
 template <class Op>
 SpectralRadius operator_radius(const Op& T, Index dense_limit) {
-  if (T.rows() <= dense_limit)
-    return dense_radius(T);
-  // Large T: the spectrum crowds the unit circle (eigenvalue 1 for every force-free stress,
-  // |λ| ≈ 1 for every elastic mode), where Arnoldi converges very slowly. Power iteration first
-  // measures the growth per application over the second half of 300 applications; growth within
-  // 10⁻³ of 1 is reported as ρ = 1. Otherwise an eigenvalue stands out and Spectra's Arnoldi
-  // solver, started from the power iterate, resolves it.
-  const Index n = T.rows();
-  Eigen::VectorXd x = power_start(n), y(n);
-  const int applications = kPowerApplications;
-  double log_growth = 0;
-  for (int k = 0; k < applications; ++k) {
-    try {
-      T.perform_op(x.data(), y.data());
-    } catch (const NumericalError&) { // a kernel met NaN or an infinite state
-      return {kInf, SpectralStatus::NonFinite};
+  struct EigenAlgebra {
+    const Op& T;
+    Eigen::VectorXd x, y;
+    Index rows() const { return T.rows(); }
+    SpectralRadius small() const { return dense_radius(T); }
+    void start() {
+      x = power_start(T.rows());
+      y.resize(T.rows());
     }
-    const double g = y.norm();
-    if (!std::isfinite(g))
-      return {kInf, SpectralStatus::NonFinite};
-    if (!(g > 0))
-      return {0.0, SpectralStatus::Converged}; // T x = 0: x was in the null space
-    if (k >= applications / 2)
-      log_growth += std::log(g);
-    x = y / g;
-  }
-  const double rate = std::exp(log_growth / (applications - applications / 2));
-  if (std::abs(rate - 1) <= kUnitGrowthBand)
-    return {1.0, SpectralStatus::Converged};
-  if (rate < 1)
-    return {rate, SpectralStatus::Converged};
-  SpectraOperator<Op> op{T};
-  Spectra::GenEigsSolver<SpectraOperator<Op>> eigs(op, 1, std::min<Index>(n, 30));
-  eigs.init(x.data());
-  try {
-    eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-10);
-  } catch (const NumericalError&) {
-    return {kInf, SpectralStatus::NonFinite};
-  }
-  if (eigs.info() != Spectra::CompInfo::Successful)
-    return {rate, SpectralStatus::NotConverged}; // the measured growth: beyond 1 + 10⁻³
-  const double rho = std::abs(eigs.eigenvalues()[0]);
-  if (!std::isfinite(rho))
-    return {kInf, SpectralStatus::NonFinite};
-  return {rho, SpectralStatus::Converged};
+    bool apply() {
+      try {
+        T.perform_op(x.data(), y.data());
+      } catch (const NumericalError&) { // a kernel met NaN or an infinite state
+        return false;
+      }
+      return true;
+    }
+    double norm() const { return y.norm(); }
+    void next(double g) { x = y / g; }
+    SpectralRadius resolve(double rate) {
+      SpectraOperator<Op> op{T};
+      Spectra::GenEigsSolver<SpectraOperator<Op>> eigs(op, 1, std::min<Index>(T.rows(), 30));
+      eigs.init(x.data());
+      try {
+        eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-10);
+      } catch (const NumericalError&) {
+        return {kInf, SpectralStatus::NonFinite};
+      }
+      if (eigs.info() != Spectra::CompInfo::Successful)
+        return {rate, SpectralStatus::NotConverged}; // the measured growth: beyond 1 + 10⁻³
+      const double rho = std::abs(eigs.eigenvalues()[0]);
+      if (!std::isfinite(rho))
+        return {kInf, SpectralStatus::NonFinite};
+      return {rho, SpectralStatus::Converged};
+    }
+  };
+  EigenAlgebra alg{T, {}, {}};
+  return spectral_radius_rule(alg, dense_limit);
 }
 
 } // namespace smpm::detail

@@ -160,6 +160,39 @@ FmpmReport fmpm_recursion(const FmpmOptions& opt, Loop& loop, std::vector<double
   return report;
 }
 
+/// The BC method's sequence around the loop (FMPM 2026 §3.1, Table 2), for any storage of the
+/// vectors: the Eigen fields of fmpm_velocity and the PETSc Vecs of the distributed component
+/// (sparsempm::petsc) run this one function. `seq` supplies:
+///   - seq.loop(): the loop of Table 1 (fmpm_recursion) from v⁺(1), with the method's hooks;
+///   - seq.constrain_velocity(): the BC velocities set on v⁺(k).
+/// The loop runs, then the Velocity and Combined methods set the BC velocities on v⁺(k); `bcs`
+/// says whether there are velocity conditions.
+template <class Sequence>
+FmpmReport fmpm_bc_sequence(const FmpmOptions& opt, bool bcs, Sequence& seq) {
+  const FmpmReport report = seq.loop();
+  if (bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
+    seq.constrain_velocity();
+  return report;
+}
+
+/// Tasks 2.a and 3.b of FMPM 2026 Fig. 1 with the BC method of §3.1, for any storage of the
+/// vectors (as fmpm_bc_sequence; updated_velocity and its distributed twin run this one
+/// function). Besides seq.loop() and seq.constrain_velocity(), `seq` supplies:
+///   - seq.constrain_momentum(): Table 2's top block in momentum form on p⁺;
+///   - seq.lumped_solve(): v⁺(1) = m⁻¹ p⁺.
+/// With `lumped_bcs` and velocity conditions (`bcs`), the top block acts on p⁺ except for the
+/// Velocity method of a solve with k > 1, which sets v⁺(k) instead; then v⁺(1); then for k > 1
+/// fmpm_bc_sequence.
+template <class Sequence>
+FmpmReport grid_velocity_bc_sequence(const FmpmOptions& opt, bool bcs, bool lumped_bcs,
+                                     Sequence& seq) {
+  const bool loop = opt.order > 1;
+  if (lumped_bcs && bcs && !(loop && opt.bc_method == BCMethod::Velocity))
+    seq.constrain_momentum(); // Table 2, top block
+  seq.lumped_solve();         // v⁺(1) = m⁻¹ p⁺
+  return loop ? fmpm_bc_sequence(opt, bcs, seq) : FmpmReport{};
+}
+
 /// The FMPM loop of FMPM 2026 Table 1 (fmpm_recursion on Eigen fields). On entry `v` holds v⁺(1) =
 /// m⁻¹ p⁺ (with whatever lumped corrections the caller applied); on return v⁺(ℓ) at the last pass ℓ
 /// ≤ k, and w.metrics holds the metric hook (3) gave on each pass (FMPM 2026 Fig. 13A). Each pass:

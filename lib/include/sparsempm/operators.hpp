@@ -113,6 +113,21 @@ void assemble(const Grid& grid, const Particles& particles, Shape shape, Operato
 /// Convenience form returning fresh operators.
 Operators assemble(const Grid& grid, const Particles& particles, Shape shape);
 
+/// The largest total nodal mass max_i Σ_α m^α_i of the node masses m (`fields` blocks of `ng`
+/// rows: field α's mass at node i in row α ng + i) over the nodes [begin, end) of a block: this
+/// process's share of the reference of the active-node rule (active_nodes_of).
+double largest_total_mass(const Eigen::Ref<const Eigen::VectorXd>& m, int fields, Index ng,
+                          Index begin, Index end);
+/// The active-node rule (Buzzi §4.4 M_TOL), the one rule of the assembly, of the analysis across
+/// processes and of the PETSc operators: row i of m is active when m_i > kMassTolerance ·
+/// `largest`, the largest total nodal mass (largest_total_mass, over every process), and
+/// m⁻¹_i = 1/m_i on active rows, 0 elsewhere. Multimaterial: a field alone on a node is then
+/// active exactly when the node is in single material mode. Writes the rows [begin, end) of
+/// `active` and `m_inv`, which must have m's size.
+void active_nodes_of(const Eigen::Ref<const Eigen::VectorXd>& m, double largest, Index begin,
+                     Index end, Eigen::Array<bool, Eigen::Dynamic, 1>& active,
+                     Eigen::VectorXd& m_inv);
+
 /// Indices of the active nodes, ascending.
 Eigen::VectorXi active_nodes(const Operators& ops);
 

@@ -4,6 +4,7 @@
 #include "sparsempm/petsc.hpp"
 
 #include "sparsempm/errors.hpp"
+#include "sparsempm/particle_columns.hpp"
 #include "sparsempm/stages.hpp"
 
 #include <slepcsys.h>
@@ -166,15 +167,12 @@ Particles select_particles(const Particles& all, const std::vector<Index>& ids) 
   take(all.F, P.F);
   take(all.stress, P.stress);
   take(all.half_length, P.half_length);
-  take(all.gradient, P.gradient);
-  take(all.elastic_cauchy_green, P.elastic_cauchy_green);
   take_vector(all.mass, P.mass);
   take_vector(all.volume0, P.volume0);
   take_vector(all.material, P.material);
-  take_vector(all.energy, P.energy);
-  take_vector(all.temperature, P.temperature);
-  take_vector(all.heat_source, P.heat_source);
-  take_vector(all.plastic_strain, P.plastic_strain);
+  for (const ParticleColumn& c : particle_columns()) // the parts' columns the particles carry
+    if (has_column(all, c))
+      set_column(P, c, column_values(all, c)(rows, Eigen::all));
   return P;
 }
 
@@ -268,17 +266,13 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
   // The active rows: m^α_i > kMassTolerance · max_j Σ_α m^α_j over every node (operators.hpp).
   Field m_owned;
   get_owned(grid, ops.m, 1, m_owned);
-  const Index no = grid.owned().num_nodes();
-  double local_max = 0;
-  for (Index i = 0; i < no; ++i) {
-    double total = 0;
-    for (int a = 0; a < fields; ++a)
-      total += m_owned(a * no + i, 0);
-    local_max = std::max(local_max, total);
-  }
+  const Index no = grid.owned().num_nodes(), rows = m_owned.rows();
+  const double local_max = largest_total_mass(m_owned.col(0), fields, no, 0, no);
   MPI_Allreduce(&local_max, &ops.max_mass, 1, MPI_DOUBLE, MPI_MAX, grid.comm());
-  ops.active = m_owned.col(0).array() > kMassTolerance * ops.max_mass;
-  Field inv = (ops.active).select(1.0 / m_owned.col(0).array(), 0.0).matrix();
+  Eigen::VectorXd m_inv(rows);
+  ops.active.resize(rows);
+  active_nodes_of(m_owned.col(0), ops.max_mass, 0, rows, ops.active, m_inv);
+  Field inv = m_inv;
   ops.m_inv = node_vector(grid, 1);
   set_owned(grid, inv, ops.m_inv);
   SMPM_PETSC_CALL(MatCreateMAIJ(ops.mt, ops.dim, ops.mt_d.out()));

@@ -79,38 +79,54 @@ void apply_owned(const DistributedGrid& grid, int components, Vec x, Field& work
 
 } // namespace
 
-FmpmReport fmpm_velocity(const DistributedGrid& grid, const DistributedOperators& ops,
-                         const FmpmOptions& opt, const LoopConstraints& bc, Vec v,
-                         DistributedFmpmWorkspace& w) {
-  validate(opt);
-  ensure(w.prev, v);
-  ensure(w.next, v);
-  ensure(w.product, v);
-  SMPM_PETSC_CALL(VecCopy(v, w.prev)); // Δv(1) = v⁺(1)
-  PetscLoop loop{grid, ops, opt, bc, v, w, {}, {}};
-  const FmpmReport report = fmpm_recursion(opt, loop, w.metrics);
-  if (bc.bcs && (opt.bc_method == BCMethod::Velocity || opt.bc_method == BCMethod::Combined))
-    apply_owned(grid, ops.dim, v, w.owned, [&](Field& owned) {
-      bc.bcs->constrain_velocity(grid.owned(), bc.time, owned, &ops.active);
-    });
-  return report;
-}
+namespace {
+// The algebra of fmpm_bc_sequence and grid_velocity_bc_sequence on distributed vectors.
+struct PetscSequence {
+  const DistributedGrid& grid;
+  const DistributedOperators& ops;
+  const FmpmOptions& opt;
+  const LoopConstraints& bc;
+  Vec p_plus; // null: fmpm_velocity, which starts from v⁺(1)
+  Vec v;
+  DistributedFmpmWorkspace& w;
 
-FmpmReport updated_velocity(const DistributedGrid& grid, const DistributedOperators& ops,
-                            const FmpmOptions& opt, const LoopConstraints& bc, Vec p_plus, Vec v,
-                            DistributedFmpmWorkspace& w) {
-  const bool loop = opt.order > 1;
-  if (bc.bcs && !(loop && opt.bc_method == BCMethod::Velocity)) { // Table 2, top block
+  void constrain_momentum() {
     Field m_owned;
     get_owned(grid, ops.m, 1, m_owned);
     const Eigen::VectorXd m = m_owned.col(0);
     apply_owned(grid, ops.dim, p_plus, w.owned,
                 [&](Field& owned) { bc.bcs->constrain_momentum(grid.owned(), m, bc.time, owned); });
   }
-  SMPM_PETSC_CALL(VecPointwiseMult(v, ops.m_inv_d, p_plus)); // v⁺(1) = m⁻¹ p⁺
-  if (!loop)
-    return FmpmReport{};
-  return fmpm_velocity(grid, ops, opt, bc, v, w);
+  void lumped_solve() { SMPM_PETSC_CALL(VecPointwiseMult(v, ops.m_inv_d, p_plus)); }
+  FmpmReport loop() {
+    validate(opt);
+    ensure(w.prev, v);
+    ensure(w.next, v);
+    ensure(w.product, v);
+    SMPM_PETSC_CALL(VecCopy(v, w.prev)); // Δv(1) = v⁺(1)
+    PetscLoop loop{grid, ops, opt, bc, v, w, {}, {}};
+    return fmpm_recursion(opt, loop, w.metrics);
+  }
+  void constrain_velocity() {
+    apply_owned(grid, ops.dim, v, w.owned, [&](Field& owned) {
+      bc.bcs->constrain_velocity(grid.owned(), bc.time, owned, &ops.active);
+    });
+  }
+};
+} // namespace
+
+FmpmReport fmpm_velocity(const DistributedGrid& grid, const DistributedOperators& ops,
+                         const FmpmOptions& opt, const LoopConstraints& bc, Vec v,
+                         DistributedFmpmWorkspace& w) {
+  PetscSequence seq{grid, ops, opt, bc, nullptr, v, w};
+  return fmpm_bc_sequence(opt, bc.bcs != nullptr, seq);
+}
+
+FmpmReport updated_velocity(const DistributedGrid& grid, const DistributedOperators& ops,
+                            const FmpmOptions& opt, const LoopConstraints& bc, Vec p_plus, Vec v,
+                            DistributedFmpmWorkspace& w) {
+  PetscSequence seq{grid, ops, opt, bc, p_plus, v, w};
+  return grid_velocity_bc_sequence(opt, bc.bcs != nullptr, true, seq);
 }
 
 } // namespace smpm::petsc

@@ -184,56 +184,55 @@ public:
 
   LinearizedStep& step() { return *T_; }
 
-  // ρ(T) by the serial spectral_radius's rule: up to kDenseRadiusRows rows (where the serial
-  // code takes T's eigenvalues directly) Krylov–Schur resolves |λ|max; above, where T crowds
-  // the unit circle and Krylov–Schur converges very slowly, power iterations first measure the
-  // growth (ρ = 1 within kUnitGrowthBand), and Krylov–Schur starts from the power iterate only
-  // when an eigenvalue stands out.
+  // ρ(T) by the serial spectral_radius's rule (spectral_radius_rule) on PETSc Vecs: up to
+  // kDenseRadiusRows rows (where the serial code takes T's eigenvalues directly) Krylov–Schur
+  // resolves |λ|max; above, power iterations measure the growth first, and Krylov–Schur starts
+  // from the power iterate only when an eigenvalue stands out.
   SpectralRadius radius(double tol) {
     ctx_.failure = nullptr;
     ctx_.non_finite = false;
     PetscInt N = 0;
     SMPM_PETSC_CALL(MatGetSize(shell_, &N, nullptr));
-    OwnedVec x, y;
-    SMPM_PETSC_CALL(MatCreateVecs(shell_, x.out(), y.out()));
-    double rate = 0;
-    if (N > kDenseRadiusRows) {
-      start_vector(x); // unit length, as the whole vector it is taken from
-      double log_growth = 0;
-      for (int k = 0; k < kPowerApplications; ++k) {
-        const PetscErrorCode applied = MatMult(shell_, x, y);
-        if (std::optional<SpectralRadius> r = failure(applied, "MatMult (rho(T))"))
-          return *r;
+    struct PetscAlgebra {
+      DistributedRadius& r;
+      double tol;
+      PetscInt N;
+      OwnedVec x, y;
+      Index rows() const { return Index(N); }
+      SpectralRadius small() { return r.krylov_schur(nullptr, tol, std::nan("")); }
+      void start() { r.start_vector(x); } // unit length, as the whole vector it is taken from
+      bool apply() { return !r.failure(MatMult(r.shell_, x, y), "MatMult (rho(T))"); }
+      double norm() const {
         PetscReal g = 0;
         SMPM_PETSC_CALL(VecNorm(y, NORM_2, &g));
-        if (!std::isfinite(double(g)))
-          return {std::numeric_limits<double>::infinity(), SpectralStatus::NonFinite};
-        if (!(g > 0))
-          return {0.0, SpectralStatus::Converged}; // T x = 0: x was in the null space
-        if (k >= kPowerApplications / 2)
-          log_growth += std::log(double(g));
-        SMPM_PETSC_CALL(VecAXPBY(x, 1.0 / g, 0.0, y));
+        return double(g);
       }
-      rate = std::exp(log_growth / (kPowerApplications - kPowerApplications / 2));
-      if (std::abs(rate - 1) <= kUnitGrowthBand)
-        return {1.0, SpectralStatus::Converged};
-      if (rate < 1)
-        return {rate, SpectralStatus::Converged};
-    }
+      void next(double g) { SMPM_PETSC_CALL(VecAXPBY(x, 1.0 / g, 0.0, y)); }
+      SpectralRadius resolve(double rate) { return r.krylov_schur(x, tol, rate); }
+    };
+    PetscAlgebra alg{*this, tol, N, {}, {}};
+    SMPM_PETSC_CALL(MatCreateVecs(shell_, alg.x.out(), alg.y.out()));
+    return spectral_radius_rule(alg, kDenseRadiusRows);
+  }
+
+private:
+  // |λ|max of T by SLEPc's Krylov–Schur, from `start` when given (the power iterate of a large
+  // T: NotConverged with the measured growth `rate` when it does not converge).
+  SpectralRadius krylov_schur(Vec start, double tol, double rate) {
+    PetscInt N = 0;
+    SMPM_PETSC_CALL(MatGetSize(shell_, &N, nullptr));
     OwnedEPS eps;
     SMPM_PETSC_CALL(EPSCreate(grid_.comm(), eps.out()));
     SMPM_PETSC_CALL(EPSSetOperators(eps, shell_, nullptr));
     SMPM_PETSC_CALL(EPSSetProblemType(eps, EPS_NHEP));
     SMPM_PETSC_CALL(EPSSetType(eps, EPSKRYLOVSCHUR));
     SMPM_PETSC_CALL(EPSSetWhichEigenpairs(eps, EPS_LARGEST_MAGNITUDE));
-    const bool large = N > kDenseRadiusRows;
+    const bool large = start != nullptr;
     SMPM_PETSC_CALL(
         EPSSetDimensions(eps, 1, std::min<PetscInt>(N, large ? 30 : 60), PETSC_DEFAULT));
     SMPM_PETSC_CALL(EPSSetTolerances(eps, tol, large ? 300 : 20000));
-    if (large) {
-      Vec start = x;
+    if (large)
       SMPM_PETSC_CALL(EPSSetInitialSpace(eps, 1, &start));
-    }
     SMPM_PETSC_CALL(EPSSetOptionsPrefix(eps, "rho_"));
     SMPM_PETSC_CALL(EPSSetFromOptions(eps));
     if (std::optional<SpectralRadius> r = failure(EPSSolve(eps), "EPSSolve (rho(T))"))
@@ -241,8 +240,7 @@ public:
     PetscInt converged = 0;
     SMPM_PETSC_CALL(EPSGetConverged(eps, &converged));
     if (converged < 1) // the measured growth above the dense limit, as the serial code
-      return {large ? rate : std::numeric_limits<double>::quiet_NaN(),
-              SpectralStatus::NotConverged};
+      return {rate, SpectralStatus::NotConverged};
     PetscScalar re = 0, im = 0;
     SMPM_PETSC_CALL(EPSGetEigenvalue(eps, 0, &re, &im));
     const double rho = std::hypot(double(re), double(im));
@@ -251,7 +249,6 @@ public:
     return {rho, SpectralStatus::Converged};
   }
 
-private:
   static Model local_model(const DistributedGrid& grid, const Model& model,
                            std::vector<Index>& ids) {
     ids = grid.owned_particles(model.particles);

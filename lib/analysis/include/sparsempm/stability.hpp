@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -104,6 +105,45 @@ inline constexpr double kUnitGrowthBand = 1e-3;
 /// The start of spectral_radius's power iterations on T of `rows` rows: standard normal draws
 /// (std::mt19937 seeded 1), normalised. The ρ(T) across ranks starts from the same vector.
 Eigen::VectorXd power_start(Index rows);
+
+/// The rule of ρ(T) for any storage of the vectors: spectral_radius (Eigen vectors, Spectra)
+/// and the ρ(T) across ranks of sparsempm::petsc (PETSc Vecs, SLEPc) run this one function.
+/// Up to `dense_limit` rows `alg.small()` resolves |λ|max directly. Above, where T crowds the unit
+/// circle (eigenvalue 1 of force-free stresses, |λ| ≈ 1 of every elastic mode) and Krylov
+/// methods converge very slowly, kPowerApplications power iterations from alg.start() measure the
+/// growth per application over their second half: within kUnitGrowthBand of 1 it is ρ = 1, below
+/// 1 it is ρ; otherwise an eigenvalue stands out and alg.resolve(rate) resolves it from the power
+/// iterate. `alg` supplies:
+///   - alg.rows(); alg.small(); alg.start() (x = power_start's vector);
+///   - alg.apply() (y = T x; false when a kernel met a non-finite value);
+///   - alg.norm() (‖y‖₂); alg.next(g) (x = y / g);
+///   - alg.resolve(rate): |λ|max from x (status NotConverged with `rate` when that fails).
+template <class Algebra>
+SpectralRadius spectral_radius_rule(Algebra& alg, Index dense_limit) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  if (alg.rows() <= dense_limit)
+    return alg.small();
+  alg.start();
+  double log_growth = 0;
+  for (int k = 0; k < kPowerApplications; ++k) {
+    if (!alg.apply())
+      return {inf, SpectralStatus::NonFinite};
+    const double g = alg.norm();
+    if (!std::isfinite(g))
+      return {inf, SpectralStatus::NonFinite};
+    if (!(g > 0))
+      return {0.0, SpectralStatus::Converged}; // T x = 0: x was in the null space
+    if (k >= kPowerApplications / 2)
+      log_growth += std::log(g);
+    alg.next(g);
+  }
+  const double rate = std::exp(log_growth / (kPowerApplications - kPowerApplications / 2));
+  if (std::abs(rate - 1) <= kUnitGrowthBand)
+    return {1.0, SpectralStatus::Converged};
+  if (rate < 1)
+    return {rate, SpectralStatus::Converged};
+  return alg.resolve(rate);
+}
 
 /// ρ(T): dense Eigen eigenvalues when T has at most `dense_limit` rows. Above, matrix-free:
 /// 300 power iterations measure the growth per application; growth within 10⁻³ of 1 is
