@@ -48,6 +48,19 @@ void set_column(Particles& P, const ParticleColumn& c, const Eigen::Ref<const Fi
     P.*c.field = values;
 }
 
+std::string range_message(const ParticleColumn& c) {
+  const std::string why = c.range_reason.empty() ? "it must be" : std::string(c.range_reason) + ":";
+  switch (c.range) {
+  case ColumnRange::Positive:
+    return " (" + why + " positive and finite)";
+  case ColumnRange::NonNegative:
+    return " (" + why + " non-negative and finite)";
+  case ColumnRange::Finite:
+    break;
+  }
+  return " (" + why + " finite)";
+}
+
 void clear_column(Particles& P, const ParticleColumn& c) {
   if (c.vector)
     (P.*c.vector).resize(0);

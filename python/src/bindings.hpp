@@ -7,9 +7,11 @@
 #include <sparsempm/input.hpp>
 #include <sparsempm/model.hpp>
 #include <sparsempm/operators.hpp>
+#include <sparsempm/particle_columns.hpp>
 #include <sparsempm/step.hpp>
 #include <sparsempm/step_preparation.hpp>
 
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <memory>
@@ -84,6 +86,15 @@ Shape shape_arg(const py::object& shape, const PyModel* model);
 
 void bind_options(py::module_& m);
 void bind_model(py::module_& m);
+/// sparsempm.Grid (particles.cpp).
+void bind_grid(py::module_& m);
+/// sparsempm.Particles (particles.cpp).
+void bind_particles(py::module_& m);
+/// Column `col` of the particles (particle_columns) from a number or the particles' values (N,
+/// or N × width), each in the column's range; the storage is kept when the particles have the
+/// column already (numpy views stay valid). Throws InputError naming the particle and value.
+void set_part_column(Particles& P, const ParticleColumn& col,
+                     const py::array_t<double, py::array::forcecast>& a);
 void bind_operators(py::module_& m);
 /// sparsempm.transport_operators, Transport, fmpm_temperature and exact_temperature.
 void bind_transport(py::module_& m);

@@ -3,6 +3,7 @@
 
 #include <sparsempm/errors.hpp>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace smpm::python {
@@ -123,6 +124,14 @@ void check_wall_nodes(const BoundaryConditions* bcs) {
       throw InputError("bcs: the wall '" + c.label +
                        "' has no nodes selected (model.bcs as given); pass ops.bcs, the "
                        "conditions a step from this configuration uses, walls included");
+}
+
+std::array<double, 3> triple(const std::vector<double>& v, double fill, const char* name) {
+  if (v.size() > 3)
+    throw InputError(std::string(name) + ": at most 3 entries, got " + std::to_string(v.size()));
+  std::array<double, 3> t{fill, fill, fill};
+  std::copy(v.begin(), v.end(), t.begin());
+  return t;
 }
 
 } // namespace smpm::python

@@ -9,7 +9,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <array>
 #include <string>
+#include <vector>
 
 namespace smpm::python {
 
@@ -49,5 +51,9 @@ py::array from_field(Field f, bool as_vector);
 py::object csr_view(const SparseRowMatrix& A, py::handle owner, bool writeable = false);
 /// A scipy.sparse.csr_matrix that owns `A` (its arrays are A's, moved into a capsule).
 py::object csr_owned(SparseRowMatrix A);
+
+/// A 3-vector from at most three entries, `fill` for the missing ones; throws InputError naming
+/// `name` for more than three.
+std::array<double, 3> triple(const std::vector<double>& v, double fill, const char* name);
 
 } // namespace smpm::python

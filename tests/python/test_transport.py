@@ -171,8 +171,8 @@ def test_particle_temperatures_and_sources_are_views():
     assert np.array_equal(P.heat_source, np.arange(80.0))
     with pytest.raises(ValueError, match=r"expected a number or shape \(80,\), got \(79,\)"):
         P.temperature = np.full(79, 300.0)
-    with pytest.raises(smpm.InputError, match="temperature: particle 2 has 0 .it must be "
-                                              "positive and finite."):
+    with pytest.raises(smpm.InputError, match="temperature: particle 2 has 0 .temperatures are "
+                                              "absolute: positive and finite."):
         P.temperature = np.where(np.arange(80) == 2, 0.0, 300.0)
     assert T[2] > 0  # a refused assignment changes nothing
     # Model(..., temperature=, heat_source=) as [[body]] temperature and heat_source.

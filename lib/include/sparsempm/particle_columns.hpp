@@ -11,6 +11,7 @@
 #include "sparsempm/particles.hpp"
 
 #include <Eigen/Core>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -40,8 +41,10 @@ struct ParticleColumn {
   Field Particles::*field = nullptr;            ///< ... or N × width entries
   ColumnWidth width = ColumnWidth::One;         ///< values per particle
   ColumnRange range = ColumnRange::Finite;      ///< the values a restart accepts
+  /// Why the range, in the message of a value outside it ("": "it must be ...").
+  std::string_view range_reason = {};
   /// Present in every particle set, zeros unless a part sets it (Particles::resize makes it
-  /// zeros; a frame without it reads as zeros).
+  /// zeros; a frame without it reads as zeros unless the run requires it).
   bool always = false;
   /// Frames store it, and a restart reads it back (false: it comes from the input every run).
   bool in_frames = true;
@@ -59,6 +62,9 @@ struct ParticleColumn {
 
 /// Every optional column, in the order of the parts that declare them (step_parts).
 const std::vector<ParticleColumn>& particle_columns();
+/// The message of a value x outside column c's range: " (temperatures are absolute: positive and
+/// finite)", " (it must be non-negative and finite)", ...
+std::string range_message(const ParticleColumn& c);
 
 /// The entries per particle of column c for particles of dimension d.
 Index column_width(const ParticleColumn& c, int d);

@@ -69,12 +69,15 @@ public:
   virtual void end(StepEnd& /*step*/) {}
 
   /// Why the linearised step (LinearizedStep, stability.hpp) cannot take this part at the frozen
-  /// configuration `model`: a sentence for the user; empty when it can. The linearised and the
-  /// simulated step run the same stages, so a part that sets only operators and fields the
-  /// linearised step also sets is taken without a word.
+  /// configuration `model`: a sentence for the user; empty when it can. The linearised step maps
+  /// (V, σ) (and L_p with the gradient transfer) at that configuration: what a part adds besides
+  /// is frozen there (temperatures, internal energies, plastic states: their tangents, tangents)
+  /// or, being independent of (V, σ), drops out of T (loads, gravity, the rigid bodies'
+  /// prescribed motions, which act through homogeneous conditions). A part refuses only what
+  /// switches with the state (contact).
   virtual std::string not_linearised(const Model& /*model*/) const { return {}; }
-  /// Why the step across processes (a NodeSums) cannot take this part on `model`; empty when it
-  /// can.
+  /// Why the linearised step across processes (a NodeSums) cannot take this part on `model`;
+  /// empty when it can.
   virtual std::string not_distributed(const Model& /*model*/) const { return {}; }
   /// The material tangents 𝕂 = ∂σ/∂L of the linearised step, N × d⁴ in stress_tangent's layout,
   /// which start as those of σ(F) of each particle's material (cauchy_stress): a part whose
@@ -82,8 +85,8 @@ public:
   virtual void tangents(const Model& /*model*/, Field& /*K*/) const {}
 };
 
-/// The parts a Stepper with these options holds, in the order their hooks run: the gradient
-/// transfer, heat transport, shocks, plasticity, loads, rigid bodies, contact (a part whose
+/// The parts a Stepper with these options holds, in the order their hooks run: shocks, heat
+/// transport, the gradient transfer, plasticity, loads, rigid bodies, contact (a part whose
 /// capability the options leave off is not in the list; a part whose capability the model
 /// lacks, e.g. shocks without Mie–Grüneisen materials, does nothing in its step).
 std::vector<std::unique_ptr<StepPart>> step_parts(const StepOptions& options);

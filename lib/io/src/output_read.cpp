@@ -118,10 +118,7 @@ void check_frame_values(const Particles& P, const Model& model) {
       const double x = v.data()[k];
       if (std::isfinite(x) && (c.range == ColumnRange::Positive ? x > 0 : x >= 0))
         continue;
-      throw std::runtime_error(std::string(c.name) + " holds " + number_text(x) +
-                               (c.range == ColumnRange::Positive
-                                    ? " (it must be positive and finite)"
-                                    : " (it must be non-negative and finite)"));
+      throw std::runtime_error(std::string(c.name) + " holds " + number_text(x) + range_message(c));
     }
   }
   const std::pair<const char*, const double*> positive[] = {{"mass", P.mass.data()},

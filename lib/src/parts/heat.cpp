@@ -11,10 +11,6 @@ namespace {
 
 class Heat final : public StepPart {
 public:
-  explicit Heat(const StepOptions& options) {
-    if (options.transport.update == TransportUpdate::Exact)
-      solver_ = options.exact_solver(options.exact);
-  }
   void start(Model& model) override {
     Particles& P = model.particles;
     if (P.temperature.size() != P.size()) // no temperatures yet: T_ref
@@ -27,6 +23,8 @@ public:
     t.fmpm = transport_fmpm_options(s.options);
     t.ops = &s.prep.transport;
     t.ct = uses_consistent_capacity(s.options) ? &s.prep.consistent_capacity() : nullptr;
+    if (!solver_ && t.update == TransportUpdate::Exact)  // made on first use: the linearised
+      solver_ = s.options.exact_solver(s.options.exact); // step asks the part and never steps
     t.solver = solver_.get();
     t.bcs = &s.prep.temperature_bcs;
     t.temperature = &P.temperature;
@@ -47,10 +45,6 @@ public:
           e.density.resize(0);
   }
 
-  std::string not_distributed(const Model&) const override {
-    return "heat transport (step.transport)";
-  }
-
 private:
   std::unique_ptr<MassSolver> solver_; // the exact transport update's solver
   TransportContext transport_;
@@ -61,13 +55,14 @@ private:
 std::unique_ptr<StepPart> make(const StepOptions& options) {
   if (options.transport.update == TransportUpdate::Off)
     return nullptr;
-  return std::make_unique<Heat>(options);
+  return std::make_unique<Heat>();
 }
 
 constexpr ParticleColumn kColumns[] = {
     {.name = "temperature",
      .vector = &Particles::temperature,
      .range = ColumnRange::Positive,
+     .range_reason = "temperatures are absolute",
      .required = [](const Model& model) { return model.particles.temperature.size() > 0; },
      .why_required = "the run has heat transport",
      .shape = "N",

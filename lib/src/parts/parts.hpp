@@ -17,16 +17,16 @@ struct Entry {
   std::span<const ParticleColumn> columns;
 };
 
-extern const Entry gradient_transfer; // gradient_transfer.cpp
-extern const Entry heat;              // heat.cpp
 extern const Entry shocks;            // shocks.cpp
+extern const Entry heat;              // heat.cpp
+extern const Entry gradient_transfer; // gradient_transfer.cpp
 extern const Entry plasticity;        // plasticity.cpp
 extern const Entry loads;             // loads.cpp
 extern const Entry rigid_bodies;      // rigid_bodies.cpp
 extern const Entry contact;           // contact.cpp
 
-/// The list, in the order the hooks run.
-inline const Entry* const kList[] = {&gradient_transfer, &heat,   &shocks, &plasticity, &loads,
-                                     &rigid_bodies,      &contact};
+/// The list, in the order the hooks run (and the columns stand in frames).
+inline const Entry* const kList[] = {
+    &shocks, &heat, &gradient_transfer, &plasticity, &loads, &rigid_bodies, &contact};
 
 } // namespace smpm::parts

@@ -40,8 +40,9 @@ public:
   // yield surface loading further takes the softer plastic branch: not a linear map.
   void tangents(const Model& model, Field& K) const override {
     const Particles& P = model.particles;
-    if (!uses_plasticity(model.materials) || P.elastic_cauchy_green.rows() != P.size())
-      return; // no plastic state yet: b̄ᵉ of F, whose stress is σ(F)
+    if (!uses_plasticity(model.materials) || P.elastic_cauchy_green.rows() != P.size() ||
+        P.elastic_cauchy_green.cols() != 9 || P.plastic_strain.size() != P.size())
+      return; // no plastic state yet (initial_plastic_state): b̄ᵉ of F, whose stress is σ(F)
     for (Index q = 0; q < P.size(); ++q) {
       const Material& mat = model.materials[size_t(P.material[q])];
       if (!mat.plastic())
