@@ -4,9 +4,6 @@
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
-#include "sparsempm/transport.hpp"
-
-#include <Eigen/LU>
 
 namespace smpm {
 
@@ -20,15 +17,11 @@ struct Stages {
   ParticleFields& fields;
   StrainUpdate& strain;
   StepBuffers& b;
-  const bool full_mass;         // this step uses m̃
-  const TransportContext* heat; // heat transport, or null
+  const bool full_mass; // this step uses m̃
 
   Stages(const StepContext& context, ParticleFields& f, StrainUpdate& s, StepBuffers& buffers)
       : c(context), opt(*context.options), op(particle_operators(*context.ops)), fields(f),
-        strain(s), b(buffers), full_mass(uses_consistent_mass(opt, context.grid_update)),
-        heat(context.transport && context.transport->update != TransportUpdate::Off
-                 ? context.transport
-                 : nullptr) {}
+        strain(s), b(buffers), full_mass(uses_consistent_mass(opt, context.grid_update)) {}
 
   bool correct_bcs() const { return opt.bc_ordering == BCOrdering::Correct; }
 
@@ -94,19 +87,10 @@ struct Stages {
     strain.update(op, *vs, dt, fields);
   }
 
-  // P2G of the particles' momenta: Sᵀ M V, or with their velocity gradients (Transfer).
-  void particle_momenta(Field& p) {
-    if (opt.transfer == Transfer::VelocityGradient)
-      map_affine_momentum(op, *c.grid, b.x_start, fields.V, *fields.gradient, p);
-    else
-      map_momentum(op, fields.V, p);
-  }
-
-  // Task 1: p = Sᵀ M V, BC1, v = m⁻¹ p; task 1.c for USF, USAVG and USAVG+.
+  // Task 1: p = Sᵀ M V (with the transfer's affine term, c.affine), BC1, v = m⁻¹ p; task 1.c for
+  // USF, USAVG and USAVG+.
   void momentum() {
-    if (opt.transfer == Transfer::VelocityGradient)
-      b.x_start = fields.X; // storage reused from step to step
-    particle_momenta(b.g.p);
+    map_momentum(op, fields.V, b.g.p, c.affine);
     if (c.sums) // the totals over the processes
       c.sums->add(b.g.p);
     if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC &&
@@ -162,14 +146,6 @@ struct Stages {
     lumped_solve(c.ops->m_inv, g.f, g.a);
   }
 
-  // Task 4: Eq. (8) on FLIP steps, Eq. (9) for PIC, FMPM(k) and exact, contact 2020 Eq. (35)
-  // for XPIC(m).
-  // The velocity-gradient transfer: L_p = G u, u the grid velocity the particles took.
-  void particle_gradients(const Field& u) {
-    if (opt.transfer == Transfer::VelocityGradient)
-      velocity_gradient(op, u, *fields.gradient);
-  }
-
   // XPIC(m)'s m(v − v*) = Σ_{j<m} A^j v (contact 2020 Eqs. 41–43) as the loop of FMPM 2026
   // Table 1 run from the contact-corrected v of the extrapolation (task 1), unblended and to
   // order m, its increments corrected by the velocity BCs (Table 2's incremental method,
@@ -191,17 +167,17 @@ struct Stages {
     fmpm_velocity(*c.ops, *c.mt, f, LoopConstraints{c.grid, c.bcs, c.time}, b.xpic, b.fmpm, hook);
   }
 
-  void particle_update() {
+  // Task 4: Eq. (8) on FLIP steps, Eq. (9) for PIC, FMPM(k) and exact, contact 2020 Eq. (35)
+  // for XPIC(m). Returns the grid velocity the particles took.
+  const Field& particle_update() {
     const double alpha = position_alpha(opt);
     if (!c.grid_update) { // FLIP, or a FLIP step of periodic FMPM
       update_particles_flip(op, b.g.v_plus, b.g.a, c.dt, alpha, fields.X, fields.V);
-      particle_gradients(b.g.v_plus);
-      return;
+      return b.g.v_plus;
     }
     if (opt.velocity != VelocityUpdate::XPIC) {
       update_particles_pic(op, b.g.v_plus, c.dt, alpha, fields.X, fields.V);
-      particle_gradients(b.g.v_plus);
-      return;
+      return b.g.v_plus;
     }
     if (full_mass && opt.xpic_contact == XpicContact::Increments) {
       xpic_loop_velocity();
@@ -215,7 +191,7 @@ struct Stages {
       b.xpic = b.g.v_plus; // XPIC(1) = PIC
     }
     update_particles_pic(op, b.xpic, c.dt, alpha, fields.X, fields.V);
-    particle_gradients(b.xpic);
+    return b.xpic;
   }
 
   // Task 5: stresses last (USL, USL+, USAVG, USAVG+); tasks 4.a–4.c re-extrapolate with the
@@ -227,7 +203,7 @@ struct Stages {
     const double dt_last =
         (s == UpdateScheme::USL || s == UpdateScheme::USLPlus) ? c.dt : 0.5 * c.dt;
     if (s == UpdateScheme::USLPlus || s == UpdateScheme::USAVGPlus) {
-      particle_momenta(b.p_re);
+      map_momentum(op, fields.V, b.p_re, c.affine);
       if (c.sums)
         c.sums->add(b.p_re);
       contact(b.p_re);
@@ -239,90 +215,9 @@ struct Stages {
       strain_update(b.g.v_plus, dt_last);
     }
   }
-
-  void heat_content() { transport_content(*c.ops, *heat, c.time, b.heat); }
-  void heat_update() { transport_update(*c.ops, *heat, c.contact_nodes, c.time, c.dt, b.heat); }
-  void heat_particles() { transport_particles(*c.ops, *heat, c.dt, b.heat); }
 };
 
 } // namespace
-
-void transport_content(const Operators& ops, const TransportContext& heat, double t,
-                       TransportState& h) {
-  const TransportOperators& top = *heat.ops;
-  map_heat(ops, top, *heat.temperature, h.tau);
-  // T = c⁻¹ τ on every node with capacity (an average of particle temperatures however small c_i:
-  // the exact solve's tolerance leaves its lightest nodes out of the solve, not of the gradient)
-  const Index ng = top.nodes.grid_node_count;
-  h.T.resize(ng, 1);
-  for (Index i = 0; i < ng; ++i)
-    h.T(i, 0) = top.nodes.m[i] > 0 ? h.tau(i, 0) / top.nodes.m[i] : 0.0;
-  if (!heat.bcs)
-    return;
-  heat.bcs->constrain_velocity(top.nodes.grid, t, h.T, &top.nodes.active);
-  if (!heat.absolute)
-    return;
-  const Grid& grid = top.nodes.grid;
-  for (const VelocityCondition& c : heat.bcs->conditions) // held temperatures are absolute
-    for (Index g : c.nodes) {
-      const Index i = grid.is_window() ? grid.node_of_whole(g) : g;
-      if (i >= 0 && i < ng && top.nodes.active[i] && !(h.T(i, 0) > 0))
-        throw NumericalError("temperature condition '" + c.label + "' gives " +
-                             number_text(h.T(i, 0)) + " at node " + std::to_string(g) +
-                             " at t = " + number_text(t) + " (temperatures are absolute)");
-    }
-}
-
-void transport_update(const Operators& ops, const TransportContext& heat,
-                      const ContactNodes* contact, double t, double dt, TransportState& h) {
-  const TransportOperators& top = *heat.ops;
-  temperature_gradient(ops, h.T, h.gradient);
-  heat_flow(ops, top, h.gradient, h.q);
-  if (contact)
-    for (size_t k = 0; k < contact->heat.size(); ++k)
-      h.q(contact->nodes[k].node, 0) += contact->heat[k] / dt;
-  h.tau_plus.noalias() = h.tau + dt * h.q;
-  const LoopConstraints bc{&top.nodes.grid, heat.bcs, t};
-  if (heat.update == TransportUpdate::Exact) {
-    if (heat.bcs)
-      heat.bcs->constrain_update(top.nodes.grid, top.nodes.m, t, dt, h.tau_plus, h.q);
-    try {
-      heat.solver->solve(top.nodes, *heat.ct, bc, h.tau_plus, h.theta);
-    } catch (const NumericalError& e) { // the solver speaks of masses: here they are capacities
-      std::string what = e.what();
-      for (const auto& [from, to] :
-           {std::pair<std::string, std::string>{"mass matrix", "capacity matrix c~"},
-            {"lumped masses", "lumped capacities"},
-            {"(m = ", "(c = "}})
-        for (size_t at = what.find(from); at != std::string::npos; at = what.find(from, at))
-          what.replace(at, from.size(), to);
-      throw NumericalError("heat transport: " + what);
-    }
-  } else {
-    updated_velocity(top.nodes, heat.ct, heat.fmpm, bc, true, dt, h.tau_plus, &h.q, h.theta,
-                     h.fmpm);
-  }
-  lumped_solve(top.nodes.m_inv, h.q, h.rate);
-}
-
-void transport_particles(const Operators& ops, const TransportContext& heat, double dt,
-                         TransportState& h) {
-  Eigen::VectorXd& T = *heat.temperature;
-  const bool shock = heat.energy && heat.materials && uses_shock_physics(*heat.materials);
-  if (shock)
-    h.before = T;
-  if (heat.update == TransportUpdate::Lumped)
-    update_temperature_flip(ops, h.rate, dt, T, heat.absolute);
-  else
-    update_temperature_grid(ops, h.theta, T, heat.absolute);
-  if (!shock)
-    return;
-  const Eigen::VectorXi& id = *heat.material;
-  for (Index p = 0; p < T.size(); ++p)
-    if (const Material& m = (*heat.materials)[size_t(id[p])];
-        m.model == MaterialModel::MieGruneisen)
-      (*heat.energy)[p] += m.heat_capacity * (T[p] - h.before[p]);
-}
 
 void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdate& strain,
                  StepBuffers& buffers) {
@@ -332,37 +227,23 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
   SMPM_VERIFY(!s.full_mass || context.mt, "scheme_step: this step needs m~ (context.mt)");
   SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
               "scheme_step: the exact update needs a MassSolver (context.solver)");
-  SMPM_VERIFY(context.options->transfer != Transfer::VelocityGradient ||
-                  (fields.gradient && fields.gradient->rows() == fields.V.rows() &&
-                   fields.gradient->cols() == fields.V.cols() * fields.V.cols()),
-              "scheme_step: the velocity-gradient transfer needs one gradient (N x d^2) per "
-              "particle (ParticleFields::gradient)");
-  SMPM_VERIFY(!context.sums || (!context.contact_nodes && !context.transport &&
-                                context.options->velocity != VelocityUpdate::XPIC &&
-                                context.options->transfer != Transfer::VelocityGradient),
+  SMPM_VERIFY(!context.sums ||
+                  (!context.contact_nodes && context.hooks.empty() && !context.affine &&
+                   context.options->velocity != VelocityUpdate::XPIC),
               "scheme_step: across processes a step is FLIP, PIC, FMPM(k) or exact (with a "
               "MassSolver across them) in single material mode, without heat and with the "
               "standard transfer");
   buffers.report = FmpmReport{};
   buffers.fmpm.metrics.clear(); // a step without a loop has no trace
-  if (s.heat) {
-    SMPM_VERIFY(s.heat->ops && s.heat->temperature &&
-                    s.heat->temperature->size() == context.ops->num_particles(),
-                "scheme_step: heat transport needs its operators and one temperature per particle");
-    SMPM_VERIFY(!uses_consistent_capacity(*context.options) || s.heat->ct,
-                "scheme_step: this transport update needs c~ (TransportContext::ct)");
-    SMPM_VERIFY(s.heat->update != TransportUpdate::Exact || s.heat->solver,
-                "scheme_step: the exact transport update needs a MassSolver");
-  }
   s.momentum();
-  if (s.heat)
-    s.heat_content();
+  for (StageHooks* h : context.hooks)
+    h->after_momentum(context, fields);
   s.forces_and_velocity();
-  if (s.heat)
-    s.heat_update();
-  s.particle_update();
-  if (s.heat)
-    s.heat_particles();
+  for (StageHooks* h : context.hooks)
+    h->after_velocity(context, fields);
+  const Field& u = s.particle_update();
+  for (StageHooks* h : context.hooks)
+    h->after_particles(context, u, fields);
   s.stresses_last();
 }
 

@@ -119,44 +119,59 @@ ParticleOperators particle_operators(const Operators& ops) {
   return op;
 }
 
-void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p) {
-  SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
-  by_dim(op.dim, [&]<int D>() {
-    // p_i = Σ_q S_qi M_q V_q (FMPM 2026 task 1)
-    node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) {
-      double mv[D];
-      for (int a = 0; a < D; ++a)
-        mv[a] = op.M[q] * V(q, a);
-      for (int k = k0; k < k1; ++k) {
-        double* pi = o + Index(op.inner[k]) * D;
-        for (int a = 0; a < D; ++a)
-          pi[a] += op.S[k] * mv[a];
-      }
-    });
+void affine_offsets(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
+                    AffineOffsets& offsets) {
+  SMPM_VERIFY(X.rows() == op.rows && X.cols() == op.dim, "affine_offsets: X must be N x d");
+  const Index ng = grid.num_nodes();
+  SMPM_VERIFY(ng > 0 && op.nodes % ng == 0,
+              "affine_offsets: the grid must be that of the operators' nodes");
+  for (int b = 0; b < op.dim; ++b)
+    offsets.delta[size_t(b)].resize(size_t(op.outer[op.rows])); // indexed as S (absolute)
+  detail::parallel_for(op.rows, [&](Index q) {
+    for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
+      const Eigen::Vector3d xi = grid.node_position(op.inner[k] % ng);
+      for (int b = 0; b < op.dim; ++b)
+        offsets.delta[size_t(b)][size_t(k)] = xi[b] - X(q, b); // Δ_pi,b = x_ib − X_pb
+    }
   });
 }
 
-void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
-                         const ConstFieldRef& V, const ConstFieldRef& L, Field& p) {
-  SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim && X.rows() == op.rows &&
-                  X.cols() == op.dim && L.rows() == op.rows && L.cols() == op.dim * op.dim,
-              "map_affine_momentum: X and V must be N x d and L N x d^2");
-  const Index ng = grid.num_nodes();
-  SMPM_VERIFY(ng > 0 && op.nodes % ng == 0,
-              "map_affine_momentum: the grid must be that of the operators' nodes");
+void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p,
+                  const AffineMomentum* affine) {
+  SMPM_VERIFY(V.rows() == op.rows && V.cols() == op.dim, "map_momentum: V must be N x d");
+  if (affine) {
+    SMPM_VERIFY(affine->offsets && affine->L && affine->L->rows() == op.rows &&
+                    affine->L->cols() == op.dim * op.dim,
+                "map_momentum: the affine term needs its offsets and L (N x d^2)");
+    for (int b = 0; b < op.dim; ++b)
+      SMPM_VERIFY(affine->offsets->delta[size_t(b)].size() >= size_t(op.outer[op.rows]),
+                  "map_momentum: the affine offsets must be those of the operators");
+  }
   by_dim(op.dim, [&]<int D>() {
-    // p_i = Σ_q S_qi M_q (V_q + L_q (x_i − X_q))
+    if (!affine) {
+      // p_i = Σ_q S_qi M_q V_q (FMPM 2026 task 1)
+      node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) {
+        double mv[D];
+        for (int a = 0; a < D; ++a)
+          mv[a] = op.M[q] * V(q, a);
+        for (int k = k0; k < k1; ++k) {
+          double* pi = o + Index(op.inner[k]) * D;
+          for (int a = 0; a < D; ++a)
+            pi[a] += op.S[k] * mv[a];
+        }
+      });
+      return;
+    }
+    // p_i = Σ_q S_qi M_q (V_q + L_q Δ_qi)
+    const Field& L = *affine->L;
+    const std::array<std::vector<double>, 3>& delta = affine->offsets->delta;
     node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) {
       for (int k = k0; k < k1; ++k) {
-        const Eigen::Vector3d xi = grid.node_position(op.inner[k] % ng);
         double* pi = o + Index(op.inner[k]) * D;
-        double dx[D];
-        for (int b = 0; b < D; ++b)
-          dx[b] = xi[b] - X(q, b);
         for (int a = 0; a < D; ++a) {
           double v = V(q, a);
           for (int b = 0; b < D; ++b)
-            v += L(q, a * D + b) * dx[b];
+            v += L(q, a * D + b) * delta[size_t(b)][size_t(k)];
           pi[a] += op.S[k] * (op.M[q] * v);
         }
       }

@@ -17,6 +17,7 @@ namespace smpm {
 struct Stepper::Buffers {
   StepBuffers step;
   std::vector<std::unique_ptr<StepPart>> parts; ///< the parts of the step (step_parts)
+  std::vector<StageHooks*> hooks;               ///< the parts with stage hooks in this step
   std::vector<double> condition_mass;           ///< Σ m_i on each condition's nodes
   Eigen::VectorXd density; ///< W(F_p) of the last stress update (empty: none in the last step)
   std::atomic<std::thread::id> owner{}; ///< the thread holding the Stepper (Exclusive); none: {}
@@ -177,9 +178,11 @@ void Stepper::step(Model& model, double dt) {
     StepContext context = stage_context(model, dt); // the parts add theirs
     ParticleFields fields{P.X, P.V, P.F, P.stress, P.volume0};
     StrainCouplings strain;
-    StepStart start{model, opt_, prep_, context, fields, strain};
+    buf_->hooks.clear();
+    StepStart start{model, opt_, prep_, context, fields, strain, buf_->step, buf_->hooks};
     for (const std::unique_ptr<StepPart>& part : buf_->parts)
       part->begin(start);
+    context.hooks = buf_->hooks;
     if (!context.mt && uses_consistent_mass(opt_, grid_update_))
       context.mt = &prep_.consistent_mass();
     clock.lap(prep_.times.mass_matrix);

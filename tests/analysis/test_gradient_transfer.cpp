@@ -27,10 +27,10 @@ void round_trip(const Grid& g, const Particles& P, Shape shape, bool gradient, F
   const Operators ops = assemble(g, P, shape);
   const ParticleOperators op = particle_operators(ops);
   Field p, v;
-  if (gradient)
-    map_affine_momentum(op, g, P.X, V, L, p);
-  else
-    map_momentum(op, V, p);
+  AffineOffsets offsets;
+  affine_offsets(op, g, P.X, offsets);
+  const AffineMomentum affine{&offsets, &L};
+  map_momentum(op, V, p, gradient ? &affine : nullptr);
   lumped_solve(ops.m_inv, p, v);
   Field X = P.X;
   update_particles_pic(op, v, 0.0, 1.0, X, V);

@@ -69,13 +69,17 @@ struct LinearizedStep::Impl {
   int flip_steps = 0;             // periodic FMPM: FLIP steps before each FMPM step
   int d = 1;
   Index N = 0;
-  // The state and scratch of perform_op: V, σ and, with the velocity-gradient transfer, the
-  // particles' gradients (P2G reads them: they are state), and scratch.
-  mutable Field X, V, F, sig, L, gradient;
-  bool gradients() const { return opt.transfer == Transfer::VelocityGradient; }
+  // The state and scratch of perform_op: V, σ and the parts' state columns (the velocity-gradient
+  // transfer's L_p, which P2G reads), and scratch.
+  mutable Field X, V, F, sig, L;
+  std::vector<Field*> state; // the parts' columns of the state, in model's particles
+  Index state_columns = 0;   // their columns in all
   mutable StepBuffers buffers;
-  const SparseRowMatrix* mt = nullptr; // m̃ or m̃_L (the transfer's), when the update uses it
+  std::vector<std::unique_ptr<StepPart>> parts;
+  std::vector<StageHooks*> hooks;
+  StepContext context; // the step's context but for grid_update (m̃ or m̃_L, the parts' terms)
 
+  void begin_parts();
   void step(bool grid_update) const;
 };
 
@@ -106,7 +110,7 @@ void LinearizedStep::init(const Model& model, const StepOptions& options, double
       (options.velocity == VelocityUpdate::FMPM || options.velocity == VelocityUpdate::XPIC))
     throw InputError("the linearised step needs a fixed FMPM order: dynamic FMPM stops at an "
                      "order that depends on the state, which is not a linear map");
-  const std::vector<std::unique_ptr<StepPart>> parts = step_parts(options);
+  std::vector<std::unique_ptr<StepPart>> parts = step_parts(options);
   for (const std::unique_ptr<StepPart>& part : parts) { // one rule for every part
     if (const std::string why = part->not_linearised(model); !why.empty())
       throw InputError(why);
@@ -140,12 +144,37 @@ void LinearizedStep::init(const Model& model, const StepOptions& options, double
     c.wall = -1;
     I.homogeneous.conditions.push_back(std::move(c));
   }
-  if (uses_consistent_mass(options, true))
-    I.mt = options.transfer == Transfer::VelocityGradient ? &I.prep.transfer_mass(model.particles.X)
-                                                          : &I.prep.consistent_mass();
-  I.K = material_tangents(model, parts);
+  I.K = material_tangents(I.model, parts);
   I.F = model.particles.F;
+  I.parts = std::move(parts);
+  I.begin_parts();
   set_dt(dt);
+}
+
+// The context of the linearised steps: the operators, the homogeneous conditions, m̃ when the
+// update uses it, and what each part adds that is linear in the state (begin_linearised).
+void LinearizedStep::Impl::begin_parts() {
+  context = {.options = &opt,
+             .ops = &prep.ops,
+             .solver = solver.get(),
+             .grid = &prep.ops.grid,
+             .bcs = &homogeneous,
+             .gravity = {0, 0, 0},
+             .time = 0,
+             .grid_update = true,
+             .sums = sums};
+  X = model.particles.X;
+  ParticleFields fields{X, V, F, sig, model.particles.volume0};
+  StrainCouplings strain; // the tangents stand for the strain update's states
+  StepStart start{model, opt, prep, context, fields, strain, buffers, hooks, &state};
+  for (const std::unique_ptr<StepPart>& part : parts)
+    part->begin_linearised(start);
+  if (!context.mt && uses_consistent_mass(opt, true))
+    context.mt = &prep.consistent_mass();
+  context.hooks = hooks;
+  state_columns = 0;
+  for (const Field* f : state)
+    state_columns += f->cols();
 }
 
 LinearizedStep::~LinearizedStep() = default;
@@ -172,7 +201,7 @@ int LinearizedStep::steps_per_application() const {
 }
 Index LinearizedStep::rows() const {
   const Index d2 = impl_->d * impl_->d;
-  return impl_->N * (impl_->d + d2 + (impl_->gradients() ? d2 : 0));
+  return impl_->N * (impl_->d + d2 + impl_->state_columns);
 }
 const Operators& LinearizedStep::operators() const {
   return impl_->prep.ops;
@@ -182,22 +211,12 @@ const Operators& LinearizedStep::operators() const {
 // with scratch positions (the operators do not follow them).
 void LinearizedStep::Impl::step(bool grid_update) const {
   X = model.particles.X;
-  const StepContext context{.options = &opt,
-                            .ops = &prep.ops,
-                            .mt = mt,
-                            .solver = solver.get(),
-                            .grid = &prep.ops.grid,
-                            .bcs = &homogeneous,
-                            .gravity = {0, 0, 0},
-                            .time = 0,
-                            .dt = dt,
-                            .grid_update = grid_update,
-                            .sums = sums};
+  StepContext c = context;
+  c.dt = dt;
+  c.grid_update = grid_update;
   ParticleFields fields{X, V, F, sig, model.particles.volume0};
-  if (gradients())
-    fields.gradient = &gradient;
   TangentStressUpdate strain(K, L);
-  scheme_step(context, fields, strain, buffers);
+  scheme_step(c, fields, strain, buffers);
 }
 
 void LinearizedStep::perform_op(const double* x, double* y) const {
@@ -205,15 +224,21 @@ void LinearizedStep::perform_op(const double* x, double* y) const {
   const Index nv = I.N * I.d, ns = I.N * I.d * I.d;
   I.V = Eigen::Map<const Field>(x, I.N, I.d);
   I.sig = Eigen::Map<const Field>(x + nv, I.N, I.d * I.d);
-  if (I.gradients())
-    I.gradient = Eigen::Map<const Field>(x + nv + ns, I.N, I.d * I.d);
+  Index at = nv + ns;
+  for (Field* f : I.state) {
+    *f = Eigen::Map<const Field>(x + at, I.N, f->cols());
+    at += f->size();
+  }
   for (int s = 0; s < I.flip_steps; ++s)
     I.step(false);
   I.step(I.opt.velocity != VelocityUpdate::FLIP);
   Eigen::Map<Field>(y, I.N, I.d) = I.V;
   Eigen::Map<Field>(y + nv, I.N, I.d * I.d) = I.sig;
-  if (I.gradients())
-    Eigen::Map<Field>(y + nv + ns, I.N, I.d * I.d) = I.gradient;
+  at = nv + ns;
+  for (const Field* f : I.state) {
+    Eigen::Map<Field>(y + at, I.N, f->cols()) = *f;
+    at += f->size();
+  }
 }
 
 Eigen::MatrixXd LinearizedStep::dense() const {

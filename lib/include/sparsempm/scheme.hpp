@@ -15,6 +15,7 @@
 #include "sparsempm/step_options.hpp"
 
 #include <array>
+#include <span>
 
 namespace smpm {
 
@@ -38,10 +39,6 @@ struct ParticleFields {
   FieldRef F;             ///< N × d² deformation gradients (read for J = det F)
   FieldRef stress;        ///< N × d² Cauchy stresses
   ConstVectorRef volume0; ///< N initial volumes
-  /// N × d² velocity gradients L_p of the velocity-gradient transfer (StepOptions::transfer),
-  /// read by P2G and set by the particle update to G u, u the grid velocity it took; null with
-  /// the standard transfer.
-  Field* gradient = nullptr;
 };
 
 /// Task 5 (and task 1.c of USF/USAVG): the particles' deformation and stress over a time dt
@@ -136,6 +133,23 @@ struct TransportContext {
   bool absolute = true;
 };
 
+struct StepContext;
+
+/// A part's work at the stage boundaries of scheme_step (FMPM 2026 Fig. 1; step_part.hpp), on
+/// whole fields, once per step: never per particle. The default hooks do nothing.
+class StageHooks {
+public:
+  virtual ~StageHooks() = default;
+  /// After task 1: the grid momenta and velocities of the particles' P2G.
+  virtual void after_momentum(const StepContext& /*c*/, ParticleFields& /*fields*/) {}
+  /// After tasks 2–3: the forces and the updated grid velocity, contact's frictional work done.
+  virtual void after_velocity(const StepContext& /*c*/, ParticleFields& /*fields*/) {}
+  /// After task 4, the particle update; u is the grid velocity the particles took (v⁺ for FLIP,
+  /// v⁺(k) for FMPM(k), XPIC's for XPIC).
+  virtual void after_particles(const StepContext& /*c*/, const Field& /*u*/,
+                               ParticleFields& /*fields*/) {}
+};
+
 /// What the stages read besides the particle fields; fixed during the step.
 struct StepContext {
   /// The step's options: scheme, velocity update, FMPM options, α.
@@ -159,8 +173,10 @@ struct StepContext {
   /// Δt, the length of the step.
   double dt = 0;
   bool grid_update = false; ///< update particles from grid velocities (false: FLIP)
-  /// Heat transport; null for an isothermal step.
-  const TransportContext* transport = nullptr;
+  /// P2G's term of the velocity-gradient transfer (its part); null: p = Sᵀ M V.
+  const AffineMomentum* affine = nullptr;
+  /// The parts' work at the stage boundaries (StageHooks), in the parts' order.
+  std::span<StageHooks* const> hooks{};
   /// Across processes (fmpm.hpp): `ops` and `mt` hold this process's particles on its window
   /// with m, m_inv and active already the totals; the step sums its P2G momenta and forces and
   /// the FMPM loop's products over the processes. FLIP, PIC, FMPM(k) and the exact update (with a
@@ -198,11 +214,7 @@ struct StepBuffers {
   /// n × d: XPIC's grid velocity m (v − v*) + a Δt of the particle update (contact 2020 Eq. 35)
   Field contact_dv; ///< Δv^α = m⁻¹Δp^α of the contact after P2G (multimaterial XPIC, Eq. 37)
   Field p_contact;  ///< p with the contact impulses of the exact update (multimaterial)
-  /// N × d: the particles' positions at the step's start, those of its S, for the
-  /// velocity-gradient transfer's x_i − X_p (the P2G of task 1 and the re-extrapolation of USL+
-  /// and USAVG+ use the S of the start: Σ_i S_ip x_i = X_p holds for them)
-  Field x_start;
-  TransportState heat; ///< the transport stages' fields
+  TransportState heat; ///< the transport stages' fields (the heat part's)
 };
 
 /// The transport stages of one step (FMPM 2026 §3.5), as scheme_step calls them beside the
@@ -233,7 +245,8 @@ void transport_particles(const Operators& ops, const TransportContext& heat, dou
 ///   task 3  v⁺ = m̃_k⁻¹ p⁺ (task 3.b): lumped, FMPM(k) (fmpm_velocity) or exact;
 ///   task 4  particle update: FLIP (Eq. 8), PIC/FMPM/exact (Eq. 9) or XPIC (contact 2020 Eq. 35);
 ///   task 5  USL: strain update from v⁺; USL+/USAVG+: from re-extrapolated velocities (4.c).
-/// Heat transport (context.transport) runs beside tasks 1–4 in every scheme, as NairnMPM's
+/// The parts' hooks (context.hooks) run at the stage boundaries. Heat transport's (lib/src/parts/
+/// heat.cpp) run beside tasks 1–4 in every scheme, as NairnMPM's
 /// TransportTask: τ = Sᵀ 𝗖 T and T = c⁻¹ τ with the temperature conditions for the conduction
 /// (task 1); q = −K T + Sᵀ M r + the contact nodes' frictional heat / Δt, τ⁺ = τ + q Δt, the
 /// conditions on τ⁺ with their reaction heat in q (task 2.a, after the velocity solve, whose

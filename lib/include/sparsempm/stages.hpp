@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <string_view>
+#include <vector>
 
 namespace smpm {
 
@@ -53,16 +54,30 @@ struct ParticleOperators {
 /// The view of all particle rows of `ops`.
 ParticleOperators particle_operators(const Operators& ops);
 
-/// p = Sᵀ (M ∘ V), n × d  (FMPM 2026 task 1; Buzzi Eq. 26).
-void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p);
-/// The velocity-gradient transfer (Transfer::VelocityGradient; Wallstedt & Guilkey 2007):
-/// p_i = Σ_p S_pi M_p (V_p + L_p (x_i − X_p)), n × d, with the particles' positions X and
-/// velocity gradients L (N × d², row-major) and the positions x_i of the nodes of `grid` (the
-/// step's grid; node i of a field block α n_g + i is grid node i). As Σ_b D_bᵀ M L_{·b} + Sᵀ M V
-/// with D_b = S ∘ (x_ib − X_pb), each node's sum in particle order (the same bits for any
-/// number of threads). An affine field V = V₀ + L x, L_p = L, gives p_i = m_i (V₀ + L x_i).
-void map_affine_momentum(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
-                         const ConstFieldRef& V, const ConstFieldRef& L, Field& p);
+/// The velocity-gradient transfer's operator over S's pattern (Transfer::VelocityGradient;
+/// Wallstedt & Guilkey 2007): for each entry S_pi the offset Δ_pi,b = x_ib − X_pb of its node
+/// from the particle, one array per direction b < d, at the positions S was assembled at (the
+/// step's start). P2G's affine term is Σ_b D_bᵀ M L_{·b} with D_b = S ∘ Δ_b.
+struct AffineOffsets {
+  std::array<std::vector<double>, 3> delta; ///< Δ_b over S's entries (ParticleOperators::S)
+};
+/// Δ_b of `op`'s entries from the particles' positions X and the positions x_i of the nodes of
+/// `grid` (the step's grid; node i of a field block α n_g + i is grid node i).
+void affine_offsets(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
+                    AffineOffsets& offsets);
+/// P2G's term of the velocity-gradient transfer: the offsets of the step and the particles'
+/// velocity gradients L (N × d², row-major), which P2G reads and the particle update sets.
+struct AffineMomentum {
+  const AffineOffsets* offsets = nullptr; ///< Δ_b of the step's S
+  const Field* L = nullptr;               ///< N × d² velocity gradients L_p
+};
+
+/// p = Sᵀ (M ∘ V), n × d  (FMPM 2026 task 1; Buzzi Eq. 26); with the velocity-gradient transfer's
+/// term (`affine`, not null) p_i = Σ_p S_pi M_p (V_p + L_p Δ_pi) = Sᵀ M V + Σ_b D_bᵀ M L_{·b}
+/// (Wallstedt & Guilkey 2007), each node's sum in particle order (the same bits for any number of
+/// threads). An affine field V = V₀ + L x, L_p = L, then gives p_i = m_i (V₀ + L x_i).
+void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p,
+                  const AffineMomentum* affine = nullptr);
 /// g = Σ_b G_bᵀ V e_b, n × d: g_i = Σ_p G_pi V_p, the volume gradient of contact 2020 Eq. (11)
 /// (in 2D with V_p the area times unit thickness), from the volumes V (one per particle).
 void volume_gradient(const ParticleOperators& op, const ConstVectorRef& volume, Field& g);

@@ -7,9 +7,12 @@
 ///   1. lets every part start the particle columns it carries that the model lacks (start),
 ///   2. prepares the step (prepare_step),
 ///   3. lets every part add what it brings to the stages: its operators, its state in the
-///      strain update, its fields (begin),
-///   4. runs scheme_step, the stages in the order of FMPM 2026 Fig. 1,
+///      strain update, its stage hooks (begin),
+///   4. runs scheme_step, the stages in the order of FMPM 2026 Fig. 1, which calls the parts'
+///      hooks at the stage boundaries (StageHooks, scheme.hpp),
 ///   5. lets every part finish: the motions it imposes, its tallies (end).
+/// The linearised step (LinearizedStep, stability.hpp) holds the same list and lets every part
+/// add what is linear in the step's state (begin_linearised); the rest is frozen.
 /// A part is called once per step on whole fields, never per particle.
 
 #include "sparsempm/scheme.hpp"
@@ -38,6 +41,13 @@ struct StepStart {
   StepContext& context;       ///< what the stages read; a part sets its own entries
   ParticleFields& fields;     ///< the particle fields the stages update
   StrainCouplings& strain;    ///< the strain update's states; a part sets its own
+  StepBuffers& buffers;       ///< the step's scratch, whose grid fields a part may use
+  /// The parts whose stage hooks the step calls (StepContext::hooks): a part with hooks adds
+  /// itself.
+  std::vector<StageHooks*>& hooks;
+  /// The linearised step's state columns besides V and σ (N × c each): a part whose particles
+  /// carry state the step maps adds it in begin_linearised; null in the Stepper.
+  std::vector<Field*>* linear_state = nullptr;
 };
 
 /// What a part reads and sets after the stages of a step (StepPart::end).
@@ -57,14 +67,18 @@ struct StepEnd {
 };
 
 /// A part of the step (this file's comment). The default hooks do nothing.
-class StepPart {
+class StepPart : public StageHooks {
 public:
-  virtual ~StepPart() = default;
   /// Before the step is prepared: gives the model's particles the columns this part carries
   /// when they have none yet (their start values).
   virtual void start(Model& /*model*/) {}
-  /// Before the stages: the part's operators and fields in the step's context.
+  /// Before the stages: the part's operators and fields in the step's context, and its hooks.
   virtual void begin(StepStart& /*step*/) {}
+  /// Before the linearised step's stages at its frozen configuration (step.model): what the part
+  /// adds that is linear in the step's state, as begin (its operators, hooks and state columns,
+  /// StepStart::linear_state). By default nothing: the part's effect is frozen there or drops
+  /// out of T (not_linearised).
+  virtual void begin_linearised(StepStart& /*step*/) {}
   /// After the stages: the part's own motions and its tallies.
   virtual void end(StepEnd& /*step*/) {}
 

@@ -31,10 +31,23 @@ public:
     t.energy = uses_shock_physics(s.model.materials) ? &P.energy : nullptr;
     t.materials = &s.model.materials;
     t.material = &P.material;
-    s.context.transport = &transport_;
+    state_ = &s.buffers.heat;
+    s.hooks.push_back(this);
     thermal_.temperature = &P.temperature;
     s.strain.thermal = &thermal_;
     usf_ = s.options.scheme == UpdateScheme::USF;
+  }
+  // τ = Sᵀ 𝗖 T and T = c⁻¹ τ with the temperature conditions (task 1).
+  void after_momentum(const StepContext& c, ParticleFields&) override {
+    transport_content(*c.ops, transport_, c.time, *state_);
+  }
+  // q, τ⁺ and θ⁺ (tasks 2–3), with the frictional heat of the velocity solve's contact.
+  void after_velocity(const StepContext& c, ParticleFields&) override {
+    transport_update(*c.ops, transport_, c.contact_nodes, c.time, c.dt, *state_);
+  }
+  // The particles' temperatures (task 4).
+  void after_particles(const StepContext& c, const Field&, ParticleFields&) override {
+    transport_particles(*c.ops, transport_, c.dt, *state_);
   }
   void end(StepEnd& e) override {
     // USF updates the stresses (and stores W) before the transport changes the temperatures:
@@ -48,6 +61,7 @@ public:
 private:
   std::unique_ptr<MassSolver> solver_; // the exact transport update's solver
   TransportContext transport_;
+  TransportState* state_ = nullptr; // the transport stages' fields (StepBuffers::heat)
   ThermalStrainState thermal_;
   bool usf_ = false;
 };
