@@ -11,29 +11,37 @@
 
 namespace smpm {
 
+/// CHOLMOD's Cholesky factorisation of a symmetric m̃_FF (the back end of CholmodSolver; defined
+/// in exact.cpp, so that no CHOLMOD header is included here).
+struct CholmodBackend;
+/// UMFPACK's sparse LU factorisation of a general m̃_FF (the back end of UmfpackSolver).
+struct UmfpackBackend;
+
 /// Solves m̃_FF v_F = p_F − m̃_FC v_C for each velocity component, F the active nodes free in
 /// that component and C those whose component is prescribed (v_C = v_b). This is the k → ∞
 /// limit of the incremental BC method of FMPM 2026 §3.1: (I − ΦA)⁻¹ v⁺(1). Velocity
 /// conditions must be along axes. The symbolic factorisation is reused while the pattern of
-/// m̃ and the sets F are unchanged; the numeric one is redone every call.
+/// m̃ and the sets F are unchanged; the numeric one is redone every call. `Backend` factors
+/// m̃_FF: CholmodBackend (CholmodSolver) or UmfpackBackend (UmfpackSolver), the only two
+/// instances (exact.cpp).
 ///
-/// When m̃_FF is not positive definite a NumericalError names the node where CHOLMOD found a
-/// non-positive pivot and the nodes of smallest lumped mass. Two documented departures from
-/// m̃⁻¹ remedy it (ExactOptions; README, "The exact inverse"): with regularization ε ∈ (0, 1] the
-/// solver factors the blended mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 (rows still sum to m, so a
-/// uniform translation keeps its velocity; the k → ∞ limit of FMPM(k) blended with α = 1 − ε, m =
-/// 1); with mass_cutoff τ > 0 nodes lighter than τ max m take their lumped velocity p_i/m_i and
-/// enter the equations of the others as known values (like velocity BCs).
-class CholmodSolver final : public MassSolver {
+/// Two documented departures from m̃⁻¹ remedy a m̃_FF that cannot be factored (ExactOptions;
+/// README, "The exact inverse"): with regularization ε ∈ (0, 1] the solver factors the blended
+/// mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 (rows still sum to m, so a uniform translation keeps
+/// its velocity; the k → ∞ limit of FMPM(k) blended with α = 1 − ε, m = 1); with mass_cutoff
+/// τ > 0 nodes lighter than τ max m take their lumped velocity p_i/m_i and enter the equations of
+/// the others as known values (like velocity BCs).
+template <class Backend>
+class FactoredMassSolver final : public MassSolver {
 public:
   /// Throws OptionError for settings outside their ranges (validate of step_options.hpp).
-  explicit CholmodSolver(const ExactOptions& options = {});
-  ~CholmodSolver() override;
-  CholmodSolver(const CholmodSolver&) = delete;
-  CholmodSolver& operator=(const CholmodSolver&) = delete;
+  explicit FactoredMassSolver(const ExactOptions& options = {});
+  ~FactoredMassSolver() override;
+  FactoredMassSolver(const FactoredMassSolver&) = delete;
+  FactoredMassSolver& operator=(const FactoredMassSolver&) = delete;
 
   /// v = m̃⁻¹ p by the equations above, one set per group of components with the same free
-  /// nodes (v = 0 on inactive nodes). Throws NumericalError when m̃_FF is not positive definite.
+  /// nodes (v = 0 on inactive nodes). Throws NumericalError when m̃_FF cannot be factored.
   void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
              const Field& p, Field& v) override;
   /// m̃_FF x_F = r_F with the factors of the last solve, x = 0 off F (no refactorisation).
@@ -41,11 +49,13 @@ public:
 
   /// The settings the solver was made with.
   const ExactOptions& options() const { return options_; }
-  /// Number of symbolic analyses (cholmod_analyze) so far: one per change of pattern.
+  /// Number of symbolic analyses (cholmod_analyze, umfpack_di_symbolic) so far: one per change
+  /// of pattern.
   long analyses() const;
-  /// Number of numeric factorisations (cholmod_factorize) so far.
+  /// Number of numeric factorisations (cholmod_factorize, umfpack_di_numeric) so far.
   long factorizations() const;
-  /// CHOLMOD's reciprocal condition estimate (min diag L / max diag L)² of the last factor.
+  /// The back end's reciprocal condition estimate of the last factorisation: CHOLMOD's
+  /// (min diag L / max diag L)², UMFPACK's RCOND.
   double last_rcond() const;
 
 private:
@@ -54,39 +64,19 @@ private:
   ExactOptions options_;
 };
 
+/// The exact inverse of the symmetric m̃ (and of the capacity matrix c̃) with a CHOLMOD Cholesky
+/// factor of m̃_FF. When m̃_FF is not positive definite a NumericalError names the node where
+/// CHOLMOD found a non-positive pivot and the nodes of smallest lumped mass. A solver made with
+/// ExactOptions::symmetric false throws UsageError.
+using CholmodSolver = FactoredMassSolver<CholmodBackend>;
 /// The same equations (velocity BCs, regularisation, mass cutoff) for a general, non-symmetric
 /// m̃: m̃_L of the velocity-gradient transfer (Transfer::VelocityGradient), by UMFPACK's sparse
-/// LU of m̃_FF (the symbolic analysis reused while the pattern and F are unchanged). Its rows
-/// still sum to m, so the regularised (1 − ε) m̃_L + ε m keeps uniform motion. Throws
-/// NumericalError naming the lightest nodes when m̃_FF is singular.
-class UmfpackSolver final : public MassSolver {
-public:
-  /// Throws OptionError for settings outside their ranges (validate of step_options.hpp).
-  explicit UmfpackSolver(const ExactOptions& options = {});
-  ~UmfpackSolver() override;
-  UmfpackSolver(const UmfpackSolver&) = delete;
-  UmfpackSolver& operator=(const UmfpackSolver&) = delete;
+/// LU of m̃_FF. Its rows still sum to m, so the regularised (1 − ε) m̃_L + ε m keeps uniform
+/// motion. Throws NumericalError naming the lightest nodes when m̃_FF is singular.
+using UmfpackSolver = FactoredMassSolver<UmfpackBackend>;
 
-  /// v = m̃⁻¹ p by the equations of CholmodSolver with a general m̃ (v = 0 on inactive nodes).
-  void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
-             const Field& p, Field& v) override;
-  /// m̃_FF x_F = r_F with the factors of the last solve, x = 0 off F (no refactorisation).
-  void solve_again(const Field& r, Field& v) override;
-
-  /// The settings the solver was made with.
-  const ExactOptions& options() const { return options_; }
-  /// Number of symbolic analyses (umfpack_di_symbolic) so far: one per change of pattern.
-  long analyses() const;
-  /// Number of numeric factorisations (umfpack_di_numeric) so far.
-  long factorizations() const;
-  /// UMFPACK's reciprocal condition estimate of the last factorisation.
-  double last_rcond() const;
-
-private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-  ExactOptions options_;
-};
+extern template class FactoredMassSolver<CholmodBackend>;
+extern template class FactoredMassSolver<UmfpackBackend>;
 
 /// The known velocities of the exact solve: the prescribed velocity of every (active node, axis)
 /// with a condition of `bc` (FMPM 2026 Table 2's superposition rule, boundary.hpp; directions
