@@ -242,16 +242,7 @@ void LinearizedStep::perform_op(const double* x, double* y) const {
 }
 
 Eigen::MatrixXd LinearizedStep::dense() const {
-  const Index n = rows();
-  Eigen::MatrixXd T(n, n);
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(n), col(n);
-  for (Index j = 0; j < n; ++j) {
-    e[j] = 1;
-    perform_op(e.data(), col.data());
-    T.col(j) = col;
-    e[j] = 0;
-  }
-  return T;
+  return detail::dense_of(*this);
 }
 
 std::string_view to_string(SpectralStatus s) {

@@ -4,6 +4,7 @@
 // spectral_radius for the linearised step (stability.hpp) and the linearised transport step
 // (transport_stability.hpp).
 
+#include "dense_of.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/stability.hpp"
 

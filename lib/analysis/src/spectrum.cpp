@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/spectrum.hpp"
 
+#include "dense_of.hpp"
 #include "sparsempm/errors.hpp"
 #include "sparsempm/stages.hpp"
 
@@ -30,14 +31,7 @@ struct ActiveOp {
 
 double largest(const ActiveOp& op, Index dense_limit) {
   if (op.n <= dense_limit) {
-    Eigen::MatrixXd W(op.n, op.n);
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(op.n), col(op.n);
-    for (Index j = 0; j < op.n; ++j) {
-      e[j] = 1;
-      op.apply(e, col);
-      W.col(j) = col;
-      e[j] = 0;
-    }
+    const Eigen::MatrixXd W = detail::dense_of(op);
     return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (W + W.transpose()),
                                                           Eigen::EigenvaluesOnly)
         .eigenvalues()

@@ -82,16 +82,7 @@ void TransportStep::perform_op(const double* x, double* y) const {
 }
 
 Eigen::MatrixXd TransportStep::dense() const {
-  const Index n = rows();
-  Eigen::MatrixXd T(n, n);
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(n), col(n);
-  for (Index j = 0; j < n; ++j) {
-    e[j] = 1;
-    perform_op(e.data(), col.data());
-    T.col(j) = col;
-    e[j] = 0;
-  }
-  return T;
+  return detail::dense_of(*this);
 }
 
 SpectralRadius spectral_radius(const TransportStep& T, Index dense_limit) {
