@@ -64,7 +64,7 @@ std::vector<int> frame_files_in(const std::string& dir) {
 
 void write_temporary(const std::string& temporary, const std::function<void(hid_t)>& fill,
                      bool in_memory) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  h5::quiet_errors();
   std::error_code ec;
   fs::remove(temporary, ec); // a temporary left by a killed writer
   errno = 0;

@@ -10,6 +10,10 @@ void check(long status, const std::string& what) {
     throw Error("HDF5: " + what);
 }
 
+void quiet_errors() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
 Id create_group(hid_t parent, const std::string& name) {
   const hid_t g = H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   check(g, "cannot create group " + name);

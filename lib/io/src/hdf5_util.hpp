@@ -54,6 +54,16 @@ struct Error : std::runtime_error {
 /// Throws Error "HDF5: <what>" when status < 0.
 void check(long status, const std::string& what);
 
+/// Turns off HDF5's automatic printing of its error stack for the calling thread. The library
+/// reports a failed HDF5 call as its own one-line error (Error, or an InputError naming the
+/// file), and some calls are expected to fail (H5Fis_hdf5 of a file that is not HDF5, H5Fopen of
+/// a file another run holds locked): HDF5's default handler would print its error stack on stderr
+/// for each (14 lines for an H5Fopen of a missing file). Every function that makes the first HDF5
+/// call of an operation (writing a file, opening a run, looking at an existing file) calls this
+/// first. HDF5's thread-safe build keeps the setting per thread (H5E_DEFAULT is the calling
+/// thread's error stack), so it is set on each call, not once per process.
+void quiet_errors();
+
 Id create_group(hid_t parent, const std::string& name);
 Id open_group(hid_t parent, const std::string& name);
 bool exists(hid_t parent, const std::string& path);

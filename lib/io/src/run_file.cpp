@@ -44,7 +44,7 @@ struct ExistingFile {
   size_t frames = 0; // its complete frames
 };
 ExistingFile existing_file(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  h5::quiet_errors();
   if (H5Fis_hdf5(path.c_str()) <= 0)
     return {};
   if (held_by_writer(path))
@@ -72,7 +72,7 @@ std::string file_head(const std::string& path) {
 // Whether a file starts with the HDF5 signature or holds an XDMF sidecar: files of runs, which a
 // table never replaces.
 bool is_hdf5_or_sidecar(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  h5::quiet_errors();
   return H5Fis_hdf5(path.c_str()) > 0 || file_head(path).find("<Xdmf") != std::string::npos;
 }
 

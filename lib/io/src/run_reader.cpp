@@ -14,7 +14,7 @@
 namespace smpm::detail {
 
 hid_t open_for_reading(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  h5::quiet_errors();
   hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   // A run of an earlier version held HDF5's lock on its file while it ran: such a file is read
   // without the lock, and a read that meets a flush in progress is tried again. (The lock's
