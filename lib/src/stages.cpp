@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/stages.hpp"
 
-#include "enum_names.hpp"
 #include "kernels.hpp"
 #include "parallel.hpp"
 
@@ -344,18 +343,6 @@ void velocity_gradient(const ParticleOperators& op, const Field& v, FieldRef L) 
   by_dim(op.dim, [&]<int D>() {
     detail::parallel_for(op.rows, [&](Index q) { particle_gradient<D>(op, q, v, row(L, q)); });
   });
-}
-
-namespace {
-constexpr detail::EnumNames<DeformationUpdate, 2> kDeformations{
-    {{DeformationUpdate::Linear, "linear"}, {DeformationUpdate::Exponential, "exponential"}}};
-} // namespace
-
-std::string_view to_string(DeformationUpdate u) {
-  return detail::enum_name(u, kDeformations);
-}
-DeformationUpdate deformation_update_from_string(std::string_view name) {
-  return detail::parse_enum(name, kDeformations, "deformation update");
 }
 
 namespace {

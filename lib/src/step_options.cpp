@@ -24,7 +24,16 @@ constexpr detail::EnumNames<Transfer, 2> kTransfers{
 constexpr detail::EnumNames<XpicContact, 3> kXpicContacts{{{XpicContact::Increments, "increments"},
                                                            {XpicContact::Term, "term"},
                                                            {XpicContact::None, "none"}}};
+constexpr detail::EnumNames<DeformationUpdate, 2> kDeformations{
+    {{DeformationUpdate::Linear, "linear"}, {DeformationUpdate::Exponential, "exponential"}}};
 } // namespace
+
+std::string_view to_string(DeformationUpdate u) {
+  return detail::enum_name(u, kDeformations);
+}
+DeformationUpdate deformation_update_from_string(std::string_view name) {
+  return detail::parse_enum(name, kDeformations, "deformation update");
+}
 
 std::string_view to_string(XpicContact c) {
   return detail::enum_name(c, kXpicContacts);
