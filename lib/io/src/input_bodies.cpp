@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+// The [[body]] tables: the particles of each region (box, disk, ellipse, image) on the lattice of
+// ppc per cell, with their material, velocities and temperatures. Conditions: input_conditions.cpp.
 #include "expression.hpp"
 #include "png_image.hpp"
 #include "reader.hpp"
@@ -9,15 +11,6 @@
 #include <memory>
 
 namespace smpm::detail {
-
-int axis_index(const Reader& r, const toml::node* n, const std::string& name, int dim) {
-  const auto s = n ? n->value<std::string>() : std::nullopt;
-  const std::string valid = std::string("xyz").substr(0, size_t(dim));
-  if (!s || s->size() != 1 || valid.find((*s)[0]) == std::string::npos)
-    r.fail(n, name,
-           "expected one of the axes of a " + std::to_string(dim) + "D grid (" + valid + ")");
-  return int(valid.find((*s)[0]));
-}
 
 namespace {
 
@@ -99,6 +92,67 @@ void check_particle_count(const Reader& r, const toml::table& t, const std::stri
                std::to_string(long(kMaxParticles)) + " this build accepts");
 }
 
+// The file of an image body: a path relative to the input file's directory; a stored input (a
+// restart) tries its input file's first.
+std::filesystem::path image_path(const Reader& r, const toml::table& t, const std::string& key) {
+  const std::string file = r.string(t, "image", key + "image", std::nullopt);
+  std::filesystem::path path(file);
+  if (!path.is_relative())
+    return path;
+  std::vector<std::filesystem::path> dirs(r.file_directories().begin(), r.file_directories().end());
+  if (t.source().path && !t.source().path->empty())
+    dirs.push_back(std::filesystem::path(*t.source().path).parent_path());
+  std::error_code ec;
+  const auto holds = std::find_if(dirs.begin(), dirs.end(), [&](const auto& dir) {
+    return std::filesystem::exists(dir / path, ec);
+  });
+  if (holds != dirs.end())
+    path = *holds / path;
+  else if (!dirs.empty()) // named in the message
+    path = dirs.back() / path;
+  return path;
+}
+
+// The grey levels of an image body's pixels, levels = [lo, hi] (inclusive; default [0, 127]).
+std::array<double, 3> image_levels(const Reader& r, const toml::table& t, const std::string& key) {
+  std::array<double, 3> levels{0, 127, 0};
+  if (t.get("levels")) {
+    levels = r.vector(t, "levels", key + "levels", 2, true);
+    if (!(levels[0] >= 0 && levels[1] <= 255 && levels[0] <= levels[1]))
+      r.fail(t.get("levels"), key + "levels", "expected [lo, hi] with 0 <= lo <= hi <= 255");
+  }
+  return levels;
+}
+
+// The pixels of the image at `path`; check_size sees its size, from the file's header, before
+// any pixel is read.
+GreyImage read_image(const Reader& r, const toml::table& t, const std::string& key,
+                     const std::filesystem::path& path,
+                     const std::function<void(int width, int height)>& check_size) {
+  if (!std::filesystem::is_regular_file(path))
+    r.fail(t.get("image"), key + "image",
+           "cannot read " + path.string() +
+               (std::filesystem::exists(path) ? ": not a regular file (a directory, FIFO or device)"
+                                              : ": no such file"));
+  try {
+    return read_grey_png(path.string(), check_size);
+  } catch (const InputError&) {
+    throw; // check_size's
+  } catch (const std::runtime_error& e) {
+    r.fail(t.get("image"), key + "image", "cannot read " + path.string() + ": " + e.what());
+  }
+}
+
+// The lattice corners [cell_lo, cell_hi] of the grid cells that [lo, hi] covers.
+void covering_cells(const Grid& g, const std::array<double, 3>& lo, const std::array<double, 3>& hi,
+                    std::array<double, 3>& cell_lo, std::array<double, 3>& cell_hi) {
+  for (int a = 0; a < g.dim(); ++a) {
+    const double h = g.cell_size(a);
+    cell_lo[a] = g.origin(a) + h * std::floor((lo[a] - g.origin(a)) / h);
+    cell_hi[a] = g.origin(a) + h * std::ceil((hi[a] - g.origin(a)) / h);
+  }
+}
+
 // A bitmap body (NairnMPM's BMPRegion): region = "image", image = "file.png" (a path relative
 // to the input file), pixel_size (length units per pixel, square pixels), origin (the image's
 // lower-left corner; default the grid's origin) and levels = [lo, hi] (the grey levels 0–255 of
@@ -111,34 +165,13 @@ Region image_region(const Reader& r, const toml::table& t, const std::string& ke
   const int d = g.dim();
   if (d != 2)
     r.fail(t.get("region"), key + "region", "an image body needs a 2D grid");
-  const std::string file = r.string(t, "image", key + "image", std::nullopt);
-  std::filesystem::path path(file);
-  if (path.is_relative()) {
-    // The input file's directory; a stored input (a restart) tries its input file's first.
-    std::vector<std::filesystem::path> dirs(r.file_directories().begin(),
-                                            r.file_directories().end());
-    if (t.source().path && !t.source().path->empty())
-      dirs.push_back(std::filesystem::path(*t.source().path).parent_path());
-    std::error_code ec;
-    const auto holds = std::find_if(dirs.begin(), dirs.end(), [&](const auto& dir) {
-      return std::filesystem::exists(dir / path, ec);
-    });
-    if (holds != dirs.end())
-      path = *holds / path;
-    else if (!dirs.empty()) // named in the message
-      path = dirs.back() / path;
-  }
+  const std::filesystem::path path = image_path(r, t, key);
   const double s = r.positive(t, "pixel_size", key + "pixel_size", std::nullopt);
   const auto origin =
       r.vector(t, "origin", key + "origin", d, false, {g.origin(0), g.origin(1), 0});
   if (!g.contains(origin))
     r.fail(t.get("origin"), key + "origin", "the image's lower-left corner is outside the grid");
-  std::array<double, 3> levels{0, 127, 0};
-  if (t.get("levels")) {
-    levels = r.vector(t, "levels", key + "levels", 2, true);
-    if (!(levels[0] >= 0 && levels[1] <= 255 && levels[0] <= levels[1]))
-      r.fail(t.get("levels"), key + "levels", "expected [lo, hi] with 0 <= lo <= hi <= 255");
-  }
+  const std::array<double, 3> levels = image_levels(r, t, key);
   const std::array<double, 3> lo{origin[0], origin[1], 0};
   std::array<double, 3> hi{0, 0, 0};
   // Its size, from the file's header, checked before any pixel is read: it must fit in the grid
@@ -161,26 +194,10 @@ Region image_region(const Reader& r, const toml::table& t, const std::string& ke
                  number_text(lo[0]) + ", " + number_text(lo[1]) + ")) reaches (" +
                  number_text(hi[0]) + ", " + number_text(hi[1]) + "), outside the grid");
   };
-  if (!std::filesystem::is_regular_file(path))
-    r.fail(t.get("image"), key + "image",
-           "cannot read " + path.string() +
-               (std::filesystem::exists(path) ? ": not a regular file (a directory, FIFO or device)"
-                                              : ": no such file"));
-  GreyImage image;
-  try {
-    image = read_grey_png(path.string(), check_size);
-  } catch (const InputError&) {
-    throw; // check_size's
-  } catch (const std::runtime_error& e) {
-    r.fail(t.get("image"), key + "image", "cannot read " + path.string() + ": " + e.what());
-  }
+  GreyImage image = read_image(r, t, key, path, check_size);
   // The lattice over the cells the image covers.
   std::array<double, 3> cell_lo{0, 0, 0}, cell_hi{0, 0, 0};
-  for (int a = 0; a < d; ++a) {
-    const double h = g.cell_size(a);
-    cell_lo[a] = g.origin(a) + h * std::floor((lo[a] - g.origin(a)) / h);
-    cell_hi[a] = g.origin(a) + h * std::ceil((hi[a] - g.origin(a)) / h);
-  }
+  covering_cells(g, lo, hi, cell_lo, cell_hi);
   check_particle_count(r, t, key, g, ppc, cell_lo, cell_hi);
   Particles box = make_block(g, cell_lo, cell_hi, ppc, density, id);
   // A point is the body's where it lies in a pixel of its levels.
@@ -364,216 +381,6 @@ Particles read_bodies(const Reader& r, const toml::table& root, const Grid& g,
     all.append(P);
   }
   return all;
-}
-
-namespace {
-// The nodes of a [[bc]]: plane = {axis, at} or box = {min, max}.
-std::vector<Index> bc_nodes(const Reader& r, const toml::table& t, const std::string& key,
-                            const Grid& g) {
-  const int d = g.dim();
-  const toml::table* plane = r.table(t, "plane", key + "plane", false);
-  const toml::table* box = r.table(t, "box", key + "box", false);
-  if (bool(plane) == bool(box))
-    r.fail(plane ? t.get("plane") : t.get("box"), key + "plane/box",
-           "give exactly one of plane = {...} or box = {...}");
-  try {
-    if (plane) {
-      r.check_keys(*plane, "bc.plane");
-      const int axis = axis_index(r, plane->get("axis"), key + "plane.axis", d);
-      return nodes_on_plane(g, axis, r.number(*plane, "at", key + "plane.at", std::nullopt));
-    }
-    r.check_keys(*box, "bc.box");
-    return nodes_in_box(g, r.vector(*box, "min", key + "box.min", d, true),
-                        r.vector(*box, "max", key + "box.max", d, true));
-  } catch (const InputError& e) {
-    if (std::string(e.what()).find(": ") != std::string::npos &&
-        std::string(e.what()).rfind(r.source_, 0) == 0)
-      throw;
-    r.fail(plane ? t.get("plane") : t.get("box"), key + (plane ? "plane" : "box"), e.what());
-  }
-}
-
-// A condition's value: a number or an expression of t, x, y, z (held by value: a copy of the
-// condition, of the Model, evaluates its own parser). A temperature (`absolute`) must be
-// positive.
-VelocityCondition value_condition(const Reader& r, const toml::node* vn, const std::string& name,
-                                  bool absolute) {
-  VelocityCondition c;
-  c.label = name;
-  if (vn->is_string()) {
-    c.value = [expr = Expression(*vn->value<std::string>(), {"t", "x", "y", "z"},
-                                 r.where(vn, name))](double time, const Eigen::Vector3d& x) {
-      const double v[4] = {time, x[0], x[1], x[2]};
-      return expr(v);
-    };
-  } else if (auto num = vn->value<double>(); num && !vn->is_boolean()) {
-    const double value = *num;
-    if (!std::isfinite(value))
-      r.fail(vn, name, "must be finite");
-    if (absolute && !(value > 0))
-      r.fail(vn, name, "must be positive (temperatures are absolute)");
-    c.value = [value](double, const Eigen::Vector3d&) { return value; };
-  } else {
-    r.fail(vn, name, "expected a number or an expression of t, x, y, z");
-  }
-  return c;
-}
-
-// velocity = {direction, value}: a number or an expression of t, x, y, z.
-VelocityCondition velocity_condition(const Reader& r, const toml::table& vel,
-                                     const std::string& key, int d) {
-  r.check_keys(vel, "bc.velocity");
-  const toml::node* vn = r.node(vel, "value", key + "velocity.value", true);
-  VelocityCondition c = value_condition(r, vn, key + "velocity.value", false);
-  c.direction = r.unit_vector(vel, "direction", key + "velocity.direction", d);
-  c.label = key + "velocity";
-  return c;
-}
-
-// A function of t from a number or an expression of t (held by value: copies re-parse).
-std::function<double(double)> time_function(const Reader& r, const toml::table& t,
-                                            const std::string& key, const std::string& name,
-                                            bool required) {
-  const toml::node* n = r.node(t, key, name, required);
-  if (!n)
-    return nullptr;
-  if (n->is_string())
-    return [e = Expression(*n->value<std::string>(), {"t"}, r.where(n, name))](double time) {
-      return e(&time);
-    };
-  if (!(n->is_integer() || n->is_floating_point()))
-    r.fail(n, name, "expected a number or an expression of t");
-  const double value = *n->value<double>();
-  if (!std::isfinite(value))
-    r.fail(n, name, "must be finite");
-  return [value](double) { return value; };
-}
-
-// wall = {normal, position, velocity, gradient, depth | depth_cells}: a moving wall (§3.1).
-MovingWall moving_wall(const Reader& r, const toml::table& w, const std::string& key,
-                       const Grid& g) {
-  r.check_keys(w, "bc.wall");
-  const int d = g.dim();
-  MovingWall wall;
-  wall.normal = r.unit_vector(w, "normal", key + "wall.normal", d);
-  wall.position = time_function(r, w, "position", key + "wall.position", true);
-  wall.velocity = time_function(r, w, "velocity", key + "wall.velocity", false);
-  wall.gradient = time_function(r, w, "gradient", key + "wall.gradient", false);
-  if (w.get("depth") && w.get("depth_cells"))
-    r.fail(w.get("depth_cells"), key + "wall.depth_cells", "give depth or depth_cells, not both");
-  if (w.get("depth_cells"))
-    wall.depth = r.number(w, "depth_cells", key + "wall.depth_cells", 0.0) * g.min_cell_size();
-  else
-    wall.depth = r.number(w, "depth", key + "wall.depth", 0.0);
-  if (!(wall.depth >= 0))
-    r.fail(w.get(w.get("depth_cells") ? "depth_cells" : "depth"), key + "wall.depth",
-           "must be non-negative");
-  wall.label = key + "wall";
-  return wall;
-}
-
-} // namespace
-
-std::vector<RigidMotion> read_rigid(const Reader& r, const toml::table& root,
-                                    const std::vector<Material>& mats, int dim) {
-  std::vector<RigidMotion> motions;
-  const std::vector<const toml::table*> tables = r.tables(root, "material", true);
-  for (size_t k = 0; k < tables.size() && k < mats.size(); ++k) {
-    const toml::table& t = *tables[k];
-    const std::string key = "material." + mats[k].name + ".";
-    if (mats[k].model != MaterialModel::Rigid) {
-      for (const char* only : {"velocity", "free"})
-        if (t.get(only))
-          r.fail(t.get(only), key + only, "only model = \"rigid\" takes it");
-      continue;
-    }
-    const toml::node* vn = r.node(t, "velocity", key + "velocity", true);
-    const toml::array* va = vn->as_array();
-    if (!va || int(va->size()) != dim)
-      r.fail(vn, key + "velocity",
-             "expected " + std::to_string(dim) + " numbers or expressions of t");
-    RigidMotion m;
-    m.material = int(k);
-    m.label = "material." + mats[k].name;
-    m.free = r.boolean(t, "free", key + "free", false);
-    if (m.free)
-      for (int a = 0; a < dim; ++a)
-        if (!(*va)[size_t(a)].is_number())
-          r.fail(vn, key + "velocity",
-                 "a free rigid body takes its initial velocity: " + std::to_string(dim) +
-                     " numbers");
-    for (int a = 0; a < dim; ++a) {
-      toml::table axis; // the component as a key of its own, for time_function's messages
-      axis.insert("v", (*va)[size_t(a)]);
-      m.velocity[size_t(a)] =
-          time_function(r, axis, "v", key + "velocity[" + std::to_string(a) + "]", true);
-    }
-    motions.push_back(std::move(m));
-  }
-  return motions;
-}
-
-ConditionTables read_bcs(const Reader& r, const toml::table& root, const Grid& g) {
-  const int d = g.dim();
-  ConditionTables out;
-  BoundaryConditions& bcs = out.velocity;
-  int index = 0;
-  for (const toml::table* t : r.tables(root, "bc", false)) {
-    r.check_keys(*t, "bc");
-    const std::string key = "bc." + std::to_string(index++) + ".";
-    if (const toml::table* w = r.table(*t, "wall", key + "wall", false)) {
-      for (const char* other : {"plane", "box", "fixed", "velocity", "temperature"})
-        if (t->get(other))
-          r.fail(t->get(other), key + other,
-                 "a wall selects its own nodes and values; give wall = {...} alone");
-      bcs.add_wall(moving_wall(r, *w, key, g));
-      continue;
-    }
-    const std::vector<Index> nodes = bc_nodes(r, *t, key, g);
-    if (const toml::node* tn = t->get("temperature")) {
-      for (const char* other : {"fixed", "velocity"})
-        if (t->get(other))
-          r.fail(t->get(other), key + other,
-                 "a [[bc]] sets a temperature or velocities; give them in separate tables");
-      VelocityCondition c = value_condition(r, tn, key + "temperature", true);
-      c.nodes = nodes;
-      out.temperature.conditions.push_back(std::move(c));
-      continue;
-    }
-    const toml::node* fixed = t->get("fixed");
-    const toml::table* vel = r.table(*t, "velocity", key + "velocity", false);
-    if (bool(fixed) == bool(vel))
-      r.fail(fixed ? fixed : t->get("velocity"), key + "fixed/velocity",
-             "give exactly one of fixed = [...] or velocity = {...}");
-    if (vel) {
-      VelocityCondition c = velocity_condition(r, *vel, key, d);
-      c.nodes = nodes;
-      bcs.conditions.push_back(std::move(c));
-      continue;
-    }
-    const toml::array* fa = fixed->as_array();
-    if (!fa || fa->empty())
-      r.fail(fixed, key + "fixed", "expected an array of axes, e.g. [\"x\"]");
-    for (auto&& e : *fa) {
-      VelocityCondition c;
-      const int a = axis_index(r, &e, key + "fixed", d);
-      c.nodes = nodes;
-      c.direction = Eigen::Vector3d::Unit(a);
-      c.label = key + "fixed";
-      bcs.conditions.push_back(std::move(c));
-    }
-  }
-  try {
-    bcs.check_superposition(); // static conditions; walls are checked every step
-  } catch (const InputError& e) {
-    throw InputError(r.source_ + ": [[bc]]: " + e.what());
-  }
-  try {
-    out.temperature.check_one_condition_per_node();
-  } catch (const InputError& e) {
-    throw InputError(r.source_ + ": [[bc]]: " + e.what());
-  }
-  return out;
 }
 
 } // namespace smpm::detail
