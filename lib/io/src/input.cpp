@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
+// An input file read into a RunConfig: the TOML text parsed with its aliases and overrides, the
+// [grid], [time] and [output] tables, the checks across tables, and the other tables by their
+// readers (input_materials.cpp, input_bodies.cpp, input_conditions.cpp, input_step.cpp,
+// input_contact.cpp, input_loads.cpp).
 #include "sparsempm/input.hpp"
 #include "sparsempm/run_file.hpp"
 
 #include "expression.hpp"
 #include "reader.hpp"
 #include "sparsempm/errors.hpp"
-#include "sparsempm/exact.hpp"
 #include "sparsempm/operators.hpp"
 #include "sparsempm/plasticity.hpp"
 #include "toml_text.hpp"
@@ -17,12 +20,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
 #include <regex>
-#include <set>
 #include <sstream>
 
 namespace smpm {
@@ -73,185 +74,6 @@ Grid read_grid(const Reader& r, const toml::table& root) {
     hh[a] = h[a];
   }
   return Grid(d, o, hh, cells);
-}
-
-// Shock physics (contact 2020 Eqs. 51–52): K, G, γ₀, S₁ and the viscosity [A₁, A₂].
-void read_mie_gruneisen(const Reader& r, const toml::table& t, const std::string& key,
-                        Material& m) {
-  for (const char* k : {"youngs", "poisson"})
-    if (t.get(k))
-      r.fail(t.get(k), key + k, "model = \"mie-gruneisen\" takes bulk and shear instead");
-  m.bulk = r.positive(t, "bulk", key + "bulk", std::nullopt);
-  auto nonnegative = [&](const char* k, std::optional<double> fallback) {
-    const double v = r.number(t, k, key + k, fallback);
-    if (!(v >= 0))
-      r.fail(t.get(k), key + k, "must be non-negative");
-    return v;
-  };
-  m.shear = nonnegative("shear", 0.0);
-  m.gruneisen = nonnegative("gruneisen", std::nullopt);
-  m.hugoniot_slope = nonnegative("s1", std::nullopt);
-  if (t.get("viscosity")) {
-    const auto av = r.vector(t, "viscosity", key + "viscosity", 2, true);
-    if (!(av[0] >= 0 && av[1] >= 0))
-      r.fail(t.get("viscosity"), key + "viscosity", "A1 and A2 must be non-negative");
-    m.av_linear = av[0];
-    m.av_quadratic = av[1];
-  }
-  // E and ν of the same K and G (wave speed, Lamé constants): E = 9KG/(3K + G).
-  m.youngs = 9 * m.bulk * m.shear / (3 * m.bulk + m.shear);
-  m.poisson = (3 * m.bulk - 2 * m.shear) / (2 * (3 * m.bulk + m.shear));
-}
-
-// Heat transport: C_V > 0, κ ≥ 0, T_ref > 0 (each optional here; transport checks that every
-// material has C_V and T_ref).
-void read_heat_properties(const Reader& r, const toml::table& t, const std::string& key,
-                          Material& m) {
-  if (t.get("heat_capacity"))
-    m.heat_capacity = r.positive(t, "heat_capacity", key + "heat_capacity", std::nullopt);
-  m.conductivity = r.number(t, "conductivity", key + "conductivity", 0.0);
-  if (!(m.conductivity >= 0))
-    r.fail(t.get("conductivity"), key + "conductivity", "must be non-negative");
-  if (t.get("reference_temperature"))
-    m.reference_temperature =
-        r.positive(t, "reference_temperature", key + "reference_temperature", std::nullopt);
-  m.thermal_expansion = r.number(t, "thermal_expansion", key + "thermal_expansion", 0.0);
-  if (m.thermal_expansion != 0 && m.model == MaterialModel::MieGruneisen)
-    r.fail(t.get("thermal_expansion"), key + "thermal_expansion",
-           "not for model = \"mie-gruneisen\" (its thermal pressure is gruneisen rho0 U)");
-}
-
-std::vector<Material> read_materials(const Reader& r, const toml::table& root) {
-  std::vector<Material> mats;
-  const std::vector<const toml::table*> tables = r.tables(root, "material", true);
-  if (tables.size() > size_t(kMaxMaterials))
-    r.fail(nullptr, "[[material]]",
-           std::to_string(tables.size()) + " tables, more than the " +
-               std::to_string(kMaxMaterials) + " materials a model takes");
-  std::set<std::string> names;
-  for (const toml::table* t : tables) {
-    r.check_keys(*t, "material");
-    Material m;
-    m.name = r.string(*t, "name", "material.name", std::nullopt);
-    if (!names.insert(m.name).second)
-      r.fail(t->get("name"), "material.name", "duplicate material name");
-    const std::string key = "material." + m.name + ".";
-    const std::string model = r.string(*t, "model", key + "model", "linear");
-    try {
-      m.model = material_model_from_string(model);
-    } catch (const InputError& e) {
-      r.fail(t->get("model"), key + "model", e.what());
-    }
-    m.density = r.positive(*t, "density", key + "density", std::nullopt);
-    read_heat_properties(r, *t, key, m);
-    // J2 plasticity (plasticity.hpp): hyperelastic and mie-gruneisen only.
-    m.yield_stress = r.number(*t, "yield_stress", key + "yield_stress", 0.0);
-    m.hardening = r.number(*t, "hardening", key + "hardening", 0.0);
-    for (const char* k : {"yield_stress", "hardening"})
-      if (t->get(k) && m.model != MaterialModel::Hyperelastic &&
-          m.model != MaterialModel::MieGruneisen)
-        r.fail(t->get(k), key + k, "only the hyperelastic and mie-gruneisen models take it");
-    if (!(m.yield_stress >= 0))
-      r.fail(t->get("yield_stress"), key + "yield_stress", "must be non-negative (0: elastic)");
-    if (!(m.hardening >= 0))
-      r.fail(t->get("hardening"), key + "hardening", "must be non-negative");
-    if (t->get("hardening") && !(m.yield_stress > 0))
-      r.fail(t->get("hardening"), key + "hardening", "needs a yield_stress");
-    if (m.model == MaterialModel::Rigid) { // rigid.hpp: density, and velocity (read_rigid)
-      for (const char* k : {"youngs", "poisson", "bulk", "shear", "gruneisen", "s1", "viscosity"})
-        if (t->get(k))
-          r.fail(t->get(k), key + k, "a rigid material does not take it");
-      mats.push_back(m);
-      continue;
-    }
-    if (m.model == MaterialModel::MieGruneisen) {
-      read_mie_gruneisen(r, *t, key, m);
-      if (!std::isfinite(m.wave_speed(3)))
-        r.fail(t->get("bulk"), key + "bulk",
-               "gives an infinite wave speed (the modulus over the density overflows)");
-      mats.push_back(m);
-      continue;
-    }
-    for (const char* k : {"bulk", "shear", "gruneisen", "s1", "viscosity"})
-      if (t->get(k))
-        r.fail(t->get(k), key + k, "only model = \"mie-gruneisen\" takes it");
-    m.youngs = r.positive(*t, "youngs", key + "youngs", std::nullopt);
-    m.poisson = r.number(*t, "poisson", key + "poisson", 0.0);
-    if (!(m.poisson > -1 && m.poisson < 0.5))
-      r.fail(t->get("poisson"), key + "poisson", "must lie in (-1, 0.5)");
-    if (!std::isfinite(m.wave_speed(1)) || !std::isfinite(m.wave_speed(3)))
-      r.fail(t->get("youngs"), key + "youngs",
-             "gives an infinite wave speed (the modulus over the density overflows)");
-    mats.push_back(m);
-  }
-  return mats;
-}
-
-// An integer key (its range is checked by the library's validate).
-std::optional<int> integer(const Reader& r, const toml::table& t, const char* key,
-                           const std::string& name) {
-  const toml::node* n = t.get(key);
-  if (!n)
-    return std::nullopt;
-  const auto v = n->value<int64_t>();
-  if (!v || !n->is_integer())
-    r.fail(n, name, "expected an integer");
-  return int(
-      std::clamp<int64_t>(*v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
-}
-
-// FMPM(k), XPIC(m), blending, periodic and dynamic FMPM, BC method, exact solver options.
-void read_fmpm(const Reader& r, const toml::table& t, StepOptions& step) {
-  FmpmOptions& f = step.fmpm;
-  if (const auto k = integer(r, t, "order", "step.order"))
-    f.order = *k;
-  else if (step.velocity == VelocityUpdate::FMPM || step.velocity == VelocityUpdate::XPIC)
-    r.fail(nullptr, "step.order", "missing required key (the order k of FMPM or m of XPIC)");
-  f.blend_alpha = r.number(t, "blend_alpha", "step.blend_alpha", 1.0);
-  if (const auto m = integer(r, t, "blend_every", "step.blend_every"))
-    f.blend_every = *m;
-  step.periodic_cx = r.number(t, "periodic_cx", "step.periodic_cx", 0.0);
-  f.metric =
-      r.choice(t, "dynamic_metric", "step.dynamic_metric", "none", &convergence_metric_from_string);
-  f.dynamic_limit = r.number(t, "dynamic_limit", "step.dynamic_limit", 0.0);
-  if (f.metric != ConvergenceMetric::None && !t.get("dynamic_limit"))
-    r.fail(t.get("dynamic_metric"), "step.dynamic_metric",
-           "needs step.dynamic_limit (the convergence limit)");
-  f.bc_method = r.choice(t, "bc_method", "step.bc_method", "incremental", &bc_method_from_string);
-  step.exact.regularization = r.number(t, "exact_regularization", "step.exact_regularization", 0.0);
-  step.exact.mass_cutoff = r.number(t, "exact_mass_cutoff", "step.exact_mass_cutoff", 0.0);
-  // Always set, so that analyses adding an exact row (smpm stability) use these options.
-  step.exact_solver = exact_solver_factory();
-}
-
-// [step]: update scheme, velocity update, shape functions, α, F update and the FMPM family.
-void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
-  static const toml::table empty;
-  const toml::table* table = r.table(root, "step", "[step]", false);
-  const toml::table& t = table ? *table : empty;
-  r.check_keys(t, "step");
-  step.scheme = r.choice(t, "scheme", "step.scheme", "USL", &update_scheme_from_string);
-  step.velocity = r.choice(t, "velocity", "step.velocity", "FLIP", &velocity_update_from_string);
-  step.shape = r.choice(t, "shape", "step.shape", "cpdi", &shape_from_string);
-  // α of Eqs. (8)–(9); unset: default_position_alpha (1 for FLIP, ½ otherwise).
-  if (t.get("position_alpha"))
-    step.position_alpha = r.number(t, "position_alpha", "step.position_alpha", 0.0);
-  step.deformation =
-      r.choice(t, "deformation", "step.deformation", "linear", &deformation_update_from_string);
-  step.xpic_contact =
-      r.choice(t, "xpic_contact", "step.xpic_contact", "increments", &xpic_contact_from_string);
-  step.transfer = r.choice(t, "transfer", "step.transfer", "standard", &transfer_from_string);
-  step.transport.update =
-      r.choice(t, "transport", "step.transport", "off", &transport_update_from_string);
-  if (const auto k = integer(r, t, "transport_order", "step.transport_order"))
-    step.transport.order = *k;
-  read_fmpm(r, t, step);
-  // The library's limits (validate of step_options.hpp), at the line of the key they name.
-  try {
-    validate(step);
-  } catch (const OptionError& e) {
-    r.fail(t.get(e.key()), "step." + e.key(), e.reason());
-  }
 }
 
 // [output]: file (default: the input's name with .h5), frame interval (default end/10), CSR
@@ -395,6 +217,58 @@ void check_supports(const RunConfig& cfg) {
   }
 }
 
+// The text a run file stores as its input: the input with the --set overrides appended as
+// comments.
+std::string stored_text(const std::string& text, const std::vector<std::string>& overrides) {
+  std::string stored = text;
+  if (!overrides.empty()) {
+    stored += "\n# overrides applied with --set:\n";
+    for (const auto& o : overrides)
+      stored += "#   " + o + "\n";
+  }
+  return stored;
+}
+
+// The rigid particles start with their material's velocity at t = 0 (finite, or the input's
+// value is refused).
+void start_rigid_bodies(const Reader& r, const toml::table& root, Model& model) {
+  for (RigidMotion& m : model.rigid) {
+    Eigen::Vector3d v0;
+    try {
+      v0 = m.at(0.0);
+    } catch (const NumericalError& e) { // not finite from the start: the input's value
+      const std::string name = model.materials[size_t(m.material)].name;
+      const auto tables = r.tables(root, "material", true);
+      r.fail(tables[size_t(m.material)]->get("velocity"), "material." + name + ".velocity",
+             std::string(e.what()) + " (a rigid velocity must be finite at t = 0)");
+    }
+    for (Index p = 0; p < model.particles.size(); ++p)
+      if (model.particles.material[p] == m.material)
+        for (int a = 0; a < model.grid.dim(); ++a)
+          model.particles.V(p, a) = v0[a];
+  }
+}
+
+// The grid, the materials with their rigid motions, the bodies (their particle ranges in
+// `bodies`) and the conditions of the input.
+void read_model(const Reader& r, const toml::table& root, Model& model,
+                std::vector<detail::BodyRange>& bodies) {
+  Grid grid = read_grid(r, root);
+  model = Model(grid);
+  model.materials = detail::read_materials(r, root);
+  model.rigid = detail::read_rigid(r, root, model.materials, grid.dim());
+  model.particles = read_bodies(r, root, grid, model.materials, &bodies);
+  start_rigid_bodies(r, root, model);
+  const Particles& P = model.particles;
+  for (Index p = 0; p < P.size(); ++p)
+    if (!std::isfinite(P.mass[p]))
+      r.fail(nullptr, "material." + model.materials[size_t(P.material[p])].name + ".density",
+             "gives particle " + std::to_string(p) + " an infinite mass");
+  ConditionTables conditions = read_bcs(r, root, grid);
+  model.bcs = std::move(conditions.velocity);
+  model.temperature_bcs = std::move(conditions.temperature);
+}
+
 } // namespace
 
 ConditionTables read_bc_tables(const std::string& text, const std::string& source,
@@ -426,45 +300,14 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
 
   cfg.source = source;
   cfg.overrides = overrides;
-  cfg.text = text;
-  if (!overrides.empty()) {
-    cfg.text += "\n# overrides applied with --set:\n";
-    for (const auto& o : overrides)
-      cfg.text += "#   " + o + "\n";
-  }
-  Grid grid = read_grid(r, root);
-  cfg.model = Model(grid);
-  cfg.model.materials = read_materials(r, root);
-  cfg.model.rigid = detail::read_rigid(r, root, cfg.model.materials, grid.dim());
+  cfg.text = stored_text(text, overrides);
   std::vector<detail::BodyRange> bodies;
-  cfg.model.particles = read_bodies(r, root, grid, cfg.model.materials, &bodies);
-  for (RigidMotion& m : cfg.model.rigid) { // the rigid particles start with the body's velocity
-    Eigen::Vector3d v0;
-    try {
-      v0 = m.at(0.0);
-    } catch (const NumericalError& e) { // not finite from the start: the input's value
-      const std::string name = cfg.model.materials[size_t(m.material)].name;
-      const auto tables = r.tables(root, "material", true);
-      r.fail(tables[size_t(m.material)]->get("velocity"), "material." + name + ".velocity",
-             std::string(e.what()) + " (a rigid velocity must be finite at t = 0)");
-    }
-    for (Index p = 0; p < cfg.model.particles.size(); ++p)
-      if (cfg.model.particles.material[p] == m.material)
-        for (int a = 0; a < grid.dim(); ++a)
-          cfg.model.particles.V(p, a) = v0[a];
-  }
-  const Particles& P = cfg.model.particles;
-  for (Index p = 0; p < P.size(); ++p)
-    if (!std::isfinite(P.mass[p]))
-      r.fail(nullptr, "material." + cfg.model.materials[size_t(P.material[p])].name + ".density",
-             "gives particle " + std::to_string(p) + " an infinite mass");
-  ConditionTables conditions = read_bcs(r, root, grid);
-  cfg.model.bcs = std::move(conditions.velocity);
-  cfg.model.temperature_bcs = std::move(conditions.temperature);
+  read_model(r, root, cfg.model, bodies);
+  const int dim = cfg.model.grid.dim();
 
   cfg.time = read_time(r, root);
-  read_step(r, root, cfg.step);
-  cfg.model.contact = detail::read_contact(r, root, cfg.model.materials, grid.dim());
+  detail::read_step(r, root, cfg.step);
+  cfg.model.contact = detail::read_contact(r, root, cfg.model.materials, dim);
   try {
     check_rigid_motions(cfg.model.rigid, cfg.model.contact.material_field, cfg.step);
   } catch (const InputError& e) { // "<key>: <what is wrong>", the key a material's
@@ -474,15 +317,17 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   }
   if (const toml::table* loads = r.table(root, "loads", "[loads]", false)) {
     r.check_keys(*loads, "loads");
-    cfg.model.gravity = r.vector(*loads, "gravity", "loads.gravity", grid.dim(), false);
+    cfg.model.gravity = r.vector(*loads, "gravity", "loads.gravity", dim, false);
     cfg.model.loads = detail::read_loads(r, *loads, cfg.model.particles, bodies);
   }
   cfg.output = read_output(r, root, source, cfg.time.end);
   check_heat(r, root, cfg);
   if (uses_plasticity(cfg.model.materials)) // the plastic state at the start (every frame has it)
     initial_plastic_state(cfg.model.particles);
-  if (cfg.step.transfer == Transfer::VelocityGradient) // the state of the transfer: L_p = 0 at
-    cfg.model.particles.gradient.setZero(P.size(), P.dim * P.dim); // the start (every frame has it)
+  if (cfg.step.transfer == Transfer::VelocityGradient) { // the state of the transfer: L_p = 0
+    Particles& P = cfg.model.particles;                  // at the start (every frame has it)
+    P.gradient.setZero(P.size(), P.dim * P.dim);
+  }
   check_supports(cfg);
   return cfg;
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The TOML reader's helper class and the readers of bodies and boundary conditions
+// The TOML reader's helper class and the readers of the input's tables that its sources share
 // (internal to sparsempm_io).
 
 #include "sparsempm/errors.hpp"
@@ -226,6 +226,10 @@ public:
   std::vector<std::string> file_directories_;
 };
 
+/// The [[material]] tables, in their order (input_materials.cpp).
+std::vector<Material> read_materials(const Reader& r, const toml::table& root);
+/// The [step] table into `step`, checked against the library's limits (input_step.cpp).
+void read_step(const Reader& r, const toml::table& root, StepOptions& step);
 int axis_index(const Reader& r, const toml::node* n, const std::string& name, int dim);
 /// The particles [first, first + count) of one [[body]], by its name (body.K.name; "" when
 /// it has none).
