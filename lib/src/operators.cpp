@@ -26,26 +26,27 @@ NodeRange node_range_from_string(std::string_view name) {
   return detail::parse_enum(name, kNodeRanges, "node range");
 }
 
-void build_column_index(const SparseRowMatrix& S, ColumnIndex& c, bool lists) {
-  const Index N = S.rows(), n = S.cols(), nnz = S.nonZeros();
+namespace {
+
+// The chunks of consecutive particles of the column index's counting sort, one per thread:
+// chunk t holds the rows [begin(t), begin(t + 1)) and counts into its n entries of the work.
+struct Chunks {
+  Index N, n, count;
+  Index begin(Index t) const { return t * N / count; }
+  int* counts(ColumnIndex& c, Index t) const { return c.work.data() + t * n; }
+};
+
+// Each chunk counts its entries of each node, and stores the span of each of its rows.
+void count_entries(const SparseRowMatrix& S, const Chunks& chunks, ColumnIndex& c) {
   const int* outer = S.outerIndexPtr();
   const int* inner = S.innerIndexPtr();
-  // A counting sort by node over chunks of consecutive particles, one chunk per thread: chunk t
-  // counts its entries of each node, writes after those of the chunks before it, and walks its
-  // particles in ascending order. Each column lists its particles in ascending order whatever
-  // the chunks, so the index does not depend on the number of threads.
-  const Index chunks = std::max<Index>(1, std::min<Index>(threads(), N));
-  auto chunk_begin = [&](Index t) { return t * N / chunks; };
-  c.work.resize(size_t(chunks * n));
-  auto count = [&](Index t) { return c.work.data() + t * n; };
-  c.span.resize(size_t(2 * N));
   detail::parallel_for(
-      chunks,
+      chunks.count,
       [&](Index t) {
-        int* ct = count(t);
-        std::fill(ct, ct + n, 0); // zeroed by the thread that counts into it
+        int* ct = chunks.counts(c, t);
+        std::fill(ct, ct + chunks.n, 0); // zeroed by the thread that counts into it
         int* span = c.span.data();
-        for (Index p = chunk_begin(t); p < chunk_begin(t + 1); ++p) {
+        for (Index p = chunks.begin(t); p < chunks.begin(t + 1); ++p) {
           const int b = outer[p], e = outer[p + 1];
           // A row's nodes ascend. Stored only when changed: every thread of a node sum reads
           // every span, and a store to a line another core holds must first take it back.
@@ -59,50 +60,77 @@ void build_column_index(const SparseRowMatrix& S, ColumnIndex& c, bool lists) {
             ++ct[inner[k]];
         }
       },
-      N);
-  // Column offsets, an exclusive prefix sum over the nodes in parallel blocks (parallel.hpp);
-  // each chunk's count becomes its start.
+      chunks.N);
+}
+
+// Column offsets, an exclusive prefix sum over the nodes in parallel blocks (parallel.hpp);
+// each chunk's count becomes its start.
+void column_offsets(const Chunks& chunks, ColumnIndex& c) {
+  const Index n = chunks.n;
   c.outer.resize(size_t(n + 1));
   std::vector<Index> starts;
   detail::prefix_block_starts(n, starts, [&](Index i) {
     Index k = 0;
-    for (Index t = 0; t < chunks; ++t)
-      k += count(t)[i];
+    for (Index t = 0; t < chunks.count; ++t)
+      k += chunks.counts(c, t)[i];
     return k;
   });
   detail::for_prefix_blocks(n, starts, [&](Index begin, Index end, Index start) {
     int sum = int(start);
     for (Index i = begin; i < end; ++i) {
       c.outer[size_t(i)] = sum;
-      for (Index t = 0; t < chunks; ++t) {
-        const int k = count(t)[i];
-        count(t)[i] = sum;
+      for (Index t = 0; t < chunks.count; ++t) {
+        const int k = chunks.counts(c, t)[i];
+        chunks.counts(c, t)[i] = sum;
         sum += k;
       }
     }
   });
   c.outer[size_t(n)] = int(starts.back());
-  c.nonzeros = nnz;
-  c.lists = lists;
-  if (!lists) {
-    c.entry.clear();
-    c.row.clear();
-    return;
-  }
-  c.entry.resize(size_t(nnz));
-  c.row.resize(size_t(nnz));
+}
+
+// The entry and the particle of each position of the columns: each chunk walks its particles in
+// ascending order from its starts.
+void fill_columns(const SparseRowMatrix& S, const Chunks& chunks, ColumnIndex& c) {
+  const int* outer = S.outerIndexPtr();
+  const int* inner = S.innerIndexPtr();
+  c.entry.resize(size_t(S.nonZeros()));
+  c.row.resize(size_t(S.nonZeros()));
   detail::parallel_for(
-      chunks,
+      chunks.count,
       [&](Index t) {
-        int* next = count(t);
-        for (Index p = chunk_begin(t); p < chunk_begin(t + 1); ++p)
+        int* next = chunks.counts(c, t);
+        for (Index p = chunks.begin(t); p < chunks.begin(t + 1); ++p)
           for (int k = outer[p]; k < outer[p + 1]; ++k) {
             const int at = next[inner[k]]++;
             c.entry[size_t(at)] = k;
             c.row[size_t(at)] = int(p);
           }
       },
-      N);
+      chunks.N);
+}
+
+} // namespace
+
+void build_column_index(const SparseRowMatrix& S, ColumnIndex& c, bool lists) {
+  const Index N = S.rows(), n = S.cols();
+  // A counting sort by node over chunks of consecutive particles, one chunk per thread: chunk t
+  // counts its entries of each node, writes after those of the chunks before it, and walks its
+  // particles in ascending order. Each column lists its particles in ascending order whatever
+  // the chunks, so the index does not depend on the number of threads.
+  const Chunks chunks{N, n, std::max<Index>(1, std::min<Index>(threads(), N))};
+  c.work.resize(size_t(chunks.count * n));
+  c.span.resize(size_t(2 * N));
+  count_entries(S, chunks, c);
+  column_offsets(chunks, c);
+  c.nonzeros = S.nonZeros();
+  c.lists = lists;
+  if (!lists) {
+    c.entry.clear();
+    c.row.clear();
+    return;
+  }
+  fill_columns(S, chunks, c);
 }
 
 namespace {
