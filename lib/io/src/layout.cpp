@@ -36,101 +36,140 @@ std::vector<LayoutEntry> column_entries() {
   }
   return entries;
 }
+
+// The file's attributes: its input, its version and the status of the run that writes it.
+std::vector<LayoutEntry> file_entries() {
+  return {
+      {"/@input", "text", "the input file with the --set overrides appended", ""},
+      {"/@overrides", "strings", "the --set overrides", ""},
+      {"/@source", "text", "the input file's name", ""},
+      {"/@version", "text", "the sparsempm version that wrote the file", ""},
+      {"/@status", "text", "running | completed | failed: ... | interrupted: ...", ""},
+      {"/@frame_files", "text", "the directory of the frame files, beside the index",
+       "in progress"},
+      {"/@last_frame", "scalar", "the last frame linked here (-1: none)", "in progress"},
+      {"/@frame_rows", "scalar", "the series rows up to that frame (later: a stopped run's)",
+       "in progress"},
+  };
+}
+
+// A frame's particles, with the columns of the parts of the step after their material ids.
+std::vector<LayoutEntry> particle_entries() {
+  std::vector<LayoutEntry> entries = {
+      {"/particles/<frame>/X", "N x d", "positions", ""},
+      {"/particles/<frame>/V", "N x d", "velocities", ""},
+      {"/particles/<frame>/stress", "N x d^2", "Cauchy stresses (row-major)", ""},
+      {"/particles/<frame>/F", "N x d^2", "deformation gradients (row-major)", ""},
+      {"/particles/<frame>/mass", "N", "masses", ""},
+      {"/particles/<frame>/volume", "N", "current volumes J V0", ""},
+      {"/particles/<frame>/volume0", "N", "initial volumes", ""},
+      {"/particles/<frame>/half_length", "N x d", "initial half-lengths r0 of the domains", ""},
+      {"/particles/<frame>/material", "N", "material ids (index of [[material]])", ""},
+  };
+  const std::vector<LayoutEntry> columns = column_entries();
+  entries.insert(entries.end(), columns.begin(), columns.end());
+  const std::vector<LayoutEntry> rest = {
+      {"/particles/<frame>/J", "N", "det F, the volume ratio V/V0", ""},
+      {"/particles/<frame>/xyz", "N x 3", "positions with y = z = 0, for ParaView", "1D"},
+      {"/particles/<frame>@time", "scalar", "the frame's time t", ""},
+      {"/particles/<frame>@step", "scalar", "the frame's step", ""},
+      {"/particles/<frame>@complete", "scalar", "written last: the frame is whole", ""},
+  };
+  entries.insert(entries.end(), rest.begin(), rest.end());
+  return entries;
+}
+
+// A frame's grid: the nodes with mass and their fields, and the contact nodes.
+std::vector<LayoutEntry> grid_entries() {
+  return {
+      {"/grid/<frame>/nodes", "na", "grid index of each node with mass (a n_g + i: field a)", ""},
+      {"/grid/<frame>/m", "na", "lumped masses m = S^T M", ""},
+      {"/grid/<frame>/p", "na x d", "momenta p = S^T M V (before contact)", ""},
+      {"/grid/<frame>/v", "na x d", "velocities m^-1 p", ""},
+      {"/grid/<frame>/X", "na x d", "positions of the nodes", ""},
+      {"/grid/<frame>/xyz", "na x 3", "positions with y = z = 0, for ParaView", "1D"},
+      {"/grid/<frame>/field", "na", "velocity field a of each node", "contact"},
+      {"/grid/<frame>@grid_nodes", "scalar", "n_g, the grid's nodes", ""},
+      {"/grid/<frame>@velocity_fields", "scalar", "n_f, the velocity fields", ""},
+      {"/grid/<frame>/contact_nodes", "nc", "grid index of each contact node", "contact"},
+      {"/grid/<frame>/contact_fields", "2 nc", "its two fields (-1, -1: three or more)", "contact"},
+      {"/grid/<frame>/contact_normal", "nc x d", "the normal from the first field", "contact"},
+      {"/grid/<frame>/contact_separation", "nc",
+       "the separation of the detection (-1: none, at a node of 3+ fields or of a rigid "
+       "partner under 30% of its volume)",
+       "contact"},
+      {"/grid/<frame>/contact_approaching", "nc", "1 where the fields approach", "contact"},
+      {"/grid/<frame>/contact_X", "nc x d", "positions of the contact nodes", "contact"},
+      {"/grid/<frame>/contact_xyz", "nc x 3", "their positions with y = z = 0", "1D contact"},
+  };
+}
+
+// The sidecars' vertex cells and the operators of a frame (output.matrices).
+std::vector<LayoutEntry> matrix_entries() {
+  return {
+      {"/vertices/<n>", "n x 1", "0 ... n - 1: the sidecars' vertex cells of n points", ""},
+      {"/matrices/<frame>/<matrix>/data", "nnz",
+       "CSR values of S, G0, G1, G2, consistent_mass (and with heat transport "
+       "consistent_capacity, conductivity)",
+       "output.matrices"},
+      {"/matrices/<frame>/<matrix>/indices", "nnz", "CSR column indices", "output.matrices"},
+      {"/matrices/<frame>/<matrix>/indptr", "rows + 1", "CSR row offsets", "output.matrices"},
+      {"/matrices/<frame>/<matrix>/shape", "2", "rows and columns", "output.matrices"},
+  };
+}
+
+// The series: one row per step.
+std::vector<LayoutEntry> series_entries() {
+  return {
+      {"/series/step", "steps", "step number, one row per step (row 0: t = 0)", ""},
+      {"/series/t", "steps", "time", ""},
+      {"/series/kinetic", "steps", "kinetic energy", ""},
+      {"/series/strain", "steps", "strain (internal) energy", ""},
+      {"/series/total", "steps", "kinetic + strain", ""},
+      {"/series/momentum", "steps x d", "total momentum", ""},
+      {"/series/velocity_change", "steps", "RMS of V(t) - V(0) (FMPM 2026 §3.1)", ""},
+      {"/series/velocity_change_sum", "steps", "its running sum", ""},
+      {"/series/friction", "steps", "work of Coulomb friction since t = 0", ""},
+      {"/series/viscous", "steps", "work of the artificial viscosity since t = 0", ""},
+      {"/series/fmpm_order", "steps", "order the FMPM loop reached (0: none)", ""},
+      {"/series/plastic", "steps", "plastic work since t = 0 (J2 plasticity)", ""},
+      {"/series/reaction", "steps x n_bc",
+       "force of each velocity condition along its direction (its reaction)", "[[bc]]"},
+      {"/series@reaction_conditions", "n_bc", "the conditions of the reaction columns", "[[bc]]"},
+      {"/series/material_mass", "steps x n_mat", "mass of each material", ""},
+      {"/series/material_momentum", "steps x n_mat d", "momentum of each material", ""},
+      {"/series/material_centre", "steps x n_mat d", "centre of mass of each material", ""},
+      {"/series/temperature_min", "steps", "lowest particle temperature", "step.transport"},
+      {"/series/temperature_max", "steps", "highest particle temperature", "step.transport"},
+      {"/series/temperature_mean", "steps", "capacity-weighted mean temperature", "step.transport"},
+      {"/series/heat", "steps", "thermal energy Q = sum M C_V (T - T_ref)", "step.transport"},
+      {"/series/internal", "steps", "internal energy U = W + Q (+ T c of thermal expansion)",
+       "step.transport"},
+      {"/series/entropy", "steps", "entropy S = sum M C_V ln(T / T_ref) (+ c)", "step.transport"},
+      {"/series/helmholtz", "steps", "free energy A = U - sum T S", "step.transport"},
+  };
+}
+
+// The state a restart takes from its frame.
+std::vector<LayoutEntry> state_entries() {
+  return {
+      {"/state/<frame>@courant_budget", "scalar", "periodic FMPM's budget (restart)", ""},
+      {"/state/<frame>@friction_work", "scalar", "friction work (restart)", ""},
+      {"/state/<frame>@viscous_work", "scalar", "viscous work (restart)", ""},
+      {"/state/<frame>@plastic_work", "scalar", "plastic work (restart)", ""},
+      {"/state/<frame>@velocity_change_sum", "scalar", "velocity-change sum (restart)", ""},
+  };
+}
 } // namespace
 
 const std::vector<LayoutEntry>& run_file_layout() {
   static const std::vector<LayoutEntry> layout = [] {
-    std::vector<LayoutEntry> entries = {
-        {"/@input", "text", "the input file with the --set overrides appended", ""},
-        {"/@overrides", "strings", "the --set overrides", ""},
-        {"/@source", "text", "the input file's name", ""},
-        {"/@version", "text", "the sparsempm version that wrote the file", ""},
-        {"/@status", "text", "running | completed | failed: ... | interrupted: ...", ""},
-        {"/@frame_files", "text", "the directory of the frame files, beside the index",
-         "in progress"},
-        {"/@last_frame", "scalar", "the last frame linked here (-1: none)", "in progress"},
-        {"/@frame_rows", "scalar", "the series rows up to that frame (later: a stopped run's)",
-         "in progress"},
-        {"/particles/<frame>/X", "N x d", "positions", ""},
-        {"/particles/<frame>/V", "N x d", "velocities", ""},
-        {"/particles/<frame>/stress", "N x d^2", "Cauchy stresses (row-major)", ""},
-        {"/particles/<frame>/F", "N x d^2", "deformation gradients (row-major)", ""},
-        {"/particles/<frame>/mass", "N", "masses", ""},
-        {"/particles/<frame>/volume", "N", "current volumes J V0", ""},
-        {"/particles/<frame>/volume0", "N", "initial volumes", ""},
-        {"/particles/<frame>/half_length", "N x d", "initial half-lengths r0 of the domains", ""},
-        {"/particles/<frame>/material", "N", "material ids (index of [[material]])", ""},
-        {"/particles/<frame>/J", "N", "det F, the volume ratio V/V0", ""},
-        {"/particles/<frame>/xyz", "N x 3", "positions with y = z = 0, for ParaView", "1D"},
-        {"/particles/<frame>@time", "scalar", "the frame's time t", ""},
-        {"/particles/<frame>@step", "scalar", "the frame's step", ""},
-        {"/particles/<frame>@complete", "scalar", "written last: the frame is whole", ""},
-        {"/grid/<frame>/nodes", "na", "grid index of each node with mass (a n_g + i: field a)", ""},
-        {"/grid/<frame>/m", "na", "lumped masses m = S^T M", ""},
-        {"/grid/<frame>/p", "na x d", "momenta p = S^T M V (before contact)", ""},
-        {"/grid/<frame>/v", "na x d", "velocities m^-1 p", ""},
-        {"/grid/<frame>/X", "na x d", "positions of the nodes", ""},
-        {"/grid/<frame>/xyz", "na x 3", "positions with y = z = 0, for ParaView", "1D"},
-        {"/grid/<frame>/field", "na", "velocity field a of each node", "contact"},
-        {"/grid/<frame>@grid_nodes", "scalar", "n_g, the grid's nodes", ""},
-        {"/grid/<frame>@velocity_fields", "scalar", "n_f, the velocity fields", ""},
-        {"/grid/<frame>/contact_nodes", "nc", "grid index of each contact node", "contact"},
-        {"/grid/<frame>/contact_fields", "2 nc", "its two fields (-1, -1: three or more)",
-         "contact"},
-        {"/grid/<frame>/contact_normal", "nc x d", "the normal from the first field", "contact"},
-        {"/grid/<frame>/contact_separation", "nc",
-         "the separation of the detection (-1: none, at a node of 3+ fields or of a rigid "
-         "partner under 30% of its volume)",
-         "contact"},
-        {"/grid/<frame>/contact_approaching", "nc", "1 where the fields approach", "contact"},
-        {"/grid/<frame>/contact_X", "nc x d", "positions of the contact nodes", "contact"},
-        {"/grid/<frame>/contact_xyz", "nc x 3", "their positions with y = z = 0", "1D contact"},
-        {"/vertices/<n>", "n x 1", "0 ... n - 1: the sidecars' vertex cells of n points", ""},
-        {"/matrices/<frame>/<matrix>/data", "nnz",
-         "CSR values of S, G0, G1, G2, consistent_mass (and with heat transport "
-         "consistent_capacity, conductivity)",
-         "output.matrices"},
-        {"/matrices/<frame>/<matrix>/indices", "nnz", "CSR column indices", "output.matrices"},
-        {"/matrices/<frame>/<matrix>/indptr", "rows + 1", "CSR row offsets", "output.matrices"},
-        {"/matrices/<frame>/<matrix>/shape", "2", "rows and columns", "output.matrices"},
-        {"/series/step", "steps", "step number, one row per step (row 0: t = 0)", ""},
-        {"/series/t", "steps", "time", ""},
-        {"/series/kinetic", "steps", "kinetic energy", ""},
-        {"/series/strain", "steps", "strain (internal) energy", ""},
-        {"/series/total", "steps", "kinetic + strain", ""},
-        {"/series/momentum", "steps x d", "total momentum", ""},
-        {"/series/velocity_change", "steps", "RMS of V(t) - V(0) (FMPM 2026 §3.1)", ""},
-        {"/series/velocity_change_sum", "steps", "its running sum", ""},
-        {"/series/friction", "steps", "work of Coulomb friction since t = 0", ""},
-        {"/series/viscous", "steps", "work of the artificial viscosity since t = 0", ""},
-        {"/series/fmpm_order", "steps", "order the FMPM loop reached (0: none)", ""},
-        {"/series/plastic", "steps", "plastic work since t = 0 (J2 plasticity)", ""},
-        {"/series/reaction", "steps x n_bc",
-         "force of each velocity condition along its direction (its reaction)", "[[bc]]"},
-        {"/series@reaction_conditions", "n_bc", "the conditions of the reaction columns", "[[bc]]"},
-        {"/series/material_mass", "steps x n_mat", "mass of each material", ""},
-        {"/series/material_momentum", "steps x n_mat d", "momentum of each material", ""},
-        {"/series/material_centre", "steps x n_mat d", "centre of mass of each material", ""},
-        {"/series/temperature_min", "steps", "lowest particle temperature", "step.transport"},
-        {"/series/temperature_max", "steps", "highest particle temperature", "step.transport"},
-        {"/series/temperature_mean", "steps", "capacity-weighted mean temperature",
-         "step.transport"},
-        {"/series/heat", "steps", "thermal energy Q = sum M C_V (T - T_ref)", "step.transport"},
-        {"/series/internal", "steps", "internal energy U = W + Q (+ T c of thermal expansion)",
-         "step.transport"},
-        {"/series/entropy", "steps", "entropy S = sum M C_V ln(T / T_ref) (+ c)", "step.transport"},
-        {"/series/helmholtz", "steps", "free energy A = U - sum T S", "step.transport"},
-        {"/state/<frame>@courant_budget", "scalar", "periodic FMPM's budget (restart)", ""},
-        {"/state/<frame>@friction_work", "scalar", "friction work (restart)", ""},
-        {"/state/<frame>@viscous_work", "scalar", "viscous work (restart)", ""},
-        {"/state/<frame>@plastic_work", "scalar", "plastic work (restart)", ""},
-        {"/state/<frame>@velocity_change_sum", "scalar", "velocity-change sum (restart)", ""},
-    };
-    const auto after = std::find_if(entries.begin(), entries.end(), [](const LayoutEntry& e) {
-      return std::string_view(e.path) == "/particles/<frame>/material";
-    });
-    const std::vector<LayoutEntry> columns = column_entries();
-    entries.insert(after + 1, columns.begin(), columns.end());
+    std::vector<LayoutEntry> entries;
+    for (auto group : {file_entries, particle_entries, grid_entries, matrix_entries, series_entries,
+                       state_entries}) {
+      const std::vector<LayoutEntry> part = group();
+      entries.insert(entries.end(), part.begin(), part.end());
+    }
     return entries;
   }();
   return layout;
