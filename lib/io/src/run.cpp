@@ -190,9 +190,9 @@ private:
   double change_sum_ = 0;
 };
 
-} // namespace
-
-RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progress) {
+// The run file a run writes: -o, else a restart's final file, else the input's output.file. A
+// restart never writes the run file it continues.
+std::string run_target(const RunConfig& cfg, const RunOptions& options) {
   const bool restart = !options.restart_from.empty();
   const std::string target = !options.output.empty() ? options.output
                              : restart               ? final_path(options.restart_from)
@@ -205,31 +205,29 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
                        ": is the run file the restart continues, which a restart "
                        "never writes; give another -o");
   }
-  // The option that named the path: -o, or the input's output.file.
-  const std::string option = options.output.empty() && !restart ? "output.file" : "-o";
-  check_run_output(target, restart ? std::string() : cfg.source, option, options.restart_from,
-                   options.discard_partial);
-  if (!restart) { // a run that would not end (a Δt far too small) is refused before any write
-    try {
-      check_step_count(cfg.model,
-                       {.end = cfg.time.end,
-                        .courant = cfg.time.courant,
-                        .fourier = cfg.time.fourier,
-                        .max_steps = cfg.time.max_steps,
-                        .stop_every = cfg.output.every,
-                        .land_on_stops = cfg.time.land_on_frames},
-                       cfg.step.transport.update != TransportUpdate::Off);
-    } catch (const InputError& e) {
-      throw InputError(cfg.source + ": " + e.what());
-    }
+  return target;
+}
+
+// A run that would not end (a Δt far too small) is refused before any write.
+void check_steps(const RunConfig& cfg) {
+  try {
+    check_step_count(cfg.model,
+                     {.end = cfg.time.end,
+                      .courant = cfg.time.courant,
+                      .fourier = cfg.time.fourier,
+                      .max_steps = cfg.time.max_steps,
+                      .stop_every = cfg.output.every,
+                      .land_on_stops = cfg.time.land_on_frames},
+                     cfg.step.transport.update != TransportUpdate::Off);
+  } catch (const InputError& e) {
+    throw InputError(cfg.source + ": " + e.what());
   }
-  const OutputLock lock(target); // a second run on this path stops here, before any write
-  // Again under the lock: a run of this path that stopped between the check and the lock left
-  // a restart point the first check could not see.
-  check_run_output(target, restart ? std::string() : cfg.source, option, options.restart_from,
-                   options.discard_partial, true);
-  const std::string partial = partial_path(target);
-  Run r(cfg, options, partial);
+}
+
+// The time loop of the run to its end, and its report; a loop that stops leaves its reason as
+// the run file's status.
+RunReport advance_run(Run& r, RunConfig& cfg, const ProgressFn& progress,
+                      const std::string& partial) {
   RunReport report;
   try {
     const AdvanceReport a = r.advance_to_end(progress);
@@ -260,6 +258,28 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
     r.out().set_status(std::string("failed: ") + e.what());
     throw;
   }
+  return report;
+}
+
+} // namespace
+
+RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progress) {
+  const bool restart = !options.restart_from.empty();
+  const std::string target = run_target(cfg, options);
+  // The option that named the path: -o, or the input's output.file.
+  const std::string option = options.output.empty() && !restart ? "output.file" : "-o";
+  check_run_output(target, restart ? std::string() : cfg.source, option, options.restart_from,
+                   options.discard_partial);
+  if (!restart)
+    check_steps(cfg);
+  const OutputLock lock(target); // a second run on this path stops here, before any write
+  // Again under the lock: a run of this path that stopped between the check and the lock left
+  // a restart point the first check could not see.
+  check_run_output(target, restart ? std::string() : cfg.source, option, options.restart_from,
+                   options.discard_partial, true);
+  const std::string partial = partial_path(target);
+  Run r(cfg, options, partial);
+  RunReport report = advance_run(r, cfg, progress, partial);
   try {
     r.out().finish(target);
   } catch (const std::exception& e) {
