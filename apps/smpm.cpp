@@ -73,6 +73,25 @@ void print_timings(const smpm::PhaseTimes& t, double wall, long steps) {
               steps > 0 ? 1e3 * wall / steps : 0.0);
 }
 
+// The line a completed run prints: its steps, its energy, its frames and where they are.
+void print_summary(const smpm::RunReport& r) {
+  // A change relative to a zero start has no meaning: then none is printed.
+  char change[32] = "";
+  if (r.energy_start != 0)
+    std::snprintf(change, sizeof change, " (%+.4f%%)",
+                  100 * (r.energy_end - r.energy_start) / std::abs(r.energy_start));
+  // Heat transport: the temperatures at the end and the heat gained.
+  char heat[96] = "";
+  if (!std::isnan(r.temperature_min))
+    std::snprintf(heat, sizeof heat, "; temperatures %.6g ... %.6g, heat gained %.6g",
+                  r.temperature_min, r.temperature_max, r.heat_gained);
+  std::printf("completed %ld steps in %.3f s (%.0f steps/s); total energy %.6g -> %.6g%s%s; "
+              "%d frames in %s (ParaView: %s)\n",
+              r.steps, r.wall_seconds, r.wall_seconds > 0 ? r.steps / r.wall_seconds : 0.0,
+              r.energy_start, r.energy_end, change, heat, r.frames, r.output.c_str(),
+              smpm::xdmf_path(r.output).c_str());
+}
+
 int run_command(const std::string& input, const std::vector<std::string>& sets,
                 const std::string& output, const std::string& restart, bool discard, bool quiet,
                 bool timings) {
@@ -117,21 +136,7 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
   }
   if (!quiet) {
     bar.finish();
-    // A change relative to a zero start has no meaning: then none is printed.
-    char change[32] = "";
-    if (r.energy_start != 0)
-      std::snprintf(change, sizeof change, " (%+.4f%%)",
-                    100 * (r.energy_end - r.energy_start) / std::abs(r.energy_start));
-    // Heat transport: the temperatures at the end and the heat gained.
-    char heat[96] = "";
-    if (!std::isnan(r.temperature_min))
-      std::snprintf(heat, sizeof heat, "; temperatures %.6g ... %.6g, heat gained %.6g",
-                    r.temperature_min, r.temperature_max, r.heat_gained);
-    std::printf("completed %ld steps in %.3f s (%.0f steps/s); total energy %.6g -> %.6g%s%s; "
-                "%d frames in %s (ParaView: %s)\n",
-                r.steps, r.wall_seconds, r.wall_seconds > 0 ? r.steps / r.wall_seconds : 0.0,
-                r.energy_start, r.energy_end, change, heat, r.frames, r.output.c_str(),
-                xdmf_path(r.output).c_str());
+    print_summary(r);
   }
   if (timings)
     print_timings(r.times, r.wall_seconds, r.steps);
@@ -263,6 +268,63 @@ void wait_passively_unless_chosen(char** argv) {
   sched_setaffinity(0, sizeof place, &place); // not restarted: this thread's place again
 }
 
+// The commands, their arguments and the subcommands that read them.
+struct Commands {
+  RunArgs run_args;
+  smpm::app::StabilityArgs stability_args;
+  smpm::app::SpectrumArgs spectrum_args;
+  smpm::app::TransportStabilityArgs transport_args;
+  std::string info_path;
+  bool layout = false;
+  CLI::App *run = nullptr, *stability = nullptr, *spectrum = nullptr, *transport = nullptr;
+};
+
+void add_commands(CLI::App& app, Commands& c, Aliases& aliases) {
+  c.run = add_run(app, c.run_args);
+  c.stability = add_stability(app, c.stability_args, aliases);
+  c.spectrum = add_spectrum(app, c.spectrum_args, aliases);
+  c.transport = add_transport_stability(app, c.transport_args);
+  CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
+  info->add_option("file", c.info_path, "HDF5 file written by smpm run");
+  info->add_flag("--layout", c.layout, "print the layout of every run file instead");
+}
+
+// Runs the command given; its exit status, with the message of an error on stderr (one line).
+int run_chosen(Commands& c) {
+  try {
+    smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core
+    const RunArgs& ra = c.run_args;
+    if (*c.run && c.run->count("--output") > 0 && ra.output.empty())
+      throw smpm::InputError("-o '': an empty path; name the output file (or leave -o out "
+                             "for the input's output.file)");
+    if (*c.run)
+      return run_command(ra.input, ra.sets, ra.output, ra.restart, ra.discard, ra.quiet,
+                         ra.timings);
+    if (*c.stability) {
+      // whether --position-alpha was given (a NaN given is refused)
+      c.stability_args.position_alpha_given = c.stability->count("--position-alpha") > 0;
+      return smpm::app::stability_command(c.stability_args);
+    }
+    if (*c.spectrum)
+      return smpm::app::spectrum_command(c.spectrum_args);
+    if (*c.transport)
+      return smpm::app::transport_stability_command(c.transport_args);
+    return smpm::app::info_command(c.info_path, c.layout);
+  } catch (const smpm::InputError& e) {
+    std::fprintf(stderr, "smpm: error: %s\n", e.what());
+    return 2;
+  } catch (const smpm::Interrupted& e) {
+    std::fprintf(stderr, "smpm: %s\n", e.what());
+    return 128 + e.signal(); // 130 for SIGINT, 143 for SIGTERM
+  } catch (const smpm::NumericalError& e) {
+    std::fprintf(stderr, "smpm: numerical failure: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "smpm: error: %s\n", e.what());
+    return 1;
+  }
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -271,20 +333,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version",
                        std::string("smpm ") + smpm::kVersion + " (commit " + SMPM_COMMIT + ")");
   app.require_subcommand(1);
-  RunArgs ra;
-  smpm::app::StabilityArgs st;
-  smpm::app::SpectrumArgs sp;
-  std::string info_path;
-  CLI::App* run = add_run(app, ra);
+  Commands commands;
   Aliases aliases;
-  CLI::App* stab = add_stability(app, st, aliases);
-  CLI::App* spec = add_spectrum(app, sp, aliases);
-  smpm::app::TransportStabilityArgs ts;
-  CLI::App* tstab = add_transport_stability(app, ts);
-  bool layout = false;
-  CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
-  info->add_option("file", info_path, "HDF5 file written by smpm run");
-  info->add_flag("--layout", layout, "print the layout of every run file instead");
+  add_commands(app, commands, aliases);
   // A first argument that names no command (CLI11 says only "A subcommand is required").
   const auto named = [&](const CLI::App* c) { return c->get_name() == argv[1]; };
   if (argc > 1 && argv[1][0] != '-' && app.get_subcommands(named).empty()) {
@@ -301,37 +352,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   aliases.print_notes();
-  int code = 0;
-  try {
-    smpm::threads_from_environment(); // SMPM_THREADS, else OMP_NUM_THREADS or every core
-    if (*run && run->count("--output") > 0 && ra.output.empty())
-      throw smpm::InputError("-o '': an empty path; name the output file (or leave -o out "
-                             "for the input's output.file)");
-    if (*run)
-      code =
-          run_command(ra.input, ra.sets, ra.output, ra.restart, ra.discard, ra.quiet, ra.timings);
-    else if (*stab) {
-      st.position_alpha_given = stab->count("--position-alpha") > 0; // a NaN given is refused
-      code = smpm::app::stability_command(st);
-    } else if (*spec)
-      code = smpm::app::spectrum_command(sp);
-    else if (*tstab)
-      code = smpm::app::transport_stability_command(ts);
-    else
-      code = smpm::app::info_command(info_path, layout);
-  } catch (const smpm::InputError& e) {
-    std::fprintf(stderr, "smpm: error: %s\n", e.what());
-    code = 2;
-  } catch (const smpm::Interrupted& e) {
-    std::fprintf(stderr, "smpm: %s\n", e.what());
-    code = 128 + e.signal(); // 130 for SIGINT, 143 for SIGTERM
-  } catch (const smpm::NumericalError& e) {
-    std::fprintf(stderr, "smpm: numerical failure: %s\n", e.what());
-    code = 3;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "smpm: error: %s\n", e.what());
-    code = 1;
-  }
+  const int code = run_chosen(commands);
   // What was printed must have reached standard output (a closed pipe or a full disk).
   if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::fprintf(stderr, "smpm: error: cannot write to standard output\n");
