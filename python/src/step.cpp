@@ -122,10 +122,7 @@ void bind_transport_fields(py::module_& m) {
                     "the grid index of each row: the step's window of the grid");
 }
 
-} // namespace
-
-void bind_step(py::module_& m) {
-  bind_transport_fields(m);
+void bind_advance_report(py::module_& m) {
   py::class_<AdvanceReport>(
       m, "AdvanceReport",
       "What advance did: the steps, the total energy at start and end, the wall time.")
@@ -134,38 +131,19 @@ void bind_step(py::module_& m) {
                     "total energy the failure test compared with")
       .def_readonly("energy_end", &AdvanceReport::energy_end, "total energy at the end")
       .def_readonly("wall_seconds", &AdvanceReport::wall_seconds, "wall time of the loop (s)");
+}
 
-  py::class_<Stepper>(m, "Stepper",
-                      "Advances a Model by explicit MPM steps with fixed options (step.hpp); "
-                      "keeps the operators and grid fields from step to step.")
-      .def(py::init<const StepOptions&>(), py::arg("options"))
-      .def(
-          "step", [](Stepper& s, PyModel& pm, double dt) { s.step(pm.model, dt); },
-          py::arg("model"), py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
-          "One step of length dt (USL/USF/... of the options). Raises NumericalError naming the "
-          "step, time and particle when the state becomes invalid.")
-      .def("advance", &advance_model, py::arg("model"), py::arg("end") = py::none(),
-           py::arg("courant") = py::none(), py::arg("callback") = py::none(),
-           py::arg("stop_every") = 0.0, py::arg("land_on_stops") = true,
-           py::arg("energy_growth") = 10.0, py::arg("fourier") = py::none(),
-           "Steps to end (default model.end) with Δt = C Δx_min / max(c, max|V|), C = courant "
-           "(default model.courant), before every step, and with heat transport at most F "
-           "diffusion_time(model), F = fourier (default model.fourier; 0: 0.1) (the loop of "
-           "`smpm run`; advance.hpp): callback(model, energies, at_stop) after every step, "
-           "stops at multiples of stop_every (steps shortened to land on them unless "
-           "land_on_stops is False), NumericalError when the total energy exceeds "
-           "energy_growth times its start; Ctrl-C stops it after the step in progress "
-           "(KeyboardInterrupt, the model at that step).")
-      .def_property_readonly("options", &Stepper::options,
-                             "the StepOptions the stepper was made with")
-      .def_property_readonly(
-          "grid_velocity",
-          [](const Stepper& s) {
-            const Stepper::Exclusive hold(s); // not while another thread steps it
-            return from_field(s.grid_state().v_plus, false);
-          },
-          "v⁺ of the last step (n × d), the velocity of its particle update, on the nodes of "
-          "the step (grid_nodes)")
+// What a Stepper's last step left: v⁺ on its nodes, the FMPM order and metrics it reached, its
+// transport fields.
+void bind_last_step(py::class_<Stepper>& c) {
+  c.def_property_readonly(
+       "grid_velocity",
+       [](const Stepper& s) {
+         const Stepper::Exclusive hold(s); // not while another thread steps it
+         return from_field(s.grid_state().v_plus, false);
+       },
+       "v⁺ of the last step (n × d), the velocity of its particle update, on the nodes of "
+       "the step (grid_nodes)")
       .def_property_readonly(
           "grid_nodes",
           [](const Stepper& s) {
@@ -198,6 +176,37 @@ void bind_step(py::module_& m) {
                              "the transport fields of the last step (a TransportState: τ, T, q, "
                              "θ⁺, ... on its transport nodes); None without heat transport or "
                              "before the first step");
+}
+
+} // namespace
+
+void bind_step(py::module_& m) {
+  bind_transport_fields(m);
+  bind_advance_report(m);
+  py::class_<Stepper> c(m, "Stepper",
+                        "Advances a Model by explicit MPM steps with fixed options (step.hpp); "
+                        "keeps the operators and grid fields from step to step.");
+  c.def(py::init<const StepOptions&>(), py::arg("options"))
+      .def(
+          "step", [](Stepper& s, PyModel& pm, double dt) { s.step(pm.model, dt); },
+          py::arg("model"), py::arg("dt"), py::call_guard<py::gil_scoped_release>(),
+          "One step of length dt (USL/USF/... of the options). Raises NumericalError naming the "
+          "step, time and particle when the state becomes invalid.")
+      .def("advance", &advance_model, py::arg("model"), py::arg("end") = py::none(),
+           py::arg("courant") = py::none(), py::arg("callback") = py::none(),
+           py::arg("stop_every") = 0.0, py::arg("land_on_stops") = true,
+           py::arg("energy_growth") = 10.0, py::arg("fourier") = py::none(),
+           "Steps to end (default model.end) with Δt = C Δx_min / max(c, max|V|), C = courant "
+           "(default model.courant), before every step, and with heat transport at most F "
+           "diffusion_time(model), F = fourier (default model.fourier; 0: 0.1) (the loop of "
+           "`smpm run`; advance.hpp): callback(model, energies, at_stop) after every step, "
+           "stops at multiples of stop_every (steps shortened to land on them unless "
+           "land_on_stops is False), NumericalError when the total energy exceeds "
+           "energy_growth times its start; Ctrl-C stops it after the step in progress "
+           "(KeyboardInterrupt, the model at that step).")
+      .def_property_readonly("options", &Stepper::options,
+                             "the StepOptions the stepper was made with");
+  bind_last_step(c);
   bind_courant(m);
 }
 
