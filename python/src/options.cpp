@@ -192,6 +192,63 @@ void bind_step_options(py::module_& m) {
   c.def("__repr__", &repr);
 }
 
+// The constants of the elastic and Mie–Grüneisen models.
+void bind_material_constants(py::class_<Material>& c) {
+  c.def_readwrite("density", &Material::density, "rho_0, the reference density");
+  c.def_readwrite("youngs", &Material::youngs, "E (not mie-gruneisen)");
+  c.def_readwrite("poisson", &Material::poisson, "ν (not mie-gruneisen)");
+  c.def_readwrite("bulk", &Material::bulk, "mie-gruneisen: K");
+  c.def_readwrite("shear", &Material::shear, "mie-gruneisen: G (0: a fluid)");
+  c.def_readwrite("gruneisen", &Material::gruneisen, "mie-gruneisen: γ₀");
+  c.def_readwrite("s1", &Material::hugoniot_slope, "mie-gruneisen: the Hugoniot slope S₁");
+  c.def_property(
+      "viscosity",
+      [](const Material& mat) {
+        return std::vector<double>{mat.av_linear, mat.av_quadratic};
+      },
+      [](Material& mat, const std::vector<double>& a) {
+        if (a.size() != 2)
+          throw InputError("Material.viscosity: expected [A1, A2]");
+        mat.av_linear = a[0];
+        mat.av_quadratic = a[1];
+      },
+      "mie-gruneisen: the artificial viscosity [A1, A2] (contact 2020 Eq. 52)");
+}
+
+// The heat properties and J2 plasticity.
+void bind_material_heat_and_yield(py::class_<Material>& c) {
+  c.def_readwrite("heat_capacity", &Material::heat_capacity,
+                  "C_V, heat capacity per unit mass (> 0 with heat transport)");
+  c.def_readwrite("conductivity", &Material::conductivity,
+                  "kappa, isotropic thermal conductivity (0: none)");
+  c.def_readwrite("reference_temperature", &Material::reference_temperature,
+                  "T_ref, the stress-free absolute temperature: the particles' initial "
+                  "temperature and the origin of Q, S and A (> 0 with heat transport)");
+  c.def_readwrite("thermal_expansion", &Material::thermal_expansion,
+                  "alpha, the linear coefficient of thermal expansion from T_ref (0: none; not "
+                  "for mie-gruneisen)");
+  c.def_readwrite("yield_stress", &Material::yield_stress,
+                  "sigma_y, the initial yield stress of J2 plasticity (hyperelastic and "
+                  "mie-gruneisen; 0: elastic)");
+  c.def_readwrite("hardening", &Material::hardening,
+                  "H, the linear isotropic hardening modulus of J2 plasticity (0: perfect)");
+}
+
+// Material(name=..., model=..., density=..., youngs=..., poisson=...), with the heat properties
+// and the thermal expansion when they are set.
+std::string material_repr(const Material& mat) {
+  std::ostringstream os;
+  os << "Material(name='" << mat.name << "', model='" << to_string(mat.model)
+     << "', density=" << mat.density << ", youngs=" << mat.youngs << ", poisson=" << mat.poisson;
+  if (mat.heat_capacity != 0 || mat.conductivity != 0 || mat.reference_temperature != 0)
+    os << ", heat_capacity=" << mat.heat_capacity << ", conductivity=" << mat.conductivity
+       << ", reference_temperature=" << mat.reference_temperature;
+  if (mat.thermal_expansion != 0)
+    os << ", thermal_expansion=" << mat.thermal_expansion;
+  os << ")";
+  return os.str();
+}
+
 void bind_material(py::module_& m) {
   py::class_<Material> c(m, "Material",
                          "A material (material.hpp): Material(name, model, density, youngs, "
@@ -219,53 +276,10 @@ void bind_material(py::module_& m) {
       c, "model", [](const Material& mat) { return mat.model; },
       [](Material& mat, const std::string& s) { mat.model = material_model_from_string(s); },
       "linear | linear-corotational | neo-hookean | hyperelastic | mie-gruneisen");
-  c.def_readwrite("density", &Material::density, "rho_0, the reference density");
-  c.def_readwrite("youngs", &Material::youngs, "E (not mie-gruneisen)");
-  c.def_readwrite("poisson", &Material::poisson, "ν (not mie-gruneisen)");
-  c.def_readwrite("bulk", &Material::bulk, "mie-gruneisen: K");
-  c.def_readwrite("shear", &Material::shear, "mie-gruneisen: G (0: a fluid)");
-  c.def_readwrite("gruneisen", &Material::gruneisen, "mie-gruneisen: γ₀");
-  c.def_readwrite("s1", &Material::hugoniot_slope, "mie-gruneisen: the Hugoniot slope S₁");
-  c.def_property(
-      "viscosity",
-      [](const Material& mat) {
-        return std::vector<double>{mat.av_linear, mat.av_quadratic};
-      },
-      [](Material& mat, const std::vector<double>& a) {
-        if (a.size() != 2)
-          throw InputError("Material.viscosity: expected [A1, A2]");
-        mat.av_linear = a[0];
-        mat.av_quadratic = a[1];
-      },
-      "mie-gruneisen: the artificial viscosity [A1, A2] (contact 2020 Eq. 52)");
-  c.def_readwrite("heat_capacity", &Material::heat_capacity,
-                  "C_V, heat capacity per unit mass (> 0 with heat transport)");
-  c.def_readwrite("conductivity", &Material::conductivity,
-                  "kappa, isotropic thermal conductivity (0: none)");
-  c.def_readwrite("reference_temperature", &Material::reference_temperature,
-                  "T_ref, the stress-free absolute temperature: the particles' initial "
-                  "temperature and the origin of Q, S and A (> 0 with heat transport)");
-  c.def_readwrite("thermal_expansion", &Material::thermal_expansion,
-                  "alpha, the linear coefficient of thermal expansion from T_ref (0: none; not "
-                  "for mie-gruneisen)");
-  c.def_readwrite("yield_stress", &Material::yield_stress,
-                  "sigma_y, the initial yield stress of J2 plasticity (hyperelastic and "
-                  "mie-gruneisen; 0: elastic)");
-  c.def_readwrite("hardening", &Material::hardening,
-                  "H, the linear isotropic hardening modulus of J2 plasticity (0: perfect)");
+  bind_material_constants(c);
+  bind_material_heat_and_yield(c);
   c.def("wave_speed", &Material::wave_speed, py::arg("dim"));
-  c.def("__repr__", [](const Material& mat) {
-    std::ostringstream os;
-    os << "Material(name='" << mat.name << "', model='" << to_string(mat.model)
-       << "', density=" << mat.density << ", youngs=" << mat.youngs << ", poisson=" << mat.poisson;
-    if (mat.heat_capacity != 0 || mat.conductivity != 0 || mat.reference_temperature != 0)
-      os << ", heat_capacity=" << mat.heat_capacity << ", conductivity=" << mat.conductivity
-         << ", reference_temperature=" << mat.reference_temperature;
-    if (mat.thermal_expansion != 0)
-      os << ", thermal_expansion=" << mat.thermal_expansion;
-    os << ")";
-    return os.str();
-  });
+  c.def("__repr__", &material_repr);
 }
 
 } // namespace
