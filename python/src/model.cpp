@@ -193,6 +193,7 @@ PyModel from_toml(const std::string& path, const py::dict& overrides) {
   return PyModel{std::move(cfg.model), std::move(cfg.step), cfg.time, path};
 }
 
+// What the model holds: its particles, grid, materials, conditions, velocity fields and gravity.
 void bind_model_state(py::class_<PyModel>& c) {
   c.def_property_readonly(
       "particles", [](PyModel& pm) -> Particles& { return pm.model.particles; },
@@ -230,6 +231,10 @@ void bind_model_state(py::class_<PyModel>& c) {
       },
       [](PyModel& pm, const std::vector<double>& g) { pm.model.gravity = triple(g, 0, "gravity"); },
       "[loads] gravity: the body acceleration B (per unit mass)");
+}
+
+// The step options and time settings of the input, and the model's clock.
+void bind_model_settings(py::class_<PyModel>& c) {
   c.def_property(
       "options", [](PyModel& pm) -> StepOptions& { return pm.options; },
       [](PyModel& pm, const StepOptions& o) { pm.options = o; },
@@ -317,6 +322,7 @@ void bind_model(py::module_& m) {
                "Reads a TOML input as `smpm run path --set key=value ...` does; overrides maps "
                "'section.key' to a value. Raises InputError with the message of the command.");
   bind_model_state(c);
+  bind_model_settings(c);
   bind_model_tables(c);
   c.def("energies", [](const PyModel& pm) { return energies(pm.model); });
   c.def("copy", [](const PyModel& pm) { return pm; });
