@@ -103,6 +103,7 @@ py::array exact_temperature(PyTransport& t, const DoubleArray& tau_in,
   return from_field(std::move(theta), tau_in.ndim() == 1);
 }
 
+// The operators on the particles: S and G folded onto the grid nodes, 𝗖, V κ and the sources.
 void bind_transport_data(py::class_<PyTransport>& c) {
   c.def_property_readonly(
        "S", [](py::object self) { return csr_view(self.cast<PyTransport&>().S, self); },
@@ -134,13 +135,18 @@ void bind_transport_data(py::class_<PyTransport>& c) {
           [](py::object self) {
             return vector_view(self.cast<PyTransport&>().prep.transport.source, self, false);
           },
-          "N: M_p r_p, the particles' heat sources (power); empty: none")
-      .def_property_readonly(
-          "lumped_capacity",
-          [](py::object self) {
-            return vector_view(self.cast<PyTransport&>().prep.transport.nodes.m, self, false);
-          },
-          "n_g: c = Sᵀ 𝗖 1, the lumped capacity of each grid node")
+          "N: M_p r_p, the particles' heat sources (power); empty: none");
+}
+
+// The transport nodes: their lumped capacities, which are active, and their temperature
+// conditions.
+void bind_transport_nodes(py::class_<PyTransport>& c) {
+  c.def_property_readonly(
+       "lumped_capacity",
+       [](py::object self) {
+         return vector_view(self.cast<PyTransport&>().prep.transport.nodes.m, self, false);
+       },
+       "n_g: c = Sᵀ 𝗖 1, the lumped capacity of each grid node")
       .def_property_readonly(
           "lumped_capacity_inv",
           [](py::object self) {
@@ -232,6 +238,7 @@ void bind_transport(py::module_& m) {
                             "nodes. Matrices are scipy.sparse.csr_matrix; the arrays share the "
                             "library's storage (read-only).");
   bind_transport_data(c);
+  bind_transport_nodes(c);
   bind_transport_products(c);
   m.def("transport_operators", &transport_operators, py::arg("model"),
         py::arg("shape") = py::none(), py::arg("transport") = py::none(),
