@@ -367,12 +367,12 @@ TEST_CASE("with the default contact a block slides down an inclined, grid-unalig
   // The slab of tests/lib/test_contact.cpp's inclined block made rigid (prescribed v = 0, no
   // velocity conditions of its own), at 25° and 35° to the grid's axes, ContactPair's defaults
   // (LR normals and separation, which against a rigid field take the rigid body's outward
-  // normal and its 30% share of a node, contact_nodes.cpp). Measured, CPDI and GIMP, FLIP and
-  // FMPM(4) (GIMP tested on the frictional cases at 35°): the acceleration along the slope is g(sin
-  // θ − μ cos θ) within 0.8% (μ = 0, 0.2; least-squares slope of the block's mean velocity over 0.1
-  // ≤ t ≤ 0.3), hence 2% below; with μ = 1 > tan θ the block's mean velocity over that window stays
-  // below 5% of the frictionless block's g sin θ · 0.2 (measured at most 0.044 at 35°, GIMP,
-  // against the bound 0.057).
+  // normal and its 30% share of a node, contact_geometry.cpp and contact_nodes.cpp). Measured, CPDI
+  // and GIMP, FLIP and FMPM(4) (GIMP tested on the frictional cases at 35°): the acceleration along
+  // the slope is g(sin θ − μ cos θ) within 0.8% (μ = 0, 0.2; least-squares slope of the block's
+  // mean velocity over 0.1 ≤ t ≤ 0.3), hence 2% below; with μ = 1 > tan θ the block's mean velocity
+  // over that window stays below 5% of the frictionless block's g sin θ · 0.2 (measured at most
+  // 0.044 at 35°, GIMP, against the bound 0.057).
   const double g = 10;
   for (const Shape shape : {Shape::CPDI, Shape::GIMP})
     for (const double degrees : {25.0, 35.0})

@@ -199,11 +199,11 @@ struct ContactNodes {
   /// the increments of the FMPM loop leave the rigid side alone, and its velocity conditions
   /// undo the lumped corrections on it, their reactions holding the contact force on the body.
   /// A node of a rigid field and another is a contact node only where the rigid field holds
-  /// 30% of its particle volume, and AG and LR take the rigid body's outward normal there
-  /// (contact_nodes.cpp). At a node of three or more fields where a rigid field holds 30% of
-  /// the particle volume, each other field contacts it alone (Side::rigid); below that share it
-  /// is no partner there and the other fields are lumped among themselves. Empty: no rigid
-  /// field. Two rigid fields are never in contact.
+  /// 30% of its particle volume (contact_nodes.cpp), and AG and LR take the rigid body's outward
+  /// normal there (contact_geometry.cpp). At a node of three or more fields where a rigid field
+  /// holds 30% of the particle volume, each other field contacts it alone (Side::rigid); below
+  /// that share it is no partner there and the other fields are lumped among themselves. Empty:
+  /// no rigid field. Two rigid fields are never in contact.
   std::vector<char> rigid;
   std::vector<Side> sides; ///< nodes of 3+ fields: sides[first_side + α] for each field α
   /// Projectors onto the directions the velocity conditions of a node leave free
@@ -211,7 +211,7 @@ struct ContactNodes {
   std::vector<Eigen::Matrix3d> free;
   /// n_g: index into `free` of every grid node on which velocity conditions (of all fields)
   /// act, or −1. A rigid body's outward normal takes its gradients at such nodes in their free
-  /// directions only (contact_nodes.cpp: a body's face on a roller is not a surface).
+  /// directions only (contact_geometry.cpp: a body's face on a roller is not a surface).
   std::vector<int> fixed;
   Field gradient;         ///< n × d: g^α_i = Σ_{p∈α} G_pi V_p (AG normals; rigid fields)
   Eigen::VectorXd volume; ///< n: Σ_{p∈α} S_pi V_p, with rigid fields (their share of a node)
