@@ -1,10 +1,61 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""What the example-driven CLI tests share: a full `smpm run` of an example with overrides."""
+"""What the CLI tests share: the binary and the examples, a run of `smpm` and its one-line error,
+a test in a directory of its own, and a full `smpm run` of an example with overrides.
+
+ctest runs each test file with SMPM (the binary) and SMPM_SOURCE (the source tree) in the
+environment, and with SMPM_SANITIZED=1 under the sanitizers, where the runs that only check a
+number are left out (tests/CMakeLists.txt).
+"""
+import hashlib
 import os
 import pathlib
 import subprocess
+import tempfile
+import unittest
 
 SMPM = os.environ.get("SMPM", "smpm")
+SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
+EXAMPLES = SOURCE / "examples"
+BAR = EXAMPLES / "vibrating_bar.toml"
+SANITIZED = os.environ.get("SMPM_SANITIZED") == "1"
+
+
+def smpm(*args, timeout=600, **kw):
+    """`smpm` with these arguments, its output captured as text."""
+    return subprocess.run([SMPM, *map(str, args)], capture_output=True, text=True, timeout=timeout, **kw)
+
+
+def digest(path):
+    """The SHA-256 of a file's bytes."""
+    return hashlib.sha256(pathlib.Path(path).read_bytes()).hexdigest()
+
+
+def one_line(test, r, code):
+    """Asserts that the run `r` exited with `code` and wrote one line to standard error; returns
+    that line."""
+    test.assertEqual(r.returncode, code, r.stderr)
+    test.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+    return r.stderr.strip()
+
+
+class Base(unittest.TestCase):
+    """A test in a temporary directory of its own (self.dir), removed after it."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = pathlib.Path(self.tmp.name)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def completed(self, name="run.h5", *sets):
+        """A completed run of the vibrating bar to t = 80 in self.dir / name."""
+        out = self.dir / name
+        args = [a for s in ("time.end=80", *sets) for a in
+                (("--set", s) if not s.startswith("--") else (s,))]
+        r = smpm("run", BAR, "-o", out, "-q", *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return out
 
 
 def fmpm(k):
@@ -14,7 +65,7 @@ def fmpm(k):
 
 def one_thread_each():
     """The environment of runs started two at a time: one thread each unless SMPM_THREADS is
-    set (the results are the same bit for bit; tests/cli/test_cli.py compares 1 and 2)."""
+    set (the results are the same bit for bit; tests/cli/test_commands.py compares 1 and 2)."""
     env = dict(os.environ)
     env.setdefault("SMPM_THREADS", "1")
     return env

@@ -325,7 +325,7 @@ class Shock(unittest.TestCase):
     def test_restart_carries_the_internal_energy(self):
         # A run killed after frame 5 and restarted reproduces every later frame bit for bit,
         # the internal energies U included (stored in each frame's `energy`).
-        from test_files import Restart
+        from test_restart import Restart
         work = pathlib.Path(self.tmp.name)
         partial = work / "stick_flip_cut.partial.h5"
         Restart.cut(work / "stick_flip.h5", partial, 5)
