@@ -94,4 +94,13 @@ inline double bar_energy_change(const StepOptions& options, double courant, doub
   }
 }
 
+/// The heat content Σ_p M_p C_V T_p of a model's particles (C_V of each particle's material).
+inline double heat_content(const Model& m) {
+  const Particles& P = m.particles;
+  double sum = 0;
+  for (Index p = 0; p < P.size(); ++p)
+    sum += P.mass[p] * m.materials[size_t(P.material[p])].heat_capacity * P.temperature[p];
+  return sum;
+}
+
 } // namespace smpm::test
