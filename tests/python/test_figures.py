@@ -1,15 +1,12 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Every figure script of analysis/ draws its figure on a tiny case, and the README's tour
-prints what its runs print.
+"""Every figure script of analysis/ draws its figure on a tiny case (tests/python/figure_cases.py),
+and figures.py, the scripts' shared code, keeps them to one style and one reader of run files.
 
-Each script runs as a user runs it (its own /usr/bin/python3 process, from a scratch
-directory), two at a time with one thread each, on a case made small by its options (--set
-time.end=..., fewer orders, cells or objects). figures.save_figure refuses a figure drawn
-without the shared style or with an axis or colour bar that has no label, so a zero exit status
-and the PNG are the first check. save_figure also pickles each figure here (SMPM_FIGURE_DUMP),
-and the tests open it through matplotlib: every axis is labelled (with a unit, or named as a
-dimensionless quantity), the legends say what the data say, and each script's table has its
-rows and columns.
+figures.save_figure refuses a figure drawn without the shared style or with an axis or colour
+bar that has no label, so a zero exit status and the PNG are the first check. save_figure also
+pickles each figure here (SMPM_FIGURE_DUMP), and the tests open it through matplotlib: every axis
+is labelled (with a unit, or named as a dimensionless quantity), the legends say what the data
+say, and each script's table has its rows and columns. The README's tour is test_tour.py's.
 """
 import concurrent.futures
 import csv
@@ -29,7 +26,7 @@ import pytest
 import sparsempm as smpm
 
 from conftest import BAR, SOURCE
-from conftest import SMPM as SMPM_NAME
+from figure_cases import CASES, env, run_smpm
 
 import matplotlib
 matplotlib.use("Agg")
@@ -39,10 +36,6 @@ ANALYSIS = SOURCE / "analysis"
 sys.path.insert(0, str(ANALYSIS))
 import figures  # noqa: E402
 
-BUILD = pathlib.Path(smpm.__file__).resolve().parents[1]  # the directory holding the package
-# The scripts run in scratch directories: a path to smpm is made absolute.
-SMPM = str(pathlib.Path(SMPM_NAME).resolve()) if os.sep in SMPM_NAME else SMPM_NAME
-EXAMPLES = SOURCE / "examples"
 PNG = b"\x89PNG\r\n\x1a\n"
 # Scripts of analysis/ that draw no matplotlib figure: helpers, paraview_view.py, which
 # ParaView draws under pvbatch (with a display), and ghost_nodes.py, a table of the DMDA's
@@ -50,168 +43,10 @@ PNG = b"\x89PNG\r\n\x1a\n"
 HELPERS = {"figures.py", "disks.py", "smpm_python.py", "paraview_view.py", "ghost_nodes.py"}
 
 
-def env(dump=None):
-    """The environment of every process here: one thread each (two run at a time)."""
-    e = dict(os.environ, SMPM_THREADS="1", OMP_NUM_THREADS="1")
-    if dump:
-        e["SMPM_FIGURE_DUMP"] = str(dump)
-    return e
-
-
-def run_smpm(*args, cwd):
-    """`smpm args...` run in `cwd`; its standard output (it must succeed)."""
-    r = subprocess.run([SMPM, *map(str, args)], capture_output=True, text=True, cwd=cwd,
-                       env=env(), timeout=120)
-    assert r.returncode == 0, r.stderr
-    return r.stdout
-
-
 def rows(path):
     """The rows of a CSV table (lines starting with # left out)."""
     with open(path) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
-
-
-# Each case: the script's arguments, after what it needs is prepared in its directory `w`, the
-# PNGs it must write and the tables (CSV) it must write.
-
-def case_plot_energy(w):
-    (w / "smpm.out").write_text(run_smpm("run", BAR, "-o", w / "bar.h5", cwd=w))
-    return [w / "bar.h5", "-o", w / "energy.png"], ["energy"], []  # -o with .png, as before
-
-
-def case_plot_particles(w):
-    run_smpm("run", EXAMPLES / "two_disks.toml", "-o", w / "disks.h5", "-q", "--set",
-             "time.end=0.3", cwd=w)
-    return ([w / "disks.h5", "--frame", "2", "--field", "stress_xx", "-o", w / "particles"],
-            ["particles"], [])
-
-
-def case_rho_map(w):  # the default Courant number
-    return ["--smpm", SMPM, "--build", BUILD, "--input", BAR, "-o", w / "rho_map"], \
-        ["rho_map"], ["rho_map"]
-
-
-def case_fig12b(w):
-    return ["--smpm", SMPM, "--build", BUILD, "--input", BAR, "--set", "time.end=80", "-o",
-            w / "fig12b"], ["fig12b"], ["fig12b"]
-
-
-def case_fig12a(w):
-    # The rows scripts/run draws (FLIP, FMPM(k), both blends, periodic, exact) over one period.
-    common = [BAR, "--order", "1,4", "--set", "time.end=80", "-q"]
-    run_smpm("stability", *common, "--shifts", "1", "--method", "both", "-o", w / "st.csv", cwd=w)
-    run_smpm("stability", *common, "--method", "simulation", "--max-energy-change", "0.001",
-             "-o", w / "low.csv", cwd=w)
-    return [w / "st.csv", "--low-dissipation", w / "low.csv", "-o", w / "fig12a.png"], \
-        ["fig12a"], []
-
-
-def case_fig12_gradient(w):
-    # Both transfers on the bar (FLIP, FMPM(1), FMPM(4) and its blend with FMPM(1)) and on the
-    # plate (FLIP, FMPM(4)), over short runs.
-    plate = EXAMPLES / "vibrating_plate.toml"
-    args = []
-    for name, toml, extra in (("bar", BAR, ["--order", "1,4", "--blend-every", "1",
-                                            "--set", "time.end=80"]),
-                              ("plate", plate, ["--order", "4", "--blend-alpha", "none",
-                                                "--set", "time.end=20"])):
-        tables = []
-        for transfer in ("standard", "velocity_gradient"):
-            out = w / f"{name}_{transfer}.csv"
-            run_smpm("stability", toml, *extra, "--shifts", "1", "--method", "both",
-                     "--periodic-cx", "none", "--no-exact", "-q", "--set",
-                     f"step.transfer={transfer}", "-o", out, cwd=w)
-            tables.append(out)
-        args += ["--problem", name, *tables]
-    return [*args, "-o", w / "fig12_gradient.png"], ["fig12_gradient"], ["fig12_gradient"]
-
-
-def case_truncation(w):
-    run_smpm("spectrum", BAR, "-o", w / "spectrum.csv", cwd=w)
-    return [w / "spectrum.csv", "-o", w / "truncation"], ["truncation"], []
-
-
-def case_fig3(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--orders", "4", "--depths", "1,2", "--set",
-            "time.end=0.5", "--set", "output.every=0.5", "-o", w / "fig3"], \
-        ["fig3a", "fig3b"], ["fig3"]
-
-
-def case_fig4(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--set", "time.end=1.5e-4", "-o", w / "fig4"], \
-        ["fig4"], ["fig4"]
-
-
-def case_fig5(w):  # to 2% strain: two frames
-    return ["--smpm", SMPM, "--jobs", "1", "--set", "time.end=2.1", "-o", w / "fig5"], \
-        ["fig5"], ["fig5"]
-
-
-def case_fig8(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--cell", "4", "--set", "time.end=0.02", "-o",
-            w / "fig8"], ["fig8"], ["fig8"]
-
-
-def case_fig9(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--cell", "4", "--set", "time.end=0.02", "-o",
-            w / "fig9"], ["fig9"], ["fig9"]
-
-
-def case_fig7(w):
-    return ["--smpm", SMPM, "--cell", "4", "--times", "0.01,0.02", "--set", "time.end=0.02",
-            "-o", w / "fig7"], ["fig7"], ["fig7"]
-
-
-def case_fig10(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--cell", "4", "--set", "time.end=0.02", "-o",
-            w / "fig10"], ["fig10"], ["fig10"]
-
-
-def case_fig11(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--cells", "4", "--courants", "0.4", "--set",
-            "time.end=0.02", "-o", w / "fig11"], ["fig11"], ["fig11"]
-
-
-def case_fig13a(w):
-    return ["--build", BUILD, "--order", "5", "--set", "time.end=0.0002", "-o", w / "fig13a"], \
-        ["fig13a"], ["fig13a"]
-
-
-def case_fig14(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--limits", "0.01,0.001", "--set", "time.end=0.0002",
-            "-o", w / "fig14"], ["fig14"], ["fig14"]
-
-
-def case_compaction(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--objects", "3", "--set", "time.end=0.1", "-o",
-            w / "compaction"], ["compaction"], ["compaction"]
-
-
-def case_compaction_paper(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--scale", "14", "--compaction", "0.05", "-o",
-            w / "compaction_paper"], ["compaction_paper"], ["compaction_paper"]
-
-
-def case_three_materials(w):
-    return ["--smpm", SMPM, "--set", "time.end=0.2", "-o", w / "three_materials"], \
-        ["three_materials"], ["three_materials"]
-
-
-def case_df_fit(w):
-    return ["-o", w / "df_fit.png"], ["df_fit"], ["df_fit"]
-
-
-# Longest first, so that two workers finish together.
-CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
-         "fig3.py": case_fig3, "compaction.py": case_compaction, "rho_map.py": case_rho_map,
-         "compaction_paper.py": case_compaction_paper,
-         "fig12a.py": case_fig12a, "fig12_gradient.py": case_fig12_gradient,
-         "fig8.py": case_fig8, "fig13a.py": case_fig13a,
-         "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
-         "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
-         "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
-         "df_fit.py": case_df_fit, "fig7.py": case_fig7, "fig10.py": case_fig10}
 
 
 @dataclasses.dataclass
@@ -680,90 +515,3 @@ def test_scripts_read_run_files_through_figures_read_run(tmp_path):
         for key, value in (("times", run.times), ("total", run.series["total"]), ("X", p["X"]),
                            ("stress", p["stress"]), ("frames", run.frames)):
             np.testing.assert_array_equal(read[key], value, err_msg=key)
-
-
-# The README's five-minute tour, step 2: its commands, what they print, and its sentences.
-
-def tour_step_2():
-    """(the commands, the printed block, the prose) of step 2 of the README's tour."""
-    readme = (SOURCE / "README.md").read_text()
-    tour = readme[readme.index("## A five-minute tour"):]
-    tour = tour[:tour.index("\n## ", 5)]
-    step = tour[tour.index("\n2. "):tour.index("\n3. ")]
-    blocks = re.findall(r"```(\w*)\n(.*?)```", step, re.S)
-    commands = [line.split("#")[0].split() for line in blocks[0][1].splitlines() if line.strip()]
-    assert blocks[0][0] == "sh" and len(blocks) == 2
-    printed = " ".join(line.strip() for line in blocks[1][1].splitlines() if line.strip())
-    prose = " ".join(step[step.rindex("```") + 3:].split())
-    return commands, printed, prose, blocks[0][1]
-
-
-def command(words):
-    """A README command line as run from the source tree, with this build's smpm."""
-    out = []
-    for i, w in enumerate(words):
-        if i == 0 and w == "build/apps/smpm":
-            out.append(SMPM)
-        elif i == 0 and w.startswith("analysis/"):
-            out += ["/usr/bin/python3", str(SOURCE / w)]
-        elif w.startswith("examples/"):
-            out.append(str(SOURCE / w))
-        else:
-            out.append(w)
-    return out
-
-
-RUN_LINE = (r"completed (\d+) steps in [\d.]+ s \(\d+ steps/s\); total energy (\S+) -> (\S+) "
-            r"\(([-+]\d+\.\d+)%\);? (\d+) frames in (\S+) \(ParaView: (\S+)\)")
-
-
-def test_the_tour_prints_the_readme_numbers(tmp_path):
-    commands, printed, prose, block = tour_step_2()
-    assert [c[:2] for c in commands] == [["build/apps/smpm", "run"], ["analysis/plot_energy.py",
-                                                                      "vibrating_bar.h5"]]
-    outputs = []
-    for words in commands:
-        r = subprocess.run(command(words), capture_output=True, text=True, cwd=tmp_path,
-                           env=env(), timeout=120)
-        assert r.returncode == 0, r.stderr
-        outputs.append(r.stdout)
-    # The run prints the README's block: steps, energies and change exactly, the time aside.
-    readme = re.fullmatch(RUN_LINE, printed)
-    ran = re.search(RUN_LINE, " ".join(outputs[0].split()))
-    assert readme and ran, (printed, outputs[0])
-    assert readme.groups() == ran.groups()
-    steps, e0, e1, change = ran[1], ran[2], ran[3], float(ran[4])
-    # plot_energy.py writes the file its comment names and prints the same numbers.
-    png = re.search(r"# writes (\S+\.png)", block)[1]
-    assert (tmp_path / png).stat().st_size > 20000
-    assert f"{png}: {steps} steps, total energy {e0} -> {e1} ({change:+.4f}%)" in outputs[1]
-    # "after five periods the total is within 0.041% of its start": the change, rounded.
-    within = re.search(r"within (\d+\.\d+)% of its start", prose)[1]
-    assert within == f"{abs(change):.{len(within.split('.')[1])}f}"
-    # "the total swings by up to 0.99%": the largest |E(t) − E(0)|/E(0) of the series.
-    with h5py.File(tmp_path / "vibrating_bar.h5") as f:
-        total = f["series"]["total"][:]
-    swing = re.search(r"swings by up to (\d+\.\d+)%", prose)[1]
-    assert swing == f"{100 * np.max(np.abs(total / total[0] - 1)):.{len(swing.split('.')[1])}f}"
-
-
-def test_the_tour_pic_and_unstable_claims(tmp_path):
-    _, _, prose, _ = tour_step_2()
-    run = command(["build/apps/smpm", "run", "examples/vibrating_bar.toml"])
-    # "`--set step.velocity=PIC` shows FMPM(1) dissipating 43% of it"
-    m = re.search(r"`--set step\.velocity=PIC` shows\s+FMPM\(1\) dissipating (\d+)% of it", prose)
-    assert m, prose
-    r = subprocess.run(run + ["--set", "step.velocity=PIC", "-o", "pic.h5"], capture_output=True,
-                       text=True, cwd=tmp_path, env=env(), timeout=120)
-    assert r.returncode == 0, r.stderr
-    change = float(re.search(RUN_LINE, " ".join(r.stdout.split()))[4])
-    assert change < 0 and m[1] == f"{-change:.0f}"
-    # "`--set time.courant=1.5` shows the run stopping with the step, time and particle where
-    # it became unstable (exit status 3)"
-    assert re.search(r"`--set time\.courant=1\.5` shows the run stopping with the step, time "
-                     r"and\s+particle where it became unstable \(exit status 3\)", prose), prose
-    r = subprocess.run(run + ["--set", "time.courant=1.5", "-o", "unstable.h5", "-q"],
-                       capture_output=True, text=True, cwd=tmp_path, env=env(), timeout=120)
-    assert r.returncode == 3
-    assert re.fullmatch(r"smpm: numerical failure: step \d+ \(t = [\d.e+-]+\): particle \d+ .+\n",
-                        r.stderr), r.stderr
