@@ -9,23 +9,15 @@ readers. Each test is named after the case it keeps.
 Run by ctest with SMPM (the binary) and SMPM_SOURCE (the source tree) in the environment.
 """
 import os
-import pathlib
 import struct
 import subprocess
-import tempfile
 import unittest
 import zlib
 
 import h5py
 import numpy as np
 
-SMPM = os.environ.get("SMPM", "smpm")
-SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resolve().parents[2]))
-EXAMPLES = SOURCE / "examples"
-
-
-def smpm(*args, timeout=120):
-    return subprocess.run([SMPM, *map(str, args)], capture_output=True, text=True, timeout=timeout)
+from example_runs import EXAMPLES, SMPM, Base, smpm
 
 
 def png(path, width, height, rows=None):
@@ -86,14 +78,7 @@ every = 0.5
 """
 
 
-class Base(unittest.TestCase):
-    def setUp(self):
-        self.tmp = tempfile.TemporaryDirectory()
-        self.dir = pathlib.Path(self.tmp.name)
-
-    def tearDown(self):
-        self.tmp.cleanup()
-
+class Refusals(Base):
     def refused(self, args, code=2):
         """The one line of a refused run; nothing is left in the directory but the inputs."""
         before = sorted(p.name for p in self.dir.iterdir())
@@ -104,7 +89,7 @@ class Base(unittest.TestCase):
         return r.stderr.strip()
 
 
-class RunLength(Base):
+class RunLength(Refusals):
     def test_a_run_that_would_not_end_is_refused(self):
         # conductivity = 1e30: the conduction limit F dx^2 / D gives dt ~ 1e-34 and the run
         # ~1e33 steps (it wrote a series row per step, 1.35 million rows in 10 s). Refused at
@@ -142,7 +127,7 @@ class RunLength(Base):
         self.assertIn("is inf at t = 0", line)
 
 
-class Bodies(Base):
+class Bodies(Refusals):
     def test_overlapping_bodies_give_the_point_to_the_first(self):
         # NairnMPM's rule (MPMReadHandler::MPMPts: a position filled by an earlier body is not
         # filled again): two 4 x 4 boxes overlapping on 2 x 2 hold the mass of their union,
@@ -170,7 +155,7 @@ class Bodies(Base):
                               "not already fill", line)
 
 
-class Images(Base):
+class Images(Refusals):
     def test_a_png_claiming_a_huge_size_is_refused_before_any_buffer(self):
         # A PNG of under 100 bytes whose header claims 10^6 x 10^6 pixels: it allocated 3.5 GB before
         # libpng refused it. The header's size is checked first (2^28 pixels at most).
@@ -241,7 +226,7 @@ class Images(Base):
         self.assertEqual(r.returncode, 0, r.stderr)
 
 
-class Toml(Base):
+class Toml(Refusals):
     def test_a_float_out_of_range_names_its_key(self):
         # 1e309 is refused by the TOML parser: the message named the file and line, not the key.
         inp = self.dir / "big.toml"
