@@ -162,6 +162,12 @@ StepContext Stepper::stage_context(const Model& model, double dt) const {
           .grid_update = grid_update_};
 }
 
+void Stepper::start(Model& model) {
+  const Exclusive hold(*this);
+  for (const std::unique_ptr<StepPart>& part : buf_->parts)
+    part->start(model); // the columns the parts carry, where the particles have none yet
+}
+
 void Stepper::step(Model& model, double dt) {
   const Exclusive hold(*this);
   check_clock(model, dt);
@@ -169,8 +175,7 @@ void Stepper::step(Model& model, double dt) {
   try {
     const bool prepared = prepared_.model && prepared_ == prepared_of(model);
     prepared_ = {};
-    for (const std::unique_ptr<StepPart>& part : buf_->parts)
-      part->start(model); // the columns the parts carry, where the particles have none yet
+    start(model);
     if (!prepared)
       prepare_step(model, opt_.shape, prep_, opt_.transport.update);
     PhaseClock clock;
@@ -187,8 +192,8 @@ void Stepper::step(Model& model, double dt) {
       context.mt = &prep_.consistent_mass();
     clock.lap(prep_.times.mass_matrix);
     buf_->density.resize(0);
-    MaterialStrainUpdate update(model.materials, P.material, opt_.deformation, strain.shock,
-                                &buf_->density, strain.thermal, strain.plastic);
+    MaterialStrainUpdate update(model.materials, P.material, opt_.deformation, &buf_->density,
+                                strain, buf_->hooks);
     scheme_step(context, fields, update, buf_->step);
     clock.lap(prep_.times.update);
     condition_sums(prep_, buf_->step.g.reaction, reactions_, buf_->condition_mass);

@@ -120,7 +120,12 @@ void column_property(py::class_<Particles>& c, const ParticleColumn& col) {
       std::string(col.name).c_str(),
       [col](py::object self) {
         Particles& P = self.cast<Particles&>();
-        return col.vector ? vector_view(P.*col.vector, self) : field_view(P.*col.field, self);
+        if (col.vector)
+          return vector_view(P.*col.vector, self);
+        if (col.field)
+          return field_view(P.*col.field, self);
+        // A program's part (Particles::columns): its storage, made empty when absent.
+        return field_view(P.columns.try_emplace(std::string(col.name)).first->second, self);
       },
       [col](Particles& P, const DoubleArray& a) { set_part_column(P, col, a); }, doc.c_str());
 }

@@ -200,10 +200,23 @@ TEST_CASE("an adiabatic cycle of a thermoelastic particle keeps its entropy and 
       m.particles.temperature.setConstant(1, temp);
       for (int k = 0; k < 4; ++k)
         m.particles.F(0, k) = F0(k / 2, k % 2);
-      ThermalStrainState thermal;
-      thermal.temperature = &m.particles.temperature;
+      // The strain update as a Stepper with heat transport runs it (the heat part's strain
+      // hooks): c before the deformation, the isentropic temperature after it.
+      struct Heating final : StageHooks {
+        ThermalStrainState thermal;
+        void before_deformation(StrainStep& s) override {
+          thermal_couplings(s.materials, s.material, s.fields.F, *thermal.temperature,
+                            thermal.coupling);
+        }
+        void after_deformation(StrainStep& s) override {
+          isentropic_heating(s.materials, s.material, s.fields.F, thermal.coupling,
+                             *thermal.temperature);
+        }
+      } heating;
+      heating.thermal.temperature = &m.particles.temperature;
+      StageHooks* const hooks[] = {&heating};
       MaterialStrainUpdate update(m.materials, m.particles.material, DeformationUpdate::Linear,
-                                  nullptr, nullptr, &thermal);
+                                  nullptr, {.thermal = &heating.thermal}, hooks);
       // a uniform velocity gradient L with (I + L Δt) F0 = F1 on the grid of the particle
       Operators ops = assemble(m.grid, m.particles, Shape::Linear);
       const Eigen::Matrix2d L =

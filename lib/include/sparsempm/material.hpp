@@ -209,6 +209,27 @@ double update_shock_stress(const std::vector<Material>& materials,
 void shock_pressure(const std::vector<Material>& materials,
                     const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
                     const ConstFieldRef& stress, Eigen::Ref<Eigen::VectorXd> pressure);
+/// c_p = thermal_coupling of every particle (rows of F, N × d²) at its temperature T_p (N), into
+/// c (resized to N; 0 without a coupling).
+void thermal_couplings(const std::vector<Material>& materials,
+                       const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                       const Eigen::VectorXd& T, Eigen::VectorXd& c);
+/// The isentropic temperature of a step's deformation (FMPM 2026 §3.2.2's compressive heating;
+/// NairnMPM's dT_q0) for every particle with thermal expansion or of a Mie–Grüneisen material:
+/// its entropy ρ₀ C_V ln(T/T_ref) + c(F, T) kept across the step,
+///     ρ₀ C_V ln(T₁/T₀) + c(F₁, T₁) − c(F₀, T₀) = 0,
+/// with c₀ = c(F₀, T₀) (thermal_couplings before the step) and F₁ = F; T (N) is T₀ and becomes T₁.
+/// Throws NumericalError naming the particle when Newton's method does not converge or T₁ is
+/// not positive.
+void isentropic_heating(const std::vector<Material>& materials,
+                        const Eigen::Ref<const Eigen::VectorXi>& material, const ConstFieldRef& F,
+                        const Eigen::VectorXd& c0, Eigen::VectorXd& T);
+/// The heat of dissipated work w_p (N; the artificial viscosity's, the plastic work) in the
+/// particles' temperatures T (N): ΔT = w / (M C_V) = w / (ρ₀ C_V Ω⁽⁰⁾).
+void heat_of_work(const std::vector<Material>& materials,
+                  const Eigen::Ref<const Eigen::VectorXi>& material,
+                  const Eigen::Ref<const Eigen::VectorXd>& volume0, const Eigen::VectorXd& w,
+                  Eigen::VectorXd& T);
 /// True when a particle's material is Mie–Grüneisen.
 bool uses_shock_physics(const std::vector<Material>& materials);
 

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace smpm {
@@ -36,11 +37,12 @@ enum class ColumnRange {
 /// One optional column of Particles. A column is present when it has a row per particle and
 /// absent (empty) otherwise.
 struct ParticleColumn {
-  std::string_view name = {};                   ///< dataset name in frames, Python attribute
-  Eigen::VectorXd Particles::*vector = nullptr; ///< the member, N entries ...
-  Field Particles::*field = nullptr;            ///< ... or N × width entries
-  ColumnWidth width = ColumnWidth::One;         ///< values per particle
-  ColumnRange range = ColumnRange::Finite;      ///< the values a restart accepts
+  std::string_view name = {}; ///< dataset name in frames, Python attribute
+  /// The member, N entries ... (neither member: the column is Particles::columns[name])
+  Eigen::VectorXd Particles::*vector = nullptr;
+  Field Particles::*field = nullptr;       ///< ... or N × width entries
+  ColumnWidth width = ColumnWidth::One;    ///< values per particle
+  ColumnRange range = ColumnRange::Finite; ///< the values a restart accepts
   /// Why the range, in the message of a value outside it ("": "it must be ...").
   std::string_view range_reason = {};
   /// Present in every particle set, zeros unless a part sets it (Particles::resize makes it
@@ -76,6 +78,12 @@ Eigen::Map<Field> column_values(Particles& P, const ParticleColumn& c);
 Eigen::Map<const Field> column_values(const Particles& P, const ParticleColumn& c);
 /// Sets column c of P to `values` (P.size() × column_width rows; N × 1 for a vector column).
 void set_column(Particles& P, const ParticleColumn& c, const Eigen::Ref<const Field>& values);
+/// The rows and columns of column c as P stores it, whatever they are (a vector: its size × 1;
+/// absent: 0 × 0).
+std::pair<Index, Index> stored_shape(const Particles& P, const ParticleColumn& c);
+/// Stores `values` as column c of P without checking their shape (a frame's values, checked
+/// afterwards by stored_shape; a vector column takes the first column).
+void store_column(Particles& P, const ParticleColumn& c, Field values);
 /// Empties column c of P.
 void clear_column(Particles& P, const ParticleColumn& c);
 

@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <map>
+#include <string>
 
 namespace smpm {
 
@@ -37,6 +39,10 @@ struct Particles {
   Field elastic_cauchy_green;
   /// N equivalent plastic strains ε̄ᵖ (plasticity.hpp); empty with elastic_cauchy_green.
   Eigen::VectorXd plastic_strain;
+  /// The columns of the parts a program adds to the step (register_step_part, step_part.hpp),
+  /// by name: N × width each (particle_columns.hpp). The library's own parts keep theirs in the
+  /// members above.
+  std::map<std::string, Field, std::less<>> columns;
 
   /// N, the number of particles (rows of X).
   Index size() const { return X.rows(); }

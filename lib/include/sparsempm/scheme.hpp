@@ -62,38 +62,83 @@ struct ShockState {
   /// N: det F of each particle before the strain update (scratch, reused from step to step)
   /// \var p_old
   /// N: p + q of each Mie–Grüneisen particle before the strain update (scratch)
+  Eigen::VectorXd work;    ///< N: each particle's viscous work of the update, with heat (scratch)
   double viscous_work = 0; ///< the viscosity's work Σ_p −q ΔJ V⁽⁰⁾ of the last update
 };
 
 /// The state heat transport carries through a strain update: the particles' temperatures, which
 /// the couplings of the materials change reversibly, ΔT = −T Δc / (ρ₀ C_V) with c their
-/// thermal_coupling (thermal expansion; the Grüneisen solid: ΔT = −γ₀ T ΔJ), and the artificial
-/// viscosity's work heats, ΔT = w / (M C_V) (NairnMPM's dT_q0 and dissipated energy); scratch.
+/// thermal_coupling (thermal expansion; the Grüneisen solid: ΔT = −γ₀ T ΔJ) (isentropic_heating),
+/// and the dissipation of the other parts heats, ΔT = w / (M C_V) (heat_of_work; NairnMPM's dT_q0
+/// and dissipated energy); scratch.
 struct ThermalStrainState {
   Eigen::VectorXd* temperature = nullptr; ///< N absolute temperatures (updated)
   Eigen::VectorXd coupling;               ///< scratch: c of each particle before the step
-  Eigen::VectorXd viscous;                ///< scratch: the viscosity's work of each particle
+};
+
+/// The states of the parts in one strain update, which the parts' strain hooks read across
+/// parts (the J2 return reads the shock's pressure, the shock's pressure the plastic state, and
+/// dissipation heats the temperatures); null: the part is not in the step.
+struct StrainCouplings {
+  ShockState* shock = nullptr;           ///< Mie–Grüneisen energies and viscosity (shocks)
+  ThermalStrainState* thermal = nullptr; ///< the temperatures the couplings change (heat)
+  PlasticState* plastic = nullptr;       ///< b̄ᵉ and ε̄ᵖ of the J2 return (plasticity)
+};
+
+/// What the parts' strain hooks read and change in one strain update (MaterialStrainUpdate).
+struct StrainStep {
+  const std::vector<Material>& materials;            ///< the model's materials
+  const Eigen::Ref<const Eigen::VectorXi>& material; ///< N material ids
+  ParticleFields& fields;                            ///< the particles' F, σ (updated)
+  double dt;                                         ///< the update's time
+  const StrainCouplings& couplings;                  ///< the parts' states
+  /// W(F_p) of every particle, as update_stress stores it (null: not stored); a part that
+  /// changes a particle's stress stores its W.
+  Eigen::VectorXd* density;
+};
+
+struct StepContext;
+
+/// A part's work at the stage boundaries of scheme_step (FMPM 2026 Fig. 1; step_part.hpp) and
+/// in its strain updates, on whole fields, once per step or update: never per particle. The
+/// default hooks do nothing.
+class StageHooks {
+public:
+  virtual ~StageHooks() = default;
+  /// After task 1: the grid momenta and velocities of the particles' P2G.
+  virtual void after_momentum(const StepContext& /*c*/, ParticleFields& /*fields*/) {}
+  /// After tasks 2–3: the forces and the updated grid velocity, contact's frictional work done.
+  virtual void after_velocity(const StepContext& /*c*/, ParticleFields& /*fields*/) {}
+  /// After task 4, the particle update; u is the grid velocity the particles took (v⁺ for FLIP,
+  /// v⁺(k) for FMPM(k), XPIC's for XPIC).
+  virtual void after_particles(const StepContext& /*c*/, const Field& /*u*/,
+                               ParticleFields& /*fields*/) {}
+  /// A strain update (task 5, task 1.c of USF/USAVG) before F changes: what the part needs of
+  /// the particles' state at the start of the update.
+  virtual void before_deformation(StrainStep& /*s*/) {}
+  /// A strain update after F changed, before the stresses σ(F).
+  virtual void after_deformation(StrainStep& /*s*/) {}
+  /// A strain update after the stresses σ(F): the part's own stresses and their dissipation.
+  virtual void after_stress(StrainStep& /*s*/) {}
 };
 
 /// The simulation's strain update: F from the velocity gradient (update_deformation), then
-/// σ = σ(F) by each particle's material (update_stress); with `shock` and Mie–Grüneisen
-/// materials, their pressure, artificial viscosity and internal energy (update_shock_stress);
-/// with `plastic` and plastic materials, the J2 return of their particles
-/// (update_plastic_stress).
+/// σ = σ(F) by each particle's material (update_stress), with the parts' strain hooks around
+/// them (StageHooks): shock physics' pressure, artificial viscosity and internal energy
+/// (update_shock_stress), the J2 return (update_plastic_stress), the thermal couplings.
 class MaterialStrainUpdate final : public StrainUpdate {
 public:
   /// With `density`, each stress update also stores W(F_p) of every particle there
-  /// (update_stress), for the energies of the step. With `thermal` (heat transport) the
-  /// particles' temperatures take the couplings' heating and the stresses their thermal
-  /// expansion (ThermalStrainState), and the plastic work heats.
+  /// (update_stress), for the energies of the step. With `couplings.thermal` (heat transport)
+  /// the stresses take the temperatures' thermal expansion. The hooks run in their order.
   MaterialStrainUpdate(const std::vector<Material>& materials,
                        const Eigen::Ref<const Eigen::VectorXi>& material, DeformationUpdate kind,
-                       ShockState* shock = nullptr, Eigen::VectorXd* density = nullptr,
-                       ThermalStrainState* thermal = nullptr, PlasticState* plastic = nullptr)
-      : materials_(materials), material_(material), kind_(kind), shock_(shock), density_(density),
-        thermal_(thermal), plastic_(plastic) {}
-  /// F ← (I + L Δt) F or exp(L Δt) F (update_deformation), then σ = σ(F) (update_stress);
-  /// with `shock`, the Mie–Grüneisen stresses and energies (update_shock_stress).
+                       Eigen::VectorXd* density = nullptr, const StrainCouplings& couplings = {},
+                       std::span<StageHooks* const> hooks = {})
+      : materials_(materials), material_(material), kind_(kind), density_(density),
+        couplings_(couplings), hooks_(hooks) {}
+  /// before_deformation, F ← (I + L Δt) F or exp(L Δt) F (update_deformation),
+  /// after_deformation, σ = σ(F) (update_stress), after_stress.
   void update(const ParticleOperators& op, const Field& v, double dt,
               ParticleFields& fields) override;
 
@@ -101,13 +146,9 @@ private:
   const std::vector<Material>& materials_;
   Eigen::Ref<const Eigen::VectorXi> material_;
   DeformationUpdate kind_;
-  ShockState* shock_;
   Eigen::VectorXd* density_;
-  ThermalStrainState* thermal_;
-  PlasticState* plastic_;
-  void plastic_update(const ParticleFields& fields);
-  void couplings(const ConstFieldRef& F, Eigen::VectorXd& c) const;
-  void reversible_heating(const ConstFieldRef& F) const;
+  StrainCouplings couplings_;
+  std::span<StageHooks* const> hooks_;
 };
 
 /// Heat transport in one step (transport.hpp; FMPM 2026 §3.5): what the transport stages read
@@ -131,23 +172,6 @@ struct TransportContext {
   /// temperatures); false for the linearised transport step of the stability analysis, which
   /// maps perturbations of any sign.
   bool absolute = true;
-};
-
-struct StepContext;
-
-/// A part's work at the stage boundaries of scheme_step (FMPM 2026 Fig. 1; step_part.hpp), on
-/// whole fields, once per step: never per particle. The default hooks do nothing.
-class StageHooks {
-public:
-  virtual ~StageHooks() = default;
-  /// After task 1: the grid momenta and velocities of the particles' P2G.
-  virtual void after_momentum(const StepContext& /*c*/, ParticleFields& /*fields*/) {}
-  /// After tasks 2–3: the forces and the updated grid velocity, contact's frictional work done.
-  virtual void after_velocity(const StepContext& /*c*/, ParticleFields& /*fields*/) {}
-  /// After task 4, the particle update; u is the grid velocity the particles took (v⁺ for FLIP,
-  /// v⁺(k) for FMPM(k), XPIC's for XPIC).
-  virtual void after_particles(const StepContext& /*c*/, const Field& /*u*/,
-                               ParticleFields& /*fields*/) {}
 };
 
 /// What the stages read besides the particle fields; fixed during the step.

@@ -129,6 +129,10 @@ public:
   double friction_work() const { return state_.friction_work; }
   /// Work of the artificial viscosity since the start of the run (StepperState::viscous_work).
   double viscous_work() const { return state_.viscous_work; }
+  /// Gives the model's particles the columns the Stepper's parts carry where they have none
+  /// yet, with their start values (StepPart::start; every step begins with it): a run calls it
+  /// before its first series row and frame.
+  void start(Model& model);
   /// Plastic work since the start of the run (StepperState::plastic_work).
   double plastic_work() const { return state_.plastic_work; }
   /// The reaction force of each velocity condition of the model (Model::bcs, in its order, then

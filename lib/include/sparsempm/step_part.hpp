@@ -15,23 +15,18 @@
 /// add what is linear in the step's state (begin_linearised); the rest is frozen.
 /// A part is called once per step on whole fields, never per particle.
 
+#include "sparsempm/particle_columns.hpp"
 #include "sparsempm/scheme.hpp"
 #include "sparsempm/step.hpp"
 #include "sparsempm/step_preparation.hpp"
 
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace smpm {
-
-/// The states the strain update (MaterialStrainUpdate) carries for the parts of one step; null:
-/// the part is not in the step.
-struct StrainCouplings {
-  ShockState* shock = nullptr;           ///< Mie–Grüneisen energies and viscosity (shocks)
-  ThermalStrainState* thermal = nullptr; ///< the temperatures the couplings change (heat)
-  PlasticState* plastic = nullptr;       ///< b̄ᵉ and ε̄ᵖ of the J2 return (plasticity)
-};
 
 /// What a part reads and sets before the stages of a step (StepPart::begin).
 struct StepStart {
@@ -98,6 +93,36 @@ public:
   /// particles' stress is another function of their state sets their rows.
   virtual void tangents(const Model& /*model*/, Field& /*K*/) const {}
 };
+
+/// One series a part adds to a run file: `/series/NAME`, one value per step (row 0: t = 0),
+/// after the run's own series.
+struct PartSeries {
+  std::string_view name = {};                ///< dataset name in /series
+  std::string_view meaning = {};             ///< what it holds, one line (the layout)
+  double (*value)(const Model& m) = nullptr; ///< its value for the model after a step
+};
+
+/// A part as the list of parts knows it: its maker, which returns the part for a Stepper with
+/// these options or null when the options leave its capability off, and the particle columns
+/// it carries (particle_columns.hpp).
+struct StepPartEntry {
+  std::unique_ptr<StepPart> (*make)(const StepOptions& options) = nullptr; ///< the maker
+  std::span<const ParticleColumn> columns = {}; ///< its columns, in their order in frames
+  std::span<const PartSeries> series = {};      ///< its series, in their order in run files
+};
+
+/// Every part's entry: the library's, then those a program added (register_step_part).
+std::vector<const StepPartEntry*> step_part_entries();
+/// The series of the parts a Stepper with these options holds, in the parts' order.
+std::vector<const PartSeries*> part_series(const StepOptions& options);
+
+/// Adds a part to the list of every Stepper made after the call, after the library's own (a
+/// program's own capability: its columns in frames, restarts and appends, its series in run
+/// files and their layout, its answer to the linearised step). Its columns are not members of
+/// Particles (ParticleColumn::vector and field null: they live in Particles::columns) and their
+/// names and its series' names are new (UsageError otherwise). Call it before any Stepper,
+/// run, layout or particle set is made, from one thread (the list is read without a lock).
+void register_step_part(const StepPartEntry& entry);
 
 /// The parts a Stepper with these options holds, in the order their hooks run: shocks, heat
 /// transport, the gradient transfer, plasticity, loads, rigid bodies, contact (a part whose

@@ -4,6 +4,7 @@
 
 #include "sparsempm/output.hpp"
 #include "sparsempm/particle_columns.hpp"
+#include "sparsempm/step_part.hpp"
 
 #include "hdf5_util.hpp"
 #include "output_format.hpp"
@@ -150,6 +151,21 @@ std::vector<LayoutEntry> series_entries() {
   };
 }
 
+// The series the parts of the step add (PartSeries), after the run's own.
+std::vector<LayoutEntry> part_series_entries() {
+  static const std::vector<std::pair<std::string, std::string>> text = [] {
+    std::vector<std::pair<std::string, std::string>> t;
+    for (const StepPartEntry* entry : step_part_entries())
+      for (const PartSeries& s : entry->series)
+        t.emplace_back("/series/" + std::string(s.name), std::string(s.meaning));
+    return t;
+  }();
+  std::vector<LayoutEntry> entries;
+  for (const auto& [path, meaning] : text)
+    entries.push_back({path.c_str(), "steps", meaning.c_str(), "its part"});
+  return entries;
+}
+
 // The state a restart takes from its frame.
 std::vector<LayoutEntry> state_entries() {
   return {
@@ -166,7 +182,7 @@ const std::vector<LayoutEntry>& run_file_layout() {
   static const std::vector<LayoutEntry> layout = [] {
     std::vector<LayoutEntry> entries;
     for (auto group : {file_entries, particle_entries, grid_entries, matrix_entries, series_entries,
-                       state_entries}) {
+                       part_series_entries, state_entries}) {
       const std::vector<LayoutEntry> part = group();
       entries.insert(entries.end(), part.begin(), part.end());
     }

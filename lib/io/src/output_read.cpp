@@ -92,8 +92,7 @@ void check_frame_shapes(const Particles& P, int d) {
   expect("half_length", P.half_length.rows(), P.half_length.cols(), d);
   expect("material", P.material.rows(), 1, 1);
   for (const ParticleColumn& c : particle_columns()) { // the parts' columns it holds
-    const Index rows = c.vector ? (P.*c.vector).size() : (P.*c.field).rows();
-    const Index cols = c.vector ? 1 : (P.*c.field).cols();
+    const auto [rows, cols] = stored_shape(P, c);
     if (c.always || rows > 0)
       expect(std::string(c.name).c_str(), rows, cols, column_width(c, d));
   }
@@ -160,11 +159,7 @@ void load_frame_from(hid_t file, int frame, Model& model) {
       if (has_column(model.particles, c) && model.particles.size() == P.X.rows())
         set_column(P, c, column_values(model.particles, c));
     } else if (h5::exists(g.get(), std::string(c.name))) {
-      const Field v = h5::read_doubles(g.get(), std::string(c.name));
-      if (c.vector)
-        P.*c.vector = v.col(0);
-      else
-        P.*c.field = v;
+      store_column(P, c, h5::read_doubles(g.get(), std::string(c.name)));
     } else if (c.required && c.required(model)) { // part of the state
       throw std::runtime_error(std::string(c.name) + " is missing (" + std::string(c.why_required) +
                                ")");

@@ -5,6 +5,7 @@
 #include "output_format.hpp"
 
 #include "sparsempm/step.hpp"
+#include "sparsempm/step_part.hpp"
 
 #include <cmath>
 #include <limits>
@@ -27,7 +28,10 @@ const char* const kMaterialSeries[] = {"material_mass", "material_momentum", "ma
 SeriesLayout::SeriesLayout(const RunConfig& cfg)
     : dim(cfg.model.grid.dim()), materials(int(cfg.model.materials.size())),
       thermal(cfg.step.transport.update != TransportUpdate::Off),
-      reactions(reaction_labels(cfg.model)) {}
+      reactions(reaction_labels(cfg.model)) {
+  for (const PartSeries* s : part_series(cfg.step))
+    parts.emplace_back(s->name);
+}
 
 std::vector<std::pair<std::string, size_t>> SeriesLayout::columns() const {
   std::vector<std::pair<std::string, size_t>> out;
@@ -41,6 +45,8 @@ std::vector<std::pair<std::string, size_t>> SeriesLayout::columns() const {
       out.emplace_back(s, 0);
   if (!reactions.empty())
     out.emplace_back("reaction", reactions.size());
+  for (const std::string& s : parts)
+    out.emplace_back(s, 0);
   return out;
 }
 
@@ -84,9 +90,13 @@ std::vector<Field> series_values(const SeriesLayout& layout, const std::vector<S
       for (size_t s = 0; s < std::size(kThermalSeries); ++s, ++c)
         if (s < row.thermal.size())
           out[c](r, 0) = row.thermal[s];
-    if (!layout.reactions.empty())
+    if (!layout.reactions.empty()) {
       for (size_t j = 0; j < std::min(layout.reactions.size(), row.reactions.size()); ++j)
         out[c](r, Index(j)) = row.reactions[j];
+      ++c;
+    }
+    for (size_t s = 0; s < std::min(layout.parts.size(), row.parts.size()); ++s)
+      out[c + s](r, 0) = row.parts[s];
   }
   return out;
 }

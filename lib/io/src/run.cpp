@@ -6,6 +6,7 @@
 #include "sparsempm/errors.hpp"
 #include "sparsempm/output.hpp"
 #include "sparsempm/run_file.hpp"
+#include "sparsempm/step_part.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -52,9 +53,12 @@ public:
       : cfg_(cfg), options_(options), partial_(std::move(partial)),
         out_(open_partial(cfg, options, partial_, next_frame_, e0_)), stepper_(cfg.step),
         V0_(cfg.model.particles.V) {
-    if (restarting())
+    if (restarting()) {
       restore();
-    else if (heat(cfg.model))
+      return;
+    }
+    stepper_.start(cfg.model); // the parts' columns in the first row and frame
+    if (heat(cfg.model))
       thermal0_ = thermal_sums(cfg.model, energies(cfg.model).strain);
   }
 
@@ -135,6 +139,8 @@ private:
     }
     r.viscous = stepper_.viscous_work();
     r.plastic = stepper_.plastic_work();
+    for (const PartSeries* s : series_) // the parts' own
+      r.parts.push_back(s->value(m));
     r.reactions.assign(reaction_labels(m).size(), 0.0);
     if (m.step > 0 && stepper_.reactions().size() == r.reactions.size())
       r.reactions = stepper_.reactions();
@@ -188,6 +194,7 @@ private:
   Stepper stepper_;
   Field V0_;
   double change_sum_ = 0;
+  std::vector<const PartSeries*> series_ = part_series(stepper_.options());
 };
 
 // The run file a run writes: -o, else a restart's final file, else the input's output.file. A

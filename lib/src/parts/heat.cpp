@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Heat transport as a part of the step (FMPM 2026 §3.5, transport.hpp): the particles carry
 // temperatures (T_ref of their material to start), the stages run the transport on the step's
-// transport operators, and the strain update takes the materials' thermal couplings.
+// transport operators, and the strain update takes the materials' thermal couplings (its strain
+// hooks: the isentropic heating of the deformation).
 #include "parts.hpp"
 
 #include "sparsempm/transport.hpp"
@@ -48,6 +49,15 @@ public:
   // The particles' temperatures (task 4).
   void after_particles(const StepContext& c, const Field&, ParticleFields&) override {
     transport_particles(*c.ops, transport_, c.dt, *state_);
+  }
+  // c of every particle before the deformation, and its isentropic temperature after it.
+  void before_deformation(StrainStep& s) override {
+    thermal_couplings(s.materials, s.material, s.fields.F, *thermal_.temperature,
+                      thermal_.coupling);
+  }
+  void after_deformation(StrainStep& s) override {
+    isentropic_heating(s.materials, s.material, s.fields.F, thermal_.coupling,
+                       *thermal_.temperature);
   }
   void end(StepEnd& e) override {
     // USF updates the stresses (and stores W) before the transport changes the temperatures:

@@ -9,13 +9,7 @@
 
 namespace smpm::parts {
 
-/// A part of the step as the list knows it: its maker, which returns the part for a Stepper
-/// with these options or null when the options leave its capability off, and the particle
-/// columns it carries.
-struct Entry {
-  std::unique_ptr<StepPart> (*make)(const StepOptions& options);
-  std::span<const ParticleColumn> columns;
-};
+using Entry = StepPartEntry;
 
 extern const Entry shocks;            // shocks.cpp
 extern const Entry heat;              // heat.cpp

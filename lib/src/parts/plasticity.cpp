@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // J2 plasticity as a part of the step (plasticity.hpp): particles of a plastic material carry
 // b̄ᵉ and ε̄ᵖ (b̄ᵉ of F and ε̄ᵖ = 0 to start), which the strain update returns to the yield
-// surface, and the run tallies the plastic work.
+// surface (its strain hooks), and the plastic work heats the particles with heat transport and
+// the run tallies it.
 #include "parts.hpp"
 
 #include "sparsempm/plasticity.hpp"
@@ -27,6 +28,21 @@ public:
     state_.plastic_strain = &s.model.particles.plastic_strain;
     state_.plastic_work = 0;
     s.strain.plastic = &state_;
+    s.hooks.push_back(this);
+  }
+  void before_deformation(StrainStep& s) override {
+    state_.F_old = s.fields.F; // storage reused from step to step
+  }
+  // The J2 return from F_old to F after the elastic stress update and the shock's pressure; the
+  // plastic work is heat.
+  void after_stress(StrainStep& s) override {
+    ParticleFields& f = s.fields;
+    const ShockState* shock = s.couplings.shock;
+    state_.plastic_work +=
+        update_plastic_stress(s.materials, s.material, f.F, f.volume0,
+                              shock ? &shock->pressure : nullptr, state_, f.stress, s.density);
+    if (ThermalStrainState* thermal = s.couplings.thermal)
+      heat_of_work(s.materials, s.material, f.volume0, state_.work, *thermal->temperature);
   }
   void end(StepEnd& e) override {
     if (on_)

@@ -1,8 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Shock physics as a part of the step (contact 2020 §4, material.hpp): Mie–Grüneisen particles
 // carry their internal energy U (0 to start), which the strain update advances with the
-// pressure and the artificial viscosity, whose work the run tallies.
+// pressure and the artificial viscosity (its strain hooks), whose work heats the particles with
+// heat transport and the run tallies.
 #include "parts.hpp"
+
+#include "../parallel.hpp"
+
+#include <Eigen/LU>
 
 namespace smpm::parts {
 namespace {
@@ -22,6 +27,34 @@ public:
     state_.dx = s.model.grid.min_cell_size();
     state_.viscous_work = 0;
     s.strain.shock = &state_;
+    s.hooks.push_back(this);
+  }
+  // J and p + q of every particle before the update (contact 2020 Eqs. 51–52); a plastic
+  // particle's shear term is G dev(b̄ᵉ)/J.
+  void before_deformation(StrainStep& s) override {
+    ParticleFields& f = s.fields;
+    const Index N = f.F.rows();
+    const int d = int(f.X.cols());
+    state_.J_old.resize(N);
+    state_.p_old.resize(N);
+    state_.pressure.resize(N);
+    detail::parallel_for(N, [&](Index p) {
+      state_.J_old[p] = embed_3d(f.F.data() + p * f.F.outerStride(), d).determinant();
+    });
+    shock_pressure(s.materials, s.material, f.F, f.stress, state_.p_old);
+    if (const PlasticState* plastic = s.couplings.plastic)
+      plastic_shock_pressure(s.materials, s.material, f.F, f.stress, *plastic->elastic_cauchy_green,
+                             state_.p_old);
+  }
+  // The shock stresses and energies after the elastic ones; the viscosity's work is heat.
+  void after_stress(StrainStep& s) override {
+    ParticleFields& f = s.fields;
+    ThermalStrainState* thermal = s.couplings.thermal;
+    state_.viscous_work += update_shock_stress(
+        s.materials, s.material, f.F, f.volume0, state_.J_old, state_.p_old, s.dt, state_.dx,
+        *state_.energy, state_.pressure, f.stress, thermal ? &state_.work : nullptr);
+    if (thermal)
+      heat_of_work(s.materials, s.material, f.volume0, state_.work, *thermal->temperature);
   }
   void end(StepEnd& e) override {
     if (on_)

@@ -69,6 +69,8 @@ struct SeriesRow {
   /// The reaction force of each velocity condition along its direction (Stepper::reactions; 0
   /// at t = 0), in the order of Model::bcs; empty without conditions.
   std::vector<double> reactions;
+  /// The series of the run's parts (part_series), in the order of SeriesLayout::parts.
+  std::vector<double> parts;
 };
 
 /// The series of heat transport, in the order of SeriesRow::thermal.
@@ -93,6 +95,7 @@ struct SeriesLayout {
   int materials = 0;                  ///< the materials of the per-material series
   bool thermal = false;               ///< heat transport's series (kThermalSeries)
   std::vector<std::string> reactions; ///< the reaction columns' conditions (reaction_labels)
+  std::vector<std::string> parts;     ///< the series of the run's parts (part_series)
   SeriesLayout() = default;
   /// The series of a run of `cfg`.
   explicit SeriesLayout(const RunConfig& cfg);
