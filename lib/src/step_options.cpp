@@ -77,9 +77,32 @@ void validate(const ExactOptions& o) {
     throw OptionError("exact_mass_cutoff", number_text(o.mass_cutoff), "must lie in [0, 1)");
 }
 
+std::string_view to_string(NodalSystem s) {
+  switch (s) {
+  case NodalSystem::ConsistentMass:
+    return "consistent mass matrix m~";
+  case NodalSystem::GradientMass:
+    return "mass matrix m~_L of the velocity-gradient transfer";
+  case NodalSystem::ConsistentCapacity:
+    return "consistent capacity matrix c~";
+  }
+  return "nodal matrix";
+}
+
+bool is_symmetric(NodalSystem s) {
+  return s != NodalSystem::GradientMass;
+}
+
 ExactOptions velocity_solver_options(const StepOptions& opt) {
   ExactOptions o = opt.exact;
-  o.symmetric = opt.transfer == Transfer::Standard;
+  o.system =
+      opt.transfer == Transfer::Standard ? NodalSystem::ConsistentMass : NodalSystem::GradientMass;
+  return o;
+}
+
+ExactOptions transport_solver_options(const StepOptions& opt) {
+  ExactOptions o = opt.exact;
+  o.system = NodalSystem::ConsistentCapacity;
   return o;
 }
 

@@ -48,17 +48,10 @@ void transport_update(const Operators& ops, const TransportContext& heat,
   if (heat.update == TransportUpdate::Exact) {
     if (heat.bcs)
       heat.bcs->constrain_update(top.nodes.grid, top.nodes.m, t, dt, h.tau_plus, h.q);
-    try {
+    try { // the solver names c~ and the lumped capacities (transport_solver_options)
       heat.solver->solve(top.nodes, *heat.ct, bc, h.tau_plus, h.theta);
-    } catch (const NumericalError& e) { // the solver speaks of masses: here they are capacities
-      std::string what = e.what();
-      for (const auto& [from, to] :
-           {std::pair<std::string, std::string>{"mass matrix", "capacity matrix c~"},
-            {"lumped masses", "lumped capacities"},
-            {"(m = ", "(c = "}})
-        for (size_t at = what.find(from); at != std::string::npos; at = what.find(from, at))
-          what.replace(at, from.size(), to);
-      throw NumericalError("heat transport: " + what);
+    } catch (const NumericalError& e) {
+      throw NumericalError(std::string("heat transport: ") + e.what());
     }
   } else {
     updated_velocity(top.nodes, heat.ct, heat.fmpm, bc, true, dt, h.tau_plus, &h.q, h.theta,

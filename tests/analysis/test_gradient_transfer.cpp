@@ -194,7 +194,7 @@ TEST_CASE("UMFPACK's solve of a symmetric m~ equals CHOLMOD's", "[exact]") {
   for (const double cutoff : {0.0, 0.05}) {
     CAPTURE(cutoff);
     CholmodSolver c({.mass_cutoff = cutoff});
-    UmfpackSolver u({.mass_cutoff = cutoff, .symmetric = false});
+    UmfpackSolver u({.mass_cutoff = cutoff, .system = NodalSystem::GradientMass});
     const LoopConstraints bc{&m.grid, &m.bcs, 0.0};
     Field vc, vu;
     c.solve(ops, mt, bc, p, vc);

@@ -156,6 +156,77 @@ TEST_CASE("a singular consistent mass is reported with its nodes", "[exact]") {
   }
 }
 
+TEST_CASE("a failed factorisation names the nodal system it was given", "[exact]") {
+  // The singular m̃ above, given to the solvers as each system (ExactOptions::system): the
+  // messages name that matrix, its lumped quantity and its remedies by construction.
+  const Grid g(1, {0, 0, 0}, {1, 1, 1}, {10, 1, 1});
+  Particles P;
+  P.resize(1, 2);
+  P.X.col(0) << 2.5, 4.5;
+  P.mass.setOnes();
+  P.half_length.setConstant(0.25);
+  const Operators ops = assemble(g, P, Shape::Linear);
+  ConsistentMass mt;
+  assemble_consistent_mass(ops, mt);
+  Field p = Field::Ones(g.num_nodes(), 1), v;
+  auto message = [&](MassSolver&& solver) {
+    try {
+      solver.solve(ops, mt.matrix, {}, p, v);
+    } catch (const NumericalError& e) {
+      return std::string(e.what());
+    }
+    FAIL("the singular matrix was factored");
+    return std::string();
+  };
+  const std::string mass = message(CholmodSolver());
+  CHECK_THAT(mass, Catch::StartsWith("the consistent mass matrix m~ is not positive definite") &&
+                       Catch::Contains("; smallest lumped masses: node ") &&
+                       Catch::Contains(" (m = ") && Catch::EndsWith("(1 - eps) m~ + eps m)"));
+  const std::string capacity = message(CholmodSolver({.system = NodalSystem::ConsistentCapacity}));
+  CHECK_THAT(capacity,
+             Catch::StartsWith("the consistent capacity matrix c~ is not positive definite") &&
+                 Catch::Contains("; smallest lumped capacities: node ") &&
+                 Catch::Contains(" (c = ") && Catch::Contains("their lumped temperature") &&
+                 Catch::EndsWith("(1 - eps) c~ + eps c)"));
+  CHECK_THAT(capacity, !Catch::Contains("mass matrix") && !Catch::Contains("lumped mass"));
+  const std::string gradient = message(UmfpackSolver({.system = NodalSystem::GradientMass}));
+  CHECK_THAT(gradient, Catch::StartsWith("the mass matrix m~_L of the velocity-gradient transfer "
+                                         "is singular on the active nodes (UMFPACK status ") &&
+                           Catch::Contains("; smallest lumped masses: node ") &&
+                           Catch::EndsWith("(1 - eps) m~_L + eps m)"));
+  CHECK_THROWS_AS(CholmodSolver({.system = NodalSystem::GradientMass}), UsageError);
+  CHECK(!is_symmetric(NodalSystem::GradientMass));
+  CHECK(is_symmetric(NodalSystem::ConsistentMass));
+  CHECK(is_symmetric(NodalSystem::ConsistentCapacity));
+}
+
+TEST_CASE("the exact transport solve names a singular capacity matrix as such", "[exact]") {
+  // A conducting bar with one particle in every other cell (linear shape functions): c~ of
+  // rank 5 on 10 active nodes. The step makes its transport solver for c~
+  // (transport_solver_options), so the message names the capacity matrix, the lumped
+  // capacities and the capacity's remedies.
+  Model m(Grid(1, {-0.1, 0, 0}, {0.1, 1, 1}, {12, 1, 1}));
+  Material mat = smpm::test::material("bar", MaterialModel::Linear, 1e-9, 0.0);
+  mat.heat_capacity = 1;
+  mat.conductivity = 1;
+  mat.reference_temperature = 300;
+  m.materials = {mat};
+  for (int cell = 0; cell < 10; cell += 2)
+    m.particles.append(
+        make_block(m.grid, {0.1 * cell, 0, 0}, {0.1 * (cell + 1), 0, 0}, {1, 1, 1}, 1.0, 0));
+  StepOptions o;
+  o.shape = Shape::Linear;
+  o.transport.update = TransportUpdate::Exact;
+  o.exact_solver = exact_solver_factory();
+  Stepper stepper(o);
+  CHECK_THROWS_WITH(
+      stepper.step(m, 1e-3),
+      Catch::StartsWith("step 1 (t = 0.001): heat transport: the consistent capacity matrix "
+                        "c~ is not positive definite on the active nodes") &&
+          Catch::Contains("; smallest lumped capacities: node ") && Catch::Contains(" (c = ") &&
+          Catch::EndsWith("(1 - eps) c~ + eps c)"));
+}
+
 TEST_CASE("the regularised exact solve is the blended inverse and keeps a uniform translation",
           "[exact]") {
   // (1 − ε) m̃ + ε m = m (I − (1 − ε) A): its inverse is the k → ∞ limit of FMPM(k) blended

@@ -43,7 +43,7 @@ TransportStep::TransportStep(const Model& model, const StepOptions& options, dou
     c.wall_state.reset();
   }
   if (options.transport.update == TransportUpdate::Exact)
-    I.solver = options.exact_solver(options.exact);
+    I.solver = options.exact_solver(transport_solver_options(options));
   TransportContext& c = I.context;
   c.update = options.transport.update;
   c.fmpm = transport_fmpm_options(options);

@@ -42,13 +42,14 @@ cholmod_sparse as_cholmod(Restricted& f) {
   return A;
 }
 
-[[noreturn]] void not_positive_definite(const Operators& ops, const Restricted& f, long minor) {
+[[noreturn]] void not_positive_definite(const Operators& ops, const Restricted& f, long minor,
+                                        NodalSystem system) {
   std::ostringstream os;
-  os << "the consistent mass matrix is not positive definite on the active nodes: CHOLMOD found "
-        "a non-positive pivot at "
+  os << "the " << to_string(system)
+     << " is not positive definite on the active nodes: CHOLMOD found a non-positive pivot at "
      << (minor >= 0 && minor < long(f.free.size()) ? ops.node_text(f.free[size_t(minor)])
                                                    : std::string("an unknown node"))
-     << "; smallest lumped masses: " << detail::lightest_nodes(ops, f.free) << detail::kRemedies;
+     << "; " << detail::lightest_nodes(ops, f.free, system) << detail::remedies(system);
   throw NumericalError(os.str());
 }
 } // namespace
@@ -61,6 +62,7 @@ struct CholmodBackend {
     bool factored() const { return L != nullptr; }
   };
   cholmod_common c;
+  NodalSystem system = NodalSystem::ConsistentMass; // the matrix its messages name
 
   CholmodBackend() {
     cholmod_start(&c);
@@ -72,23 +74,23 @@ struct CholmodBackend {
   CholmodBackend& operator=(const CholmodBackend&) = delete;
 
   static void accept(const ExactOptions& options) {
-    if (!options.symmetric)
-      throw UsageError("CholmodSolver factors symmetric matrices, and m~_L of the "
-                       "velocity-gradient transfer is not: make the solver with "
-                       "exact_solver_factory() (UMFPACK for it)");
+    if (!is_symmetric(options.system))
+      throw UsageError("CholmodSolver factors symmetric matrices, and the " +
+                       std::string(to_string(options.system)) +
+                       " is not: make the solver with exact_solver_factory() (UMFPACK for it)");
   }
   void analyse(Factor& f) {
     release(f);
     cholmod_sparse A = as_cholmod(f);
     f.L = cholmod_analyze(&A, &c);
     if (!f.L)
-      throw NumericalError("CHOLMOD could not analyse the consistent mass matrix");
+      throw NumericalError("CHOLMOD could not analyse the " + std::string(to_string(system)));
   }
   double factorize(const Operators& ops, Factor& f) {
     cholmod_sparse A = as_cholmod(f);
     cholmod_factorize(&A, f.L, &c);
     if (c.status == CHOLMOD_NOT_POSDEF || f.L->minor < f.L->n)
-      not_positive_definite(ops, f, long(f.L->minor));
+      not_positive_definite(ops, f, long(f.L->minor), system);
     return cholmod_rcond(f.L, &c);
   }
   static Eigen::MatrixXd right_hand_sides(const Operators& ops, const SparseRowMatrix& mt,
@@ -109,7 +111,7 @@ struct CholmodBackend {
     rhs.dtype = CHOLMOD_DOUBLE;
     cholmod_dense* X = cholmod_solve(CHOLMOD_A, f.L, &rhs, &c);
     if (!X)
-      throw NumericalError("CHOLMOD could not solve with the consistent mass matrix");
+      throw NumericalError("CHOLMOD could not solve with the " + std::string(to_string(system)));
     const double* x = static_cast<const double*>(X->x);
     for (size_t k = 0; k < f.comps.size(); ++k)
       for (size_t q = 0; q < f.free.size(); ++q)
@@ -131,6 +133,7 @@ struct UmfpackBackend {
     bool analysed() const { return symbolic != nullptr; }
     bool factored() const { return numeric != nullptr; }
   };
+  NodalSystem system = NodalSystem::ConsistentMass; // the matrix its messages name
 
   static void accept(const ExactOptions&) {}
   void analyse(Factor& f) {
@@ -139,7 +142,7 @@ struct UmfpackBackend {
     double info[UMFPACK_INFO];
     if (umfpack_di_symbolic(m, m, f.colptr.data(), f.rowind.data(), f.values.data(), &f.symbolic,
                             nullptr, info) != UMFPACK_OK)
-      throw NumericalError("UMFPACK could not analyse the mass matrix m~_L");
+      throw NumericalError("UMFPACK could not analyse the " + std::string(to_string(system)));
   }
   double factorize(const Operators& ops, Factor& f) {
     release_numeric(f);
@@ -147,10 +150,10 @@ struct UmfpackBackend {
     const int status = umfpack_di_numeric(f.colptr.data(), f.rowind.data(), f.values.data(),
                                           f.symbolic, &f.numeric, nullptr, info);
     if (status == UMFPACK_WARNING_singular_matrix || status < 0)
-      throw NumericalError("the mass matrix m~_L of the velocity-gradient transfer is singular on "
-                           "the active nodes (UMFPACK status " +
-                           std::to_string(status) + "); smallest lumped masses: " +
-                           detail::lightest_nodes(ops, f.free) + detail::kRemedies);
+      throw NumericalError("the " + std::string(to_string(system)) +
+                           " is singular on the active nodes (UMFPACK status " +
+                           std::to_string(status) + "); " +
+                           detail::lightest_nodes(ops, f.free, system) + detail::remedies(system));
     return info[UMFPACK_RCOND];
   }
   static Eigen::MatrixXd right_hand_sides(const Operators&, const SparseRowMatrix& mt, double blend,
@@ -168,8 +171,8 @@ struct UmfpackBackend {
           umfpack_di_solve(UMFPACK_At, f.colptr.data(), f.rowind.data(), f.values.data(), x.data(),
                            B.col(Index(k)).data(), f.numeric, nullptr, info);
       if (status < 0)
-        throw NumericalError("UMFPACK could not solve with the mass matrix m~_L (status " +
-                             std::to_string(status) + ")");
+        throw NumericalError("UMFPACK could not solve with the " + std::string(to_string(system)) +
+                             " (status " + std::to_string(status) + ")");
       for (size_t q = 0; q < f.free.size(); ++q)
         v(f.free[q], f.comps[k]) = x[Index(q)];
     }
@@ -204,6 +207,7 @@ FactoredMassSolver<Backend>::FactoredMassSolver(const ExactOptions& options)
     : impl_(std::make_unique<Impl>()), options_(options) {
   validate(options_);
   Backend::accept(options_);
+  impl_->backend.system = options_.system;
 }
 template <class Backend>
 FactoredMassSolver<Backend>::~FactoredMassSolver() = default;
@@ -289,7 +293,7 @@ MassSolverFactory cholmod_solver_factory() {
 
 MassSolverFactory exact_solver_factory() {
   return [](const ExactOptions& options) -> std::unique_ptr<MassSolver> {
-    if (options.symmetric)
+    if (is_symmetric(options.system))
       return std::make_unique<CholmodSolver>(options);
     return std::make_unique<UmfpackSolver>(options);
   };

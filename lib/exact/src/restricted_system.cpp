@@ -65,13 +65,31 @@ Field prescribed_components(const LoopConstraints& bc,
 
 namespace detail {
 
-std::string lightest_nodes(const Operators& ops, const std::vector<int>& free) {
+std::string lightest_nodes(const Operators& ops, const std::vector<int>& free, NodalSystem system) {
+  const bool heat = system == NodalSystem::ConsistentCapacity;
   std::vector<int> order(free);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return ops.m[a] < ops.m[b]; });
   std::ostringstream os;
+  os << (heat ? "smallest lumped capacities: " : "smallest lumped masses: ");
   for (size_t k = 0; k < std::min<size_t>(3, order.size()); ++k)
-    os << (k ? ", " : "") << ops.node_text(order[k]) << " (m = " << ops.m[order[k]] << ")";
+    os << (k ? ", " : "") << ops.node_text(order[k]) << (heat ? " (c = " : " (m = ")
+       << ops.m[order[k]] << ")";
   return os.str();
+}
+
+std::string remedies(NodalSystem system) {
+  switch (system) {
+  case NodalSystem::ConsistentCapacity:
+    return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped temperature, or "
+           "step.exact_regularization > 0 to factor (1 - eps) c~ + eps c)";
+  case NodalSystem::GradientMass:
+    return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
+           "step.exact_regularization > 0 to factor (1 - eps) m~_L + eps m)";
+  case NodalSystem::ConsistentMass:
+    break;
+  }
+  return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
+         "step.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
 }
 
 std::vector<std::pair<std::vector<int>, std::vector<int>>> free_groups(const Operators& ops,

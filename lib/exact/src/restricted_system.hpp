@@ -5,6 +5,7 @@
 // with m as of §3.3 and stored for a sparse factorisation (exact.cpp).
 
 #include "sparsempm/operators.hpp"
+#include "sparsempm/step_options.hpp"
 
 #include <string>
 #include <utility>
@@ -47,12 +48,11 @@ Eigen::MatrixXd general_right_hand_sides(const SparseRowMatrix& mt, double blend
                                          const Field& prescribed, const std::vector<int>& F,
                                          const std::vector<int>& comps, Field& v);
 
-/// The nodes of smallest lumped mass among `free`, for the messages of a failed factorisation.
-std::string lightest_nodes(const Operators& ops, const std::vector<int>& free);
+/// The nodes of smallest lumped mass (or capacity: ops.m of `system`) among `free`, for the
+/// messages of a failed factorisation: "smallest lumped masses: node 3 (m = 0.1), ...".
+std::string lightest_nodes(const Operators& ops, const std::vector<int>& free, NodalSystem system);
 
-/// The end of those messages: the two remedies (ExactOptions).
-inline constexpr const char* kRemedies =
-    " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
-    "step.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
+/// The end of those messages: the two remedies (ExactOptions), in the words of `system`.
+std::string remedies(NodalSystem system);
 
 } // namespace smpm::detail

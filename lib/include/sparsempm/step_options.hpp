@@ -90,6 +90,21 @@ UpdateScheme update_scheme_from_string(std::string_view name);
 /// The velocity update named `name`; throws InputError naming the valid choices.
 VelocityUpdate velocity_update_from_string(std::string_view name);
 
+/// The nodal system m̃ v = p an exact solver is given (ExactOptions::system): the generic system of
+/// the consistent-mass inverse, named once where its solver is made, so that the solver's
+/// messages name the matrix it factors (velocity_solver_options, transport_solver_options).
+enum class NodalSystem {
+  ConsistentMass, ///< m̃ = Sᵀ diag(M) S of the velocity update (symmetric; FMPM 2026 §2.1)
+  /// m̃_L of the velocity-gradient transfer (Transfer::VelocityGradient; not symmetric)
+  GradientMass,
+  ConsistentCapacity ///< c̃ = Sᵀ diag(𝗖) S of heat transport (symmetric; FMPM 2026 §3.5)
+};
+/// The matrix's name in messages: "consistent mass matrix m~", "mass matrix m~_L of the
+/// velocity-gradient transfer" or "consistent capacity matrix c~".
+std::string_view to_string(NodalSystem s);
+/// Whether the system's matrix is symmetric: m̃ and c̃ are, m̃_L is not.
+bool is_symmetric(NodalSystem s);
+
 /// The settings of the exact consistent-mass inverse (VelocityUpdate::Exact; exact.hpp and the
 /// README, "The exact inverse"): data, read by the solver a MassSolverFactory makes and by
 /// anyone who inspects the options.
@@ -98,10 +113,10 @@ struct ExactOptions {
   double regularization = 0;
   /// τ ∈ [0, 1): active nodes lighter than τ max m take their lumped velocity p_i/m_i
   double mass_cutoff = 0;
-  /// Whether the matrices the solver is given are symmetric: m̃ (and the capacity matrix) are;
-  /// m̃_L of the velocity-gradient transfer is not. Set from the step's transfer where a solver
-  /// is made (velocity_solver_options), not an input entry.
-  bool symmetric = true;
+  /// The system the solver is given: m̃, m̃_L (not symmetric) or c̃, named in its messages. Set
+  /// where a solver is made (velocity_solver_options from the step's transfer,
+  /// transport_solver_options), not an input entry.
+  NodalSystem system = NodalSystem::ConsistentMass;
 };
 
 /// Solves the consistent-mass system m̃ v = p on the active nodes, with the velocity BCs of
@@ -173,9 +188,11 @@ void validate(const ExactOptions& options);
 /// set of limits: the Stepper, the linearised step, the input reader, the command line and the
 /// Python module call it.
 void validate(const StepOptions& options);
-/// The settings of the velocity update's exact solver: options.exact, not symmetric with the
-/// velocity-gradient transfer (its m̃_L).
+/// The settings of the velocity update's exact solver: options.exact on m̃, or on m̃_L (not
+/// symmetric) with the velocity-gradient transfer.
 ExactOptions velocity_solver_options(const StepOptions& options);
+/// The settings of the exact transport solve: options.exact on the capacity matrix c̃.
+ExactOptions transport_solver_options(const StepOptions& options);
 
 /// The FMPM options of the transport loop on c̃: the order of TransportOptions (the mechanics'
 /// order when it is 0; 1 for the lumped update), the mechanics' blending and BC method, no

@@ -24,8 +24,9 @@ public:
     t.fmpm = transport_fmpm_options(s.options);
     t.ops = &s.prep.transport;
     t.ct = uses_consistent_capacity(s.options) ? &s.prep.consistent_capacity() : nullptr;
-    if (!solver_ && t.update == TransportUpdate::Exact)  // made on first use: the linearised
-      solver_ = s.options.exact_solver(s.options.exact); // step asks the part and never steps
+    // Made on first use: the linearised step asks the part and never steps.
+    if (!solver_ && t.update == TransportUpdate::Exact)
+      solver_ = s.options.exact_solver(transport_solver_options(s.options));
     t.solver = solver_.get();
     t.bcs = &s.prep.temperature_bcs;
     t.temperature = &P.temperature;

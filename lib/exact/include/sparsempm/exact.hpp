@@ -65,9 +65,10 @@ private:
 };
 
 /// The exact inverse of the symmetric m̃ (and of the capacity matrix c̃) with a CHOLMOD Cholesky
-/// factor of m̃_FF. When m̃_FF is not positive definite a NumericalError names the node where
-/// CHOLMOD found a non-positive pivot and the nodes of smallest lumped mass. A solver made with
-/// ExactOptions::symmetric false throws UsageError.
+/// factor of m̃_FF. When m̃_FF is not positive definite a NumericalError names the matrix
+/// (ExactOptions::system), the node where CHOLMOD found a non-positive pivot and the nodes of
+/// smallest lumped mass (or capacity). A solver made for m̃_L (NodalSystem::GradientMass, not
+/// symmetric) throws UsageError.
 using CholmodSolver = FactoredMassSolver<CholmodBackend>;
 /// The same equations (velocity BCs, regularisation, mass cutoff) for a general, non-symmetric
 /// m̃: m̃_L of the velocity-gradient transfer (Transfer::VelocityGradient), by UMFPACK's sparse
@@ -90,11 +91,11 @@ Field prescribed_components(const LoopConstraints& bc,
 
 /// The factory of CholmodSolvers for StepOptions::exact_solver: every Stepper (and every copy of
 /// the options it runs with) gets a solver of its own, with the settings StepOptions::exact.
-/// Symmetric matrices only (a solver made with ExactOptions::symmetric false throws).
+/// Symmetric matrices only (a solver made for NodalSystem::GradientMass throws).
 MassSolverFactory cholmod_solver_factory();
 /// The factory the reader, the command line and Python use: a CholmodSolver for symmetric
 /// matrices (m̃, the capacity matrix), an UmfpackSolver otherwise (m̃_L; the Stepper sets
-/// ExactOptions::symmetric from StepOptions::transfer, velocity_solver_options).
+/// ExactOptions::system from StepOptions::transfer, velocity_solver_options).
 MassSolverFactory exact_solver_factory();
 
 } // namespace smpm
