@@ -32,7 +32,7 @@ from fig12a import EXACT_COLOUR, FLIP_COLOUR, STYLE, mathtext, name_of, num, rea
 TRANSFERS = ("standard", "velocity gradient")
 FADED = 0.35  # the standard transfer's opacity
 CLAIMS = ((1.0, "FLIP → 1"), (0.60, "FMPM(k) plateau 0.60"))  # FMPM 2026 §3.3, preliminary
-METHODS = (("spectral", "c_spectral"), ("simulation", "c_simulation"))
+METHODS = (("spectral", "critical_courant"), ("simulation", "simulation_courant"))
 # The rows of the printed summary: (series, order); None: FLIP's and the exact update's rows.
 SUMMARY = [("FLIP", None), ("exact", None), ("FMPM(k)", 1), ("FMPM(k)", 4), ("FMPM(k)", 16), ("FMPM(k)", 80),
            ("blended with FMPM(1), α = 0.8", 80), ("blended with FMPM(2), α = 0.8", 80),
@@ -113,12 +113,12 @@ def draw(rows, problems):
 def write_table(rows, path):
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["problem", "series", "order", "transfer", "c_spectral", "c_simulation",
-                    "energy_change"])
+        w.writerow(["problem", "series", "order", "transfer", "critical_courant",
+                    "simulation_courant", "energy_change"])
         for problem, transfer, name, order, v in rows:
             w.writerow([problem, name, "" if order is None else order, transfer] +
                        ["" if math.isnan(v[c]) else f"{v[c]:.4g}"
-                        for c in ("c_spectral", "c_simulation", "energy_change")])
+                        for c in ("critical_courant", "simulation_courant", "energy_change")])
 
 
 def summary(rows, problems):
@@ -144,7 +144,7 @@ def summary(rows, problems):
                     parts.append("–")
                     continue
                 de = v["energy_change"]
-                parts.append(f"{cell(v['c_spectral'])} / {cell(v['c_simulation'])}" +
+                parts.append(f"{cell(v['critical_courant'])} / {cell(v['simulation_courant'])}" +
                              ("" if math.isnan(de) else f" ({100 * de:+.1f}%)"))
             lines.append(f"| {problem} | {label} | {parts[0]} | {parts[1]} |")
     return "\n".join(lines)

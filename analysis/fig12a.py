@@ -16,7 +16,6 @@ With --low-dissipation, a second table (`smpm stability --method simulation
 dropped: -o fig12a.png writes fig12a.png).
 """
 import argparse
-import csv
 import math
 import pathlib
 import sys
@@ -44,8 +43,10 @@ def num(s):
 
 
 def read(path):
+    """The rows of a table of `smpm stability` (figures.read_table: its earlier column names
+    too)."""
     try:
-        return list(csv.DictReader(open(path)))
+        return figures.read_table(path)
     except OSError as e:
         sys.exit(f"{pathlib.Path(sys.argv[0]).name}: {path}: {e}")
 
@@ -117,11 +118,11 @@ def main():
     figures.add_output(ap, "fig12a")
     args = ap.parse_args()
     rows = read(args.table)
-    columns = {"spectral": series_of(rows, "c_spectral"),
-               "simulation": series_of(rows, "c_simulation")}
+    columns = {"spectral": series_of(rows, "critical_courant"),
+               "simulation": series_of(rows, "simulation_courant")}
     if args.low_dissipation:
         low = read(args.low_dissipation)
-        columns["simulation, low dissipation"] = series_of(low, "c_simulation")
+        columns["simulation, low dissipation"] = series_of(low, "simulation_courant")
     names = sorted({n for s, _ in columns.values() for n in s})
     colour = {n: f"C{i}" for i, n in enumerate(["FMPM(k)"] + [n for n in names if n != "FMPM(k)"])}
     plt = figures.style()

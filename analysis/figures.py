@@ -10,6 +10,10 @@ colour bar) that has no label.
                 PREFIXa.png and PREFIXb.png). A trailing .png is dropped: -o fig12a.png is
                 -o fig12a.
 
+The tables of `smpm stability`, `transport-stability` and `spectrum` are read with
+read_table(path), which takes their earlier column names too (sparsempm.tables, loaded the same
+way as the run file reader).
+
 Every script reads the files of `smpm run` with read_run(path): sparsempm.read_run (frames and
 times, series, particles(k), grid(k), matrices(k); complete frames only) when the package
 imports, and otherwise the same reader, python/sparsempm/runfile.py of this checkout, loaded by
@@ -214,8 +218,33 @@ def run_smpm(smpm, src, out, sets):
     return r, time.time() - start
 
 
-_reader = None
+_readers = {}
 _reader_lock = threading.Lock()  # the scripts read from several threads
+
+
+def _package_reader(module, name):
+    """sparsempm's function `name` (of python/sparsempm/`module`.py) when `import sparsempm`
+    succeeds, else that file of this checkout loaded by its path (importlib)."""
+    with _reader_lock:
+        if name not in _readers:
+            try:
+                import sparsempm
+                reader = getattr(sparsempm, name)
+            except (ImportError, AttributeError):  # not built, not on the path, or older
+                import importlib.util
+                import sys
+                file = pathlib.Path(__file__).resolve().parents[1] / "python" / "sparsempm" \
+                    / f"{module}.py"
+                if not file.exists():
+                    raise ImportError(f"no {name}: sparsempm does not import and {file} is "
+                                      f"missing")
+                spec = importlib.util.spec_from_file_location(f"_sparsempm_{module}", file)
+                loaded = importlib.util.module_from_spec(spec)
+                sys.modules[spec.name] = loaded
+                spec.loader.exec_module(loaded)
+                reader = getattr(loaded, name)
+            _readers[name] = reader
+    return _readers[name]
 
 
 def read_run(path):
@@ -224,23 +253,12 @@ def read_run(path):
     run.particles(k) (arrays of frame index k, -1 the last, with "@time" and "@step"),
     run.grid(k), run.matrices(k). The reader is sparsempm.read_run when `import sparsempm`
     succeeds, else python/sparsempm/runfile.py loaded by its path (importlib)."""
-    global _reader
-    with _reader_lock:
-        if _reader is None:
-            try:
-                from sparsempm import read_run as reader
-            except ImportError:  # the extension not built or not on the path
-                import importlib.util
-                import sys
-                file = pathlib.Path(__file__).resolve().parents[1] / "python" / "sparsempm" \
-                    / "runfile.py"
-                if not file.exists():
-                    raise ImportError(f"no run file reader: sparsempm does not import and "
-                                      f"{file} is missing")
-                spec = importlib.util.spec_from_file_location("_sparsempm_runfile", file)
-                module = importlib.util.module_from_spec(spec)
-                sys.modules[spec.name] = module
-                spec.loader.exec_module(module)
-                reader = module.read_run
-            _reader = reader
-    return _reader(path)
+    return _package_reader("runfile", "read_run")(path)
+
+
+def read_table(table):
+    """The rows of a table of `smpm stability`, `transport-stability` or `spectrum` (a path or its
+    lines) as dicts keyed by the current column names (critical_courant, simulation_courant,
+    critical_fourier, configuration, ...), also from a table of the earlier names: sparsempm's
+    read_table (python/sparsempm/tables.py, loaded as read_run's reader is)."""
+    return _package_reader("tables", "read_table")(table)

@@ -42,7 +42,7 @@ def rho_module(smpm, args):
                 o = model.options.copy()
                 o.velocity, o.order, o.blend_alpha, o.blend_every, o.periodic_cx = "FMPM", k, alpha, 1, 0.0
                 T = smpm.LinearizedStep(model, o, args.courant)
-                rho[k, alpha] = f"{smpm.spectral_radius(T).rho:.10g}"
+                rho[k, alpha] = f"{smpm.spectral_radius(T).rho_T:.10g}"
     except smpm.InputError as e:
         sys.exit(f"rho_map.py: {e}")
     return rho
@@ -57,7 +57,7 @@ def rho_cli(args):
                             "--blend-every", "1", "-o", str(out)], capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"rho_map.py: smpm spectrum failed: {r.stderr.strip()}")
-        rows = list(csv.DictReader(open(out)))
+        rows = figures.read_table(out)
     return {(int(row["order"]), float(row["blend_alpha"])): row["rho_T"] for row in rows}
 
 

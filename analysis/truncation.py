@@ -9,7 +9,6 @@ blending period m, with the bound ρ(A)^k from the table's header. Writes PREFIX
 .png of -o is dropped).
 """
 import argparse
-import csv
 import pathlib
 import sys
 
@@ -26,7 +25,7 @@ def main():
         lines = open(args.table).read().splitlines()
     except OSError as e:
         sys.exit(f"truncation.py: {args.table}: {e}")
-    rows = list(csv.DictReader(lines))
+    rows = figures.read_table(lines)
     series = {}
     for r in rows:
         series.setdefault((float(r["blend_alpha"]), int(r["blend_every"])), []).append(

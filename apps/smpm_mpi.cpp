@@ -77,7 +77,7 @@ int spectrum(const smpm::app::SpectrumArgs& a, sp::ExactMethod method, int rank)
         const SpectralRadius r =
             sp::spectral_radius(grid, model, opt, stable_time_step(model, a.courant));
         return r.status == SpectralStatus::NonFinite ? std::numeric_limits<double>::infinity()
-                                                     : r.rho;
+                                                     : r.rho_T;
       },
       rank == 0);
   if (rank == 0) {

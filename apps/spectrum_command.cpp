@@ -42,8 +42,8 @@ std::string spectrum_table(const SpectrumArgs& a, const MassSpectrum& ms,
   scalars.precision(10);
   scalars << "," << ms.rho_A << "," << ms.min_eig_minv_mt << "," << ms.cond_mt << "," << ms.active;
   if (print)
-    std::printf("%5s %11s %11s %16s %10s\n", "order", "blend_alpha", "blend_every", "truncation",
-                "rho(T)");
+    std::printf("%5s %11s %11s %16s %10s\n", "order", "blend_alpha", "blend_every",
+                "truncation error", "rho(T)");
   for (int m : a.blend_every)
     for (double alpha : a.blend_alphas)
       for (int k : a.orders) {
@@ -71,7 +71,7 @@ double fmpm_rho(const RunConfig& cfg, const FmpmOptions& f, double courant) {
   opt.periodic_cx = 0;
   const LinearizedStep T(cfg.model, opt, stable_time_step(cfg.model, courant));
   const SpectralRadius r = spectral_radius(T);
-  return r.status == SpectralStatus::NonFinite ? std::numeric_limits<double>::infinity() : r.rho;
+  return r.status == SpectralStatus::NonFinite ? std::numeric_limits<double>::infinity() : r.rho_T;
 }
 
 } // namespace

@@ -29,18 +29,18 @@ namespace smpm::app {
 namespace {
 
 struct Row {
-  StepOptions opt; // velocity, order, blending, C_X, α of the row
-  double c_spectral = std::nan("");
-  std::string config;
+  StepOptions opt;                        // velocity, order, blending, C_X, α of the row
+  double critical_courant = std::nan(""); // C* spectral
+  std::string configuration;
   std::string spectral_status;
-  double c_simulation = std::nan("");
+  double simulation_courant = std::nan(""); // C* simulation
   double energy_change = std::nan("");
   bool simulated = false; // the simulation search ran (NaN then: no C in its bracket held)
   bool fmpm() const { return opt.velocity == VelocityUpdate::FMPM; }
-  /// C*(sim): "none" when every C of the search failed (unstable, or beyond
+  /// C* simulation: "none" when every C of the search failed (unstable, or beyond
   /// --max-energy-change, down to the bracket's lowest C), empty when not searched.
   std::string simulation_cell() const {
-    return simulated && std::isnan(c_simulation) ? "none" : cell(c_simulation);
+    return simulated && std::isnan(simulation_courant) ? "none" : cell(simulation_courant);
   }
 };
 
@@ -145,20 +145,20 @@ void write_table(const std::vector<Row>& rows, const std::string& path,
   for (const Row& r : rows) {
     for (const std::string& c : option_cells(r))
       out << c << ",";
-    out << cell(r.c_spectral) << "," << r.config << "," << r.spectral_status << ","
+    out << cell(r.critical_courant) << "," << r.configuration << "," << r.spectral_status << ","
         << r.simulation_cell() << "," << cell(r.energy_change) << "\n";
   }
   write_table_file(path, out.str(), inputs, "-o");
 }
 
 void print_table(const std::vector<Row>& rows) {
-  const char* format = "%-8s %5s %11s %11s %11s %14s %10s %-16s %12s %14s\n";
+  const char* format = "%-8s %5s %11s %11s %11s %14s %11s %-16s %13s %14s\n";
   std::printf(format, "velocity", "order", "blend_alpha", "blend_every", "periodic_cx",
-              "position_alpha", "C*(spec)", "configuration", "C*(sim)", "energy change");
+              "position_alpha", "C* spectral", "configuration", "C* simulation", "energy change");
   for (const Row& r : rows) {
     const std::vector<std::string> c = option_cells(r);
     std::printf(format, c[0].c_str(), c[1].c_str(), c[2].c_str(), c[3].c_str(), c[4].c_str(),
-                c[5].c_str(), cell(r.c_spectral).c_str(), r.config.c_str(),
+                c[5].c_str(), cell(r.critical_courant).c_str(), r.configuration.c_str(),
                 r.simulation_cell().c_str(), cell(r.energy_change).c_str());
   }
 }
@@ -191,8 +191,8 @@ void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityAr
                                     : sweep_configurations(configs, series);
   for (size_t i = 0; i < rows.size(); ++i) {
     const ConfigurationSweep& s = sweeps[where[i].first][where[i].second];
-    rows[i].c_spectral = s.minimum.courant;
-    rows[i].config = s.configuration;
+    rows[i].critical_courant = s.minimum.critical_courant;
+    rows[i].configuration = s.configuration;
     // Non-finite radii count as unstable inside critical_courant; unconverged Arnoldi runs are
     // named so that a reader knows the minimum rests on measured growth rates.
     const int unconverged = s.minimum.not_converged;
@@ -217,7 +217,7 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
     Row& r = rows[i];
     if (a.method != "spectral") {
       const SimulationCourant c = simulation_courant(cfg.model, r.opt, sim);
-      r.c_simulation = c.courant;
+      r.simulation_courant = c.simulation_courant;
       r.energy_change = c.energy_change;
       r.simulated = true;
     }
@@ -229,7 +229,7 @@ void compute_rows(std::vector<Row>& rows, const RunConfig& cfg, const StabilityA
                    "spectral %-7s simulation %s\n",
                    c[0].c_str(), c[1].empty() ? "-" : c[1].c_str(),
                    c[2].empty() ? "-" : c[2].c_str(), c[3].empty() ? "-" : c[3].c_str(),
-                   c[4].empty() ? "-" : c[4].c_str(), cell(r.c_spectral).c_str(),
+                   c[4].empty() ? "-" : c[4].c_str(), cell(r.critical_courant).c_str(),
                    r.simulation_cell().c_str());
     }
   });

@@ -23,23 +23,23 @@ namespace {
 struct Row {
   TransportUpdate update;
   int order;
-  CriticalCourant fourier; // the smallest F* over the configurations
-  std::string config;      // where it was found
+  CriticalFourier fourier;   // the smallest F* over the configurations
+  std::string configuration; // where it was found
 };
 
 // F* of `options` at every configuration: the smallest, and where.
 void search(const std::vector<Configuration>& configs, const StepOptions& options, Row& row,
             const std::atomic<int>* interrupt) {
-  std::vector<CriticalCourant> found(configs.size());
+  std::vector<CriticalFourier> found(configs.size());
   run_tasks(configs.size(), [&](size_t c) {
     found[c] = critical_fourier(configs[c].model, options, 1e-6, 4.0, 1e-3, 0, interrupt);
   });
   row.fourier = found[0];
-  row.config = configs[0].name;
+  row.configuration = configs[0].name;
   for (size_t c = 1; c < configs.size(); ++c)
-    if (found[c].courant < row.fourier.courant) {
+    if (found[c].critical_fourier < row.fourier.critical_fourier) {
       row.fourier = found[c];
-      row.config = configs[c].name;
+      row.configuration = configs[c].name;
     }
 }
 
@@ -61,7 +61,7 @@ int transport_stability_command(const TransportStabilityArgs& a) {
     rows.push_back({TransportUpdate::FMPM, k, {}, ""});
   if (!a.no_exact)
     rows.push_back({TransportUpdate::Exact, 0, {}, ""});
-  std::printf("%-8s %5s %10s %10s %-16s\n", "transport", "order", "F*", "rho", "configuration");
+  std::printf("%-8s %5s %10s %10s %-16s\n", "transport", "order", "F*", "rho(T)", "configuration");
   std::ostringstream out;
   out << kTransportStabilityColumns << "\n";
   for (Row& r : rows) {
@@ -71,11 +71,12 @@ int transport_stability_command(const TransportStabilityArgs& a) {
     search(configs, o, r, nullptr);
     const std::string order = r.update == TransportUpdate::FMPM ? std::to_string(r.order) : "";
     std::printf("%-8s %5s %10s %10s %-16s\n", std::string(to_string(r.update)).c_str(),
-                order.c_str(), cell(r.fourier.courant).c_str(), cell(r.fourier.rho, 8).c_str(),
-                r.config.c_str());
+                order.c_str(), cell(r.fourier.critical_fourier).c_str(),
+                cell(r.fourier.rho_T, 8).c_str(), r.configuration.c_str());
     std::fflush(stdout);
-    out << to_string(r.update) << "," << order << "," << cell(r.fourier.courant) << ","
-        << cell(r.fourier.rho, 10) << "," << r.config << "," << r.fourier.evaluations << "\n";
+    out << to_string(r.update) << "," << order << "," << cell(r.fourier.critical_fourier) << ","
+        << cell(r.fourier.rho_T, 10) << "," << r.configuration << "," << r.fourier.evaluations
+        << "\n";
   }
   write_table_file(a.output, out.str(), {a.input}, "-o");
   std::printf("table in %s\n", a.output.c_str());

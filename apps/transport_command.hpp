@@ -17,9 +17,11 @@ struct TransportStabilityArgs {
   std::string output = "transport_stability.csv";
 };
 
-/// The columns of the table.
+/// The columns of the table: the results under their names in C++ and Python
+/// (CriticalFourier::critical_fourier, rho_T and evaluations, the configuration of the smallest
+/// F*; python/sparsempm/tables.py reads the earlier f_spectral and config_spectral too).
 inline constexpr const char* kTransportStabilityColumns =
-    "transport,order,f_spectral,rho_T,config_spectral,evaluations";
+    "transport,order,critical_fourier,rho_T,configuration,evaluations";
 
 /// F* = max{F : ρ(𝒯(F)) ≤ 1 + 10⁻⁶} (critical_fourier, the smallest over the lattice shifts) of
 /// the lumped transport, FMPM(k) on c̃ for each order and the exact solve: a table on stdout and

@@ -13,7 +13,13 @@ matrices:
 
 Heat transport (FMPM 2026 §3.5) has the same form with the capacities in the place of the masses:
 transport_operators(model) gives c = S^T C 1, c~ = S^T C S (consistent_capacity()) and the
-conductivity K; fmpm_temperature and exact_temperature apply c~_k^-1 and c~^-1 to a heat content.
+conductivity K; fmpm_temperature and exact_temperature apply c~_k^-1 and c~^-1 to a heat content;
+critical_fourier(model) is the critical Fourier number F* of the transport (a CriticalFourier).
+
+The tables of `smpm stability`, `smpm transport-stability` and `smpm spectrum` read with
+read_table(path) (rows keyed by the columns' names, which are the results' names here:
+critical_courant, simulation_courant, critical_fourier, rho_T, configuration; the earlier names of
+EARLIER_COLUMNS are read too, in this release only).
 
 Errors are InputError (bad input, the messages of `smpm run`) and NumericalError.
 Threads: SMPM_THREADS at import (else OMP_NUM_THREADS or every core), or set_threads(n); the
@@ -38,6 +44,7 @@ from ._sparsempm import (  # noqa: F401
     BoundaryConditions,
     ConfigurationSweep,
     CriticalCourant,
+    CriticalFourier,
     Energies,
     Grid,
     InputError,
@@ -60,6 +67,7 @@ from ._sparsempm import (  # noqa: F401
     assemble,
     courant_of,
     critical_courant,
+    critical_fourier,
     diffusion_time,
     exact_temperature,
     exact_velocity,
@@ -76,6 +84,7 @@ from ._sparsempm import (  # noqa: F401
 )
 from ._sparsempm import _spectral_radius
 from .runfile import Run, read_run  # noqa: F401
+from .tables import EARLIER_COLUMNS, read_table  # noqa: F401
 
 for _error in (InputError, NumericalError, UsageError):
     _error.__module__ = __name__  # tracebacks name sparsempm.InputError

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Spectra and stability from Python: the linearised step T (stability.hpp) with its
 // matrix-vector product for scipy's LinearOperator, ρ(T), the critical Courant numbers by the
-// spectral and the simulation methods (FMPM 2026 §3.3, Fig. 12) and the spectrum of the mass
-// matrices (spectrum.hpp). The GIL is released while they compute.
+// spectral and the simulation methods (FMPM 2026 §3.3, Fig. 12), the critical Fourier number of
+// heat transport (transport_stability.hpp) and the spectrum of the mass matrices (spectrum.hpp).
+// The GIL is released while they compute. The results' names are the tables' columns.
 
 #include "bindings.hpp"
 #include "convert.hpp"
@@ -12,6 +13,7 @@
 #include <sparsempm/errors.hpp>
 #include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
+#include <sparsempm/transport_stability.hpp>
 
 #include <pybind11/stl.h>
 
@@ -80,25 +82,56 @@ void bind_linearized_step(py::module_& m) {
           "T as a dense rows × rows array (one product per column)");
 }
 
+// The value of an earlier attribute name, with its DeprecationWarning (this release only).
+template <class T>
+auto earlier(const char* old_name, const char* name, double T::*member) {
+  return [=](const T& r) {
+    warn_earlier_name(old_name, name);
+    return r.*member;
+  };
+}
+
 void bind_results(py::module_& m) {
   py::class_<SpectralRadius>(m, "SpectralRadius", "rho(T) and how it was found (stability.hpp).")
-      .def_readonly("rho", &SpectralRadius::rho, "rho(T), the largest |eigenvalue|")
+      .def_readonly("rho_T", &SpectralRadius::rho_T, "rho(T), the largest |eigenvalue|")
       .def_property_readonly(
           "status", [](const SpectralRadius& r) { return std::string(to_string(r.status)); },
           "converged | not converged | non-finite")
-      .def("__float__", [](const SpectralRadius& r) { return r.rho; });
+      .def_property_readonly("rho", earlier("rho", "rho_T", &SpectralRadius::rho_T),
+                             "the earlier name of rho_T (this release only)")
+      .def("__float__", [](const SpectralRadius& r) { return r.rho_T; });
   py::class_<CriticalCourant>(
       m, "CriticalCourant",
       "The spectral critical Courant number C* and the search's counts (stability.hpp).")
-      .def_readonly("courant", &CriticalCourant::courant,
-                    "C*: the largest C found with rho(T(C)) <= 1 + tol (within the resolution)")
-      .def_readonly("rho", &CriticalCourant::rho, "rho(T) at C*")
+      .def_readonly("critical_courant", &CriticalCourant::critical_courant,
+                    "C*: the largest C found with rho(T(C)) <= 1 + tol (within the resolution); "
+                    "the critical_courant column of `smpm stability`")
+      .def_readonly("rho_T", &CriticalCourant::rho_T, "rho(T) at C* (the growth per step)")
       .def_readonly("evaluations", &CriticalCourant::evaluations, "spectral radii computed")
       .def_readonly("not_converged", &CriticalCourant::not_converged,
                     "of them, Arnoldi runs that did not converge")
       .def_readonly("non_finite", &CriticalCourant::non_finite,
                     "of them, non-finite results (counted as unstable)")
-      .def("__float__", [](const CriticalCourant& c) { return c.courant; });
+      .def_property_readonly(
+          "courant", earlier("courant", "critical_courant", &CriticalCourant::critical_courant),
+          "the earlier name of critical_courant (this release only)")
+      .def_property_readonly("rho", earlier("rho", "rho_T", &CriticalCourant::rho_T),
+                             "the earlier name of rho_T (this release only)")
+      .def("__float__", [](const CriticalCourant& c) { return c.critical_courant; });
+  py::class_<CriticalFourier>(
+      m, "CriticalFourier",
+      "The critical Fourier number F* of heat transport and the search's counts "
+      "(transport_stability.hpp).")
+      .def_readonly("critical_fourier", &CriticalFourier::critical_fourier,
+                    "F*: the largest Fourier number F found with rho(T(F)) <= 1 + tol (within the "
+                    "resolution); the critical_fourier column of `smpm transport-stability`")
+      .def_readonly("rho_T", &CriticalFourier::rho_T, "rho(T) of the transport step at F*")
+      .def_readonly("evaluations", &CriticalFourier::evaluations, "spectral radii computed")
+      .def_readonly("not_converged", &CriticalFourier::not_converged,
+                    "of them, Arnoldi runs that did not converge")
+      .def_readonly("non_finite", &CriticalFourier::non_finite,
+                    "of them, non-finite results (counted as unstable)")
+      .def("__float__", [](const CriticalFourier& c) { return c.critical_fourier; });
   py::class_<ConfigurationSweep>(
       m, "ConfigurationSweep",
       "C* over configurations (lattice shifts, frames): the smallest and each (stability.hpp).")
@@ -111,12 +144,17 @@ void bind_results(py::module_& m) {
   py::class_<SimulationCourant>(
       m, "SimulationCourant",
       "The simulation C*: the largest Courant number whose run does not fail (stability.hpp).")
-      .def_readonly(
-          "courant", &SimulationCourant::courant,
-          "simulation C*: the largest C whose run does not fail (NaN: none in the bracket)")
+      .def_readonly("simulation_courant", &SimulationCourant::simulation_courant,
+                    "simulation C*: the largest C whose run does not fail (NaN: none in the "
+                    "bracket); the simulation_courant column of `smpm stability`")
       .def_readonly("energy_change", &SimulationCourant::energy_change,
                     "(E_end - E_0)/E_0 of the run at C*")
-      .def_readonly("runs", &SimulationCourant::runs, "runs made by the search");
+      .def_readonly("runs", &SimulationCourant::runs, "runs made by the search")
+      .def_property_readonly(
+          "courant",
+          earlier("courant", "simulation_courant", &SimulationCourant::simulation_courant),
+          "the earlier name of simulation_courant (this release only)")
+      .def("__float__", [](const SimulationCourant& c) { return c.simulation_courant; });
   py::class_<MassSpectrum>(
       m, "MassSpectrum",
       "The spectrum of the mass matrices: rho(A), lambda_min(m^-1 m~), cond(m~) (spectrum.hpp).")
@@ -181,6 +219,22 @@ void bind_courant_searches(py::module_& m) {
       py::arg("max_energy_change") = std::numeric_limits<double>::infinity(),
       "The largest C whose full run to `end` (default model.end) does not fail, by bisection: "
       "the simulation column of `smpm stability`.");
+  m.def(
+      "critical_fourier",
+      [](const PyModel& pm, const std::optional<StepOptions>& options, double tol, double f_max,
+         double resolution, double hint) {
+        const StepOptions& o = options_or(pm, options);
+        return interruptible([&](const std::atomic<int>* interrupt) {
+          return critical_fourier(pm.model, o, tol, f_max, resolution, hint, interrupt);
+        });
+      },
+      py::arg("model"), py::arg("options") = py::none(), py::arg("tol") = 1e-6,
+      py::arg("f_max") = 4.0, py::arg("resolution") = 1e-3, py::arg("hint") = 0.0,
+      "F* = max{F : rho(T(F)) <= 1 + tol} of heat transport at the model's configuration, T(F) "
+      "the transport step with dt = F * diffusion_time(model) (bisection to resolution; one "
+      "configuration of `smpm transport-stability`, which takes the smallest over lattice "
+      "shifts). options default to model.options and must have heat transport "
+      "(options.transport 'lumped', 'FMPM' or 'exact'). Returns a CriticalFourier.");
 }
 
 } // namespace

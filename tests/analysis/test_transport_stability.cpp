@@ -126,7 +126,7 @@ TEST_CASE("critical Fourier numbers of the bar: lumped, FMPM(k) and exact (the t
   // equal to the exact solve's at the search's resolution.
   const Model m = bar(10);
   auto F = [&](TransportUpdate u, int k = 1) {
-    return critical_fourier(m, transport(u, k)).courant;
+    return critical_fourier(m, transport(u, k)).critical_fourier;
   };
   const double lumped = F(TransportUpdate::Lumped), pic = F(TransportUpdate::FMPM, 1);
   const double f2 = F(TransportUpdate::FMPM, 2), f4 = F(TransportUpdate::FMPM, 4);
@@ -164,7 +164,7 @@ TEST_CASE("the critical Fourier number is where full runs of the bar become unst
   Model m = bar(10);
   m.temperature_bcs.conditions.clear();
   const StepOptions o = transport(TransportUpdate::FMPM, 4);
-  const double Fs = critical_fourier(m, o).courant;
+  const double Fs = critical_fourier(m, o).critical_fourier;
   auto growth = [&](double F) {
     Model run = m;
     run.particles.temperature.resize(run.particles.size());

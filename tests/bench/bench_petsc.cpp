@@ -165,7 +165,7 @@ void BM_Rho_Serial(benchmark::State& state) {
   const Model& model = block(int(state.range(0))).model;
   for (auto _ : state)
     state.counters["rho"] =
-        spectral_radius(LinearizedStep(model, rho_options(), stable_time_step(model, 0.5))).rho;
+        spectral_radius(LinearizedStep(model, rho_options(), stable_time_step(model, 0.5))).rho_T;
   state.counters["rows"] = double(model.particles.size() * 6);
 }
 
@@ -173,7 +173,7 @@ void BM_Rho_Petsc(benchmark::State& state) {
   const Block& b = block(int(state.range(0)));
   for (auto _ : state)
     state.counters["rho"] =
-        sp::spectral_radius(*b.grid, b.model, rho_options(), stable_time_step(b.model, 0.5)).rho;
+        sp::spectral_radius(*b.grid, b.model, rho_options(), stable_time_step(b.model, 0.5)).rho_T;
   state.counters["rows"] = double(b.model.particles.size() * 6);
   state.counters["ranks"] = ranks();
 }

@@ -44,7 +44,7 @@ void BM_RhoT_FMPM4(benchmark::State& state) {
   for (auto _ : state) {
     const double C = double(state.range(0)) / 100; // Courant number
     const smpm::LinearizedStep T(model, opt, C / smpm::courant_of(model, 1.0));
-    const double rho = smpm::spectral_radius(T, 0).rho; // Spectra, matrix-free
+    const double rho = smpm::spectral_radius(T, 0).rho_T; // Spectra, matrix-free
     state.counters["rho_T"] = rho;
   }
   state.counters["particles"] = double(model.particles.size());
@@ -84,7 +84,7 @@ void BM_CourantSeries(benchmark::State& state) {
       const smpm::CriticalCourant c = smpm::critical_courant(bar, opt, 1e-6, 2.0, 1e-3, hint);
       evaluations += c.evaluations;
       if (hinted)
-        hint = c.courant;
+        hint = c.critical_courant;
     }
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

@@ -1,12 +1,14 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """What the CLI tests share: the binary and the examples, a run of `smpm` and its one-line error,
-a test in a directory of its own, and a full `smpm run` of an example with overrides.
+the reader of its tables, a test in a directory of its own, and a full `smpm run` of an example
+with overrides.
 
 ctest runs each test file with SMPM (the binary) and SMPM_SOURCE (the source tree) in the
 environment, and with SMPM_SANITIZED=1 under the sanitizers, where the runs that only check a
 number are left out (tests/CMakeLists.txt).
 """
 import hashlib
+import importlib.util
 import os
 import pathlib
 import subprocess
@@ -18,6 +20,21 @@ SOURCE = pathlib.Path(os.environ.get("SMPM_SOURCE", pathlib.Path(__file__).resol
 EXAMPLES = SOURCE / "examples"
 BAR = EXAMPLES / "vibrating_bar.toml"
 SANITIZED = os.environ.get("SMPM_SANITIZED") == "1"
+
+
+def _tables():
+    """python/sparsempm/tables.py of the source tree, loaded by its path (it needs only the
+    standard library; these tests do not import the extension)."""
+    spec = importlib.util.spec_from_file_location(
+        "_sparsempm_tables", SOURCE / "python" / "sparsempm" / "tables.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+# The rows of a table of `smpm stability`, `transport-stability` or `spectrum` keyed by the
+# current column names (also from a table of the earlier ones): sparsempm.read_table.
+read_table = _tables().read_table
 
 
 def smpm(*args, timeout=600, **kw):

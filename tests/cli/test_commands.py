@@ -8,7 +8,6 @@ bits), thread binding, and run --timings.
 Run by ctest (cli.commands) with SMPM (the binary) and SMPM_SOURCE (the source tree) in the
 environment.
 """
-import csv
 import os
 import pathlib
 import re
@@ -20,7 +19,7 @@ import unittest
 import h5py
 import numpy as np
 
-from example_runs import BAR, EXAMPLES, SMPM, SOURCE, Base, one_line, smpm
+from example_runs import BAR, EXAMPLES, SMPM, SOURCE, Base, one_line, read_table, smpm
 
 
 class Stability(Base):
@@ -29,20 +28,25 @@ class Stability(Base):
         r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--order", "1,4", "--blend-alpha", "0.8", "--blend-every", "2", "--periodic-cx", "2",
                  "--method", "both", "--shifts", "2", "-q", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
+        screen = r.stdout.splitlines()
         lines = out.read_text().splitlines()
-        self.assertEqual(lines[0], "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,c_spectral,config_spectral,"
-                                   "spectral_status,c_simulation,energy_change")
-        rows = [dict(zip(lines[0].split(","), l.split(","))) for l in lines[1:]]
+        self.assertEqual(lines[0], "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,critical_courant,"
+                                   "configuration,spectral_status,simulation_courant,energy_change")
+        rows = read_table(out)
         self.assertEqual([r["velocity"] for r in rows], ["FLIP", "FMPM", "FMPM", "FMPM", "FMPM", "exact"])
         for r in rows:  # the input's position_alpha (1) is used and recorded for every row
             self.assertEqual(r["position_alpha"], "1")
             self.assertEqual(r["spectral_status"], "converged")
         flip = rows[0]
         # FLIP by bisection over five-period runs: the paper's 0.84, within 0.05 here.
-        self.assertAlmostEqual(float(flip["c_simulation"]), 0.84, delta=0.05)
+        self.assertAlmostEqual(float(flip["simulation_courant"]), 0.84, delta=0.05)
         fmpm4 = rows[2]
         self.assertEqual(fmpm4["order"], "4")
-        self.assertAlmostEqual(float(fmpm4["c_simulation"]), 0.539, delta=0.03)  # the paper's FMPM(4) limit
+        self.assertAlmostEqual(float(fmpm4["simulation_courant"]), 0.539, delta=0.03)  # the paper's FMPM(4) limit
+        # The screen's table: the same cells under the results' symbols and words.
+        self.assertRegex(screen[0], r"position_alpha +C\* spectral configuration +C\* simulation +energy change$")
+        self.assertEqual(screen[1].split()[-5:], [flip["critical_courant"], *flip["configuration"].split(),
+                                                  flip["simulation_courant"], flip["energy_change"]])
         png = self.dir / "fig.png"
         r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "fig12a.py", out, "-o", png], capture_output=True, text=True)
         self.assertEqual(r.returncode, 0, r.stderr)
@@ -55,7 +59,7 @@ class Stability(Base):
         text = out.read_text()
         # A plain CSV (no comment lines), read as it is by csv and numpy.genfromtxt; the
         # configuration's rho(A) (0.75 for the bar's CPDI lattice, README) on every row.
-        rows = list(csv.DictReader(text.splitlines()))
+        rows = read_table(text.splitlines())
         self.assertEqual(list(rows[0]), ["order", "blend_alpha", "blend_every", "truncation_error",
                                          "courant", "rho_T", "rho_A", "min_eig_minv_mt", "cond_mt",
                                          "active_nodes"])
@@ -64,6 +68,28 @@ class Stability(Base):
         self.assertAlmostEqual(float(rows[0]["rho_A"]), 0.75, delta=1e-6)
         table = np.genfromtxt(out, delimiter=",", names=True)
         self.assertEqual(table.shape, (9,))
+
+    def test_transport_stability_table(self):
+        # F* of the conduction bar: the columns are the results' names in C++ and Python
+        # (CriticalFourier.critical_fourier, rho_T, evaluations), the screen shows F* and rho(T).
+        out = self.dir / "transport.csv"
+        r = smpm("transport-stability", EXAMPLES / "conduction_bar.toml", "--order", "1,2", "--shifts", "2",
+                 "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(out.read_text().splitlines()[0],
+                         "transport,order,critical_fourier,rho_T,configuration,evaluations")
+        rows = read_table(out)
+        self.assertEqual([(row["transport"], row["order"]) for row in rows],
+                         [("lumped", ""), ("FMPM", "1"), ("FMPM", "2"), ("exact", "")])
+        screen = r.stdout.splitlines()
+        self.assertEqual(screen[0].split(), ["transport", "order", "F*", "rho(T)", "configuration"])
+        for row, line in zip(rows, screen[1:]):
+            cells = line.split()
+            self.assertEqual(cells[-4], row["critical_fourier"])
+            self.assertEqual(" ".join(cells[-2:]), row["configuration"])
+            self.assertGreater(int(row["evaluations"]), 0)
+        # FMPM(1) is PIC: F* of the lumped update is larger (README's conduction bar).
+        self.assertGreater(float(rows[0]["critical_fourier"]), float(rows[1]["critical_fourier"]))
 
     def test_frames_sweep(self):
         # The configurations stored in a run's frames join the lattice shifts in the sweep.
@@ -74,11 +100,10 @@ class Stability(Base):
         r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--order", "4", "--blend-alpha", "none", "--periodic-cx", "none",
                  "--shifts", "1", "--frames", run, "--no-exact", "-q", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
-        lines = out.read_text().splitlines()
-        rows = [dict(zip(lines[0].split(","), l.split(","))) for l in lines[1:]]
+        rows = read_table(out)
         self.assertEqual(len(rows), 2)
         for row in rows:  # the minimum is named: the unshifted lattice or one of the frames
-            self.assertRegex(row["config_spectral"], r"^(shift 0|frame [0-9]+)$")
+            self.assertRegex(row["configuration"], r"^(shift 0|frame [0-9]+)$")
 
     def test_earlier_option_names(self):
         # One release of aliases (README, "One vocabulary"): --k, --blend m:alpha and --periodic
@@ -196,9 +221,9 @@ class Help(Base):
                  "none", "--periodic-cx", "none", "--no-exact", "--max-energy-change", "1e-15",
                  "-q", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
-        rows = list(csv.DictReader(open(out)))
-        self.assertEqual([row["c_simulation"] for row in rows], ["none", "none"])
-        self.assertEqual([row["c_spectral"] for row in rows], ["", ""])  # not searched
+        rows = read_table(out)
+        self.assertEqual([row["simulation_courant"] for row in rows], ["none", "none"])
+        self.assertEqual([row["critical_courant"] for row in rows], ["", ""])  # not searched
         self.assertEqual(r.stdout.splitlines()[1].split()[-1], "none")
 
     def test_stability_help_shows_defaults(self):

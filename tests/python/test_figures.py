@@ -9,7 +9,6 @@ is labelled (with a unit, or named as a dimensionless quantity), the legends say
 say, and each script's table has its rows and columns. The README's tour is test_tour.py's.
 """
 import concurrent.futures
-import csv
 import dataclasses
 import os
 import pathlib
@@ -44,9 +43,10 @@ HELPERS = {"figures.py", "disks.py", "smpm_python.py", "paraview_view.py", "ghos
 
 
 def rows(path):
-    """The rows of a CSV table (lines starting with # left out)."""
+    """The rows of a CSV table (lines starting with # left out), by the one reader of the tables
+    (sparsempm.read_table: the columns' current names, also from a table of the earlier ones)."""
     with open(path) as f:
-        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+        return smpm.read_table([line for line in f if not line.startswith("#")])
 
 
 @dataclasses.dataclass
@@ -210,8 +210,8 @@ def check_fig12a(r):
 
     # Every number of both tables is drawn, on its panel; "none" (no C holds) is not.
     drawn = 0
-    for table, columns in ((r.dir / "st.csv", ("c_spectral", "c_simulation")),
-                           (r.dir / "low.csv", ("c_simulation",))):
+    for table, columns in ((r.dir / "st.csv", ("critical_courant", "simulation_courant")),
+                           (r.dir / "low.csv", ("simulation_courant",))):
         for row in rows(table):
             for col in columns:
                 if row[col] in ("", "none"):
@@ -226,7 +226,7 @@ def check_fig12a(r):
     # 7 rows × 2 columns, and 5 of the 7 rows of the low-dissipation table (no C keeps
     # FMPM(1) or its blend within 0.1%: "none", as FMPM 2026 §3.3 finds).
     assert drawn == 19
-    assert any(row["c_simulation"] == "none" for row in rows(r.dir / "low.csv"))
+    assert any(row["simulation_courant"] == "none" for row in rows(r.dir / "low.csv"))
 
 
 def check_fig12_gradient(r):
@@ -250,7 +250,7 @@ def check_fig12_gradient(r):
         for transfer in ("standard", "velocity_gradient"):
             full = transfer == "velocity_gradient"
             for row in rows(r.dir / f"{problem}_{transfer}.csv"):
-                for col in ("c_spectral", "c_simulation"):
+                for col in ("critical_courant", "simulation_courant"):
                     if row[col] in ("", "none"):
                         continue
                     v = round(float(row[col]), 9)

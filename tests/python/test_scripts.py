@@ -1,7 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The analysis scripts that call the module (analysis/rho_map.py, analysis/fig12b.py) write the
 same tables through sparsempm as through the `smpm` command (--cli)."""
-import csv
 import pathlib
 import subprocess
 
@@ -25,7 +24,7 @@ def script(name, tmp_path, *args):
     via = SMPM if "--cli" in args else f"sparsempm {smpm.__version__}"
     assert r.stdout.rstrip().endswith(f"({via})")
     assert out.stat().st_size > 10000  # a PNG was drawn
-    return list(csv.DictReader(open(out.with_suffix(".csv"))))
+    return smpm.read_table(out.with_suffix(".csv"))
 
 
 @pytest.mark.parametrize("name", ["rho_map.py", "fig12b.py"])
@@ -91,6 +90,55 @@ def test_figures_refuse_unlabelled_axes(tmp_path):
     bar.set_label("stress (MPa)")
     save_figure(fig, str(tmp_path / "f"))
     assert (tmp_path / "f.png").stat().st_size > 1000
+
+
+# The tables of the previous release: the earlier names of the results' columns.
+EARLIER_STABILITY = ("velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,c_spectral,"
+                     "config_spectral,spectral_status,c_simulation,energy_change\n"
+                     "FLIP,,,,,1,0.7555,shift 0,converged,0.8612,3.98\n"
+                     "FMPM,4,1,1,,1,0.4508,shift 0.375,converged,0.5432,0.06\n")
+EARLIER_TRANSPORT = ("transport,order,f_spectral,rho_T,config_spectral,evaluations\n"
+                     "lumped,,0.9992,1,shift 0.25,17\nFMPM,2,0.5836,0.9990676,shift 0.25,15\n")
+
+
+def test_tables_of_the_earlier_column_names_are_read(tmp_path):
+    # One release of the earlier column names (sparsempm.tables.EARLIER_COLUMNS, the one alias
+    # table): the package's reader, the scripts' reader (analysis/figures.py, which loads
+    # python/sparsempm/tables.py by its path when the package does not import) and fig12a.py's
+    # series give the values of an earlier table under the current names.
+    old, now = tmp_path / "old.csv", tmp_path / "now.csv"
+    old.write_text(EARLIER_STABILITY)
+    header, body = EARLIER_STABILITY.split("\n", 1)
+    now.write_text(",".join(smpm.tables.current_columns(header.split(","))) + "\n" + body)
+    rows = smpm.read_table(old)
+    assert rows == smpm.read_table(now)
+    assert [r["critical_courant"] for r in rows] == ["0.7555", "0.4508"]
+    assert [r["simulation_courant"] for r in rows] == ["0.8612", "0.5432"]
+    assert [r["configuration"] for r in rows] == ["shift 0", "shift 0.375"]
+    assert "c_spectral" not in rows[0]
+    transport = tmp_path / "transport.csv"
+    transport.write_text(EARLIER_TRANSPORT)
+    assert [(r["transport"], r["critical_fourier"], r["configuration"], r["evaluations"])
+            for r in smpm.read_table(transport)] == [("lumped", "0.9992", "shift 0.25", "17"),
+                                                     ("FMPM", "0.5836", "shift 0.25", "15")]
+    # The current header is the one `smpm stability` writes.
+    st = tmp_path / "st.csv"
+    r = subprocess.run([SMPM, "stability", BAR, "--order", "1", "--blend-alpha", "none",
+                        "--periodic-cx", "none", "--no-exact", "--shifts", "1", "--method",
+                        "spectral", "-q", "-o", st], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert st.read_text().splitlines()[0] == now.read_text().splitlines()[0]
+    # The scripts, without the package (-S: no site directory, so no sparsempm): figures.read_table and
+    # fig12a's series of an earlier table.
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); import fig12a; "
+            "rows = fig12a.read(sys.argv[2]); "
+            "print(fig12a.series_of(rows, 'critical_courant'), fig12a.series_of(rows, 'simulation_courant'))")
+    env = {"PATH": "/usr/bin:/bin", "MPLBACKEND": "Agg"}
+    r = subprocess.run(["/usr/bin/python3", "-S", "-c", code, SOURCE / "analysis", old], capture_output=True,
+                       text=True, timeout=120, env=env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["({'FMPM(k)':", "[(4,", "0.4508)]},", "{'FLIP':", "0.7555})",
+                                "({'FMPM(k)':", "[(4,", "0.5432)]},", "{'FLIP':", "0.8612})"]
 
 
 def test_fig12a_reads_none_rows(tmp_path):

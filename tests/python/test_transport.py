@@ -416,3 +416,29 @@ def test_errors_of_heat_transport():
         smpm.fmpm_temperature(t, np.ones(12), 2)
     with pytest.raises(smpm.InputError, match="order = 0"):
         smpm.fmpm_temperature(t, np.ones(13), 0)
+
+
+def test_critical_fourier_matches_the_command(tmp_path):
+    # F* of the conduction bar at its input's lattice (--shifts 1): critical_fourier from Python
+    # gives the critical_fourier column of `smpm transport-stability` (4 digits), for the lumped
+    # update, FMPM(2) on c~ and the exact solve; a CriticalFourier with rho_T and the counts.
+    bar = smpm.Model.from_toml(str(SOURCE / "examples" / "conduction_bar.toml"))
+    out = tmp_path / "transport.csv"
+    r = run_smpm("transport-stability", SOURCE / "examples" / "conduction_bar.toml", "--order", "2",
+                 "--shifts", "1", "-o", out)
+    assert r.returncode == 0, r.stderr
+    table = {(row["transport"], row["order"]): row for row in smpm.read_table(out)}
+    for transport, order in (("lumped", ""), ("FMPM", "2"), ("exact", "")):
+        o = bar.options.copy()
+        o.transport = transport
+        o.transport_order = int(order or 1)
+        f = smpm.critical_fourier(bar, o)
+        assert isinstance(f, smpm.CriticalFourier) and float(f) == f.critical_fourier
+        row = table[transport, order]
+        assert f"{f.critical_fourier:.4g}" == row["critical_fourier"]
+        assert f"{f.rho_T:.10g}" == row["rho_T"] and f.evaluations == int(row["evaluations"])
+        assert f.rho_T <= 1 + 1e-6 and f.non_finite == 0
+    with pytest.raises(smpm.InputError):
+        o = bar.options.copy()
+        o.transport = "off"
+        smpm.critical_fourier(bar, o)

@@ -44,7 +44,7 @@ public:
     ++out.evaluations;
     out.not_converged += r.status == SpectralStatus::NotConverged;
     out.non_finite += r.status == SpectralStatus::NonFinite;
-    rho = std::pow(r.rho, 1.0 / steps);
+    rho = std::pow(r.rho_T, 1.0 / steps);
     return r.status != SpectralStatus::NonFinite && rho <= 1 + tol_;
   }
 
@@ -81,8 +81,8 @@ bool double_up(CourantSearch& search, Bracket& b) {
     }
     b.low_rho = rho;
     if (b.j == search.last()) {
-      search.out.courant = search.edge(b.j);
-      search.out.rho = rho;
+      search.out.critical_courant = search.edge(b.j);
+      search.out.rho_T = rho;
       return true;
     }
   }
@@ -130,8 +130,8 @@ void bisect(CourantSearch& search, const BracketGrid& g, Index s, Index u, doubl
       u = mid;
     }
   }
-  search.out.courant = g.at(s);
-  search.out.rho = rho_s;
+  search.out.critical_courant = g.at(s);
+  search.out.rho_T = rho_s;
 }
 
 } // namespace
@@ -175,8 +175,8 @@ CriticalCourant critical_parameter(const std::function<SpectralRadius(double, in
     gallop(search, g, i, s, u, rho_s);
     if (u < 0) { // stable at e_j: the transition is in a higher bracket
       if (b.j == search.last()) {
-        search.out.courant = g.b;
-        search.out.rho = rho_s;
+        search.out.critical_courant = g.b;
+        search.out.rho_T = rho_s;
         return search.out;
       }
       b = {.j = b.j + 1, .low_known = true, .high_known = false, .entered = true, .low_rho = rho_s};
@@ -255,7 +255,7 @@ SimulationCourant simulation_courant(const Model& model, const StepOptions& opti
     if (std::isnan(e_lo))
       return out; // unstable even at lo
     if (const double e_hi = run(hi); !std::isnan(e_hi)) {
-      out.courant = hi;
+      out.simulation_courant = hi;
       out.energy_change = e_hi;
       return out;
     }
@@ -272,7 +272,7 @@ SimulationCourant simulation_courant(const Model& model, const StepOptions& opti
     if (j < 0)
       return out; // no C of the bracket passes
     if (j == intervals) {
-      out.courant = hi;
+      out.simulation_courant = hi;
       out.energy_change = e_lo;
       return out;
     }
@@ -289,7 +289,7 @@ SimulationCourant simulation_courant(const Model& model, const StepOptions& opti
       e_lo = e;
     }
   }
-  out.courant = lo;
+  out.simulation_courant = lo;
   out.energy_change = e_lo;
   return out;
 }

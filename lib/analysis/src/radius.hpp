@@ -18,7 +18,8 @@
 namespace smpm::detail {
 
 /// The search of critical_courant for any parameter x (C, or F of critical_fourier): the largest
-/// x ≤ x_max with ρ(x)^{1/steps} ≤ 1 + tol, `radius(x, steps)` giving ρ at x (courant.cpp).
+/// x ≤ x_max with ρ(x)^{1/steps} ≤ 1 + tol, `radius(x, steps)` giving ρ at x (courant.cpp), in
+/// CriticalCourant::critical_courant (critical_fourier copies it into its CriticalFourier).
 CriticalCourant critical_parameter(const std::function<SpectralRadius(double, int&)>& radius,
                                    const char* what, double tol, double x_max, double resolution,
                                    double hint, const std::atomic<int>* interrupt);

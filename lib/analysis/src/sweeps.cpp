@@ -102,7 +102,7 @@ sweep_configurations(const std::vector<Configuration>& configurations,
     double hint = 0;
     for (size_t i = 0; i < series[s].options.size(); ++i) {
       c[s][i][f] = search(configurations[f].model, series[s].options[i], hint);
-      hint = series[s].hinted ? c[s][i][f].courant : 0.0;
+      hint = series[s].hinted ? c[s][i][f].critical_courant : 0.0;
     }
   };
   if (workers == 1) // in order, on this thread
@@ -114,10 +114,10 @@ sweep_configurations(const std::vector<Configuration>& configurations,
   for (size_t s = 0; s < series.size(); ++s)
     for (const std::vector<CriticalCourant>& at : c[s]) {
       ConfigurationSweep sweep;
-      sweep.minimum.courant = std::numeric_limits<double>::infinity();
+      sweep.minimum.critical_courant = std::numeric_limits<double>::infinity();
       for (size_t f = 0; f < nc; ++f) {
-        sweep.all.emplace_back(configurations[f].name, at[f].courant);
-        if (at[f].courant < sweep.minimum.courant) {
+        sweep.all.emplace_back(configurations[f].name, at[f].critical_courant);
+        if (at[f].critical_courant < sweep.minimum.critical_courant) {
           sweep.minimum = at[f];
           sweep.configuration = configurations[f].name;
         }

@@ -89,20 +89,25 @@ SpectralRadius spectral_radius(const TransportStep& T, Index dense_limit) {
   return detail::operator_radius(T, dense_limit);
 }
 
-CriticalCourant critical_fourier(const Model& model, const StepOptions& options, double tol,
+CriticalFourier critical_fourier(const Model& model, const StepOptions& options, double tol,
                                  double f_max, double resolution, double hint,
                                  const std::atomic<int>* interrupt) {
   const double diffusion = diffusion_time(model.grid, model.materials, model.particles);
   if (!std::isfinite(diffusion))
     throw InputError("the transport stability needs a material that conducts (conductivity > 0)");
   TransportStep T(model, options, 0.05 * diffusion);
-  return detail::critical_parameter(
+  const CriticalCourant c = detail::critical_parameter(
       [&](double F, int& steps) {
         T.set_dt(F * diffusion);
         steps = 1;
         return spectral_radius(T);
       },
       "F*", tol, f_max, resolution, hint, interrupt);
+  return {.critical_fourier = c.critical_courant,
+          .rho_T = c.rho_T,
+          .evaluations = c.evaluations,
+          .not_converged = c.not_converged,
+          .non_finite = c.non_finite};
 }
 
 } // namespace smpm

@@ -81,16 +81,16 @@ private:
 /// How a spectral radius was obtained.
 enum class SpectralStatus {
   Converged,    ///< dense eigenvalues, the power-iteration plateau, or converged Arnoldi
-  NotConverged, ///< Arnoldi did not converge: rho is the measured growth per application
-  NonFinite     ///< the iteration overflowed or met NaN: rho = +inf (never "stable")
+  NotConverged, ///< Arnoldi did not converge: rho_T is the measured growth per application
+  NonFinite     ///< the iteration overflowed or met NaN: rho_T = +inf (never "stable")
 };
 /// Name in tables: converged | not converged | non-finite.
 std::string_view to_string(SpectralStatus s);
 
 /// A spectral radius ρ(T) and how it was obtained (spectral_radius).
 struct SpectralRadius {
-  double rho = std::numeric_limits<double>::quiet_NaN(); ///< ρ(T); +inf when NonFinite
-  SpectralStatus status = SpectralStatus::Converged;     ///< how rho was obtained
+  double rho_T = std::numeric_limits<double>::quiet_NaN(); ///< ρ(T); +inf when NonFinite
+  SpectralStatus status = SpectralStatus::Converged;       ///< how rho_T was obtained
 };
 
 /// The rule of spectral_radius above its dense limit, shared with the ρ(T) across ranks of
@@ -152,10 +152,12 @@ SpectralRadius spectral_radius_rule(Algebra& alg, Index dense_limit) {
 /// returns the dominant |λ| (status NotConverged with the measured growth if it fails).
 SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit = kDenseRadiusRows);
 
-/// The critical Courant number of critical_courant, with the cost of its search.
+/// The critical Courant number C* of critical_courant (the spectral method), with the cost of its
+/// search. The names are the tables' columns (critical_courant, rho_T; `smpm stability`).
 struct CriticalCourant {
-  double courant = 0;    ///< largest C found with ρ(T(C)) ≤ 1 + tol (within `resolution`)
-  double rho = 0;        ///< ρ(T) at that C
+  /// C*: the largest C found with ρ(T(C)) ≤ 1 + tol (within `resolution`)
+  double critical_courant = 0;
+  double rho_T = 0;      ///< ρ(T) at C* (the growth per step, ρ^{1/s})
   int evaluations = 0;   ///< spectral radii computed
   int not_converged = 0; ///< of them, Arnoldi runs that did not converge
   int non_finite = 0;    ///< of them, non-finite results (counted as unstable)
@@ -276,9 +278,11 @@ struct SimulationCourantOptions {
   const std::atomic<int>* interrupt = nullptr;
 };
 
-/// The critical Courant number of simulation_courant.
+/// The critical Courant number C* of simulation_courant (the simulation method). The names are
+/// the columns of `smpm stability` (simulation_courant, energy_change).
 struct SimulationCourant {
-  double courant = std::numeric_limits<double>::quiet_NaN();       ///< NaN: unstable even at lo
+  /// C* by simulation: the largest C whose run does not fail; NaN: unstable even at lo
+  double simulation_courant = std::numeric_limits<double>::quiet_NaN();
   double energy_change = std::numeric_limits<double>::quiet_NaN(); ///< (E_end − E_0)/E_0 there
   int runs = 0;                                                    ///< full runs made
 };

@@ -56,11 +56,22 @@ private:
 /// `dense_limit` rows, else power iteration and Arnoldi (Spectra).
 SpectralRadius spectral_radius(const TransportStep& T, Index dense_limit = 1500);
 
+/// The critical Fourier number F* of critical_fourier, with the cost of its search. The names are
+/// the columns of `smpm transport-stability` (critical_fourier, rho_T, evaluations).
+struct CriticalFourier {
+  /// F*: the largest F found with ρ(𝒯(F)) ≤ 1 + tol (within `resolution`)
+  double critical_fourier = 0;
+  double rho_T = 0;      ///< ρ(𝒯) at F*
+  int evaluations = 0;   ///< spectral radii computed
+  int not_converged = 0; ///< of them, Arnoldi runs that did not converge
+  int non_finite = 0;    ///< of them, non-finite results (counted as unstable)
+};
+
 /// The critical Fourier number F* = max{F : ρ(𝒯(F)) ≤ 1 + tol} with Δt = F Δx_min² / D_max
 /// (diffusion_time), by the search of critical_courant (doubling from F = 0.05 up to f_max,
-/// then bisection to `resolution`); CriticalCourant::courant holds F*. Throws InputError unless
-/// the options have heat transport, and Interrupted when `interrupt` is set.
-CriticalCourant critical_fourier(const Model& model, const StepOptions& options, double tol = 1e-6,
+/// then bisection to `resolution`; `hint` > 0 starts it there). Throws InputError unless the
+/// options have heat transport, and Interrupted when `interrupt` is set.
+CriticalFourier critical_fourier(const Model& model, const StepOptions& options, double tol = 1e-6,
                                  double f_max = 4.0, double resolution = 1e-3, double hint = 0,
                                  const std::atomic<int>* interrupt = nullptr);
 
