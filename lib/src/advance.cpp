@@ -139,9 +139,10 @@ void check_step_count(const Model& model, const AdvanceOptions& o, bool transpor
                      ": more than time.max_steps = " + std::to_string(o.max_steps));
 }
 
-AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
-                      const StepObserver& observer) {
-  const Stepper::Exclusive hold(stepper); // no other thread steps it between our steps
+namespace {
+// The refusals of advance's options: an end before the model's time, a failure test that is
+// not a number, a negative interval between stops.
+void check_advance_options(const Model& model, const AdvanceOptions& o) {
   if (!(o.end >= model.time) || !std::isfinite(o.end))
     throw InputError("end time " + number_text(o.end) + " is before the model's time " +
                      number_text(model.time));
@@ -151,24 +152,68 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
     throw InputError("min_time_step_fraction must be a number (0 or less: no test), got nan");
   SMPM_VERIFY(o.stop_every >= 0 && std::isfinite(o.stop_every),
               "advance: the interval between stops must be non-negative");
-  AdvanceReport report;
-  report.energy_start = o.energy_start ? *o.energy_start : energies(model).total;
+}
+
+// The stops of a run: the multiples of `every` (none when it is 0), never past `end`.
+struct Stops {
+  double end, every;
   // Round-off allowance of the clock, relative to the times reached (never to the interval
   // between stops, which may exceed the whole run).
-  const double eps = 1e-12 * std::max(std::abs(o.end), std::abs(model.time));
-  // The next stop after t: the smallest multiple of stop_every beyond t (and never past end).
-  auto next_stop = [&](double t) {
-    if (!(o.stop_every > 0))
-      return o.end;
-    return std::min(o.end, (std::floor((t + eps) / o.stop_every) + 1) * o.stop_every);
-  };
-  double stop = next_stop(model.time);
+  double eps;
+  // The next stop after t: the smallest multiple of `every` beyond t (and never past end).
+  double next(double t) const {
+    if (!(every > 0))
+      return end;
+    return std::min(end, (std::floor((t + eps) / every) + 1) * every);
+  }
+};
+
+// The signal speed of the next step: the materials' wave speed (fixed unless Mie–Grüneisen
+// particles change it with their state) and the largest particle speed, which the energies of
+// each step provide.
+struct SignalSpeed {
+  bool shock;  // Mie–Grüneisen particles: the wave speed of each step's state
+  double wave; // else the materials' wave speed, fixed
+  explicit SignalSpeed(const Model& model)
+      : shock(uses_shock_physics(model.materials)),
+        wave(shock ? 0 : max_wave_speed(model.materials, model.particles)) {}
+  double after_step(const Model& model, double max_speed) const {
+    return std::max(shock ? max_wave_speed(model.materials, model.particles) : wave, max_speed);
+  }
+};
+
+// The time step Δt of the next step: the Courant time step C Δx / speed, refused when it is not
+// positive or falls below the failure test's fraction of the first step's, dt0 (set here on the
+// first step unless the options give it); then the conduction limit, and with land_on_stops the
+// time left to the next stop.
+double next_time_step(const Model& model, const AdvanceOptions& o, double speed, double conduction,
+                      double stop, bool first, double& dt0) {
+  double dt = stable_time_step(model, o.courant, speed);
+  if (!(dt > 0) || !std::isfinite(dt)) // a speed so large that C Δx / speed underflows
+    throw at_step(NumericalError("the time step " + number_text(dt) + " is not positive" +
+                                 fastest_particle(model)),
+                  model.step + 1, model.time);
+  if (first && !o.time_step_start)
+    dt0 = dt;
+  check_time_step(model, dt, dt0, o.failure);
+  dt = std::min(dt, conduction);
+  if (o.land_on_stops)
+    dt = std::min(dt, stop - model.time);
+  return dt;
+}
+} // namespace
+
+AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
+                      const StepObserver& observer) {
+  const Stepper::Exclusive hold(stepper); // no other thread steps it between our steps
+  check_advance_options(model, o);
+  AdvanceReport report;
+  report.energy_start = o.energy_start ? *o.energy_start : energies(model).total;
+  const Stops stops{o.end, o.stop_every, 1e-12 * std::max(std::abs(o.end), std::abs(model.time))};
+  const double eps = stops.eps;
+  double stop = stops.next(model.time);
   const auto start = std::chrono::steady_clock::now();
-  // The signal speed of the next step: the materials' wave speed (fixed unless Mie–Grüneisen
-  // particles change it with their state) and the largest particle speed, which the energies of
-  // each step provide.
-  const bool shock = uses_shock_physics(model.materials);
-  const double wave = shock ? 0 : max_wave_speed(model.materials, model.particles);
+  const SignalSpeed next_speed(model);
   double speed = signal_speed(model);
   double dt0 = o.time_step_start.value_or(0); // the first step's Courant time step
   // Heat transport: the explicit conduction limit F Δx² / D_max (the materials do not change).
@@ -179,29 +224,19 @@ AdvanceReport advance(Model& model, Stepper& stepper, const AdvanceOptions& o,
   const PhaseTimes times_start = times;
   while (model.time < o.end - eps) {
     PhaseClock clock;
-    double dt = stable_time_step(model, o.courant, speed);
-    if (!(dt > 0) || !std::isfinite(dt)) // a speed so large that C Δx / speed underflows
-      throw at_step(NumericalError("the time step " + number_text(dt) + " is not positive" +
-                                   fastest_particle(model)),
-                    model.step + 1, model.time);
-    if (report.steps == 0 && !o.time_step_start)
-      dt0 = dt;
-    check_time_step(model, dt, dt0, o.failure);
-    dt = std::min(dt, conduction);
-    if (o.land_on_stops)
-      dt = std::min(dt, stop - model.time);
+    const double dt = next_time_step(model, o, speed, conduction, stop, report.steps == 0, dt0);
     clock.lap(times.energies);
     stepper.step(model, dt); // its parts timed by prepare_step and step
     PhaseClock after;
     ++report.steps;
     const Energies e = stepper.energies(model); // W(F_p) from the step's stress update
-    speed = std::max(shock ? max_wave_speed(model.materials, model.particles) : wave, e.max_speed);
+    speed = next_speed.after_step(model, e.max_speed);
     check_energy(model, e.total, report.energy_start, o.failure);
     report.energy_end = e.total;
     after.lap(times.energies);
     const bool at_stop = model.time >= stop - eps;
     if (at_stop)
-      stop = next_stop(model.time);
+      stop = stops.next(model.time);
     if (observer) {
       observer(model, e, at_stop);
       if (o.observer_changes_model) // new velocities or materials set the next time step
