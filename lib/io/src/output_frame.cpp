@@ -79,82 +79,117 @@ void write_particles(hid_t file, const std::string& name, const Model& model) {
   h5::set_attribute(g.get(), "step", model.step);
 }
 
-// /grid/<name> (m, p = SᵀMV, v = m⁻¹p) and, when asked, /matrices/<name> (S, G_a, m̃ in CSR),
-// from the preparation of the step that starts at the frame (`prepared`, the Stepper's), or from
-// the frame's own when there is none or when the matrices need the whole grid's numbering.
-void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape, bool matrices,
-                const StepPreparation* prepared) {
-  const Particles& P = model.particles;
-  StepPreparation own;
-  // Heat transport: its matrices c~ and K beside m~ (the preparation of the run's step has the
-  // transport operators; the tolerance of the exact solve does not change the matrices).
-  const bool heat = prepared && prepared->has_transport();
-  if (!prepared || (matrices && prepared->ops.node_range != NodeRange::Grid)) {
-    // On the particles' window of the grid (storage and time follow the particles), or on the
-    // whole grid when the matrices are written (their columns are the grid's nodes).
-    own.ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
-    prepare_step(model, shape, own, heat ? TransportUpdate::Lumped : TransportUpdate::Off);
-    prepared = &own;
+namespace {
+// The preparation a frame's grid fields come from: the step's (`prepared`), or the frame's own in
+// `own` when there is none or when the matrices need the whole grid's numbering.
+const StepPreparation& frame_preparation(const Model& model, Shape shape, bool matrices, bool heat,
+                                         const StepPreparation* prepared, StepPreparation& own) {
+  if (prepared && !(matrices && prepared->ops.node_range != NodeRange::Grid))
+    return *prepared;
+  // On the particles' window of the grid (storage and time follow the particles), or on the
+  // whole grid when the matrices are written (their columns are the grid's nodes).
+  own.ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
+  prepare_step(model, shape, own, heat ? TransportUpdate::Lumped : TransportUpdate::Off);
+  return own;
+}
+
+// The nodal fields of the nodes with mass only (active_nodes), with their indices in the grid
+// (node α n_g + i of field α) and velocity fields: one row per node with mass.
+struct ActiveNodeFields {
+  Eigen::VectorXi nodes, field;
+  Eigen::VectorXd m;
+  Field p, v, x;
+};
+
+ActiveNodeFields active_node_fields(const Operators& ops, const Field& p, const Field& v, int dim) {
+  ActiveNodeFields a;
+  a.nodes = active_nodes(ops);
+  const Index na = a.nodes.size(), ng = ops.grid_node_count;
+  a.m.resize(na);
+  a.field.resize(na);
+  a.p.resize(na, dim);
+  a.v.resize(na, dim);
+  a.x.resize(na, dim);
+  for (Index k = 0; k < na; ++k) {
+    a.m[k] = ops.m[a.nodes[k]];
+    a.p.row(k) = p.row(a.nodes[k]);
+    a.v.row(k) = v.row(a.nodes[k]);
+    a.x.row(k) = ops.grid.node_position(a.nodes[k] % ng).head(dim).transpose();
+    a.field[k] = int(a.nodes[k] / ng);
+    a.nodes[k] = int(ops.whole_node(a.nodes[k]));
   }
+  return a;
+}
+
+// /grid/<name>: m, p = SᵀMV and v = m⁻¹p of the nodes with mass (a frame of a few particles on
+// a large grid stays small), and with several velocity fields the contact nodes.
+void write_nodal_fields(hid_t file, const std::string& name, const Model& model,
+                        const StepPreparation& prepared) {
+  const Particles& P = model.particles;
+  const Operators& ops = prepared.ops;
   // Multimaterial: each velocity field's nodal fields (node i of field α is α n_g + i), the
   // extrapolation of contact 2020 Eq. (5) before contact.
-  const Operators& ops = prepared->ops;
   const int fields = ops.fields;
-  {
-    // The nodes with mass only (active_nodes), with their indices in the grid (node α n_g + i
-    // of field α): a frame of a few particles on a large grid stays small.
-    Field p, v;
-    map_momentum(particle_operators(ops), P.V, p);
-    lumped_solve(ops.m_inv, p, v);
-    Eigen::VectorXi nodes = active_nodes(ops);
-    const Index na = nodes.size(), ng = ops.grid_node_count;
-    Eigen::VectorXd m(na);
-    Eigen::VectorXi field(na);
-    Field pa(na, P.dim), va(na, P.dim), xa(na, P.dim);
-    for (Index k = 0; k < na; ++k) {
-      m[k] = ops.m[nodes[k]];
-      pa.row(k) = p.row(nodes[k]);
-      va.row(k) = v.row(nodes[k]);
-      xa.row(k) = ops.grid.node_position(nodes[k] % ng).head(P.dim).transpose();
-      field[k] = int(nodes[k] / ng);
-      nodes[k] = int(ops.whole_node(nodes[k]));
-    }
-    h5::Id grid = h5::open_group(file, "grid");
-    h5::Id g = h5::create_group(grid.get(), name);
-    const hsize_t n = hsize_t(na), d = hsize_t(P.dim);
-    h5::write_ints(g.get(), "nodes", nodes.data(), n);
-    h5::write_doubles(g.get(), "m", m.data(), n, 0);
-    h5::write_doubles(g.get(), "p", pa.data(), n, d);
-    h5::write_doubles(g.get(), "v", va.data(), n, d);
-    h5::write_doubles(g.get(), "X", xa.data(), n, d); // the nodes' positions
-    if (P.dim == 1)
-      write_xyz(g.get(), "xyz", xa);
-    if (fields > 1)
-      h5::write_ints(g.get(), "field", field.data(), n); // the velocity field of each row
-    write_vertices(file, na);
-    h5::set_attribute(g.get(), "grid_nodes", long(model.grid.num_nodes()));
-    h5::set_attribute(g.get(), "velocity_fields", long(fields));
-    if (fields > 1) {
-      detail::write_contact_nodes(g.get(), *prepared, p);
-      write_vertices(file, Index(prepared->contact.nodes.size()));
-    }
+  Field p, v;
+  map_momentum(particle_operators(ops), P.V, p);
+  lumped_solve(ops.m_inv, p, v);
+  const ActiveNodeFields a = active_node_fields(ops, p, v, P.dim);
+  h5::Id grid = h5::open_group(file, "grid");
+  h5::Id g = h5::create_group(grid.get(), name);
+  const hsize_t n = hsize_t(a.nodes.size()), d = hsize_t(P.dim);
+  h5::write_ints(g.get(), "nodes", a.nodes.data(), n);
+  h5::write_doubles(g.get(), "m", a.m.data(), n, 0);
+  h5::write_doubles(g.get(), "p", a.p.data(), n, d);
+  h5::write_doubles(g.get(), "v", a.v.data(), n, d);
+  h5::write_doubles(g.get(), "X", a.x.data(), n, d); // the nodes' positions
+  if (P.dim == 1)
+    write_xyz(g.get(), "xyz", a.x);
+  if (fields > 1)
+    h5::write_ints(g.get(), "field", a.field.data(), n); // the velocity field of each row
+  write_vertices(file, a.nodes.size());
+  h5::set_attribute(g.get(), "grid_nodes", long(model.grid.num_nodes()));
+  h5::set_attribute(g.get(), "velocity_fields", long(fields));
+  if (fields > 1) {
+    detail::write_contact_nodes(g.get(), prepared, p);
+    write_vertices(file, Index(prepared.contact.nodes.size()));
   }
-  if (!matrices)
-    return;
+}
+
+// /matrices/<name>: S, G_a and m̃ in CSR, and with heat transport the n_g × n_g capacity and
+// conductivity of transport.hpp.
+void write_matrices(hid_t file, const std::string& name, int dim, const StepPreparation& prepared,
+                    bool heat) {
+  const Operators& ops = prepared.ops;
   if (!h5::exists(file, "matrices"))
     h5::create_group(file, "matrices");
   h5::Id mats = h5::open_group(file, "matrices");
   h5::Id g = h5::create_group(mats.get(), name);
   write_csr(g.get(), "S", ops.S);
-  for (int a = 0; a < P.dim; ++a)
+  for (int a = 0; a < dim; ++a)
     write_csr(g.get(), "G" + std::to_string(a), ops.G[size_t(a)]);
   write_csr(g.get(), "consistent_mass", SparseRowMatrix(consistent_mass(ops)));
   if (heat) { // n_g × n_g: the capacity and conductivity of transport.hpp
     write_csr(g.get(), "consistent_capacity",
-              SparseRowMatrix(consistent_capacity(ops, prepared->transport)));
+              SparseRowMatrix(consistent_capacity(ops, prepared.transport)));
     write_csr(g.get(), "conductivity",
-              SparseRowMatrix(conductivity_matrix(ops, prepared->transport)));
+              SparseRowMatrix(conductivity_matrix(ops, prepared.transport)));
   }
+}
+} // namespace
+
+// /grid/<name> (m, p = SᵀMV, v = m⁻¹p) and, when asked, /matrices/<name> (S, G_a, m̃ in CSR),
+// from the preparation of the step that starts at the frame (`prepared`, the Stepper's), or from
+// the frame's own when there is none or when the matrices need the whole grid's numbering.
+void write_grid(hid_t file, const std::string& name, const Model& model, Shape shape, bool matrices,
+                const StepPreparation* prepared) {
+  // Heat transport: its matrices c~ and K beside m~ (the preparation of the run's step has the
+  // transport operators; the tolerance of the exact solve does not change the matrices).
+  const bool heat = prepared && prepared->has_transport();
+  StepPreparation own;
+  const StepPreparation& prep = frame_preparation(model, shape, matrices, heat, prepared, own);
+  write_nodal_fields(file, name, model, prep);
+  if (matrices)
+    write_matrices(file, name, model.particles.dim, prep, heat);
 }
 
 double frame_bytes(const Model& model, const StepPreparation* prepared, bool matrices,
