@@ -80,11 +80,10 @@ void copy_frame(hid_t from, int frame, const std::string& file) {
   });
 }
 
-} // namespace
-
-OutputFile OutputFile::reopen(const std::string& path, const std::string& restart_from,
-                              RunConfig& cfg, int& next_frame) {
-  RunReader source(restart_from);
+// The frame a restart continues (restart_frame), its state loaded into cfg.model and checked in
+// the restart file before anything is written: its content, its time within the run's, its run
+// state.
+int load_restart_frame(RunReader& source, const std::string& restart_from, RunConfig& cfg) {
   if (source.frames().empty())
     throw InputError(restart_from + ": no complete frame to restart from");
   const int last = restart_frame(source, restart_from, cfg.model);
@@ -99,6 +98,37 @@ OutputFile OutputFile::reopen(const std::string& path, const std::string& restar
                      ": its time t = " + number_text(cfg.model.time) +
                      " is past the run's end time.end = " + number_text(end) + " (a damaged file)");
   (void)read_run_state(restart_from, last); // its state, refused by the file's name if damaged
+  return last;
+}
+
+// The series up to the frame's step (a stopped run's later rows, and those of frames after it,
+// are dropped), every series of the run (a file of an earlier version lacks some: NaN in its
+// rows), in the order of `columns` (name, width); read before any file is written. `rows`: the
+// number of rows kept.
+std::vector<Field> restart_series(RunReader& source, int last, const Model& model,
+                                  const std::vector<std::pair<std::string, size_t>>& columns,
+                                  Index& rows) {
+  const Field steps = source.series("step", last);
+  rows = 0;
+  while (rows < steps.rows() && steps(rows, 0) <= double(model.step))
+    ++rows;
+  std::vector<Field> base;
+  for (const auto& [name, width] : columns) {
+    Field values = source.has_series(name) ? source.series(name, last) : Field();
+    if (values.rows() < rows || values.cols() != Index(std::max<size_t>(width, 1)))
+      values = Field::Constant(rows, Index(std::max<size_t>(width, 1)),
+                               std::numeric_limits<double>::quiet_NaN());
+    base.push_back(values.topRows(rows));
+  }
+  return base;
+}
+
+} // namespace
+
+OutputFile OutputFile::reopen(const std::string& path, const std::string& restart_from,
+                              RunConfig& cfg, int& next_frame) {
+  RunReader source(restart_from);
+  const int last = load_restart_frame(source, restart_from, cfg);
   OutputFile out;
   out.path_ = path;
   out.dir_ = frames_directory(path);
@@ -109,21 +139,9 @@ OutputFile OutputFile::reopen(const std::string& path, const std::string& restar
   out.overrides_ = h5::get_strings_attribute(index, "overrides");
   if (h5::has_attribute(index, "source"))
     out.source_ = h5::get_string_attribute(index, "source");
-  // The series up to the frame's step (a stopped run's later rows, and those of frames after
-  // it, are dropped), every series of the run (a file of an earlier version lacks some: NaN in
-  // its rows); read before any file is written.
-  const Field steps = source.series("step", last);
   Index rows = 0;
-  while (rows < steps.rows() && steps(rows, 0) <= double(cfg.model.step))
-    ++rows;
-  std::vector<Field> base;
-  for (const auto& [name, width] : out.layout_.columns()) {
-    Field values = source.has_series(name) ? source.series(name, last) : Field();
-    if (values.rows() < rows || values.cols() != Index(std::max<size_t>(width, 1)))
-      values = Field::Constant(rows, Index(std::max<size_t>(width, 1)),
-                               std::numeric_limits<double>::quiet_NaN());
-    base.push_back(values.topRows(rows));
-  }
+  const std::vector<Field> base =
+      restart_series(source, last, cfg.model, out.layout_.columns(), rows);
   std::error_code ec;
   const bool in_place = source.split() && fs::equivalent(source.frames_directory(), out.dir_, ec);
   try {
