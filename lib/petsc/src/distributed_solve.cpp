@@ -140,25 +140,22 @@ ExactMethod exact_method_from_string(std::string_view name) {
   throw InputError("unknown exact solver '" + std::string(name) + "' (valid: " + valid + ")");
 }
 
-ExactSolveReport exact_solve(const DistributedGrid& grid, const DistributedOperators& ops,
-                             const DistributedExactOptions& o, const LoopConstraints& bc, Vec p,
-                             Vec v) {
-  validate(o.exact);
-  const int d = ops.dim;
-  const double eps = o.exact.regularization;
-  Field p_owned, m_owned;
-  get_owned(grid, p, d, p_owned);
-  get_owned(grid, ops.m, 1, m_owned);
-  const Eigen::VectorXd m = m_owned.col(0);
-  // The known components on the owned nodes (the serial solver's rule; τ of the largest m).
+namespace {
+// The known components on the owned nodes (the serial solver's rule; τ of the largest m): the
+// prescribed values, NaN where a component is free.
+Field known_components(const DistributedGrid& grid, const DistributedOperators& ops,
+                       const ExactOptions& exact, const LoopConstraints& bc, const Field& p_owned,
+                       const Eigen::VectorXd& m) {
   double local_max = m.size() ? m.maxCoeff() : 0.0, max_m = 0;
   MPI_Allreduce(&local_max, &max_m, 1, MPI_DOUBLE, MPI_MAX, grid.comm());
   LoopConstraints owned_bc = bc;
   owned_bc.grid = &grid.owned();
-  const Field known =
-      prescribed_components(owned_bc, ops.active, m, p_owned,
-                            o.exact.mass_cutoff > 0 ? o.exact.mass_cutoff * max_m : 0.0);
-  // K = (1 − ε) m̃ + ε m                                              (FMPM 2026 §3.3)
+  return prescribed_components(owned_bc, ops.active, m, p_owned,
+                               exact.mass_cutoff > 0 ? exact.mass_cutoff * max_m : 0.0);
+}
+
+// K = (1 − ε) m̃ + ε m                                              (FMPM 2026 §3.3)
+OwnedMat regularized_mass(const DistributedOperators& ops, double eps) {
   OwnedMat K;
   SMPM_PETSC_CALL(MatDuplicate(ops.mt, MAT_COPY_VALUES, K.out()));
   if (eps > 0) {
@@ -169,82 +166,130 @@ ExactSolveReport exact_solve(const DistributedGrid& grid, const DistributedOpera
     SMPM_PETSC_CALL(MatScale(K, 1 - eps));
     SMPM_PETSC_CALL(MatDiagonalSet(K, em, ADD_VALUES));
   }
+  return K;
+}
+
+// F of component a: the active rows whose component is free, in PETSc order, with the lumped
+// velocity p/m that starts CG in `guess`; the known values of the other active rows in `kx`.
+void free_rows_of(const DistributedGrid& grid, const DistributedOperators& ops, const Field& known,
+                  const Field& p_owned, const Eigen::VectorXd& m, int a,
+                  std::vector<PetscInt>& free_rows, Field& kx, Field& guess) {
+  const Index n = p_owned.rows();
+  free_rows.clear();
+  kx = Field::Zero(n, 1);
+  guess = Field::Zero(n, 1);
+  for (Index r = 0; r < n; ++r) {
+    if (ops.active[r] && std::isnan(known(r, a))) {
+      free_rows.push_back(petsc_row(grid, r));
+      guess(r, 0) = p_owned(r, a) / m[r]; // the lumped velocity starts CG
+    } else if (ops.active[r]) {
+      kx(r, 0) = known(r, a);
+    }
+  }
+  std::sort(free_rows.begin(), free_rows.end());
+}
+
+// The true residual ‖b_F − K_FF x_F‖ / ‖b_F‖ (‖b_F − K_FF x_F‖ when b_F = 0).
+double true_residual(Mat KFF, Vec bF, Vec xF) {
+  OwnedVec r;
+  SMPM_PETSC_CALL(VecDuplicate(bF, r.out()));
+  SMPM_PETSC_CALL(MatMult(KFF, xF, r));
+  SMPM_PETSC_CALL(VecAYPX(r, -1.0, bF));
+  PetscReal rn = 0, bn = 0;
+  SMPM_PETSC_CALL(VecNorm(r, NORM_2, &rn));
+  SMPM_PETSC_CALL(VecNorm(bF, NORM_2, &bn));
+  return bn > 0 ? double(rn / bn) : double(rn);
+}
+
+// The system K_FF x_F = b_F of the free rows F of a component, and its solver.
+struct FreeSystem {
+  OwnedIS free_is;
+  OwnedMat KFF;
+  OwnedKSP ksp;
+  std::vector<PetscInt> last_rows; // the F of the last system made
+  bool have_last = false;
+
+  // K_FF and its solver, unless every rank has the free rows of the last component.
+  void update(const DistributedGrid& grid, Mat K, const std::vector<PetscInt>& free_rows,
+              const DistributedExactOptions& o, ExactSolveReport& report) {
+    int same = have_last && free_rows == last_rows, all_same = 0;
+    MPI_Allreduce(&same, &all_same, 1, MPI_INT, MPI_LAND, grid.comm());
+    if (all_same)
+      return;
+    SMPM_PETSC_CALL(ISCreateGeneral(grid.comm(), PetscInt(free_rows.size()), free_rows.data(),
+                                    PETSC_COPY_VALUES, free_is.out()));
+    SMPM_PETSC_CALL(MatCreateSubMatrix(K, free_is, free_is, MAT_INITIAL_MATRIX, KFF.out()));
+    SMPM_PETSC_CALL(MatSetOption(KFF, MAT_SPD, PETSC_TRUE));
+    SMPM_PETSC_CALL(KSPCreate(grid.comm(), ksp.out()));
+    SMPM_PETSC_CALL(KSPSetOperators(ksp, KFF, KFF));
+    configure(ksp, o);
+    ++report.systems;
+    last_rows = free_rows;
+    have_last = true;
+  }
+
+  // x_F from b_F (the free rows of b and x, x_F starting from x's), refused when the solver does
+  // not converge; its iterations and true residual go into `report`.
+  void solve(Vec b, Vec x, int a, const DistributedExactOptions& o, ExactSolveReport& report) {
+    PetscInt nf = 0;
+    SMPM_PETSC_CALL(MatGetSize(KFF, &nf, nullptr));
+    if (nf == 0)
+      return;
+    Vec bF = nullptr, xF = nullptr;
+    SMPM_PETSC_CALL(VecGetSubVector(b, free_is, &bF));
+    SMPM_PETSC_CALL(VecGetSubVector(x, free_is, &xF));
+    SMPM_PETSC_CALL(KSPSolve(ksp, bF, xF));
+    KSPConvergedReason reason;
+    SMPM_PETSC_CALL(KSPGetConvergedReason(ksp, &reason));
+    PetscInt its = 0;
+    SMPM_PETSC_CALL(KSPGetIterationNumber(ksp, &its));
+    if (reason < 0)
+      throw NumericalError("the exact solve (" + std::string(to_string(o.method)) +
+                           ") of velocity component " + std::to_string(a) +
+                           " did not converge: " + KSPConvergedReasons[reason] + " after " +
+                           std::to_string(int(its)) + " iterations");
+    report.iterations += int(std::max<PetscInt>(its, 1));
+    report.residual = std::max(report.residual, true_residual(KFF, bF, xF));
+    SMPM_PETSC_CALL(VecRestoreSubVector(b, free_is, &bF));
+    SMPM_PETSC_CALL(VecRestoreSubVector(x, free_is, &xF));
+  }
+};
+} // namespace
+
+ExactSolveReport exact_solve(const DistributedGrid& grid, const DistributedOperators& ops,
+                             const DistributedExactOptions& o, const LoopConstraints& bc, Vec p,
+                             Vec v) {
+  validate(o.exact);
+  const int d = ops.dim;
+  const double eps = o.exact.regularization;
+  Field p_owned, m_owned;
+  get_owned(grid, p, d, p_owned);
+  get_owned(grid, ops.m, 1, m_owned);
+  const Eigen::VectorXd m = m_owned.col(0);
+  const Field known = known_components(grid, ops, o.exact, bc, p_owned, m);
+  const OwnedMat K = regularized_mass(ops, eps);
   ExactSolveReport report;
   OwnedVec b, known_x, Kx, x;
   SMPM_PETSC_CALL(VecDuplicate(ops.m, b.out()));
   SMPM_PETSC_CALL(VecDuplicate(ops.m, known_x.out()));
   SMPM_PETSC_CALL(VecDuplicate(ops.m, Kx.out()));
   SMPM_PETSC_CALL(VecDuplicate(ops.m, x.out()));
-  OwnedIS free_is;
-  OwnedMat KFF;
-  OwnedKSP ksp;
-  std::vector<PetscInt> free_rows, last_rows;
-  bool have_last = false;
+  FreeSystem system;
+  std::vector<PetscInt> free_rows;
   Field v_owned = Field::Zero(p_owned.rows(), d);
   const Index n = p_owned.rows();
   for (int a = 0; a < d; ++a) {
     // F: the active rows whose component is free, in PETSc order; the known values in known_x.
-    free_rows.clear();
-    Field kx = Field::Zero(n, 1), guess = Field::Zero(n, 1);
-    for (Index r = 0; r < n; ++r) {
-      if (ops.active[r] && std::isnan(known(r, a))) {
-        free_rows.push_back(petsc_row(grid, r));
-        guess(r, 0) = p_owned(r, a) / m[r]; // the lumped velocity starts CG
-      } else if (ops.active[r]) {
-        kx(r, 0) = known(r, a);
-      }
-    }
-    std::sort(free_rows.begin(), free_rows.end());
+    Field kx, guess;
+    free_rows_of(grid, ops, known, p_owned, m, a, free_rows, kx, guess);
     set_owned(grid, kx, known_x);
     set_owned(grid, guess, x);
     // b = p − K v_C over every row; b_F the right-hand side p_F − K_FC v_C.
     SMPM_PETSC_CALL(VecStrideGather(p, a, b, INSERT_VALUES));
     SMPM_PETSC_CALL(MatMult(K, known_x, Kx));
     SMPM_PETSC_CALL(VecAXPY(b, -1.0, Kx));
-    // K_FF and its solver, unless every rank has the free rows of the last component.
-    int same = have_last && free_rows == last_rows, all_same = 0;
-    MPI_Allreduce(&same, &all_same, 1, MPI_INT, MPI_LAND, grid.comm());
-    if (!all_same) {
-      SMPM_PETSC_CALL(ISCreateGeneral(grid.comm(), PetscInt(free_rows.size()), free_rows.data(),
-                                      PETSC_COPY_VALUES, free_is.out()));
-      SMPM_PETSC_CALL(MatCreateSubMatrix(K, free_is, free_is, MAT_INITIAL_MATRIX, KFF.out()));
-      SMPM_PETSC_CALL(MatSetOption(KFF, MAT_SPD, PETSC_TRUE));
-      SMPM_PETSC_CALL(KSPCreate(grid.comm(), ksp.out()));
-      SMPM_PETSC_CALL(KSPSetOperators(ksp, KFF, KFF));
-      configure(ksp, o);
-      ++report.systems;
-      last_rows = free_rows;
-      have_last = true;
-    }
-    PetscInt nf = 0;
-    SMPM_PETSC_CALL(MatGetSize(KFF, &nf, nullptr));
-    if (nf > 0) {
-      Vec bF = nullptr, xF = nullptr;
-      SMPM_PETSC_CALL(VecGetSubVector(b, free_is, &bF));
-      SMPM_PETSC_CALL(VecGetSubVector(x, free_is, &xF));
-      SMPM_PETSC_CALL(KSPSolve(ksp, bF, xF));
-      KSPConvergedReason reason;
-      SMPM_PETSC_CALL(KSPGetConvergedReason(ksp, &reason));
-      PetscInt its = 0;
-      SMPM_PETSC_CALL(KSPGetIterationNumber(ksp, &its));
-      if (reason < 0)
-        throw NumericalError("the exact solve (" + std::string(to_string(o.method)) +
-                             ") of velocity component " + std::to_string(a) +
-                             " did not converge: " + KSPConvergedReasons[reason] + " after " +
-                             std::to_string(int(its)) + " iterations");
-      report.iterations += int(std::max<PetscInt>(its, 1));
-      // The true residual ‖b_F − K_FF x_F‖ / ‖b_F‖.
-      OwnedVec r;
-      SMPM_PETSC_CALL(VecDuplicate(bF, r.out()));
-      SMPM_PETSC_CALL(MatMult(KFF, xF, r));
-      SMPM_PETSC_CALL(VecAYPX(r, -1.0, bF));
-      PetscReal rn = 0, bn = 0;
-      SMPM_PETSC_CALL(VecNorm(r, NORM_2, &rn));
-      SMPM_PETSC_CALL(VecNorm(bF, NORM_2, &bn));
-      report.residual = std::max(report.residual, bn > 0 ? double(rn / bn) : double(rn));
-      SMPM_PETSC_CALL(VecRestoreSubVector(b, free_is, &bF));
-      SMPM_PETSC_CALL(VecRestoreSubVector(x, free_is, &xF));
-    }
+    system.update(grid, K, free_rows, o, report);
+    system.solve(b, x, a, o, report);
     Field xo;
     get_owned(grid, x, 1, xo);
     for (Index r = 0; r < n; ++r) // the known values exactly, 0 on inactive nodes
