@@ -196,22 +196,10 @@ void add_local_rows(const DistributedGrid& grid, const DistributedOperators& ops
                                  local.valuePtr() + begin, ADD_VALUES));
   }
 }
-} // namespace
 
-void assemble(const DistributedGrid& grid, const Particles& particles,
-              const std::vector<Index>& ids, Shape shape, DistributedOperators& ops,
-              const Eigen::VectorXi* field) {
-  if (Index(ids.size()) != particles.size())
-    throw UsageError("petsc::assemble: " + std::to_string(ids.size()) + " ids for " +
-                     std::to_string(particles.size()) + " particles");
+// The PETSc row of each column α n_w + i of the window: AO(node · fields + α).
+void window_rows(const DistributedGrid& grid, DistributedOperators& ops) {
   const int fields = grid.fields();
-  ops.dim = grid.grid().dim();
-  ops.particles = ids;
-  ops.local.node_range = NodeRange::Particles;
-  // A rank without particles has the serial one-node window of no particle (shape.cpp), with
-  // zero mass: the window a step on no particles assembles too (WindowSums needs the same).
-  assemble(grid.grid(), particles, shape, ops.local, fields, fields > 1 ? field : nullptr);
-  // The PETSc row of each column α n_w + i of the window: AO(node · fields + α).
   const Index cols = ops.local.num_nodes();
   ops.rows.resize(size_t(cols));
   for (Index c = 0; c < cols; ++c) {
@@ -220,17 +208,23 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
   }
   SMPM_PETSC_CALL(AOApplicationToPetsc(application_ordering(grid.dm()), PetscInt(cols),
                                        cols ? ops.rows.data() : nullptr));
+}
 
-  // m = Sᵀ M: each rank adds its particles' sums into the rows (PETSc sends off-rank rows).
+// m = Sᵀ M: each rank adds its particles' sums into the rows (PETSc sends off-rank rows).
+void add_mass(const DistributedGrid& grid, DistributedOperators& ops) {
+  const Index cols = ops.local.num_nodes();
   ops.m = node_vector(grid, 1);
   if (cols)
     SMPM_PETSC_CALL(
         VecSetValues(ops.m, PetscInt(cols), ops.rows.data(), ops.local.m.data(), ADD_VALUES));
   SMPM_PETSC_CALL(VecAssemblyBegin(ops.m));
   SMPM_PETSC_CALL(VecAssemblyEnd(ops.m));
+}
 
-  // m̃ = Sᵀ diag(M) S: the rank's particles' stencil (assemble_consistent_mass on the window),
-  // preallocated by a first insertion into a MATPREALLOCATOR.
+// m̃ = Sᵀ diag(M) S: the rank's particles' stencil (assemble_consistent_mass on the window),
+// preallocated by a first insertion into a MATPREALLOCATOR.
+void add_consistent_mass(const DistributedGrid& grid, const Particles& particles,
+                         DistributedOperators& ops) {
   ConsistentMass local;
   if (particles.size() > 0)
     assemble_consistent_mass(ops.local, local);
@@ -253,12 +247,15 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
   SMPM_PETSC_CALL(MatAssemblyEnd(ops.mt, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatSetOption(ops.mt, MAT_SYMMETRIC, PETSC_TRUE));
   SMPM_PETSC_CALL(MatSetOption(ops.mt, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+}
 
-  // The active rows: m^α_i > kMassTolerance · max_j Σ_α m^α_j over every node (operators.hpp).
+// The active rows: m^α_i > kMassTolerance · max_j Σ_α m^α_j over every node (operators.hpp),
+// with m⁻¹ on them (one column, and d in the MAIJ layout of m̃ ⊗ I_d).
+void active_rows(const DistributedGrid& grid, DistributedOperators& ops) {
   Field m_owned;
   get_owned(grid, ops.m, 1, m_owned);
   const Index no = grid.owned().num_nodes(), rows = m_owned.rows();
-  const double local_max = largest_total_mass(m_owned.col(0), fields, no, 0, no);
+  const double local_max = largest_total_mass(m_owned.col(0), grid.fields(), no, 0, no);
   MPI_Allreduce(&local_max, &ops.max_mass, 1, MPI_DOUBLE, MPI_MAX, grid.comm());
   Eigen::VectorXd m_inv(rows);
   ops.active.resize(rows);
@@ -269,6 +266,26 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
   SMPM_PETSC_CALL(MatCreateMAIJ(ops.mt, ops.dim, ops.mt_d.out()));
   ops.m_inv_d = node_vector(grid, ops.dim);
   set_owned(grid, inv.replicate(1, ops.dim), ops.m_inv_d);
+}
+} // namespace
+
+void assemble(const DistributedGrid& grid, const Particles& particles,
+              const std::vector<Index>& ids, Shape shape, DistributedOperators& ops,
+              const Eigen::VectorXi* field) {
+  if (Index(ids.size()) != particles.size())
+    throw UsageError("petsc::assemble: " + std::to_string(ids.size()) + " ids for " +
+                     std::to_string(particles.size()) + " particles");
+  const int fields = grid.fields();
+  ops.dim = grid.grid().dim();
+  ops.particles = ids;
+  ops.local.node_range = NodeRange::Particles;
+  // A rank without particles has the serial one-node window of no particle (shape.cpp), with
+  // zero mass: the window a step on no particles assembles too (WindowSums needs the same).
+  assemble(grid.grid(), particles, shape, ops.local, fields, fields > 1 ? field : nullptr);
+  window_rows(grid, ops);
+  add_mass(grid, ops);
+  add_consistent_mass(grid, particles, ops);
+  active_rows(grid, ops);
 }
 
 void assemble(const DistributedGrid& grid, const Particles& all, Shape shape,
