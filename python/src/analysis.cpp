@@ -91,6 +91,7 @@ auto earlier(const char* old_name, const char* name, double T::*member) {
   };
 }
 
+// ρ(T), C* and F* with their searches' counts.
 void bind_results(py::module_& m) {
   py::class_<SpectralRadius>(m, "SpectralRadius", "rho(T) and how it was found (stability.hpp).")
       .def_readonly("rho_T", &SpectralRadius::rho_T, "rho(T), the largest |eigenvalue|")
@@ -132,6 +133,10 @@ void bind_results(py::module_& m) {
       .def_readonly("non_finite", &CriticalFourier::non_finite,
                     "of them, non-finite results (counted as unstable)")
       .def("__float__", [](const CriticalFourier& c) { return c.critical_fourier; });
+}
+
+// The results of the searches over configurations and by simulation, and the mass spectrum.
+void bind_sweep_results(py::module_& m) {
   py::class_<ConfigurationSweep>(
       m, "ConfigurationSweep",
       "C* over configurations (lattice shifts, frames): the smallest and each (stability.hpp).")
@@ -219,6 +224,10 @@ void bind_courant_searches(py::module_& m) {
       py::arg("max_energy_change") = std::numeric_limits<double>::infinity(),
       "The largest C whose full run to `end` (default model.end) does not fail, by bisection: "
       "the simulation column of `smpm stability`.");
+}
+
+// The critical Fourier number F* of heat transport (transport_stability.hpp).
+void bind_fourier_search(py::module_& m) {
   m.def(
       "critical_fourier",
       [](const PyModel& pm, const std::optional<StepOptions>& options, double tol, double f_max,
@@ -242,7 +251,9 @@ void bind_courant_searches(py::module_& m) {
 void bind_analysis(py::module_& m) {
   bind_linearized_step(m);
   bind_results(m);
+  bind_sweep_results(m);
   bind_courant_searches(m);
+  bind_fourier_search(m);
   m.def(
       "_spectral_radius",
       [](const LinearizedStep& T, Index dense_limit) { return spectral_radius(T, dense_limit); },
