@@ -227,12 +227,11 @@ void scheme_step(const StepContext& context, ParticleFields& fields, StrainUpdat
   SMPM_VERIFY(!s.full_mass || context.mt, "scheme_step: this step needs m~ (context.mt)");
   SMPM_VERIFY(context.options->velocity != VelocityUpdate::Exact || context.solver,
               "scheme_step: the exact update needs a MassSolver (context.solver)");
-  SMPM_VERIFY(!context.sums ||
-                  (!context.contact_nodes && context.hooks.empty() && !context.affine &&
-                   context.options->velocity != VelocityUpdate::XPIC),
+  SMPM_VERIFY(!context.sums || (!context.contact_nodes && !context.affine &&
+                                context.options->velocity != VelocityUpdate::XPIC),
               "scheme_step: across processes a step is FLIP, PIC, FMPM(k) or exact (with a "
-              "MassSolver across them) in single material mode, without heat and with the "
-              "standard transfer");
+              "MassSolver across them) in single material mode with the standard transfer (the "
+              "parts answer for themselves: StepPart::not_distributed)");
   buffers.report = FmpmReport{};
   buffers.fmpm.metrics.clear(); // a step without a loop has no trace
   s.momentum();

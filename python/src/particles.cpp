@@ -124,8 +124,16 @@ void column_property(py::class_<Particles>& c, const ParticleColumn& col) {
           return vector_view(P.*col.vector, self);
         if (col.field)
           return field_view(P.*col.field, self);
-        // A program's part (Particles::columns): its storage, made empty when absent.
-        return field_view(P.columns.try_emplace(std::string(col.name)).first->second, self);
+        // A program's part (Particles::columns): a view of its storage, (N,) when it has one
+        // value per particle as the library's vector columns; empty when absent.
+        const auto it = P.columns.find(col.name);
+        if (it == P.columns.end())
+          return py::array(py::array_t<double>(0));
+        Field& f = it->second;
+        if (col.width != ColumnWidth::One)
+          return field_view(f, self);
+        return py::array(
+            py::array_t<double>({f.rows()}, {py::ssize_t(sizeof(double))}, f.data(), self));
       },
       [col](Particles& P, const DoubleArray& a) { set_part_column(P, col, a); }, doc.c_str());
 }

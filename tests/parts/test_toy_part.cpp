@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 
 using namespace smpm;
@@ -31,7 +33,9 @@ class PathLength final : public StepPart {
 public:
   void start(Model& model) override;
   void begin(StepStart& s) override {
-    length_ = &s.model.particles.columns.find(kName)->second;
+    const auto it = s.model.particles.columns.find(kName);
+    REQUIRE(it != s.model.particles.columns.end()); // start gave it
+    length_ = &it->second;
     s.hooks.push_back(this);
   }
   // s_p += |V_p| Δt with the velocities the particle update gave.
@@ -168,8 +172,9 @@ TEST_CASE("a program's part carries its column through the step", "[parts]") {
   CHECK(all.topRows(n0) == s);
   CHECK(all.bottomRows(n0).isZero(0));
   // resize starts a set without it.
-  m.particles.resize(2, 3);
+  m.particles.resize(2, m.particles.size());
   CHECK_FALSE(has_column(m.particles, kColumns[0]));
+  CHECK(m.particles.columns.count(kName) == 0);
 }
 
 TEST_CASE("a program's part is in frames, series and the layout, and a restart continues it",
@@ -210,8 +215,21 @@ TEST_CASE("a program's part is in frames, series and the layout, and a restart c
   }
   CHECK(found.count("/particles/<frame>/path_length") == 1);
   CHECK(found.count("/series/path_length_mean") == 1);
+  // The XDMF sidecar shows it to ParaView by its name.
+  std::ifstream sidecar(xdmf_path(full));
+  const std::string xdmf{std::istreambuf_iterator<char>(sidecar), {}};
+  CHECK(xdmf.find("Name=\"path_length\"") != std::string::npos);
   for (const std::string& p : {full, half, rest})
     remove_run(p);
+}
+
+TEST_CASE("a part registered after the list was read is refused", "[parts]") {
+  // The list is read (particle_columns: by every particle set, frame and layout) before main's
+  // tests run here; a late part would be in some Steppers and layouts and not in others.
+  REQUIRE(particle_columns().back().name == kName);
+  CHECK_THROWS_AS(
+      register_step_part({.make = [](const StepOptions&) { return std::unique_ptr<StepPart>(); }}),
+      UsageError);
 }
 
 TEST_CASE("the linearised step refuses a program's part by the parts' one rule", "[parts]") {

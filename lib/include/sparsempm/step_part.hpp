@@ -37,8 +37,10 @@ struct StepStart {
   ParticleFields& fields;     ///< the particle fields the stages update
   StrainCouplings& strain;    ///< the strain update's states; a part sets its own
   StepBuffers& buffers;       ///< the step's scratch, whose grid fields a part may use
-  /// The parts whose stage hooks the step calls (StepContext::hooks): a part with hooks adds
-  /// itself.
+  /// The parts whose hooks the step calls, at the stage boundaries (StepContext::hooks) and in
+  /// its strain updates (MaterialStrainUpdate): a part with hooks adds itself (heat, shocks and
+  /// plasticity for their strain updates). The linearised step's strain update (its tangents)
+  /// calls no strain hook.
   std::vector<StageHooks*>& hooks;
   /// The linearised step's state columns besides V and σ (N × c each): a part whose particles
   /// carry state the step maps adds it in begin_linearised; null in the Stepper.
@@ -111,17 +113,23 @@ struct StepPartEntry {
   std::span<const PartSeries> series = {};      ///< its series, in their order in run files
 };
 
-/// Every part's entry: the library's, then those a program added (register_step_part).
+/// Every part's entry: the library's, then those a program added (register_step_part). The
+/// series of a part are known without a Stepper: a run lays out its series before it steps.
 std::vector<const StepPartEntry*> step_part_entries();
 /// The series of the parts a Stepper with these options holds, in the parts' order.
 std::vector<const PartSeries*> part_series(const StepOptions& options);
 
 /// Adds a part to the list of every Stepper made after the call, after the library's own (a
-/// program's own capability: its columns in frames, restarts and appends, its series in run
-/// files and their layout, its answer to the linearised step). Its columns are not members of
-/// Particles (ParticleColumn::vector and field null: they live in Particles::columns) and their
-/// names and its series' names are new (UsageError otherwise). Call it before any Stepper,
-/// run, layout or particle set is made, from one thread (the list is read without a lock).
+/// program's own capability: its columns in frames, restarts, appends and the Python views,
+/// its series in run files and their layout, its answer to the linearised step). Its columns
+/// are not members of Particles (ParticleColumn::vector and field null: they live in
+/// Particles::columns); their names are new and none of Particles' own (X, V, F, stress, mass,
+/// volume0, volume, half_length, material, J, xyz, dim, jacobian), and its series' names are
+/// new (UsageError otherwise; a series named like one of the run's own is refused when a run
+/// lays out its series). The arrays the entry's spans point to, and their strings, must live as
+/// long as the program (constexpr arrays of literals). Call it before the list is first read
+/// (by a Stepper, a run, a layout, a particle set, the Python module's import: UsageError
+/// after), from one thread.
 void register_step_part(const StepPartEntry& entry);
 
 /// The parts a Stepper with these options holds, in the order their hooks run: shocks, heat

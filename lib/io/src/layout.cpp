@@ -13,6 +13,7 @@
 #include "sparsempm/run_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <regex>
 #include <stdexcept>
 
@@ -23,18 +24,19 @@ using namespace detail;
 namespace {
 // The columns the parts of the step add to the particles (particle_columns), as layout entries.
 std::vector<LayoutEntry> column_entries() {
-  static const std::vector<std::string> paths = [] {
-    std::vector<std::string> p;
+  // path, shape, meaning and needs of each column in frames, as strings (a program's part's
+  // string_views need not end in a null)
+  static const std::vector<std::array<std::string, 4>> text = [] {
+    std::vector<std::array<std::string, 4>> t;
     for (const ParticleColumn& c : particle_columns())
-      p.push_back("/particles/<frame>/" + std::string(c.name));
-    return p;
+      if (c.in_frames)
+        t.push_back({"/particles/<frame>/" + std::string(c.name), std::string(c.shape),
+                     std::string(c.meaning), std::string(c.needs)});
+    return t;
   }();
   std::vector<LayoutEntry> entries;
-  for (size_t k = 0; k < paths.size(); ++k) {
-    const ParticleColumn& c = particle_columns()[k];
-    if (c.in_frames) // string_views of the parts' literals: null-terminated
-      entries.push_back({paths[k].c_str(), c.shape.data(), c.meaning.data(), c.needs.data()});
-  }
+  for (const auto& [path, shape, meaning, needs] : text)
+    entries.push_back({path.c_str(), shape.c_str(), meaning.c_str(), needs.c_str()});
   return entries;
 }
 

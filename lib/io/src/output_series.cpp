@@ -4,9 +4,11 @@
 
 #include "output_format.hpp"
 
+#include "sparsempm/errors.hpp"
 #include "sparsempm/step.hpp"
 #include "sparsempm/step_part.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -29,8 +31,13 @@ SeriesLayout::SeriesLayout(const RunConfig& cfg)
     : dim(cfg.model.grid.dim()), materials(int(cfg.model.materials.size())),
       thermal(cfg.step.transport.update != TransportUpdate::Off),
       reactions(reaction_labels(cfg.model)) {
-  for (const PartSeries* s : part_series(cfg.step))
+  const std::vector<std::pair<std::string, size_t>> own = columns(); // the run's own series
+  for (const PartSeries* s : part_series(cfg.step)) {
+    if (std::any_of(own.begin(), own.end(), [&](const auto& c) { return c.first == s->name; }))
+      throw UsageError("the series " + std::string(s->name) +
+                       " of a part of the step is one of the run's own");
     parts.emplace_back(s->name);
+  }
 }
 
 std::vector<std::pair<std::string, size_t>> SeriesLayout::columns() const {

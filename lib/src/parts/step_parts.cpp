@@ -3,6 +3,8 @@
 
 #include "sparsempm/errors.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <deque>
 #include <iterator>
 #include <string>
@@ -10,6 +12,9 @@
 namespace smpm {
 
 namespace {
+// Set by the first read of the list: register_step_part refuses after it.
+std::atomic<bool> sealed{false};
+
 // The parts a program added (register_step_part), after the library's own.
 std::deque<StepPartEntry>& added_parts() {
   static std::deque<StepPartEntry> added;
@@ -25,13 +30,23 @@ std::vector<ParticleColumn>& columns_of_parts() {
   }();
   return columns;
 }
-} // namespace
 
-std::vector<const StepPartEntry*> step_part_entries() {
+std::vector<const StepPartEntry*> entries_of_parts() {
   std::vector<const StepPartEntry*> entries(std::begin(parts::kList), std::end(parts::kList));
   for (const StepPartEntry& entry : added_parts())
     entries.push_back(&entry);
   return entries;
+}
+
+// Particles' own names, in frames (X ... material, J, xyz) and in Python (dim, volume, jacobian).
+constexpr std::string_view kParticleNames[] = {
+    "X",           "V",        "F", "stress", "mass", "volume0", "volume",
+    "half_length", "material", "J", "xyz",    "dim",  "jacobian"};
+} // namespace
+
+std::vector<const StepPartEntry*> step_part_entries() {
+  sealed = true;
+  return entries_of_parts();
 }
 
 std::vector<std::unique_ptr<StepPart>> step_parts(const StepOptions& options) {
@@ -52,33 +67,47 @@ std::vector<const PartSeries*> part_series(const StepOptions& options) {
 }
 
 const std::vector<ParticleColumn>& particle_columns() {
+  sealed = true;
   return columns_of_parts();
 }
 
 void register_step_part(const StepPartEntry& entry) {
+  auto refuse = [](const std::string& why) { throw UsageError("register_step_part: " + why); };
+  if (sealed)
+    refuse("the list of parts was read already (register parts before any Stepper, run, layout "
+           "or particle set is made)");
   if (!entry.make)
-    throw UsageError("register_step_part: the part has no maker");
-  for (const PartSeries& s : entry.series) {
-    if (!s.value)
-      throw UsageError("register_step_part: series " + std::string(s.name) + " has no value");
-    for (const StepPartEntry* other : step_part_entries())
-      for (const PartSeries& o : other->series)
-        if (o.name == s.name)
-          throw UsageError("register_step_part: a part already has a series named " +
-                           std::string(s.name));
-  }
-  std::vector<ParticleColumn>& columns = columns_of_parts();
-  for (const ParticleColumn& c : entry.columns) {
+    refuse("the part has no maker");
+  const std::vector<ParticleColumn>& columns = columns_of_parts();
+  for (size_t k = 0; k < entry.columns.size(); ++k) {
+    const ParticleColumn& c = entry.columns[k];
+    const std::string name(c.name);
     if (c.vector || c.field)
-      throw UsageError("register_step_part: column " + std::string(c.name) +
-                       " is a member of Particles; a program's part keeps its columns in "
-                       "Particles::columns");
-    for (const ParticleColumn& other : columns)
-      if (other.name == c.name)
-        throw UsageError("register_step_part: a part already has a column named " +
-                         std::string(c.name));
+      refuse("column " + name +
+             " is a member of Particles; a program's part keeps its columns in "
+             "Particles::columns");
+    const auto same = [&](const ParticleColumn& o) { return o.name == c.name; };
+    if (name.empty() || std::find(std::begin(kParticleNames), std::end(kParticleNames), c.name) !=
+                            std::end(kParticleNames))
+      refuse("a column may not be named '" + name + "' (the particles' own)");
+    if (std::any_of(columns.begin(), columns.end(), same) ||
+        std::any_of(entry.columns.begin(), entry.columns.begin() + std::ptrdiff_t(k), same))
+      refuse("a part already has a column named " + name);
   }
-  columns.insert(columns.end(), entry.columns.begin(), entry.columns.end());
+  const std::vector<const StepPartEntry*> entries = entries_of_parts();
+  for (size_t k = 0; k < entry.series.size(); ++k) {
+    const PartSeries& s = entry.series[k];
+    const std::string name(s.name);
+    if (!s.value || name.empty())
+      refuse("series '" + name + "' has no name or no value");
+    const auto same = [&](const PartSeries& o) { return o.name == s.name; };
+    bool taken = std::any_of(entry.series.begin(), entry.series.begin() + std::ptrdiff_t(k), same);
+    for (const StepPartEntry* other : entries)
+      taken = taken || std::any_of(other->series.begin(), other->series.end(), same);
+    if (taken)
+      refuse("a part already has a series named " + name);
+  }
+  columns_of_parts().insert(columns_of_parts().end(), entry.columns.begin(), entry.columns.end());
   added_parts().push_back(entry); // a deque: the entries step_part_entries gave stay valid
 }
 

@@ -69,7 +69,8 @@ struct SeriesRow {
   /// The reaction force of each velocity condition along its direction (Stepper::reactions; 0
   /// at t = 0), in the order of Model::bcs; empty without conditions.
   std::vector<double> reactions;
-  /// The series of the run's parts (part_series), in the order of SeriesLayout::parts.
+  /// The series of the run's parts (part_series), in the order of SeriesLayout::parts (the
+  /// writer's; read_run leaves it empty).
   std::vector<double> parts;
 };
 
