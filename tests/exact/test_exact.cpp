@@ -120,17 +120,35 @@ TEST_CASE("a condition within round-off of an axis prescribes that axis", "[exac
       CHECK(axis(i, 0) == -(0.2 + 0.1 * s.grid.node_coordinate(i, 1)));
 }
 
+namespace {
+// Two particles and four active nodes of a 1D grid of 10 cells (linear shape functions):
+// rank(m̃) = 2 < 4, a singular consistent mass.
+struct SingularBar {
+  Grid grid{1, {0, 0, 0}, {1, 1, 1}, {10, 1, 1}};
+  Particles particles = [] {
+    Particles P;
+    P.resize(1, 2);
+    P.X.col(0) << 2.5, 4.5;
+    P.mass.setOnes();
+    P.half_length.setConstant(0.25);
+    return P;
+  }();
+  Operators ops = assemble(grid, particles, Shape::Linear);
+  ConsistentMass mt = [this] {
+    ConsistentMass m;
+    assemble_consistent_mass(ops, m);
+    return m;
+  }();
+};
+} // namespace
+
 TEST_CASE("a singular consistent mass is reported with its nodes", "[exact]") {
   // Two particles and four active nodes (linear shape functions): rank(m̃) = 2 < 4.
-  const Grid g(1, {0, 0, 0}, {1, 1, 1}, {10, 1, 1});
-  Particles P;
-  P.resize(1, 2);
-  P.X.col(0) << 2.5, 4.5;
-  P.mass.setOnes();
-  P.half_length.setConstant(0.25);
-  const Operators ops = assemble(g, P, Shape::Linear);
-  ConsistentMass mt;
-  assemble_consistent_mass(ops, mt);
+  const SingularBar bar;
+  const Grid& g = bar.grid;
+  const Particles& P = bar.particles;
+  const Operators& ops = bar.ops;
+  ConsistentMass mt = bar.mt;
   Field p = Field::Ones(g.num_nodes(), 1), v;
   CholmodSolver solver;
   CHECK_THROWS_WITH(solver.solve(ops, mt.matrix, {}, p, v),
@@ -159,16 +177,10 @@ TEST_CASE("a singular consistent mass is reported with its nodes", "[exact]") {
 TEST_CASE("a failed factorisation names the nodal system it was given", "[exact]") {
   // The singular m̃ above, given to the solvers as each system (ExactOptions::system): the
   // messages name that matrix, its lumped quantity and its remedies by construction.
-  const Grid g(1, {0, 0, 0}, {1, 1, 1}, {10, 1, 1});
-  Particles P;
-  P.resize(1, 2);
-  P.X.col(0) << 2.5, 4.5;
-  P.mass.setOnes();
-  P.half_length.setConstant(0.25);
-  const Operators ops = assemble(g, P, Shape::Linear);
-  ConsistentMass mt;
-  assemble_consistent_mass(ops, mt);
-  Field p = Field::Ones(g.num_nodes(), 1), v;
+  const SingularBar bar;
+  const Operators& ops = bar.ops;
+  const ConsistentMass& mt = bar.mt;
+  Field p = Field::Ones(bar.grid.num_nodes(), 1), v;
   auto message = [&](MassSolver&& solver) {
     try {
       solver.solve(ops, mt.matrix, {}, p, v);
