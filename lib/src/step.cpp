@@ -91,11 +91,17 @@ Stepper::Prepared Stepper::prepared_of(const Model& model) {
           model.particles.F.data()};
 }
 
+void Stepper::prepare_configuration(const Model& model) {
+  prepare_step(model, opt_.shape, prep_);
+  for (const std::unique_ptr<StepPart>& part : buf_->parts)
+    part->prepare(model, prep_);
+}
+
 const StepPreparation& Stepper::prepare(const Model& model) {
   const Exclusive hold(*this);
   prepared_ = {};
   try {
-    prepare_step(model, opt_.shape, prep_, opt_.transport.update);
+    prepare_configuration(model);
   } catch (const NumericalError& e) { // the next step's failure
     throw at_step(e, model.step + 1, model.time);
   }
@@ -177,7 +183,7 @@ void Stepper::step(Model& model, double dt) {
     prepared_ = {};
     start(model);
     if (!prepared)
-      prepare_step(model, opt_.shape, prep_, opt_.transport.update);
+      prepare_configuration(model);
     PhaseClock clock;
     grid_update_ = grid_velocity_step(model, dt);
     StepContext context = stage_context(model, dt); // the parts add theirs

@@ -75,7 +75,7 @@ void check_amounts(const Eigen::VectorXd& mass, const Eigen::VectorXd& volume0) 
 
 } // namespace
 
-void prepare_step(const Model& model, Shape shape, StepPreparation& s, TransportUpdate transport) {
+void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
   PhaseClock clock;
   const Particles& P = model.particles;
   check_amounts(P.mass, P.volume0);
@@ -107,15 +107,6 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s, Transport
     find_contact_nodes(s.ops.grid, s.ops, particle_operators(s.ops), model.contact, cp, s.contact,
                        &s.bcs);
     clock.lap(s.times.contact);
-  }
-  if (transport != TransportUpdate::Off) {
-    prepare_transport(s.ops, P, model.materials, s.transport,
-                      transport == TransportUpdate::Exact ? kMassTolerance : 0.0);
-    clock.lap(s.times.transport);
-    model.temperature_bcs.step_conditions(s.ops.grid, s.transport.nodes.active, model.time,
-                                          s.temperature_bcs);
-    s.transport_ = true;
-    clock.lap(s.times.conditions);
   }
 }
 

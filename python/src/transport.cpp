@@ -49,7 +49,9 @@ PyTransport transport_operators(const PyModel& model, const py::object& shape,
       throw InputError("transport_operators: transport 'off' has no operators (give lumped, "
                        "FMPM or exact)");
   }
-  prepare_step(model.model, t.shape, t.prep, t.update); // the Stepper's preparation, whole grid
+  // The Stepper's preparation with heat transport, on the whole grid.
+  prepare_step(model.model, t.shape, t.prep);
+  prepare_heat_transport(model.model, t.prep, t.update);
   // The conditions outlive this call: their values copied from the model's (which they call).
   for (size_t k = 0; k < t.prep.temperature_bcs.conditions.size(); ++k)
     t.prep.temperature_bcs.conditions[k].value = model.model.temperature_bcs.conditions[k].value;

@@ -36,7 +36,8 @@ TransportStep::TransportStep(const Model& model, const StepOptions& options, dou
   I.options = options;
   I.prep.ops.node_range = options.nodes;
   I.model.particles.heat_source.resize(0); // the linear part: no sources
-  prepare_step(I.model, options.shape, I.prep, options.transport.update);
+  prepare_step(I.model, options.shape, I.prep);
+  prepare_heat_transport(I.model, I.prep, options.transport.update);
   I.homogeneous = I.prep.temperature_bcs;
   for (VelocityCondition& c : I.homogeneous.conditions) {
     c.value = {};

@@ -71,9 +71,9 @@ public:
   Stepper& operator=(Stepper&&) noexcept;
 
   /// One step of length dt: prepares the step at the current configuration (prepare_step:
-  /// S, G, m, the walls' nodes, the contact nodes; m̃ when used) unless prepare() did, and runs
-  /// scheme_step. Throws NumericalError naming the step, time and particle when the state
-  /// becomes invalid (a particle leaves the grid, NaN, det F ≤ 0).
+  /// S, G, m, the walls' nodes, the contact nodes; then the parts' shares, StepPart::prepare)
+  /// unless prepare() did, and runs scheme_step. Throws NumericalError naming the step, time and
+  /// particle when the state becomes invalid (a particle leaves the grid, NaN, det F ≤ 0).
   void step(Model& model, double dt);
 
   /// Prepares the next step from the model's configuration now and returns the preparation (a
@@ -146,6 +146,8 @@ private:
   // Whether this step updates the particles from grid velocities (periodic FMPM: the steps
   // that cross the budget C_X); advances the budget.
   bool grid_velocity_step(const Model& model, double dt);
+  // prepare_step on the model's configuration, then every part's share (StepPart::prepare).
+  void prepare_configuration(const Model& model);
   // What the stages of a step of length dt from the model read, before the parts add theirs.
   StepContext stage_context(const Model& model, double dt) const;
   struct Buffers;

@@ -5,7 +5,7 @@
 /// rigid bodies, the velocity-gradient transfer, contact) adds to the one step, scheme_step.
 /// A Stepper holds a list of parts, built once from its options (step_parts); each step it
 ///   1. lets every part start the particle columns it carries that the model lacks (start),
-///   2. prepares the step (prepare_step),
+///   2. prepares the step (prepare_step) and lets every part add its share (prepare),
 ///   3. lets every part add what it brings to the stages: its operators, its state in the
 ///      strain update, its stage hooks (begin),
 ///   4. runs scheme_step, the stages in the order of FMPM 2026 Fig. 1, which calls the parts'
@@ -69,6 +69,10 @@ public:
   /// Before the step is prepared: gives the model's particles the columns this part carries
   /// when they have none yet (their start values).
   virtual void start(Model& /*model*/) {}
+  /// After the step's preparation (prepare_step): the part's share of it, the operators and
+  /// conditions its capability adds (heat transport's). Called when the configuration is
+  /// prepared, by Stepper::step and Stepper::prepare.
+  virtual void prepare(const Model& /*model*/, StepPreparation& /*prep*/) {}
   /// Before the stages: the part's operators and fields in the step's context, and its hooks.
   virtual void begin(StepStart& /*step*/) {}
   /// Before the linearised step's stages at its frozen configuration (step.model): what the part
@@ -99,25 +103,28 @@ public:
 /// One series a part adds to a run file: `/series/NAME`, one value per step (row 0: t = 0),
 /// after the run's own series.
 struct PartSeries {
-  std::string_view name = {};                ///< dataset name in /series
-  std::string_view meaning = {};             ///< what it holds, one line (the layout)
-  double (*value)(const Model& m) = nullptr; ///< its value for the model after a step
+  std::string_view name = {};    ///< dataset name in /series
+  std::string_view meaning = {}; ///< what it holds, one line (the layout)
+  std::string_view needs = {};   ///< the input that brings it (the layout; empty: its part)
 };
 
 /// A part as the list of parts knows it: its maker, which returns the part for a Stepper with
-/// these options or null when the options leave its capability off, and the particle columns
-/// it carries (particle_columns.hpp).
+/// these options or null when the options leave its capability off, the particle columns it
+/// carries (particle_columns.hpp), and its series with the function that gives their values.
 struct StepPartEntry {
   std::unique_ptr<StepPart> (*make)(const StepOptions& options) = nullptr; ///< the maker
   std::span<const ParticleColumn> columns = {}; ///< its columns, in their order in frames
   std::span<const PartSeries> series = {};      ///< its series, in their order in run files
+  /// The values of `series` for the model after a step with its energies e, one per series in
+  /// their order (out.size() == series.size()); called once per row, on whole fields.
+  void (*series_values)(const Model& model, const Energies& e, std::span<double> out) = nullptr;
 };
 
 /// Every part's entry: the library's, then those a program added (register_step_part). The
 /// series of a part are known without a Stepper: a run lays out its series before it steps.
 std::vector<const StepPartEntry*> step_part_entries();
-/// The series of the parts a Stepper with these options holds, in the parts' order.
-std::vector<const PartSeries*> part_series(const StepOptions& options);
+/// The entries with series of the parts a Stepper with these options holds, in the parts' order.
+std::vector<const StepPartEntry*> series_parts(const StepOptions& options);
 
 /// Adds a part to the list of every Stepper made after the call, after the library's own (a
 /// program's own capability: its columns in frames, restarts, appends and the Python views,

@@ -107,8 +107,9 @@ struct StepPreparation {
   const SparseRowMatrix& consistent_capacity();
 
 private:
-  friend void prepare_step(const Model& model, Shape shape, StepPreparation& prep,
-                           TransportUpdate transport);
+  friend void prepare_step(const Model& model, Shape shape, StepPreparation& prep);
+  friend void prepare_heat_transport(const Model& model, StepPreparation& prep,
+                                     TransportUpdate update);
   ConsistentMass mt_;
   bool mt_current_ = false;
   ConsistentMass mtL_;
@@ -120,12 +121,18 @@ private:
 
 /// Prepares `prep` for a step from the model's configuration with the shape functions `shape`:
 /// assembly (reusing the pattern and storage of the previous preparation where the particles'
-/// node boxes allow), the walls' nodes, the contact nodes and, with heat transport, the
-/// transport operators (prepare_transport: every node with capacity active, kMassTolerance for
-/// the exact solve) and the temperature conditions. Throws NumericalError naming the
-/// particle when a particle's support leaves the grid, and InputError when conditions meet at
-/// an angle on a node (FMPM 2026 Table 2) or a material cannot carry heat.
-void prepare_step(const Model& model, Shape shape, StepPreparation& prep,
-                  TransportUpdate transport = TransportUpdate::Off);
+/// node boxes allow), the walls' nodes and the contact nodes. What a part of the step adds to
+/// the preparation (the transport operators of heat transport) is the part's
+/// (StepPart::prepare). Throws NumericalError naming the particle when a particle's support
+/// leaves the grid, and InputError when conditions meet at an angle on a node (FMPM 2026
+/// Table 2).
+void prepare_step(const Model& model, Shape shape, StepPreparation& prep);
+
+/// Heat transport's share of a step's preparation (the heat part's, parts/heat.cpp), after
+/// prepare_step, for the Stepper and for those who read the transport operators without one:
+/// the transport operators of the configuration (prepare_transport: every node with capacity
+/// active, kMassTolerance for the exact `update`) and the model's temperature conditions on
+/// them. Throws InputError when a material cannot carry heat.
+void prepare_heat_transport(const Model& model, StepPreparation& prep, TransportUpdate update);
 
 } // namespace smpm

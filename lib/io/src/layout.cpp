@@ -142,29 +142,25 @@ std::vector<LayoutEntry> series_entries() {
       {"/series/material_mass", "steps x n_mat", "mass of each material", ""},
       {"/series/material_momentum", "steps x n_mat d", "momentum of each material", ""},
       {"/series/material_centre", "steps x n_mat d", "centre of mass of each material", ""},
-      {"/series/temperature_min", "steps", "lowest particle temperature", "step.transport"},
-      {"/series/temperature_max", "steps", "highest particle temperature", "step.transport"},
-      {"/series/temperature_mean", "steps", "capacity-weighted mean temperature", "step.transport"},
-      {"/series/heat", "steps", "thermal energy Q = sum M C_V (T - T_ref)", "step.transport"},
-      {"/series/internal", "steps", "internal energy U = W + Q (+ T c of thermal expansion)",
-       "step.transport"},
-      {"/series/entropy", "steps", "entropy S = sum M C_V ln(T / T_ref) (+ c)", "step.transport"},
-      {"/series/helmholtz", "steps", "free energy A = U - sum T S", "step.transport"},
   };
 }
 
 // The series the parts of the step add (PartSeries), after the run's own.
 std::vector<LayoutEntry> part_series_entries() {
-  static const std::vector<std::pair<std::string, std::string>> text = [] {
-    std::vector<std::pair<std::string, std::string>> t;
+  struct Text {
+    std::string path, meaning, needs;
+  };
+  static const std::vector<Text> text = [] {
+    std::vector<Text> t;
     for (const StepPartEntry* entry : step_part_entries())
       for (const PartSeries& s : entry->series)
-        t.emplace_back("/series/" + std::string(s.name), std::string(s.meaning));
+        t.push_back({"/series/" + std::string(s.name), std::string(s.meaning),
+                     s.needs.empty() ? "its part" : std::string(s.needs)});
     return t;
   }();
   std::vector<LayoutEntry> entries;
-  for (const auto& [path, meaning] : text)
-    entries.push_back({path.c_str(), "steps", meaning.c_str(), "its part"});
+  for (const Text& s : text)
+    entries.push_back({s.path.c_str(), "steps", s.meaning.c_str(), s.needs.c_str()});
   return entries;
 }
 

@@ -89,7 +89,9 @@ const StepPreparation& frame_preparation(const Model& model, Shape shape, bool m
   // On the particles' window of the grid (storage and time follow the particles), or on the
   // whole grid when the matrices are written (their columns are the grid's nodes).
   own.ops.node_range = matrices ? NodeRange::Grid : NodeRange::Particles;
-  prepare_step(model, shape, own, heat ? TransportUpdate::Lumped : TransportUpdate::Off);
+  prepare_step(model, shape, own);
+  if (heat)
+    prepare_heat_transport(model, own, TransportUpdate::Lumped);
   return own;
 }
 

@@ -29,15 +29,15 @@ const char* const kMaterialSeries[] = {"material_mass", "material_momentum", "ma
 
 SeriesLayout::SeriesLayout(const RunConfig& cfg)
     : dim(cfg.model.grid.dim()), materials(int(cfg.model.materials.size())),
-      thermal(cfg.step.transport.update != TransportUpdate::Off),
       reactions(reaction_labels(cfg.model)) {
   const std::vector<std::pair<std::string, size_t>> own = columns(); // the run's own series
-  for (const PartSeries* s : part_series(cfg.step)) {
-    if (std::any_of(own.begin(), own.end(), [&](const auto& c) { return c.first == s->name; }))
-      throw UsageError("the series " + std::string(s->name) +
-                       " of a part of the step is one of the run's own");
-    parts.emplace_back(s->name);
-  }
+  for (const StepPartEntry* entry : series_parts(cfg.step))
+    for (const PartSeries& s : entry->series) {
+      if (std::any_of(own.begin(), own.end(), [&](const auto& c) { return c.first == s.name; }))
+        throw UsageError("the series " + std::string(s.name) +
+                         " of a part of the step is one of the run's own");
+      parts.emplace_back(s.name);
+    }
 }
 
 std::vector<std::pair<std::string, size_t>> SeriesLayout::columns() const {
@@ -47,9 +47,6 @@ std::vector<std::pair<std::string, size_t>> SeriesLayout::columns() const {
   out.emplace_back("momentum", size_t(dim));
   for (int s = 0; s < 3; ++s) // per material: mass; momentum and centre (d each)
     out.emplace_back(kMaterialSeries[s], size_t(materials) * (s == 0 ? 1 : size_t(dim)));
-  if (thermal)
-    for (const char* s : kThermalSeries)
-      out.emplace_back(s, 0);
   if (!reactions.empty())
     out.emplace_back("reaction", reactions.size());
   for (const std::string& s : parts)
@@ -93,10 +90,6 @@ std::vector<Field> series_values(const SeriesLayout& layout, const std::vector<S
                                                                : s == 1 ? 1
                                                                         : 1 + size_t(d)) +
                                                               size_t(a)];
-    if (layout.thermal)
-      for (size_t s = 0; s < std::size(kThermalSeries); ++s, ++c)
-        if (s < row.thermal.size())
-          out[c](r, 0) = row.thermal[s];
     if (!layout.reactions.empty()) {
       for (size_t j = 0; j < std::min(layout.reactions.size(), row.reactions.size()); ++j)
         out[c](r, Index(j)) = row.reactions[j];

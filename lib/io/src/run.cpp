@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -131,16 +132,12 @@ private:
       change_sum_ += r.velocity_change;
     r.velocity_change_sum = change_sum_;
     r.friction = stepper_.friction_work();
-    if (m.particles.temperature.size() == N &&
-        stepper_.options().transport.update != TransportUpdate::Off) {
-      const ThermalSums t = thermal_sums(m, e.strain);
-      r.thermal = {t.temperature_min, t.temperature_max, t.temperature_mean, t.heat,
-                   t.internal,        t.entropy,         t.helmholtz};
-    }
     r.viscous = stepper_.viscous_work();
     r.plastic = stepper_.plastic_work();
-    for (const PartSeries* s : series_) // the parts' own
-      r.parts.push_back(s->value(m));
+    for (const StepPartEntry* part : series_) { // the parts' own
+      r.parts.resize(r.parts.size() + part->series.size());
+      part->series_values(m, e, std::span(r.parts).last(part->series.size()));
+    }
     r.reactions.assign(reaction_labels(m).size(), 0.0);
     if (m.step > 0 && stepper_.reactions().size() == r.reactions.size())
       r.reactions = stepper_.reactions();
@@ -194,7 +191,7 @@ private:
   Stepper stepper_;
   Field V0_;
   double change_sum_ = 0;
-  std::vector<const PartSeries*> series_ = part_series(stepper_.options());
+  std::vector<const StepPartEntry*> series_ = series_parts(stepper_.options());
 };
 
 // The run file a run writes: -o, else a restart's final file, else the input's output.file. A

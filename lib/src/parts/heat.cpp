@@ -1,21 +1,33 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Heat transport as a part of the step (FMPM 2026 §3.5, transport.hpp): the particles carry
-// temperatures (T_ref of their material to start), the stages run the transport on the step's
-// transport operators, and the strain update takes the materials' thermal couplings (its strain
-// hooks: the isentropic heating of the deformation).
+// temperatures (T_ref of their material to start), the step's preparation adds the transport
+// operators and the temperature conditions, the stages run the transport on them, the strain
+// update takes the materials' thermal couplings (its strain hooks: the isentropic heating of the
+// deformation), and a run writes the thermal sums of every step as its series.
 #include "parts.hpp"
 
+#include "sparsempm/diagnostics.hpp"
 #include "sparsempm/transport.hpp"
 
-namespace smpm::parts {
+#include <algorithm>
+#include <iterator>
+#include <limits>
+#include <span>
+
+namespace smpm {
+namespace parts {
 namespace {
 
 class Heat final : public StepPart {
 public:
+  explicit Heat(TransportUpdate update) : update_(update) {}
   void start(Model& model) override {
     Particles& P = model.particles;
     if (P.temperature.size() != P.size()) // no temperatures yet: T_ref
       set_reference_temperatures(P, model.materials);
+  }
+  void prepare(const Model& model, StepPreparation& prep) override {
+    prepare_heat_transport(model, prep, update_);
   }
   void begin(StepStart& s) override {
     Particles& P = s.model.particles;
@@ -70,6 +82,7 @@ public:
   }
 
 private:
+  TransportUpdate update_;
   std::unique_ptr<MassSolver> solver_; // the exact transport update's solver
   TransportContext transport_;
   TransportState* state_ = nullptr; // the transport stages' fields (StepBuffers::heat)
@@ -80,7 +93,7 @@ private:
 std::unique_ptr<StepPart> make(const StepOptions& options) {
   if (options.transport.update == TransportUpdate::Off)
     return nullptr;
-  return std::make_unique<Heat>();
+  return std::make_unique<Heat>(options.transport.update);
 }
 
 constexpr ParticleColumn kColumns[] = {
@@ -102,8 +115,42 @@ constexpr ParticleColumn kColumns[] = {
      .meaning = "heat sources r_p, power per unit mass",
      .needs = "heat_source",
      .xdmf = ""}};
+
+// The thermal sums of the state (ThermalSums, diagnostics.hpp), one series each, in its order.
+constexpr PartSeries kSeries[] = {
+    {"temperature_min", "lowest particle temperature", "step.transport"},
+    {"temperature_max", "highest particle temperature", "step.transport"},
+    {"temperature_mean", "capacity-weighted mean temperature", "step.transport"},
+    {"heat", "thermal energy Q = sum M C_V (T - T_ref)", "step.transport"},
+    {"internal", "internal energy U = W + Q (+ T c of thermal expansion)", "step.transport"},
+    {"entropy", "entropy S = sum M C_V ln(T / T_ref) (+ c)", "step.transport"},
+    {"helmholtz", "free energy A = U - sum T S", "step.transport"}};
+
+void series_values(const Model& model, const Energies& e, std::span<double> out) {
+  if (model.particles.temperature.size() != model.particles.size()) { // none: not a number
+    std::fill(out.begin(), out.end(), std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  const ThermalSums t = thermal_sums(model, e.strain);
+  const double values[] = {t.temperature_min, t.temperature_max, t.temperature_mean, t.heat,
+                           t.internal,        t.entropy,         t.helmholtz};
+  std::copy(std::begin(values), std::end(values), out.begin());
+}
 } // namespace
 
-const Entry heat{make, kColumns};
+const Entry heat{make, kColumns, kSeries, series_values};
 
-} // namespace smpm::parts
+} // namespace parts
+
+void prepare_heat_transport(const Model& model, StepPreparation& s, TransportUpdate update) {
+  PhaseClock clock;
+  prepare_transport(s.ops, model.particles, model.materials, s.transport,
+                    update == TransportUpdate::Exact ? kMassTolerance : 0.0);
+  clock.lap(s.times.transport);
+  model.temperature_bcs.step_conditions(s.ops.grid, s.transport.nodes.active, model.time,
+                                        s.temperature_bcs);
+  s.transport_ = true;
+  clock.lap(s.times.conditions);
+}
+
+} // namespace smpm

@@ -57,13 +57,12 @@ std::vector<std::unique_ptr<StepPart>> step_parts(const StepOptions& options) {
   return list;
 }
 
-std::vector<const PartSeries*> part_series(const StepOptions& options) {
-  std::vector<const PartSeries*> series;
+std::vector<const StepPartEntry*> series_parts(const StepOptions& options) {
+  std::vector<const StepPartEntry*> entries;
   for (const StepPartEntry* entry : step_part_entries())
     if (!entry->series.empty() && entry->make(options))
-      for (const PartSeries& s : entry->series)
-        series.push_back(&s);
-  return series;
+      entries.push_back(entry);
+  return entries;
 }
 
 const std::vector<ParticleColumn>& particle_columns() {
@@ -95,11 +94,13 @@ void register_step_part(const StepPartEntry& entry) {
       refuse("a part already has a column named " + name);
   }
   const std::vector<const StepPartEntry*> entries = entries_of_parts();
+  if (!entry.series.empty() && !entry.series_values)
+    refuse("the part has series but no series_values");
   for (size_t k = 0; k < entry.series.size(); ++k) {
     const PartSeries& s = entry.series[k];
     const std::string name(s.name);
-    if (!s.value || name.empty())
-      refuse("series '" + name + "' has no name or no value");
+    if (name.empty())
+      refuse("a series has no name");
     const auto same = [&](const PartSeries& o) { return o.name == s.name; };
     bool taken = std::any_of(entry.series.begin(), entry.series.begin() + std::ptrdiff_t(k), same);
     for (const StepPartEntry* other : entries)

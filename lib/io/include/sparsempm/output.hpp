@@ -63,21 +63,13 @@ struct SeriesRow {
   double plastic = 0;             ///< plastic work since t = 0 (J2 plasticity, dissipated)
   double fmpm_order = 0;          ///< the FMPM(k) loop's order ℓ reached on the step (0: none)
   std::vector<double> materials;  ///< material_sums: mass, momentum, centre of each material
-  /// Heat transport: T min, max and mean, heat, internal energy, entropy and free energy of the
-  /// state (ThermalSums, in the order of kThermalSeries); empty without transport.
-  std::vector<double> thermal;
   /// The reaction force of each velocity condition along its direction (Stepper::reactions; 0
   /// at t = 0), in the order of Model::bcs; empty without conditions.
   std::vector<double> reactions;
-  /// The series of the run's parts (part_series), in the order of SeriesLayout::parts (the
-  /// writer's; read_run leaves it empty).
+  /// The series of the run's parts (series_parts: heat transport's thermal sums, a program's
+  /// parts'), in the order of SeriesLayout::parts (the writer's; read_run leaves it empty).
   std::vector<double> parts;
 };
-
-/// The series of heat transport, in the order of SeriesRow::thermal.
-inline constexpr const char* kThermalSeries[] = {
-    "temperature_min", "temperature_max", "temperature_mean", "heat",
-    "internal",        "entropy",         "helmholtz"};
 
 /// What a restart continues besides the particles and clock of a frame: the Stepper's state
 /// and the running sum of the velocity change (SeriesRow::velocity_change_sum). Stored with
@@ -90,13 +82,12 @@ struct RunState {
 namespace detail {
 class RunReader;
 /// The series of a run file (/series): the run's dimension, materials, whether it has heat
-/// transport's series and the velocity conditions of its reactions.
+/// conditions of its reactions and the series of its parts.
 struct SeriesLayout {
   int dim = 1;                        ///< d
   int materials = 0;                  ///< the materials of the per-material series
-  bool thermal = false;               ///< heat transport's series (kThermalSeries)
   std::vector<std::string> reactions; ///< the reaction columns' conditions (reaction_labels)
-  std::vector<std::string> parts;     ///< the series of the run's parts (part_series)
+  std::vector<std::string> parts;     ///< the series of the run's parts (series_parts)
   SeriesLayout() = default;
   /// The series of a run of `cfg`.
   explicit SeriesLayout(const RunConfig& cfg);
