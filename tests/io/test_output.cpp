@@ -120,11 +120,14 @@ TEST_CASE("the restart state of a file without /state comes from its frame and s
   const std::string path = (std::filesystem::temp_directory_path() / "smpm_old_state.h5").string();
   {
     OutputFile out(path, cfg);
+    const std::vector<std::string> parts = detail::SeriesLayout(cfg).parts; // the parts' series
     for (long step = 0; step <= 2; ++step) {
       SeriesRow row;
       row.step = step;
-      row.friction = 10.0 * double(step);
-      row.viscous = 0.5 * double(step);
+      for (const std::string& name : parts) // the dissipated work: friction and viscosity's
+        row.parts.push_back(name == "friction"  ? 10.0 * double(step)
+                            : name == "viscous" ? 0.5 * double(step)
+                                                : 0.0);
       row.velocity_change_sum = 0.25 * double(step);
       row.materials.assign(5, 1.0);
       out.add_series(row);

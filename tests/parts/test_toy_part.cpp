@@ -63,11 +63,12 @@ constexpr ParticleColumn kColumns[] = {
      .needs = "",
      .xdmf = "path_length"}};
 
-constexpr PartSeries kSeries[] = {
-    {.name = "path_length_mean", .meaning = "mass-weighted mean path length"}};
+constexpr PartSeries kSeries[] = {{.name = "path_length_mean",
+                                   .meaning = "mass-weighted mean path length",
+                                   .needs = "the program's part"}};
 
-void series_values(const Model& m, const Energies&, std::span<double> out) {
-  const Particles& P = m.particles;
+void series_values(const SeriesInput& in, std::span<double> out) {
+  const Particles& P = in.model.particles;
   out[0] = (P.mass.array() * column_values(P, kColumns[0]).col(0).array()).sum() / P.mass.sum();
 }
 
@@ -165,7 +166,8 @@ TEST_CASE("a program's part carries its column through the step", "[parts]") {
   REQUIRE(s.rows() == m.particles.size());
   CHECK((s.array() - 1.0).abs().maxCoeff() < 1e-12);
   double mean = 0;
-  series_values(m, energies(m), std::span(&mean, 1));
+  const Energies e = energies(m);
+  series_values({m, e, stepper.state()}, std::span(&mean, 1));
   CHECK(std::abs(mean - 1.0) < 1e-12);
   // Appending a set that lacks the column gives its particles the column's start values (0).
   Particles more = m.particles;

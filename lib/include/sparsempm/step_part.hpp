@@ -105,7 +105,15 @@ public:
 struct PartSeries {
   std::string_view name = {};    ///< dataset name in /series
   std::string_view meaning = {}; ///< what it holds, one line (the layout)
-  std::string_view needs = {};   ///< the input that brings it (the layout; empty: its part)
+  std::string_view needs = {};   ///< the input that brings it (the layout; empty: every run)
+};
+
+/// What a part's series are evaluated from: the model after a step, its energies and the run's
+/// tallies (the work the parts dissipated since t = 0).
+struct SeriesInput {
+  const Model& model;        ///< the model after the step
+  const Energies& energies;  ///< its energies (Stepper::energies)
+  const StepperState& state; ///< the run's tallies after the step (Stepper::state)
 };
 
 /// A part as the list of parts knows it: its maker, which returns the part for a Stepper with
@@ -115,9 +123,9 @@ struct StepPartEntry {
   std::unique_ptr<StepPart> (*make)(const StepOptions& options) = nullptr; ///< the maker
   std::span<const ParticleColumn> columns = {}; ///< its columns, in their order in frames
   std::span<const PartSeries> series = {};      ///< its series, in their order in run files
-  /// The values of `series` for the model after a step with its energies e, one per series in
-  /// their order (out.size() == series.size()); called once per row, on whole fields.
-  void (*series_values)(const Model& model, const Energies& e, std::span<double> out) = nullptr;
+  /// The values of `series` after a step, one per series in their order (out.size() ==
+  /// series.size()); called once per row, on whole fields.
+  void (*series_values)(const SeriesInput& in, std::span<double> out) = nullptr;
 };
 
 /// Every part's entry: the library's, then those a program added (register_step_part). The

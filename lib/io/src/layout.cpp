@@ -132,10 +132,7 @@ std::vector<LayoutEntry> series_entries() {
       {"/series/momentum", "steps x d", "total momentum", ""},
       {"/series/velocity_change", "steps", "RMS of V(t) - V(0) (FMPM 2026 §3.1)", ""},
       {"/series/velocity_change_sum", "steps", "its running sum", ""},
-      {"/series/friction", "steps", "work of Coulomb friction since t = 0", ""},
-      {"/series/viscous", "steps", "work of the artificial viscosity since t = 0", ""},
       {"/series/fmpm_order", "steps", "order the FMPM loop reached (0: none)", ""},
-      {"/series/plastic", "steps", "plastic work since t = 0 (J2 plasticity)", ""},
       {"/series/reaction", "steps x n_bc",
        "force of each velocity condition along its direction (its reaction)", "[[bc]]"},
       {"/series@reaction_conditions", "n_bc", "the conditions of the reaction columns", "[[bc]]"},
@@ -154,8 +151,8 @@ std::vector<LayoutEntry> part_series_entries() {
     std::vector<Text> t;
     for (const StepPartEntry* entry : step_part_entries())
       for (const PartSeries& s : entry->series)
-        t.push_back({"/series/" + std::string(s.name), std::string(s.meaning),
-                     s.needs.empty() ? "its part" : std::string(s.needs)});
+        t.push_back(
+            {"/series/" + std::string(s.name), std::string(s.meaning), std::string(s.needs)});
     return t;
   }();
   std::vector<LayoutEntry> entries;

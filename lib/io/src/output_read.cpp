@@ -46,7 +46,6 @@ StoredRun read_stored_run(const std::string& path) {
     const Field step = r.series("step"), t = r.series("t");
     const Field kin = r.series("kinetic"), str = r.series("strain"), tot = r.series("total");
     const Field vc = column("velocity_change"), vs = column("velocity_change_sum");
-    const Field fw = column("friction"), vw = column("viscous"), pw = column("plastic");
     for (Index k = 0; k < step.rows(); ++k) {
       SeriesRow row;
       row.step = long(step(k, 0));
@@ -58,12 +57,6 @@ StoredRun read_stored_run(const std::string& path) {
         row.velocity_change = vc(k, 0);
         row.velocity_change_sum = vs(k, 0);
       }
-      if (k < fw.rows() && k < vw.rows()) {
-        row.friction = fw(k, 0);
-        row.viscous = vw(k, 0);
-      }
-      if (k < pw.rows())
-        row.plastic = pw(k, 0);
       run.series.push_back(row);
     }
   } catch (const std::runtime_error& e) {
@@ -244,15 +237,25 @@ RunState read_state(const std::string& path, int frame) {
       state.stepper.courant_budget = h5::get_double_attribute(g.get(), "courant_budget");
     step = h5::get_long_attribute(g.get(), "step");
   }
-  const SeriesRow* last = nullptr;
-  const StoredRun run = read_stored_run(path);
-  for (const SeriesRow& row : run.series)
-    if (row.step <= step)
-      last = &row;
-  if (last && std::isfinite(last->velocity_change_sum))
-    state.velocity_change_sum = last->velocity_change_sum;
-  if (last && std::isfinite(last->friction) && std::isfinite(last->viscous))
-    state.stepper = {state.stepper.courant_budget, last->friction, last->viscous, last->plastic};
+  // The last row at or before the frame's step: its running sums.
+  RunReader r(path);
+  const Field steps = r.series("step");
+  Index last = -1;
+  for (Index k = 0; k < steps.rows(); ++k)
+    if (long(steps(k, 0)) <= step)
+      last = k;
+  auto at_last = [&](const char* name) { // NaN where the file lacks the series
+    const Field v = r.has_series(name) ? r.series(name) : Field();
+    return last >= 0 && last < v.rows() ? v(last, 0) : std::numeric_limits<double>::quiet_NaN();
+  };
+  if (const double v = at_last("velocity_change_sum"); std::isfinite(v))
+    state.velocity_change_sum = v;
+  const double friction = at_last("friction"), viscous = at_last("viscous");
+  if (std::isfinite(friction) && std::isfinite(viscous)) {
+    const double plastic = at_last("plastic");
+    state.stepper = {state.stepper.courant_budget, friction, viscous,
+                     std::isfinite(plastic) ? plastic : 0.0};
+  }
   return state;
 }
 } // namespace

@@ -14,17 +14,9 @@
 
 namespace smpm::detail {
 
-const char* const kSeries[] = {"step",
-                               "t",
-                               "kinetic",
-                               "strain",
-                               "total",
-                               "velocity_change",
-                               "velocity_change_sum",
-                               "friction",
-                               "viscous",
-                               "fmpm_order",
-                               "plastic"};
+const char* const kSeries[] = {
+    "step",      "t", "kinetic", "strain", "total", "velocity_change", "velocity_change_sum",
+    "fmpm_order"};
 const char* const kMaterialSeries[] = {"material_mass", "material_momentum", "material_centre"};
 
 SeriesLayout::SeriesLayout(const RunConfig& cfg)
@@ -70,10 +62,7 @@ std::vector<Field> series_values(const SeriesLayout& layout, const std::vector<S
                               row.e.total,
                               row.velocity_change,
                               row.velocity_change_sum,
-                              row.friction,
-                              row.viscous,
-                              row.fmpm_order,
-                              row.plastic};
+                              row.fmpm_order};
     size_t c = 0;
     for (const double v : scalars)
       out[c++](r, 0) = v;

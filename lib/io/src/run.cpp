@@ -131,12 +131,9 @@ private:
     if (m.step > 0)
       change_sum_ += r.velocity_change;
     r.velocity_change_sum = change_sum_;
-    r.friction = stepper_.friction_work();
-    r.viscous = stepper_.viscous_work();
-    r.plastic = stepper_.plastic_work();
     for (const StepPartEntry* part : series_) { // the parts' own
       r.parts.resize(r.parts.size() + part->series.size());
-      part->series_values(m, e, std::span(r.parts).last(part->series.size()));
+      part->series_values({m, e, stepper_.state()}, std::span(r.parts).last(part->series.size()));
     }
     r.reactions.assign(reaction_labels(m).size(), 0.0);
     if (m.step > 0 && stepper_.reactions().size() == r.reactions.size())

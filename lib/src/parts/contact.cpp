@@ -36,8 +36,14 @@ std::unique_ptr<StepPart> make(const StepOptions&) {
   return std::make_unique<Contact>();
 }
 
+// The run's tally of Coulomb friction's work (StepperState::friction_work), 0 without contact: a
+// series of every run.
+constexpr PartSeries kSeries[] = {{"friction", "work of Coulomb friction since t = 0", ""}};
+void series_values(const SeriesInput& in, std::span<double> out) {
+  out[0] = in.state.friction_work;
+}
 } // namespace
 
-const Entry contact{make, {}};
+const Entry contact{make, {}, kSeries, series_values};
 
 } // namespace smpm::parts

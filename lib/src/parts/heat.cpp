@@ -126,12 +126,13 @@ constexpr PartSeries kSeries[] = {
     {"entropy", "entropy S = sum M C_V ln(T / T_ref) (+ c)", "step.transport"},
     {"helmholtz", "free energy A = U - sum T S", "step.transport"}};
 
-void series_values(const Model& model, const Energies& e, std::span<double> out) {
+void series_values(const SeriesInput& in, std::span<double> out) {
+  const Model& model = in.model;
   if (model.particles.temperature.size() != model.particles.size()) { // none: not a number
     std::fill(out.begin(), out.end(), std::numeric_limits<double>::quiet_NaN());
     return;
   }
-  const ThermalSums t = thermal_sums(model, e.strain);
+  const ThermalSums t = thermal_sums(model, in.energies.strain);
   const double values[] = {t.temperature_min, t.temperature_max, t.temperature_mean, t.heat,
                            t.internal,        t.entropy,         t.helmholtz};
   std::copy(std::begin(values), std::end(values), out.begin());

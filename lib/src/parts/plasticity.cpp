@@ -107,8 +107,15 @@ constexpr ParticleColumn kColumns[] = {
      .meaning = "isochoric elastic left Cauchy-Green tensors (3 x 3 row-major)",
      .needs = "yield_stress",
      .xdmf = ""}};
+
+// The run's tally of plastic work (StepperState::plastic_work), 0 without J2 materials: a series
+// of every run.
+constexpr PartSeries kSeries[] = {{"plastic", "plastic work since t = 0 (J2 plasticity)", ""}};
+void series_values(const SeriesInput& in, std::span<double> out) {
+  out[0] = in.state.plastic_work;
+}
 } // namespace
 
-const Entry plasticity{make, kColumns};
+const Entry plasticity{make, kColumns, kSeries, series_values};
 
 } // namespace smpm::parts

@@ -81,8 +81,15 @@ constexpr ParticleColumn kColumns[] = {
      .meaning = "internal energy per unit mass U (mie-gruneisen)",
      .needs = "",
      .xdmf = "energy"}};
+
+// The run's tally of the artificial viscosity's work (StepperState::viscous_work), 0 without
+// Mie–Grüneisen materials: a series of every run, so that energy balances read alike.
+constexpr PartSeries kSeries[] = {{"viscous", "work of the artificial viscosity since t = 0", ""}};
+void series_values(const SeriesInput& in, std::span<double> out) {
+  out[0] = in.state.viscous_work;
+}
 } // namespace
 
-const Entry shocks{make, kColumns};
+const Entry shocks{make, kColumns, kSeries, series_values};
 
 } // namespace smpm::parts

@@ -58,16 +58,14 @@ struct SeriesRow {
   /// measured against the velocities at t = 0.
   double velocity_change = 0;
   double velocity_change_sum = 0; ///< its running sum over the steps (⟨error⟩ = sum / N_s)
-  double friction = 0;            ///< work of Coulomb friction since t = 0 (Stepper::friction_work)
-  double viscous = 0;             ///< work of the artificial viscosity since t = 0 (part of strain)
-  double plastic = 0;             ///< plastic work since t = 0 (J2 plasticity, dissipated)
   double fmpm_order = 0;          ///< the FMPM(k) loop's order ℓ reached on the step (0: none)
   std::vector<double> materials;  ///< material_sums: mass, momentum, centre of each material
   /// The reaction force of each velocity condition along its direction (Stepper::reactions; 0
   /// at t = 0), in the order of Model::bcs; empty without conditions.
   std::vector<double> reactions;
-  /// The series of the run's parts (series_parts: heat transport's thermal sums, a program's
-  /// parts'), in the order of SeriesLayout::parts (the writer's; read_run leaves it empty).
+  /// The series of the run's parts (series_parts: the work of the artificial viscosity, plastic
+  /// flow and friction, heat transport's thermal sums, a program's parts'), in the order of
+  /// SeriesLayout::parts (the writer's; read_run leaves it empty).
   std::vector<double> parts;
 };
 
