@@ -44,10 +44,11 @@ struct PyOperators {
   const Grid& grid() const { return prep.ops.grid; }
 };
 
-/// sparsempm.Transport: the heat-transport operators of one configuration (prepare_step with a
-/// transport update, as the Stepper makes it, on the whole grid): 𝗖 = M C_V, V κ, c, the active
-/// transport nodes, the temperature conditions at the model's time, S and G with their velocity
-/// fields' block columns folded onto the grid nodes (what transport applies); c̃ on first use.
+/// sparsempm.Transport: the heat-transport operators of one configuration (prepare_step and
+/// prepare_heat_transport with a transport update, as the Stepper makes them, on the whole grid): 𝗖
+/// = M C_V, V κ, c, the active transport nodes, the temperature conditions at the model's time, S
+/// and G with their velocity fields' block columns folded onto the grid nodes (what transport
+/// applies); c̃ on first use.
 struct PyTransport {
   Shape shape = Shape::Linear;
   TransportUpdate update = TransportUpdate::FMPM;

@@ -245,7 +245,7 @@ void bind_transport(py::module_& m) {
   m.def("transport_operators", &transport_operators, py::arg("model"),
         py::arg("shape") = py::none(), py::arg("transport") = py::none(),
         "The heat-transport operators of the model's configuration, as a step prepares them "
-        "(prepare_step with heat transport, whole grid): shape as assemble() takes it; "
+        "(with heat transport, whole grid): shape as assemble() takes it; "
         "transport 'lumped' | 'FMPM' | 'exact' (default: model.options.transport, FMPM when "
         "that is off) sets the active nodes: every node with capacity, or c_i > 1e-10 max c for "
         "the exact solve. Every material needs heat_capacity > 0.");

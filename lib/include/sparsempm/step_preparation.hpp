@@ -1,17 +1,19 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// \file step_preparation.hpp
-/// What a step needs from the particle configuration at its start, prepared by one function,
-/// prepare_step, for everyone who needs it: the Stepper, the linearised step of the stability
-/// analysis, the frame writer of a run and Python's assemble. It holds
+/// What a step needs from the particle configuration at its start, prepared by prepare_step for
+/// everyone who needs it (the Stepper, the linearised step of the stability analysis, the frame
+/// writer of a run and Python's assemble) and by the parts of the step for what they add
+/// (StepPart::prepare; prepare_heat_transport for heat transport). It holds
 ///   - S, G, M, m and the active nodes (assemble, operators.hpp), with the materials' velocity
 ///     fields as blocks of columns of S in multimaterial mode (contact.hpp);
 ///   - the velocity BCs of the step: the model's conditions with the walls' nodes at the
 ///     model's time (FMPM 2026 §3.1), apart from the model's, which stay as they were given;
 ///   - the contact nodes with their normals, separations and areas (contact 2020 §2.3, §3.1);
 ///   - m̃ = Sᵀ M S, assembled on first use (only the steps that use it pay for it);
-///   - with heat transport, the transport operators (capacities, conductances, c on the grid's
-///     nodes), the temperature conditions of the step and c̃, assembled on first use.
+///   - with heat transport (prepare_heat_transport), the transport operators (capacities,
+///     conductances, c on the grid's nodes), the temperature conditions of the step and c̃,
+///     assembled on first use.
 
 #include "sparsempm/boundary.hpp"
 #include "sparsempm/contact.hpp"
@@ -24,7 +26,8 @@
 namespace smpm {
 
 /// Wall seconds spent in each part of a run, summed over its steps: where a whole run's time
-/// goes (`smpm run --timings`). prepare_step fills the first four, Stepper::step the next
+/// goes (`smpm run --timings`). prepare_step and the parts' preparations (the transport and its
+/// conditions: prepare_heat_transport) fill the first four, Stepper::step the next
 /// three, and advance and run the run driver's parts. The clock is read a few times per step.
 struct PhaseTimes {
   double assemble = 0;    ///< S, G, their patterns, m, the column index, the particles' fields
@@ -103,7 +106,7 @@ struct StepPreparation {
   /// Whether the transport operators were prepared.
   bool has_transport() const { return transport_; }
   /// c̃ = Sᵀ diag(𝗖) S on the transport nodes (assemble_consistent_capacity), assembled on the
-  /// first call after each prepare_step with transport.
+  /// first call after each prepare_heat_transport.
   const SparseRowMatrix& consistent_capacity();
 
 private:

@@ -20,7 +20,6 @@ std::string frame_name(int frame);
 
 /// The one-column series, in the order of SeriesRow's fields.
 extern const char* const kSeries[];
-inline constexpr int kNumSeries = 11;
 /// The per-material series (mass, momentum, centre of mass).
 extern const char* const kMaterialSeries[];
 /// The values of the rows for every series of `layout`, in the order of its columns() (rows ×

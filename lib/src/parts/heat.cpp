@@ -151,6 +151,7 @@ void prepare_heat_transport(const Model& model, StepPreparation& s, TransportUpd
   model.temperature_bcs.step_conditions(s.ops.grid, s.transport.nodes.active, model.time,
                                         s.temperature_bcs);
   s.transport_ = true;
+  s.ct_current_ = false; // c̃ of these operators on first use
   clock.lap(s.times.conditions);
 }
 
