@@ -4,7 +4,7 @@
 640 particles, 9 steps between the short and the long run) give the same instructions per
 particle-step, on 1 and on 2 threads, to six significant digits: every number within 0.005 of
 about 3,300 per particle-step (30 instructions of the 5.8 million counted). What still moves is
-a few instructions of the run driver (the wall seconds it formats into the run file). At one
+a few instructions outside the stages, in the run driver (every stage's count repeats). At one
 thread the stages and `other` sum to the total (the table's identity, to its rounding)."""
 import csv
 import os
