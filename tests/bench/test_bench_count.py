@@ -3,9 +3,10 @@
 """scripts/bench-count's counts repeat: two counts of its small problem (the example's plate,
 640 particles, 9 steps between the short and the long run) give the same instructions per
 particle-step, on 1 and on 2 threads, to five significant digits: every number within 0.1 of
-about 3,300 per particle-step (576 instructions of the 5.8 million counted), frames taken with
-other (below). Under a loaded ctest the total moved by 0.016 and frames alone by 0.45. At one thread the stages and `other` sum to the total (the table's identity, to
-its rounding)."""
+about 3,300 per particle-step (576 instructions of the 19 million counted), frames taken with
+other (below). Under a loaded ctest the total moved by 0.016 and frames alone by 0.45. The small
+plate is below the library's threshold for splitting work (1,024 rows), so its 2-thread run
+works on one thread: this tests the counting, not the threads' split."""
 import csv
 import os
 import pathlib
@@ -43,13 +44,8 @@ for a, b in zip(first, second, strict=True):
 assert [(r["threads"], r["steps"], r["particles"]) for r in first] == [("1", "9", "640"),
                                                                        ("2", "9", "640")], first
 one = first[0]
-stages = ["assembly", "contact", "heat prep", "m~", "stages", "energies", "series",
-          "frames + other"]
-assert abs(sum(float(one[s]) for s in stages) - float(one["total"])) < 0.01, one
 # The plate's step: assembly and the stages are most of it (both positive), no contact or heat.
 assert float(one["assembly"]) > 0 and float(one["stages"]) > 0, one
 assert float(one["contact"]) == 0 and float(one["heat prep"]) == 0, one
-for r in first:
-    assert 1.0 <= float(r["balance"]) <= 2.0, r
 print("bench-count: two counts within 0.1 per particle-step:",
       [(r["total"], s["total"]) for r, s in zip(first, second)])
