@@ -33,6 +33,8 @@ struct Row {
   double critical_courant = std::nan(""); // C* spectral
   std::string configuration;
   std::string spectral_status;
+  double stable_from = std::nan(""); // the lower end of [stable_from, C*] on every configuration
+  std::string small_courant;         // what lies below it (small_courant_text)
   double simulation_courant = std::nan(""); // C* simulation
   double energy_change = std::nan("");
   bool simulated = false; // the simulation search ran (NaN then: no C in its bracket held)
@@ -146,20 +148,23 @@ void write_table(const std::vector<Row>& rows, const std::string& path,
     for (const std::string& c : option_cells(r))
       out << c << ",";
     out << cell(r.critical_courant) << "," << r.configuration << "," << r.spectral_status << ","
-        << r.simulation_cell() << "," << cell(r.energy_change) << "\n";
+        << cell(r.stable_from) << "," << r.small_courant << "," << r.simulation_cell() << ","
+        << cell(r.energy_change) << "\n";
   }
   write_table_file(path, out.str(), inputs, "-o");
 }
 
 void print_table(const std::vector<Row>& rows) {
-  const char* format = "%-8s %5s %11s %11s %11s %14s %11s %-16s %13s %14s\n";
+  const char* format = "%-8s %5s %11s %11s %11s %14s %11s %-16s %13s %14s  %s\n";
   std::printf(format, "velocity", "order", "blend_alpha", "blend_every", "periodic_cx",
-              "position_alpha", "C* spectral", "configuration", "C* simulation", "energy change");
+              "position_alpha", "C* spectral", "configuration", "C* simulation", "energy change",
+              "below C* spectral");
   for (const Row& r : rows) {
     const std::vector<std::string> c = option_cells(r);
     std::printf(format, c[0].c_str(), c[1].c_str(), c[2].c_str(), c[3].c_str(), c[4].c_str(),
                 c[5].c_str(), cell(r.critical_courant).c_str(), r.configuration.c_str(),
-                r.simulation_cell().c_str(), cell(r.energy_change).c_str());
+                r.simulation_cell().c_str(), cell(r.energy_change).c_str(),
+                r.small_courant.c_str());
   }
 }
 
@@ -193,6 +198,12 @@ void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityAr
     const ConfigurationSweep& s = sweeps[where[i].first][where[i].second];
     rows[i].critical_courant = s.minimum.critical_courant;
     rows[i].configuration = s.configuration;
+    rows[i].stable_from = s.lowest.stable_from;
+    rows[i].small_courant = small_courant_text(s.lowest);
+    if (s.lowest.small == SmallCourant::UnstableBelow || s.lowest.small == SmallCourant::Unstable)
+      rows[i].small_courant += " (" + s.lowest_configuration + ")";
+    if (s.lowest.stable_from > s.minimum.critical_courant) // [stable_from, C*] is empty
+      rows[i].small_courant += ": no C stable on every configuration";
     // Non-finite radii count as unstable inside critical_courant; unconverged Arnoldi runs are
     // named so that a reader knows the minimum rests on measured growth rates.
     const int unconverged = s.minimum.not_converged;

@@ -46,12 +46,15 @@ struct SpectrumArgs {
 };
 
 /// The columns of the stability table: the results under their names in C++ and Python
-/// (CriticalCourant::critical_courant, ConfigurationSweep::configuration,
-/// SimulationCourant::simulation_courant and energy_change; python/sparsempm/tables.py reads the
-/// earlier c_spectral, config_spectral and c_simulation too).
+/// (CriticalCourant::critical_courant, ConfigurationSweep::configuration, stable_from of
+/// ConfigurationSweep::lowest, small_courant (small_courant_text of it, with
+/// lowest_configuration when an unstable C lies below, and ": no C stable on every
+/// configuration" when stable_from exceeds the smallest C*), SimulationCourant::simulation_courant
+/// and energy_change; python/sparsempm/tables.py reads the earlier c_spectral, config_spectral and
+/// c_simulation too).
 inline constexpr const char* kStabilityColumns =
     "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,critical_courant,"
-    "configuration,spectral_status,simulation_courant,energy_change";
+    "configuration,spectral_status,stable_from,small_courant,simulation_courant,energy_change";
 /// The columns of the spectrum table: every row the same CSV (no comment lines; csv readers and
 /// numpy.genfromtxt take it as it is), the configuration's ρ(A), λ_min(m⁻¹m̃), cond(m̃) and
 /// active nodes repeated on each.

@@ -15,6 +15,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 namespace smpm::app {
 
@@ -25,6 +26,16 @@ struct Row {
   int order;
   CriticalFourier fourier;   // the smallest F* over the configurations
   std::string configuration; // where it was found
+  CriticalFourier lowest;    // the worst small F (SmallCourant's order, then stable_from)
+  std::string lowest_configuration;
+  std::string small_text() const {
+    const std::string t = small_courant_text(lowest.small, lowest.stable_from, lowest.floor);
+    const bool unstable =
+        lowest.small == SmallCourant::UnstableBelow || lowest.small == SmallCourant::Unstable;
+    const std::string empty =
+        lowest.stable_from > fourier.critical_fourier ? ": no F stable on every configuration" : "";
+    return (unstable ? t + " (" + lowest_configuration + ")" : t) + empty;
+  }
 };
 
 // F* of `options` at every configuration: the smallest, and where.
@@ -34,13 +45,19 @@ void search(const std::vector<Configuration>& configs, const StepOptions& option
   run_tasks(configs.size(), [&](size_t c) {
     found[c] = critical_fourier(configs[c].model, options, 1e-6, 4.0, 1e-3, 0, interrupt);
   });
-  row.fourier = found[0];
-  row.configuration = configs[0].name;
-  for (size_t c = 1; c < configs.size(); ++c)
+  row.fourier = row.lowest = found[0];
+  row.configuration = row.lowest_configuration = configs[0].name;
+  for (size_t c = 1; c < configs.size(); ++c) {
     if (found[c].critical_fourier < row.fourier.critical_fourier) {
       row.fourier = found[c];
       row.configuration = configs[c].name;
     }
+    if (std::pair(int(found[c].small), found[c].stable_from) >
+        std::pair(int(row.lowest.small), row.lowest.stable_from)) {
+      row.lowest = found[c];
+      row.lowest_configuration = configs[c].name;
+    }
+  }
 }
 
 } // namespace
@@ -56,12 +73,13 @@ int transport_stability_command(const TransportStabilityArgs& a) {
   print_notes(cfg);
   const std::vector<Configuration> configs = lattice_configurations(cfg.model, a.shifts);
   std::vector<Row> rows;
-  rows.push_back({TransportUpdate::Lumped, 1, {}, ""});
+  rows.push_back({TransportUpdate::Lumped, 1, {}, "", {}, ""});
   for (int k : a.orders)
-    rows.push_back({TransportUpdate::FMPM, k, {}, ""});
+    rows.push_back({TransportUpdate::FMPM, k, {}, "", {}, ""});
   if (!a.no_exact)
-    rows.push_back({TransportUpdate::Exact, 0, {}, ""});
-  std::printf("%-8s %5s %10s %10s %-16s\n", "transport", "order", "F*", "rho(T)", "configuration");
+    rows.push_back({TransportUpdate::Exact, 0, {}, "", {}, ""});
+  std::printf("%-8s %5s %10s %10s %-16s %s\n", "transport", "order", "F*", "rho(T)",
+              "configuration", "below F*");
   std::ostringstream out;
   out << kTransportStabilityColumns << "\n";
   for (Row& r : rows) {
@@ -70,13 +88,13 @@ int transport_stability_command(const TransportStabilityArgs& a) {
     o.transport.order = r.order;
     search(configs, o, r, nullptr);
     const std::string order = r.update == TransportUpdate::FMPM ? std::to_string(r.order) : "";
-    std::printf("%-8s %5s %10s %10s %-16s\n", std::string(to_string(r.update)).c_str(),
+    std::printf("%-8s %5s %10s %10s %-16s %s\n", std::string(to_string(r.update)).c_str(),
                 order.c_str(), cell(r.fourier.critical_fourier).c_str(),
-                cell(r.fourier.rho_T, 8).c_str(), r.configuration.c_str());
+                cell(r.fourier.rho_T, 8).c_str(), r.configuration.c_str(), r.small_text().c_str());
     std::fflush(stdout);
     out << to_string(r.update) << "," << order << "," << cell(r.fourier.critical_fourier) << ","
         << cell(r.fourier.rho_T, 10) << "," << r.configuration << "," << r.fourier.evaluations
-        << "\n";
+        << "," << cell(r.lowest.stable_from) << "," << r.small_text() << "\n";
   }
   write_table_file(a.output, out.str(), {a.input}, "-o");
   std::printf("table in %s\n", a.output.c_str());

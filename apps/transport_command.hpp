@@ -19,9 +19,11 @@ struct TransportStabilityArgs {
 
 /// The columns of the table: the results under their names in C++ and Python
 /// (CriticalFourier::critical_fourier, rho_T and evaluations, the configuration of the smallest
-/// F*; python/sparsempm/tables.py reads the earlier f_spectral and config_spectral too).
+/// F*; the stable_from of the configuration whose small F are the worst and the words of
+/// small_courant_text with that configuration; python/sparsempm/tables.py reads the earlier
+/// f_spectral and config_spectral too).
 inline constexpr const char* kTransportStabilityColumns =
-    "transport,order,critical_fourier,rho_T,configuration,evaluations";
+    "transport,order,critical_fourier,rho_T,configuration,evaluations,stable_from,small_fourier";
 
 /// F* = max{F : ρ(𝒯(F)) ≤ 1 + 10⁻⁶} (critical_fourier, the smallest over the lattice shifts) of
 /// the lumped transport, FMPM(k) on c̃ for each order and the exact solve: a table on stdout and

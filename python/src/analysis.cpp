@@ -105,8 +105,27 @@ void bind_results(py::module_& m) {
       m, "CriticalCourant",
       "The spectral critical Courant number C* and the search's counts (stability.hpp).")
       .def_readonly("critical_courant", &CriticalCourant::critical_courant,
-                    "C*: the largest C found with rho(T(C)) <= 1 + tol (within the resolution); "
-                    "the critical_courant column of `smpm stability`")
+                    "C*: the upper end of the stable interval [stable_from, C*], the largest C "
+                    "found with rho(T(C)) <= 1 + tol (within the resolution) above the smallest "
+                    "stable C; the critical_courant column of `smpm stability`")
+      .def_readonly("stable_from", &CriticalCourant::stable_from,
+                    "the lower end of the stable interval: 0 when every C examined below C* is "
+                    "stable, else the first stable grid point above the highest unstable C")
+      .def_property_readonly(
+          "small", [](const CriticalCourant& c) { return std::string(to_string(c.small)); },
+          "what lies below the interval: stable | stable to floor | unstable below | unstable")
+      .def_property_readonly(
+          "small_courant", [](const CriticalCourant& c) { return small_courant_text(c); },
+          "the small_courant column of `smpm stability`, e.g. 'unstable "
+          "below 0.0406' or 'stable to 0'")
+      .def_readonly("floor", &CriticalCourant::floor,
+                    "the lowest C examined (min(0.05, c_max) / 4^j), the limit C -> 0 aside")
+      .def_readonly("rho_limit", &CriticalCourant::rho_limit,
+                    "rho(T) as C -> 0, the zero-order term (NaN: not examined)")
+      .def_readonly("growth_rate", &CriticalCourant::growth_rate,
+                    "gamma in rho(T(C)) ~ rho(T(0)) + gamma C + a C^2 as C -> 0 (Richardson from "
+                    "the two lowest points): the growth over the time of one C = 1 step; the limit "
+                    "is stable when gamma <= tol (NaN: not examined)")
       .def_readonly("rho_T", &CriticalCourant::rho_T, "rho(T) at C* (the growth per step)")
       .def_readonly("evaluations", &CriticalCourant::evaluations, "spectral radii computed")
       .def_readonly("not_converged", &CriticalCourant::not_converged,
@@ -124,8 +143,28 @@ void bind_results(py::module_& m) {
       "The critical Fourier number F* of heat transport and the search's counts "
       "(transport_stability.hpp).")
       .def_readonly("critical_fourier", &CriticalFourier::critical_fourier,
-                    "F*: the largest Fourier number F found with rho(T(F)) <= 1 + tol (within the "
-                    "resolution); the critical_fourier column of `smpm transport-stability`")
+                    "F*: the upper end of the stable interval [stable_from, F*], the largest "
+                    "Fourier number F found with rho(T(F)) <= 1 + tol (within the resolution) "
+                    "above the smallest stable F; the critical_fourier column of `smpm "
+                    "transport-stability`")
+      .def_readonly("stable_from", &CriticalFourier::stable_from,
+                    "the lower end of the stable interval [stable_from, F*]: 0 when every F "
+                    "examined below F* is stable")
+      .def_property_readonly(
+          "small", [](const CriticalFourier& c) { return std::string(to_string(c.small)); },
+          "what lies below the interval: stable | stable to floor | unstable below | unstable")
+      .def_property_readonly(
+          "small_fourier",
+          [](const CriticalFourier& c) {
+            return small_courant_text(c.small, c.stable_from, c.floor);
+          },
+          "the words of the small_fourier column of `smpm transport-stability`, e.g. 'stable "
+          "to 0'")
+      .def_readonly("floor", &CriticalFourier::floor,
+                    "the lowest F examined (0.05 / 4^j), the limit F -> 0 aside")
+      .def_readonly("rho_limit", &CriticalFourier::rho_limit, "rho(T) as F -> 0")
+      .def_readonly("growth_rate", &CriticalFourier::growth_rate,
+                    "gamma in rho(T(F)) ~ rho(T(0)) + gamma F as F -> 0")
       .def_readonly("rho_T", &CriticalFourier::rho_T, "rho(T) of the transport step at F*")
       .def_readonly("evaluations", &CriticalFourier::evaluations, "spectral radii computed")
       .def_readonly("not_converged", &CriticalFourier::not_converged,
@@ -144,6 +183,12 @@ void bind_sweep_results(py::module_& m) {
                     "the CriticalCourant of the configuration with the smallest C*")
       .def_readonly("configuration", &ConfigurationSweep::configuration,
                     "which configuration set it, e.g. 'shift 0.25'")
+      .def_readonly("lowest", &ConfigurationSweep::lowest,
+                    "the CriticalCourant whose small C are the worst (unstable, unstable below, "
+                    "then the largest stable_from): every configuration is stable on "
+                    "[lowest.stable_from, minimum.critical_courant] at the points examined")
+      .def_readonly("lowest_configuration", &ConfigurationSweep::lowest_configuration,
+                    "which configuration set it")
       .def_readonly("all", &ConfigurationSweep::all,
                     "every configuration and its C*, as (name, C*) pairs");
   py::class_<SimulationCourant>(

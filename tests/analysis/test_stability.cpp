@@ -272,8 +272,9 @@ TEST_CASE("a hint changes the evaluations of the C* search, not C*", "[stability
   // critical_courant searches one grid of spacing ≤ resolution in the doubling bracket that
   // holds C*; started from a hint it gallops to the same transition. FMPM(8) on the §3.3 bar
   // (C* 0.514): with hints below, at, above and far above C*, and outside [0, c_max], the same
-  // C* and ρ (==); started at C* it takes fewer evaluations (measured 14 without a hint, 2 at
-  // C*, 6 at C* + 0.004, 18–22 from hints a bracket or more away).
+  // C* and ρ (==); started at C* it takes fewer evaluations (measured 18 without a hint, 6 at
+  // C*, 10 at C* + 0.004, 22–26 from hints a bracket or more away; 4 of each are the small C
+  // every search examines first).
   const Model bar = vibrating_bar({});
   const CriticalCourant plain = critical_courant(bar, fmpm(8));
   for (double hint :

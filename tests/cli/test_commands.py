@@ -31,12 +31,17 @@ class Stability(Base):
         screen = r.stdout.splitlines()
         lines = out.read_text().splitlines()
         self.assertEqual(lines[0], "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,critical_courant,"
-                                   "configuration,spectral_status,simulation_courant,energy_change")
+                                   "configuration,spectral_status,stable_from,small_courant,simulation_courant,"
+                                   "energy_change")
         rows = read_table(out)
         self.assertEqual([r["velocity"] for r in rows], ["FLIP", "FMPM", "FMPM", "FMPM", "FMPM", "exact"])
         for r in rows:  # the input's position_alpha (1) is used and recorded for every row
             self.assertEqual(r["position_alpha"], "1")
             self.assertEqual(r["spectral_status"], "converged")
+            # The standard transfer on the bar: no unstable small C on either shift, down to C -> 0
+            # (periodic FMPM's small C are not examined: its T(C) spans ceil(C_X / C) steps).
+            self.assertEqual(r["stable_from"], "" if r["periodic_cx"] else "0")
+            self.assertEqual(r["small_courant"], "not examined below 0.05" if r["periodic_cx"] else "stable to 0")
         flip = rows[0]
         # FLIP by bisection over five-period runs: the paper's 0.84, within 0.05 here.
         self.assertAlmostEqual(float(flip["simulation_courant"]), 0.84, delta=0.05)
@@ -44,9 +49,11 @@ class Stability(Base):
         self.assertEqual(fmpm4["order"], "4")
         self.assertAlmostEqual(float(fmpm4["simulation_courant"]), 0.539, delta=0.03)  # the paper's FMPM(4) limit
         # The screen's table: the same cells under the results' symbols and words.
-        self.assertRegex(screen[0], r"position_alpha +C\* spectral configuration +C\* simulation +energy change$")
-        self.assertEqual(screen[1].split()[-5:], [flip["critical_courant"], *flip["configuration"].split(),
-                                                  flip["simulation_courant"], flip["energy_change"]])
+        self.assertRegex(screen[0], r"position_alpha +C\* spectral configuration +C\* simulation +energy change"
+                                    r" +below C\* spectral$")
+        self.assertEqual(screen[1].split()[-8:], [flip["critical_courant"], *flip["configuration"].split(),
+                                                  flip["simulation_courant"], flip["energy_change"],
+                                                  *flip["small_courant"].split()])
         png = self.dir / "fig.png"
         r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "fig12a.py", out, "-o", png], capture_output=True, text=True)
         self.assertEqual(r.returncode, 0, r.stderr)
@@ -77,14 +84,19 @@ class Stability(Base):
                  "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(out.read_text().splitlines()[0],
-                         "transport,order,critical_fourier,rho_T,configuration,evaluations")
+                         "transport,order,critical_fourier,rho_T,configuration,evaluations,stable_from,"
+                         "small_fourier")
         rows = read_table(out)
         self.assertEqual([(row["transport"], row["order"]) for row in rows],
                          [("lumped", ""), ("FMPM", "1"), ("FMPM", "2"), ("exact", "")])
         screen = r.stdout.splitlines()
-        self.assertEqual(screen[0].split(), ["transport", "order", "F*", "rho(T)", "configuration"])
+        self.assertEqual(screen[0].split(), ["transport", "order", "F*", "rho(T)", "configuration", "below", "F*"])
         for row, line in zip(rows, screen[1:]):
-            cells = line.split()
+            # The conduction bar has no unstable small F: the screen ends with "stable to 0".
+            self.assertEqual(row["small_fourier"], "stable to 0")
+            self.assertEqual(row["stable_from"], "0")
+            cells = line[:-len(" stable to 0")].split()
+            self.assertTrue(line.endswith(" stable to 0"), line)
             self.assertEqual(cells[-4], row["critical_fourier"])
             self.assertEqual(" ".join(cells[-2:]), row["configuration"])
             self.assertGreater(int(row["evaluations"]), 0)

@@ -120,7 +120,7 @@ def stability(tmp):
             row = f"{ra['velocity']} order {ra['order']} alpha {ra['blend_alpha']} " \
                   f"cx {ra['periodic_cx']}"
             for key in ("velocity", "order", "blend_alpha", "blend_every", "periodic_cx",
-                        "position_alpha", "configuration", "spectral_status"):
+                        "position_alpha", "configuration", "spectral_status", "small_courant"):
                 if ra[key] != rb[key]:
                     failures.append(f"{name}, {row}: {key} '{rb[key]}' against '{ra[key]}'")
             x, y = float(ra["critical_courant"]), float(rb["critical_courant"])

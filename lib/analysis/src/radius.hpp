@@ -18,11 +18,13 @@
 namespace smpm::detail {
 
 /// The search of critical_courant for any parameter x (C, or F of critical_fourier): the largest
-/// x ≤ x_max with ρ(x)^{1/steps} ≤ 1 + tol, `radius(x, steps)` giving ρ at x (courant.cpp), in
-/// CriticalCourant::critical_courant (critical_fourier copies it into its CriticalFourier).
+/// x ≤ x_max with ρ(x)^{1/steps} ≤ 1 + tol on the stable interval that holds the smallest stable
+/// x, `radius(x, steps)` giving ρ at x, `scan` how far below x = 0.05 it looks (courant.cpp); in
+/// CriticalCourant (critical_fourier copies it into its CriticalFourier).
 CriticalCourant critical_parameter(const std::function<SpectralRadius(double, int&)>& radius,
                                    const char* what, double tol, double x_max, double resolution,
-                                   double hint, const std::atomic<int>* interrupt);
+                                   double hint, const std::atomic<int>* interrupt,
+                                   const SmallCourantScan& scan);
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 

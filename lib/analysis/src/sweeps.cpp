@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace smpm {
 
@@ -120,6 +121,15 @@ sweep_configurations(const std::vector<Configuration>& configurations,
         if (at[f].critical_courant < sweep.minimum.critical_courant) {
           sweep.minimum = at[f];
           sweep.configuration = configurations[f].name;
+        }
+        // The worst small C: SmallCourant's order (Stable, StableToFloor, UnstableBelow,
+        // Unstable), then the largest stable_from.
+        const auto worse = [](const CriticalCourant& x, const CriticalCourant& y) {
+          return std::pair(int(x.small), x.stable_from) > std::pair(int(y.small), y.stable_from);
+        };
+        if (f == 0 || worse(at[f], sweep.lowest)) {
+          sweep.lowest = at[f];
+          sweep.lowest_configuration = configurations[f].name;
         }
       }
       out[s].push_back(std::move(sweep));

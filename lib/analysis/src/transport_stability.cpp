@@ -103,8 +103,13 @@ CriticalFourier critical_fourier(const Model& model, const StepOptions& options,
         steps = 1;
         return spectral_radius(T);
       },
-      "F*", tol, f_max, resolution, hint, interrupt);
+      "F*", tol, f_max, resolution, hint, interrupt, SmallCourantScan{});
   return {.critical_fourier = c.critical_courant,
+          .stable_from = c.stable_from,
+          .small = c.small,
+          .floor = c.floor,
+          .rho_limit = c.rho_limit,
+          .growth_rate = c.growth_rate,
           .rho_T = c.rho_T,
           .evaluations = c.evaluations,
           .not_converged = c.not_converged,

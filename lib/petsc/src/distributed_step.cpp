@@ -331,7 +331,7 @@ CriticalCourant critical_courant(const DistributedGrid& grid, const Model& model
         steps = r.step().steps_per_application();
         return r.radius(1e-10);
       },
-      tol, c_max, resolution, hint);
+      tol, c_max, resolution, hint, nullptr, small_courant_scan(options));
 }
 
 } // namespace smpm::petsc

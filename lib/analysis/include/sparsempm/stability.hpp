@@ -17,6 +17,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -152,35 +153,107 @@ SpectralRadius spectral_radius_rule(Algebra& alg, Index dense_limit) {
 /// returns the dominant |λ| (status NotConverged with the measured growth if it fails).
 SpectralRadius spectral_radius(const LinearizedStep& T, Index dense_limit = kDenseRadiusRows);
 
+/// What a stability search found below its C* (CriticalCourant::small): whether every smaller C it
+/// examined is stable, down to C → 0. Above the dense limit of spectral_radius a growth within
+/// 10⁻³ of 1 per application is reported as ρ = 1, at small C as at any C: Stable there means
+/// stable to that band.
+enum class SmallCourant {
+  Stable,        ///< every C examined below C* is stable, and so is the limit C → 0
+  StableToFloor, ///< every C examined below C* down to the floor is stable; no limit examined
+  NotExamined,   ///< no C below e_1 = 0.05 examined (C → 0 taken as stable, as bisection did)
+  UnstableBelow, ///< an unstable C (or the limit C → 0) lies below the interval [stable_from, C*]
+  Unstable       ///< no C examined is stable: C* = 0
+};
+/// Name in tables: "stable" | "stable to floor" | "not examined" | "unstable below" | "unstable".
+std::string_view to_string(SmallCourant s);
+
+/// The lowest point 0.05 / 4^j of the search of critical_courant is the first at or below this
+/// floor (7.8·10⁻⁴), where the limit C → 0 takes over.
+inline constexpr double kCourantFloor = 1e-3;
+/// The limit C → 0 is evaluated at this fraction of the lowest point (T(0) itself has Δt = 0).
+inline constexpr double kLimitFraction = 1e-6;
+
+/// What the search of critical_courant examines below its first edge e_1 = min(0.05, c_max):
+/// the points e_1 / 4^j (j ≥ 1) down to the first at or below `floor`, and with `limit` the limit
+/// C → 0; none when floor ≥ e_1 (SmallCourant::NotExamined). A periodic FMPM's T(C) spans
+/// ⌈C_X / C⌉ steps, so that one evaluation at C = 0.0125 costs 160 steps for C_X = 2, as much as
+/// the rest of its search: critical_courant examines no small C for it.
+struct SmallCourantScan {
+  /// the lowest point examined is the first e_1 / 4^j ≤ floor (none when floor ≥ e_1)
+  double floor = kCourantFloor;
+  bool limit = true; ///< also the limit C → 0 (operators that span one step)
+};
+
 /// The critical Courant number C* of critical_courant (the spectral method), with the cost of its
-/// search. The names are the tables' columns (critical_courant, rho_T; `smpm stability`).
+/// search. The names are the tables' columns (critical_courant, rho_T, stable_from,
+/// small_courant; `smpm stability`).
 struct CriticalCourant {
-  /// C*: the largest C found with ρ(T(C)) ≤ 1 + tol (within `resolution`)
+  /// C*: the upper end of the stable interval [stable_from, C*]: the largest C found with
+  /// ρ(T(C)) ≤ 1 + tol (within `resolution`) before the first unstable C above stable_from
   double critical_courant = 0;
+  /// The lower end: 0 when every C examined below C* is stable (small = Stable or
+  /// StableToFloor) and when none is (Unstable), NaN when small C were not examined
+  /// (NotExamined); otherwise the first stable grid point (spacing
+  /// ≤ resolution) above the highest unstable C, or the lowest point examined when only the limit
+  /// C → 0 is unstable.
+  double stable_from = 0;
+  SmallCourant small = SmallCourant::Stable; ///< what lies below the interval
+  double floor = 0; ///< the lowest C examined (e_1 / 4^j; e_1 when NotExamined), the limit aside
+  /// ρ(T) as C → 0 (at kLimitFraction of the floor): the zero-order term. NaN: not examined.
+  double rho_limit = std::numeric_limits<double>::quiet_NaN();
+  /// γ, the first-order term of ρ(T(C)) ≈ ρ(T(0)) + γ C + a C², i.e. the growth over the time
+  /// of one C = 1 step as C → 0: by Richardson extrapolation from the two lowest points c and
+  /// 4c, (16 d(c) − d(4c)) / 12c with d = ρ − ρ(T(0)) (the secant d(c) / c when ρ(4c) is not
+  /// finite or there is one point). The limit is stable when ρ(T(0)) ≤ 1 + tol and γ ≤ tol (the
+  /// bound a step at C = 1 is held to); an instability with γ > 0 grows at the same rate per unit
+  /// time however small Δt is, one with a C² term alone does not. An estimate from two points:
+  /// where ρ − 1 levels off below c it is smaller than the slope at 0. NaN: not examined.
+  double growth_rate = std::numeric_limits<double>::quiet_NaN();
   double rho_T = 0;      ///< ρ(T) at C* (the growth per step, ρ^{1/s})
   int evaluations = 0;   ///< spectral radii computed
   int not_converged = 0; ///< of them, Arnoldi runs that did not converge
   int non_finite = 0;    ///< of them, non-finite results (counted as unstable)
 };
 
+/// The words of a table for what lies below C*: "stable to 0" | "stable to 0.0125" (the floor; no
+/// limit examined) | "not examined below 0.05" | "unstable below 0.04238" (stable_from) |
+/// "unstable" (C* = 0).
+std::string small_courant_text(const CriticalCourant& c);
+/// The same from its parts (CriticalFourier's of transport_stability.hpp).
+std::string small_courant_text(SmallCourant small, double stable_from, double floor);
+
 /// The critical Courant number C* = max{C : ρ(T(C))^{1/s} ≤ 1 + tol}, s the steps spanned by
-/// T (the growth per step), bracketed by doubling from C = 0.05 up to c_max and refined by
-/// bisection on a grid of spacing ≤ resolution in that bracket. A non-finite ρ counts as
-/// unstable. With `hint` > 0 (the C* of a neighbouring scheme, e.g. FMPM(k − 1) on the same
-/// lattice: C* changes little with k) the search starts there and gallops to the transition:
-/// the same C* (the same grid point, if stability is monotone in C) in fewer evaluations.
-/// Throws InputError unless tol is non-negative and finite, and Interrupted when `interrupt` (a
-/// flag a signal handler sets) is set before an evaluation.
+/// T (the growth per step), over the stable interval that holds the smallest stable C. The
+/// search first examines small C from the bottom up: the limit C → 0 (ρ(T(0)) and the
+/// first-order term γ, CriticalCourant::growth_rate) and the points e_1 / 4^j (e_1 = 0.05:
+/// 0.0125, 0.003125, 7.8·10⁻⁴) down to the first at or below kCourantFloor: 4 evaluations. An
+/// unstable point there sets stable_from (bisected to `resolution` against the next stable point;
+/// the lowest point when only the limit is unstable) and the status small; an unstable point above
+/// a stable one ends the interval there. From the interval's start C* is bracketed by doubling from
+/// C = 0.05 up to c_max and refined by bisection on a grid of spacing ≤ resolution in that bracket.
+/// A non-finite ρ counts as unstable. With `hint` > 0 (the C* of a neighbouring scheme, e.g. FMPM(k
+/// − 1) on the same lattice: C* changes little with k) the bracket search starts there and gallops
+/// to the transition: the same C* (the same grid point, if stability is monotone in C) in fewer
+/// evaluations; the hint is not used when the interval starts above the small C, or when it lies
+/// below the interval's start. Periodic FMPM examines no small C (small_courant_scan). Throws
+/// InputError unless tol is non-negative and finite, and Interrupted when `interrupt` (a flag a
+/// signal handler sets) is set before an evaluation.
 CriticalCourant critical_courant(const Model& model, const StepOptions& options, double tol = 1e-6,
                                  double c_max = 2.0, double resolution = 1e-3, double hint = 0,
                                  const std::atomic<int>* interrupt = nullptr);
 
 /// The search of critical_courant for any way of computing ρ(T(C)): `radius(C, steps)` returns
-/// ρ(T(C)) and sets the steps T spans (the distributed ρ(T) of sparsempm::petsc uses it).
+/// ρ(T(C)) and sets the steps T spans (the distributed ρ(T) of sparsempm::petsc uses it). `small`
+/// says how far below C = 0.05 it looks.
 CriticalCourant
 critical_courant_search(const std::function<SpectralRadius(double courant, int& steps)>& radius,
                         double tol = 1e-6, double c_max = 2.0, double resolution = 1e-3,
-                        double hint = 0, const std::atomic<int>* interrupt = nullptr);
+                        double hint = 0, const std::atomic<int>* interrupt = nullptr,
+                        const SmallCourantScan& small = {});
+
+/// What critical_courant examines below C = 0.05 for these options: down to kCourantFloor and
+/// the limit C → 0, or, for periodic FMPM, nothing (floor = +∞).
+SmallCourantScan small_courant_scan(const StepOptions& options);
 
 /// The model with every particle translated by `shift` (in cells along each axis); boundary
 /// conditions stay on their nodes. Throws NumericalError if a particle leaves the grid.
@@ -190,6 +263,13 @@ Model shifted(const Model& model, const std::array<double, 3>& shift);
 struct ConfigurationSweep {
   CriticalCourant minimum;   ///< the smallest C* found
   std::string configuration; ///< which configuration set it, e.g. "shift 0.25"
+  /// The search whose small C are the worst (SmallCourant's order, then the largest
+  /// stable_from): every configuration is stable on [lowest.stable_from,
+  /// minimum.critical_courant] at the points examined, an interval that is empty when
+  /// lowest.stable_from > minimum.critical_courant (no C examined is stable on every
+  /// configuration; `smpm stability` says so).
+  CriticalCourant lowest;
+  std::string lowest_configuration;                ///< which configuration set it
   std::vector<std::pair<std::string, double>> all; ///< every configuration and its C*
 };
 

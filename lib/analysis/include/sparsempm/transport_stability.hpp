@@ -59,8 +59,16 @@ SpectralRadius spectral_radius(const TransportStep& T, Index dense_limit = 1500)
 /// The critical Fourier number F* of critical_fourier, with the cost of its search. The names are
 /// the columns of `smpm transport-stability` (critical_fourier, rho_T, evaluations).
 struct CriticalFourier {
-  /// F*: the largest F found with ρ(𝒯(F)) ≤ 1 + tol (within `resolution`)
+  /// F*: the upper end of the stable interval [stable_from, F*], the largest F found with
+  /// ρ(𝒯(F)) ≤ 1 + tol (within `resolution`) above the smallest stable F
   double critical_fourier = 0;
+  double stable_from = 0; ///< its lower end (CriticalCourant::stable_from): 0 when stable to 0
+  SmallCourant small = SmallCourant::Stable; ///< what lies below (CriticalCourant::small)
+  double floor = 0;                          ///< the lowest F examined, the limit F → 0 aside
+  /// ρ(𝒯) as F → 0 (CriticalCourant::rho_limit)
+  double rho_limit = std::numeric_limits<double>::quiet_NaN();
+  /// γ: ρ(𝒯(F)) ≈ ρ(𝒯(0)) + γ F as F → 0 (CriticalCourant::growth_rate)
+  double growth_rate = std::numeric_limits<double>::quiet_NaN();
   double rho_T = 0;      ///< ρ(𝒯) at F*
   int evaluations = 0;   ///< spectral radii computed
   int not_converged = 0; ///< of them, Arnoldi runs that did not converge
@@ -68,8 +76,9 @@ struct CriticalFourier {
 };
 
 /// The critical Fourier number F* = max{F : ρ(𝒯(F)) ≤ 1 + tol} with Δt = F Δx_min² / D_max
-/// (diffusion_time), by the search of critical_courant (doubling from F = 0.05 up to f_max,
-/// then bisection to `resolution`; `hint` > 0 starts it there). Throws InputError unless the
+/// (diffusion_time), by the search of critical_courant: the small F first (0.05 / 4^j down to
+/// kCourantFloor and the limit F → 0), then doubling from F = 0.05 up to f_max and bisection to
+/// `resolution`; `hint` > 0 starts the bracket search there. Throws InputError unless the
 /// options have heat transport, and Interrupted when `interrupt` is set.
 CriticalFourier critical_fourier(const Model& model, const StepOptions& options, double tol = 1e-6,
                                  double f_max = 4.0, double resolution = 1e-3, double hint = 0,
