@@ -20,9 +20,11 @@ def grid(cell):
 
 
 def velocity(name):
-    """Overrides for "FLIP" or "FMPM(k)", with the heat transport that goes with it (NairnMPM's
-    transport follows the velocity update): the lumped (FLIP) update for FLIP, FMPM(k) on the
-    capacity matrix for FMPM(k)."""
+    """Overrides for "FLIP" or "FMPM(k)", with a heat transport to go with it: the lumped (FLIP)
+    update for FLIP, FMPM(k) on the capacity matrix for FMPM(k). NairnMPM's transport does not
+    follow its velocity update: it conducts by the lumped update unless its periodic-FMPM task is
+    given conduction settings, and adds friction heat to the nodal rate after its nodal
+    temperature update; FMPM(k) transport here is this library's choice for the FMPM rows."""
     if name == "FLIP":
         return ["step.velocity=FLIP", "step.transport=lumped"]
     return ["step.velocity=FMPM", f"step.order={int(name[5:-1])}", "step.transport=FMPM"]

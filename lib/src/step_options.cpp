@@ -129,6 +129,11 @@ void validate(const StepOptions& opt) {
                           std::to_string(kMaxFmpmOrder) +
                           ") with transport = FMPM, or a velocity update FMPM or XPIC, whose "
                           "order it takes");
+  if (t.limiter == TransportLimiter::FCT &&
+      (t.update != TransportUpdate::FMPM || opt.fmpm.blend_alpha != 1))
+    throw OptionError("transport_limiter", std::string(to_string(t.limiter)),
+                      "bounds FMPM(k) transport without blending: needs transport = \"FMPM\" "
+                      "and blend_alpha = 1");
   SMPM_VERIFY(t.update != TransportUpdate::Exact || opt.exact_solver,
               "the exact transport update needs StepOptions::exact_solver (see exact.hpp)");
 }

@@ -36,6 +36,18 @@ TransportUpdate transport_update_from_string(std::string_view name) {
 }
 
 namespace {
+constexpr detail::EnumNames<TransportLimiter, 2> kTransportLimiters{
+    {{TransportLimiter::None, "none"}, {TransportLimiter::FCT, "fct"}}};
+} // namespace
+
+std::string_view to_string(TransportLimiter l) {
+  return detail::enum_name(l, kTransportLimiters);
+}
+TransportLimiter transport_limiter_from_string(std::string_view name) {
+  return detail::parse_enum(name, kTransportLimiters, "transport limiter");
+}
+
+namespace {
 
 // out_i = the terms add(p, k, out_i) adds for every entry of grid node i folded over the fields,
 // the fields in order and each field's particles in ascending order, from out_i = 0: the same

@@ -106,6 +106,15 @@ void bind_step_choices(py::class_<StepOptions>& c) {
       "S c^-1 q (FLIP) | 'FMPM': T_p = S c~_k^-1 tau+ by the FMPM loop on c~ (k = "
       "transport_order) | 'exact': T_p = S c~^-1 tau+ (CHOLMOD)");
   name_property(
+      c, "transport_limiter", [](const StepOptions& o) { return o.transport.limiter; },
+      [](StepOptions& o, const std::string& s) {
+        o.transport.limiter = transport_limiter_from_string(s);
+      },
+      "a bound on FMPM(k) transport: 'none' (the default) | 'fct': flux-corrected transport "
+      "(Zalesak 1979) of FMPM(k)'s correction over FMPM(1), which keeps each nodal temperature "
+      "between its neighbours' and its particles' (a positive source then lowers no "
+      "temperature) and conserves heat");
+  name_property(
       c, "transfer", [](const StepOptions& o) { return o.transfer; },
       [](StepOptions& o, const std::string& s) { o.transfer = transfer_from_string(s); },
       "P2G of the momenta: 'standard' (default): p = S^T M V | 'velocity_gradient': p_i = "
@@ -165,7 +174,10 @@ std::string repr(const StepOptions& o) {
      << "', velocity='" << to_string(o.velocity) << "', order=" << o.fmpm.order
      << ", blend_alpha=" << o.fmpm.blend_alpha << ", blend_every=" << o.fmpm.blend_every
      << ", position_alpha=" << position_alpha(o) << ", transport='" << to_string(o.transport.update)
-     << "', transport_order=" << o.transport.order << ")";
+     << "', transport_order=" << o.transport.order;
+  if (o.transport.limiter != TransportLimiter::None)
+    os << ", transport_limiter='" << to_string(o.transport.limiter) << "'";
+  os << ")";
   return os.str();
 }
 

@@ -144,6 +144,13 @@ def test_step_options_and_materials_take_the_heat_keys():
         smpm.StepOptions(transport="FMPM")
     with pytest.raises(smpm.InputError, match="transport_order = -1: must be an integer"):
         smpm.StepOptions(transport="lumped", transport_order=-1)
+    # transport_limiter: 'none' (default) | 'fct', for FMPM transport without blending.
+    assert smpm.StepOptions().transport_limiter == "none"
+    fct = smpm.StepOptions(transport="FMPM", transport_order=4, transport_limiter="fct")
+    assert fct.transport_limiter == "fct" and "transport_limiter='fct'" in repr(fct)
+    with pytest.raises(smpm.InputError, match=r"transport_limiter = fct: bounds FMPM\(k\) "
+                                              r"transport without blending"):
+        smpm.StepOptions(transport="lumped", transport_limiter="fct").validate()
     # [[material]] heat_capacity, conductivity, reference_temperature, thermal_expansion.
     mat = smpm.Material("m", heat_capacity=2.0, conductivity=0.5, reference_temperature=300.0,
                         thermal_expansion=1e-5)
@@ -438,7 +445,14 @@ def test_critical_fourier_matches_the_command(tmp_path):
         assert f"{f.critical_fourier:.4g}" == row["critical_fourier"]
         assert f"{f.rho_T:.10g}" == row["rho_T"] and f.evaluations == int(row["evaluations"])
         assert f.rho_T <= 1 + 1e-6 and f.non_finite == 0
+        # what lies below F*: the conduction bar is stable to F -> 0
+        assert f.small == "stable" and f.small_fourier == row["small_fourier"] == "stable to 0"
     with pytest.raises(smpm.InputError):
         o = bar.options.copy()
         o.transport = "off"
+        smpm.critical_fourier(bar, o)
+    # The FCT limiter is not linear: the linearised transport step refuses it.
+    o = bar.options.copy()
+    o.transport, o.transport_order, o.transport_limiter = "FMPM", 2, "fct"
+    with pytest.raises(smpm.InputError, match="is not linear"):
         smpm.critical_fourier(bar, o)

@@ -37,6 +37,10 @@ TransportStep::TransportStep(const Model& model, const StepOptions& options, dou
   I.prep.ops.node_range = options.nodes;
   I.model.particles.heat_source.resize(0); // the linear part: no sources
   prepare_step(I.model, options.shape, I.prep);
+  if (options.transport.limiter != TransportLimiter::None)
+    throw InputError("the transport limiter (transport_limiter = \"" +
+                     std::string(to_string(options.transport.limiter)) +
+                     "\") is not linear: the transport stability analysis takes \"none\"");
   prepare_heat_transport(I.model, I.prep, options.transport.update);
   I.homogeneous = I.prep.temperature_bcs;
   for (VelocityCondition& c : I.homogeneous.conditions) {

@@ -154,11 +154,12 @@ private:
 /// Heat transport in one step (transport.hpp; FMPM 2026 §3.5): what the transport stages read
 /// besides the step's operators, and the particle temperatures they update.
 struct TransportContext {
-  TransportUpdate update = TransportUpdate::Off; ///< lumped (FLIP), FMPM(k) or exact
-  FmpmOptions fmpm{};                            ///< FMPM(k) on c̃ (transport_fmpm_options)
-  const TransportOperators* ops = nullptr;       ///< capacities, conductances, c on the nodes
-  const SparseRowMatrix* ct = nullptr;           ///< c̃ (required when uses_consistent_capacity)
-  MassSolver* solver = nullptr;                  ///< required by TransportUpdate::Exact
+  TransportUpdate update = TransportUpdate::Off;     ///< lumped (FLIP), FMPM(k) or exact
+  FmpmOptions fmpm{};                                ///< FMPM(k) on c̃ (transport_fmpm_options)
+  TransportLimiter limiter = TransportLimiter::None; ///< a bound on FMPM(k) (TransportOptions)
+  const TransportOperators* ops = nullptr;           ///< capacities, conductances, c on the nodes
+  const SparseRowMatrix* ct = nullptr; ///< c̃ (required when uses_consistent_capacity)
+  MassSolver* solver = nullptr;        ///< required by TransportUpdate::Exact
   /// Temperature conditions of the step on the transport nodes (values at t, as the velocity
   /// BCs).
   const BoundaryConditions* bcs = nullptr;
@@ -218,8 +219,14 @@ struct TransportState {
   Field tau_plus; ///< τ⁺ = τ + q Δt (task 2), with the conditions set (task 2.a)
   Field theta;    ///< θ⁺ = c̃_k⁻¹ τ⁺: the updated nodal temperatures (task 3.b)
   Field rate;     ///< Ṫ = c⁻¹ q, the FLIP rate of the particle update
-  FmpmWorkspace fmpm;     ///< scratch of the FMPM loop on c̃
-  Eigen::VectorXd before; ///< N: temperatures before the particle update (Mie–Grüneisen U)
+  FmpmWorkspace fmpm;  ///< scratch of the FMPM loop on c̃
+  Eigen::VectorXd low; ///< FCT (TransportLimiter::FCT): θ_1 = c⁻¹ τ⁺, FMPM(1)'s nodal field
+  Eigen::VectorXd lower;   ///< FCT: the least θ_1 of each node's neighbours and its particles' T
+  Eigen::VectorXd upper;   ///< FCT: the largest of the same
+  Eigen::VectorXd r_plus;  ///< FCT: Zalesak's R⁺, the share of a node's inflow it can take
+  Eigen::VectorXd r_minus; ///< FCT: Zalesak's R⁻, the share of its outflow
+  Eigen::VectorXd limited; ///< FCT: the limited θ before it replaces θ⁺
+  Eigen::VectorXd before;  ///< N: temperatures before the particle update (Mie–Grüneisen U)
 };
 
 /// Scratch of the step, reused from step to step.

@@ -39,12 +39,34 @@ std::string_view to_string(TransportUpdate u);
 /// The transport update named `name`; throws InputError naming the valid choices.
 TransportUpdate transport_update_from_string(std::string_view name);
 
+/// A bound on FMPM(k) transport (TransportOptions::limiter). c̃_k⁻¹ has negative entries next to
+/// its diagonal for k ≥ 2 (c̃₂⁻¹_ij = −c̃_ij / (c_i c_j)), so heat added at one node takes heat
+/// from its neighbours and a positive source can cool particles below every temperature of the
+/// step before it; the lumped update cannot.
+enum class TransportLimiter {
+  None, ///< FMPM(k) as the loop gives it
+  /// Flux-corrected transport (Zalesak 1979, J. Comput. Phys. 31:335; Kuzmin & Turek 2002): the
+  /// correction of FMPM(k) over FMPM(1), c (θ_k − θ_1) = Σ_j f_ij with the antisymmetric fluxes
+  /// f_ij = c̃_ij (y_i − y_j), y = θ_{k−1}, limited edge by edge (θ_i = θ_1,i + c_i⁻¹ Σ_j α_ij
+  /// f_ij, α_ij = α_ji ∈ [0, 1]) so that each θ_i stays between the least and the largest of θ_1
+  /// on its neighbours and the temperatures of its particles. Heat is conserved (α symmetric);
+  /// where no bound binds, θ is FMPM(k)'s to round-off.
+  FCT
+};
+/// Name used in input files: none | fct.
+std::string_view to_string(TransportLimiter l);
+/// The limiter named `name`; throws InputError naming the valid choices.
+TransportLimiter transport_limiter_from_string(std::string_view name);
+
 /// The options of heat transport in a step (part of StepOptions).
 struct TransportOptions {
   TransportUpdate update = TransportUpdate::Off; ///< off: isothermal
   /// k of FMPM(k) on c̃ (TransportUpdate::FMPM); 0: the mechanics' order StepOptions::fmpm.order.
   /// The loop takes the mechanics' blending (blend_alpha, blend_every) and BC method.
   int order = 0;
+  /// A bound on FMPM(k) transport (TransportUpdate::FMPM without blending): none (the default)
+  /// or FCT.
+  TransportLimiter limiter = TransportLimiter::None;
 };
 
 /// The particle and node data of heat transport in one step, prepared from the step's

@@ -74,6 +74,8 @@ void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
       r.choice(t, "transport", "step.transport", "off", &transport_update_from_string);
   if (const auto k = integer(r, t, "transport_order", "step.transport_order"))
     step.transport.order = *k;
+  step.transport.limiter = r.choice(t, "transport_limiter", "step.transport_limiter", "none",
+                                    &transport_limiter_from_string);
   read_fmpm(r, t, step);
   // The library's limits (validate of step_options.hpp), at the line of the key they name.
   try {

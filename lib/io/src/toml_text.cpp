@@ -35,7 +35,7 @@ const std::map<std::string, std::vector<std::string>>& schema() {
        {"scheme", "velocity", "shape", "position_alpha", "order", "blend_alpha", "blend_every",
         "periodic_cx", "dynamic_metric", "dynamic_limit", "bc_method", "exact_regularization",
         "exact_mass_cutoff", "deformation", "xpic_contact", "transport", "transport_order",
-        "transfer"}},
+        "transport_limiter", "transfer"}},
       {"output", {"file", "every", "matrices"}},
       {"loads", {"gravity", "body_force", "traction"}},
       {"loads.body_force", {"body", "value"}},

@@ -34,6 +34,7 @@ public:
     TransportContext& t = transport_;
     t.update = s.options.transport.update;
     t.fmpm = transport_fmpm_options(s.options);
+    t.limiter = s.options.transport.limiter;
     t.ops = &s.prep.transport;
     t.ct = uses_consistent_capacity(s.options) ? &s.prep.consistent_capacity() : nullptr;
     // Made on first use: the linearised step asks the part and never steps.
