@@ -199,11 +199,9 @@ void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityAr
     rows[i].critical_courant = s.minimum.critical_courant;
     rows[i].configuration = s.configuration;
     rows[i].stable_from = s.lowest.stable_from;
-    rows[i].small_courant = small_courant_text(s.lowest);
-    if (s.lowest.small == SmallCourant::UnstableBelow || s.lowest.small == SmallCourant::Unstable)
-      rows[i].small_courant += " (" + s.lowest_configuration + ")";
-    if (s.lowest.stable_from > s.minimum.critical_courant) // [stable_from, C*] is empty
-      rows[i].small_courant += ": no C stable on every configuration";
+    rows[i].small_courant =
+        small_courant_cell(s.lowest.small, s.lowest.stable_from, s.lowest.floor,
+                           s.lowest_configuration, s.minimum.critical_courant, "C");
     // Non-finite radii count as unstable inside critical_courant; unconverged Arnoldi runs are
     // named so that a reader knows the minimum rests on measured growth rates.
     const int unconverged = s.minimum.not_converged;

@@ -15,7 +15,6 @@
 
 #include <cstdio>
 #include <sstream>
-#include <utility>
 
 namespace smpm::app {
 
@@ -29,12 +28,8 @@ struct Row {
   CriticalFourier lowest;    // the worst small F (SmallCourant's order, then stable_from)
   std::string lowest_configuration;
   std::string small_text() const {
-    const std::string t = small_courant_text(lowest.small, lowest.stable_from, lowest.floor);
-    const bool unstable =
-        lowest.small == SmallCourant::UnstableBelow || lowest.small == SmallCourant::Unstable;
-    const std::string empty =
-        lowest.stable_from > fourier.critical_fourier ? ": no F stable on every configuration" : "";
-    return (unstable ? t + " (" + lowest_configuration + ")" : t) + empty;
+    return small_courant_cell(lowest.small, lowest.stable_from, lowest.floor, lowest_configuration,
+                              fourier.critical_fourier, "F");
   }
 };
 
@@ -52,8 +47,8 @@ void search(const std::vector<Configuration>& configs, const StepOptions& option
       row.fourier = found[c];
       row.configuration = configs[c].name;
     }
-    if (std::pair(int(found[c].small), found[c].stable_from) >
-        std::pair(int(row.lowest.small), row.lowest.stable_from)) {
+    if (worse_small(found[c].small, found[c].stable_from, row.lowest.small,
+                    row.lowest.stable_from)) {
       row.lowest = found[c];
       row.lowest_configuration = configs[c].name;
     }

@@ -15,13 +15,14 @@ namespace smpm {
 namespace {
 
 // FCT on FMPM(k) transport (TransportLimiter::FCT; Zalesak 1979, J. Comput. Phys. 31:335–362,
-// Eqs. 6–13). Each pass of the loop is c Δθ(ℓ) = (c − c̃) Δθ(ℓ−1), and the rows of c̃ sum to c,
-// so c (θ_k − θ_1) = (c − c̃) θ_{k−1} = Σ_j f_ij with the antisymmetric fluxes f_ij = c̃_ij (y_i −
-// y_j), y = θ_{k−1} (h.theta on entry). θ_i = θ_1,i + c_i⁻¹ Σ_j α_ij f_ij with α_ij = α_ji keeps
-// Σ c θ = Σ τ⁺; α_ij = min(R_i^±, R_j^∓) keeps θ_i within [lower_i, upper_i]: the least and the
-// largest of θ_1 on the nodes of row i of c̃ and of the step's particle temperatures on node i.
-// Held nodes take their temperatures after (the caller), so their fluxes are not bounded there.
-// Serial: a min/max and sums in a fixed order, the same for any number of threads.
+// his limiter of the antidiffusive fluxes: P±, Q±, R± and C_ij = min(R⁺, R⁻) per flux). Each pass
+// of the loop is c Δθ(ℓ) = (c − c̃) Δθ(ℓ−1), and the rows of c̃ sum to c, so c (θ_k − θ_1) = (c − c̃)
+// θ_{k−1} = Σ_j f_ij with the antisymmetric fluxes f_ij = c̃_ij (y_i − y_j), y = θ_{k−1} (h.theta on
+// entry). θ_i = θ_1,i + c_i⁻¹ Σ_j α_ij f_ij with α_ij = α_ji keeps Σ c θ = Σ τ⁺; α_ij = min(R_i^±,
+// R_j^∓) keeps θ_i within [lower_i, upper_i]: the least and the largest of θ_1 on the nodes of row
+// i of c̃ and of the step's particle temperatures on node i. Held nodes take their temperatures
+// after (the caller), so their fluxes are not bounded there. Serial: a min/max and sums in a fixed
+// order, the same for any number of threads.
 void limit_fct(const Operators& ops, const TransportContext& heat, TransportState& h) {
   const Operators& nodes = heat.ops->nodes;
   const SparseRowMatrix& ct = *heat.ct;

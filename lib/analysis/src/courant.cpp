@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Critical Courant numbers: spectral (ρ of the linearised step at one configuration) and by
-// simulation (bisection over full runs), FMPM 2026 §3.3, Fig. 12A.
+// The spectral critical Courant number: ρ of the linearised step at one configuration, searched
+// from small C up (FMPM 2026 §3.3, Fig. 12A). The simulation method is simulation_courant.cpp's.
 
 #include "sparsempm/stability.hpp"
 
@@ -13,6 +13,8 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace smpm {
@@ -308,6 +310,21 @@ std::string small_courant_text(const CriticalCourant& c) {
   return small_courant_text(c.small, c.stable_from, c.floor);
 }
 
+bool worse_small(SmallCourant a, double stable_from_a, SmallCourant b, double stable_from_b) {
+  return std::pair(int(a), stable_from_a) > std::pair(int(b), stable_from_b);
+}
+
+std::string small_courant_cell(SmallCourant small, double stable_from, double floor,
+                               const std::string& configuration, double smallest,
+                               std::string_view parameter) {
+  std::string text = small_courant_text(small, stable_from, floor);
+  if (small == SmallCourant::UnstableBelow || small == SmallCourant::Unstable)
+    text += " (" + configuration + ")";
+  if (stable_from > smallest) // [stable_from, smallest] is empty
+    text += ": no " + std::string(parameter) + " stable on every configuration";
+  return text;
+}
+
 namespace detail {
 
 CriticalCourant critical_parameter(const std::function<SpectralRadius(double, int&)>& radius,
@@ -401,83 +418,6 @@ critical_courant_search(const std::function<SpectralRadius(double courant, int& 
                         double tol, double c_max, double resolution, double hint,
                         const std::atomic<int>* interrupt, const SmallCourantScan& small) {
   return detail::critical_parameter(radius, "C*", tol, c_max, resolution, hint, interrupt, small);
-}
-
-double simulation_energy_change(const Model& start, const StepOptions& options, double courant,
-                                const SimulationCourantOptions& sim) {
-  Model model = start;
-  Stepper stepper(options);
-  const AdvanceOptions adv{.end = sim.end,
-                           .courant = courant,
-                           .stop_every = 0,
-                           .land_on_stops = false, // constant Courant steps
-                           .failure = sim.failure,
-                           .energy_start = std::nullopt,
-                           .interrupt = sim.interrupt};
-  AdvanceReport r;
-  try {
-    r = advance(model, stepper, adv);
-  } catch (const NumericalError&) {
-    return std::nan("");
-  }
-  const double change =
-      r.energy_start != 0 ? (r.energy_end - r.energy_start) / r.energy_start : 0.0;
-  return std::abs(change) <= sim.max_energy_change ? change : std::nan("");
-}
-
-SimulationCourant simulation_courant(const Model& model, const StepOptions& options,
-                                     const SimulationCourantOptions& sim) {
-  if (!(sim.end > model.time) || !(sim.lo > 0) || !(sim.hi > sim.lo) || !(sim.resolution > 0))
-    throw InputError("simulation C*: needs end > t, 0 < lo < hi and a positive resolution");
-  SimulationCourant out;
-  auto run = [&](double C) {
-    ++out.runs;
-    return simulation_energy_change(model, options, C, sim);
-  };
-  double lo = sim.lo, hi = sim.hi, e_lo = std::nan("");
-  if (std::isinf(sim.max_energy_change)) {
-    // Blow-up is monotone in C: bisection from the bracket.
-    e_lo = run(lo);
-    if (std::isnan(e_lo))
-      return out; // unstable even at lo
-    if (const double e_hi = run(hi); !std::isnan(e_hi)) {
-      out.simulation_courant = hi;
-      out.energy_change = e_hi;
-      return out;
-    }
-  } else {
-    // Dissipation accumulates over more steps at small C, so "low dissipation" is not monotone
-    // in C: scan the bracket from hi down on 16 intervals for the largest passing C, then bisect
-    // between it and the failing point above.
-    const int intervals = 16;
-    const double h = (hi - lo) / intervals;
-    int j = intervals;
-    for (; j >= 0; --j)
-      if (e_lo = run(lo + j * h); !std::isnan(e_lo))
-        break;
-    if (j < 0)
-      return out; // no C of the bracket passes
-    if (j == intervals) {
-      out.simulation_courant = hi;
-      out.energy_change = e_lo;
-      return out;
-    }
-    lo += j * h;
-    hi = lo + h;
-  }
-  while (hi - lo > sim.resolution) {
-    const double mid = 0.5 * (lo + hi);
-    const double e = run(mid);
-    if (std::isnan(e)) {
-      hi = mid;
-    } else {
-      lo = mid;
-      e_lo = e;
-    }
-  }
-  out.simulation_courant = lo;
-  out.energy_change = e_lo;
-  return out;
 }
 
 } // namespace smpm

@@ -122,12 +122,8 @@ sweep_configurations(const std::vector<Configuration>& configurations,
           sweep.minimum = at[f];
           sweep.configuration = configurations[f].name;
         }
-        // The worst small C: SmallCourant's order (Stable, StableToFloor, UnstableBelow,
-        // Unstable), then the largest stable_from.
-        const auto worse = [](const CriticalCourant& x, const CriticalCourant& y) {
-          return std::pair(int(x.small), x.stable_from) > std::pair(int(y.small), y.stable_from);
-        };
-        if (f == 0 || worse(at[f], sweep.lowest)) {
+        if (f == 0 || worse_small(at[f].small, at[f].stable_from, sweep.lowest.small,
+                                  sweep.lowest.stable_from)) {
           sweep.lowest = at[f];
           sweep.lowest_configuration = configurations[f].name;
         }

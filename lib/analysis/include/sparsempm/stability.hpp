@@ -221,6 +221,17 @@ struct CriticalCourant {
 std::string small_courant_text(const CriticalCourant& c);
 /// The same from its parts (CriticalFourier's of transport_stability.hpp).
 std::string small_courant_text(SmallCourant small, double stable_from, double floor);
+/// Whether the small values of one search are worse than another's: SmallCourant's order
+/// (Stable, StableToFloor, NotExamined, UnstableBelow, Unstable), then the larger stable_from.
+/// The choice of ConfigurationSweep::lowest and of the transport stability table.
+bool worse_small(SmallCourant a, double stable_from_a, SmallCourant b, double stable_from_b);
+/// The cell of a table over configurations (smpm stability's small_courant, smpm
+/// transport-stability's small_fourier): small_courant_text's words, with the `configuration`
+/// that set them when an unstable value lies below, and ": no <parameter> stable on every
+/// configuration" when stable_from exceeds `smallest`, the smallest C* or F* of the row.
+std::string small_courant_cell(SmallCourant small, double stable_from, double floor,
+                               const std::string& configuration, double smallest,
+                               std::string_view parameter);
 
 /// The critical Courant number C* = max{C : ρ(T(C))^{1/s} ≤ 1 + tol}, s the steps spanned by
 /// T (the growth per step), over the stable interval that holds the smallest stable C. The
