@@ -35,9 +35,10 @@ struct StencilProduct {
   const Operators& ops;
   const double* weight; // N
   bool fold;
-  // The velocity-gradient transfer's m̃_L (assemble_transfer_mass): the particles' positions
-  // (N × d); null for Sᵀ diag(w) S.
+  // An affine transfer's mass (assemble_affine_mass): the particles' positions (N × d), null
+  // for Sᵀ diag(w) S, and the gradient weights g_b over S's entries (∇S for m̃_L, APIC's Ĝ).
   const ConstFieldRef* X = nullptr;
+  std::array<const double*, 3> gradient{};
   Index rows() const { return fold ? ops.grid_node_count : ops.num_nodes(); }
   // The rows of a product with several fields repeat per field block (m̃ is block diagonal).
   Index block() const { return ops.grid_node_count; }
@@ -206,8 +207,8 @@ struct StencilScatter {
                      [](const double* sb, int, int) { return [sb](Index) { return sb; }; });
   }
 
-  // The column values of m̃_L's row i for particle p: S_pj + (x_i − X_p) · ∇S_pj over p's box
-  // (Wallstedt & Guilkey 2007's P2G of L_p = G v; see assemble_transfer_mass).
+  // The column values of an affine transfer's row i for particle p: S_pj + (x_i − X_p) · g_pj
+  // over p's box (the P2G of L_p = Σ_j v_j ⊗ g_pj; see assemble_affine_mass).
   struct TransferRow {
     TransferRow(const StencilScatter& s_, Index p_, const double* sb_, int begin_, int count_)
         : s(s_), p(p_), sb(sb_), begin(begin_), count(count_) {}
@@ -226,7 +227,7 @@ struct StencilScatter {
       for (int k = 0; k < count; ++k) {
         double v = sb[k];
         for (int b = 0; b < d; ++b)
-          v += dx[b] * ops.G[size_t(b)].valuePtr()[begin + k];
+          v += dx[b] * s.product.gradient[size_t(b)][begin + k];
         c[size_t(k)] = v;
       }
       return c.data();
@@ -331,12 +332,23 @@ void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt) {
   assemble_stencil_product({ops, ops.M.data(), false}, mt);
 }
 
-void assemble_transfer_mass(const Operators& ops, const ConstFieldRef& X, ConsistentMass& mt) {
+void assemble_affine_mass(const Operators& ops, const ConstFieldRef& X,
+                          const std::array<const double*, 3>& gradient, ConsistentMass& mt) {
   SMPM_VERIFY(X.rows() == ops.num_particles() && X.cols() == ops.grid.dim(),
-              "assemble_transfer_mass: one position (N x d) per particle");
+              "assemble_affine_mass: one position (N x d) per particle");
+  for (int b = 0; b < ops.grid.dim(); ++b)
+    SMPM_VERIFY(gradient[size_t(b)] != nullptr, "assemble_affine_mass: a weight array per axis");
   StencilProduct product{ops, ops.M.data(), false};
   product.X = &X;
+  product.gradient = gradient;
   assemble_stencil_product(product, mt);
+}
+
+void assemble_transfer_mass(const Operators& ops, const ConstFieldRef& X, ConsistentMass& mt) {
+  std::array<const double*, 3> gradient{};
+  for (int b = 0; b < ops.grid.dim(); ++b)
+    gradient[size_t(b)] = ops.G[size_t(b)].valuePtr();
+  assemble_affine_mass(ops, X, gradient, mt);
 }
 
 void assemble_consistent_capacity(const Operators& ops, const Eigen::VectorXd& capacity,

@@ -19,8 +19,10 @@ constexpr detail::EnumNames<VelocityUpdate, 5> kVelocities{{{VelocityUpdate::FLI
                                                             {VelocityUpdate::FMPM, "FMPM"},
                                                             {VelocityUpdate::XPIC, "XPIC"},
                                                             {VelocityUpdate::Exact, "exact"}}};
-constexpr detail::EnumNames<Transfer, 2> kTransfers{
-    {{Transfer::Standard, "standard"}, {Transfer::VelocityGradient, "velocity_gradient"}}};
+constexpr detail::EnumNames<Transfer, 3> kTransfers{
+    {{Transfer::Standard, "standard"},
+     {Transfer::VelocityGradient, "velocity_gradient"},
+     {Transfer::Apic, "apic"}}};
 constexpr detail::EnumNames<XpicContact, 3> kXpicContacts{{{XpicContact::Increments, "increments"},
                                                            {XpicContact::Term, "term"},
                                                            {XpicContact::None, "none"}}};
@@ -83,6 +85,8 @@ std::string_view to_string(NodalSystem s) {
     return "consistent mass matrix m~";
   case NodalSystem::GradientMass:
     return "mass matrix m~_L of the velocity-gradient transfer";
+  case NodalSystem::ApicMass:
+    return "mass matrix m~_A of the APIC transfer";
   case NodalSystem::ConsistentCapacity:
     return "consistent capacity matrix c~";
   }
@@ -95,8 +99,17 @@ bool is_symmetric(NodalSystem s) {
 
 ExactOptions velocity_solver_options(const StepOptions& opt) {
   ExactOptions o = opt.exact;
-  o.system =
-      opt.transfer == Transfer::Standard ? NodalSystem::ConsistentMass : NodalSystem::GradientMass;
+  switch (opt.transfer) {
+  case Transfer::Standard:
+    o.system = NodalSystem::ConsistentMass;
+    break;
+  case Transfer::VelocityGradient:
+    o.system = NodalSystem::GradientMass;
+    break;
+  case Transfer::Apic:
+    o.system = NodalSystem::ApicMass;
+    break;
+  }
   return o;
 }
 

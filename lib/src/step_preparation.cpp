@@ -23,9 +23,13 @@ const SparseRowMatrix& StepPreparation::consistent_mass() {
   return mt_.matrix;
 }
 
-const SparseRowMatrix& StepPreparation::transfer_mass(const ConstFieldRef& X) {
+const SparseRowMatrix& StepPreparation::transfer_mass(const ConstFieldRef& X,
+                                                      const std::array<const double*, 3>* weights) {
   if (!mtL_current_) {
-    assemble_transfer_mass(ops, X, mtL_);
+    if (weights)
+      assemble_affine_mass(ops, X, *weights, mtL_);
+    else
+      assemble_transfer_mass(ops, X, mtL_);
     mtL_current_ = true;
   }
   return mtL_.matrix;

@@ -190,6 +190,26 @@ void bind_products(py::class_<PyOperators>& c) {
           "FMPM(k) and XPIC with step.transfer = 'velocity_gradient'; not symmetric, rows sum to "
           "m, m̃_L v = m v for affine v. Structural zeros kept (stencil storage)")
       .def(
+          "apic_mass",
+          [](PyOperators& o) {
+            const ParticleOperators op = particle_operators(o.ops());
+            AffineOffsets offsets;
+            affine_offsets(op, o.grid(), o.X, offsets);
+            ApicWeights weights;
+            apic_weights(op, offsets, o.shape, weights);
+            std::array<const double*, 3> g{};
+            for (int b = 0; b < op.dim; ++b)
+              g[size_t(b)] = weights.g[size_t(b)].data();
+            ConsistentMass mt;
+            assemble_affine_mass(o.ops(), o.X, g, mt);
+            return csr_owned(SparseRowMatrix(mt.matrix));
+          },
+          "m̃_A, n × n: the mass operator of the APIC transfer (Jiang et al. 2015), (m̃_A)_ij = "
+          "Σ_p M_p S_pi S_pj (1 + Δ_piᵀ D_p⁻¹ Δ_pj) with Δ_pi = x_i − X_p and D_p = Σ_i S_pi Δ_pi "
+          "Δ_piᵀ, which takes m̃'s place in FMPM(k), XPIC and the exact update with "
+          "step.transfer = 'apic'; symmetric, rows sum to m, m̃ ≤ m̃_A ≤ m, m̃_A v = m v for "
+          "affine v; with linear hats it is transfer_mass(). Structural zeros kept")
+      .def(
           "S_plus",
           [](const PyOperators& o) { return csr_owned(SparseRowMatrix(S_plus(o.ops()))); },
           "S⁺ = m⁻¹ Sᵀ M, n × N (rows of inactive nodes zero)")

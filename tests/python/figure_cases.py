@@ -73,8 +73,8 @@ def case_fig12a(w):
 
 
 def case_fig12_gradient(w):
-    # Both transfers on the bar (FLIP, FMPM(1), FMPM(4) and its blend with FMPM(1)) and on the
-    # plate (FLIP, FMPM(4)), over short runs.
+    # The three transfers on the bar (FLIP, FMPM(1), FMPM(4) and its blend with FMPM(1)) and on
+    # the plate (FLIP, FMPM(4)), over short runs.
     plate = EXAMPLES / "vibrating_plate.toml"
     args = []
     for name, toml, extra in (("bar", BAR, ["--order", "1,4", "--blend-every", "1",
@@ -82,7 +82,7 @@ def case_fig12_gradient(w):
                               ("plate", plate, ["--order", "4", "--blend-alpha", "none",
                                                 "--set", "time.end=20"])):
         tables = []
-        for transfer in ("standard", "velocity_gradient"):
+        for transfer in ("standard", "velocity_gradient", "apic"):
             out = w / f"{name}_{transfer}.csv"
             run_smpm("stability", toml, *extra, "--shifts", "1", "--method", "both",
                      "--periodic-cx", "none", "--no-exact", "-q", "--set",

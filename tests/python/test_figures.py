@@ -232,40 +232,48 @@ def check_fig12a(r):
 def check_fig12_gradient(r):
     fig = r.figure()
     panels = {ax.get_title(): ax for ax in fig.axes if ax.get_title()}
-    assert [t[:9] for t in panels] == ["(A) bar: ", "(B) bar: ", "(A) plate", "(B) plate"]
+    assert [t[:9] for t in panels] == ["(A) bar: ", "(B) bar: ", "(C) bar: ", "(A) plate",
+                                       "(B) plate", "(C) plate"]
     texts = all_legend_texts(fig)
-    assert {"spectral", "simulation", "velocity-gradient transfer", "standard transfer"} <= \
-        set(texts)
+    assert {"spectral", "simulation", "velocity-gradient transfer (A, B); APIC (C)",
+            "standard transfer (A, B); velocity gradient (C)"} <= set(texts)
 
-    def drawn(ax, full):  # the (x, y) of the lines in full (gradient) or faded (standard)
+    def drawn(ax, full):  # the (x, y) of the lines in full or faded
         return {(round(float(x), 9), round(float(y), 9)) for line in ax.get_lines()
                 if (line.get_alpha() in (None, 1)) == full for x, y in zip(*line.get_data())}
 
-    # Every C* of the four input tables is on its panel, in full or faded by its transfer;
-    # FLIP as a horizontal line on panel A.
+    # Every C* of the six input tables is on its panels, in full or faded by its transfer: the
+    # standard transfer faded on A and B, the velocity-gradient transfer in full there and faded
+    # on C, APIC in full on C (its blended and periodic rows are in the table, not drawn); FLIP
+    # as a horizontal line.
     count = 0
     for problem in ("bar", "plate"):
-        a, b = (ax for t, ax in panels.items() if t.startswith(("(A) " + problem,
-                                                                "(B) " + problem)))
-        for transfer in ("standard", "velocity_gradient"):
-            full = transfer == "velocity_gradient"
+        a, b, c = (ax for t, ax in panels.items() if t.startswith(("(A) " + problem,
+                                                                   "(B) " + problem,
+                                                                   "(C) " + problem)))
+        for transfer, places in (("standard", [(a, b, False)]),
+                                 ("velocity_gradient", [(a, b, True), (c, None, False)]),
+                                 ("apic", [(c, None, True)])):
             for row in rows(r.dir / f"{problem}_{transfer}.csv"):
                 for col in ("critical_courant", "simulation_courant"):
                     if row[col] in ("", "none"):
                         continue
                     v = round(float(row[col]), 9)
-                    if row["velocity"] == "FLIP":
-                        assert any(round(float(y), 9) == v for x, y in drawn(a, full)), row
-                    else:
-                        panel = a if row["blend_alpha"] == "1" else b
-                        assert (int(row["order"]), v) in drawn(panel, full), (row, col)
+                    for main, other, full in places:
+                        if row["velocity"] == "FLIP":
+                            assert any(round(float(y), 9) == v for x, y in drawn(main, full)), row
+                        elif row["blend_alpha"] == "1":
+                            assert (int(row["order"]), v) in drawn(main, full), (row, col)
+                        elif other is not None:
+                            assert (int(row["order"]), v) in drawn(other, full), (row, col)
                     count += 1
-    assert count == 2 * 2 * (4 + 2)  # two methods, two transfers, bar 4 rows, plate 2
+    assert count == 2 * 3 * (4 + 2)  # two methods, three transfers, bar 4 rows, plate 2
     # The script's own table holds the same rows, and the summary prints FLIP for both.
     table = rows(r.tables[0])
-    assert len(table) == 2 * (4 + 2)
-    assert {row["transfer"] for row in table} == {"standard", "velocity gradient"}
+    assert len(table) == 3 * (4 + 2)
+    assert {row["transfer"] for row in table} == {"standard", "velocity gradient", "APIC"}
     assert r.stdout.count("| FLIP |") == 2
+    assert "APIC: spectral / simulation" in r.stdout
 
 
 def check_truncation(r):

@@ -85,6 +85,9 @@ std::string remedies(NodalSystem system) {
   case NodalSystem::GradientMass:
     return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
            "step.exact_regularization > 0 to factor (1 - eps) m~_L + eps m)";
+  case NodalSystem::ApicMass:
+    return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
+           "step.exact_regularization > 0 to factor (1 - eps) m~_A + eps m)";
   case NodalSystem::ConsistentMass:
     break;
   }

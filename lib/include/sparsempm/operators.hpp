@@ -161,6 +161,16 @@ void assemble_consistent_mass(const Operators& ops, ConsistentMass& mt);
 /// (I − m⁻¹ m̃_L annihilates affine fields). Not symmetric. X: the particles' positions (N × d)
 /// of `ops`' assembly; the rows are `ops`' columns, nodes of ops.grid.
 void assemble_transfer_mass(const Operators& ops, const ConstFieldRef& X, ConsistentMass& mt);
+/// The mass operator of an affine transfer whose G2P takes L_p = Σ_j v_j ⊗ g_pj, with the
+/// weights g_b (one array per direction b < d over S's entries, in S's order) in place of ∇S:
+/// (m̃)_ij = Σ_p M_p S_pi (S_pj + (x_i − X_p) · g_pj), in m̃'s stencil storage.
+/// assemble_transfer_mass is g = ∇S (m̃_L); with APIC's weights Ĝ_pj = D_p⁻¹ S_pj Δ_pj
+/// (stages.hpp, apic_weights) it is m̃_A, (m̃_A)_ij = Σ_p M_p S_pi S_pj (1 + Δ_piᵀ D_p⁻¹ Δ_pj):
+/// symmetric, rows summing to m, m̃_A v = m v for every affine v, and m̃ ≤ m̃_A ≤ m (vᵀ m̃_A v =
+/// Σ_p M_p (V_p² + tr(C_p D_p C_pᵀ)), APIC's kinetic energy, and C_p D_p C_pᵀ is the weighted
+/// least-squares part of Σ_i S_pi (v_i − V_p)², the rest of vᵀ m v). X: as assemble_transfer_mass.
+void assemble_affine_mass(const Operators& ops, const ConstFieldRef& X,
+                          const std::array<const double*, 3>& gradient, ConsistentMass& mt);
 /// Lumped reverse map S⁺ = m⁻¹ Sᵀ M, n × N; rows of inactive nodes are zero (FMPM 2026 §2.1).
 SparseMatrix S_plus(const Operators& ops);
 /// Expansion matrix A = I − m⁻¹ m̃ = I − S⁺ S (FMPM 2026 Eq. 1), n × n, restricted to the

@@ -31,8 +31,9 @@ struct Particles {
   Eigen::VectorXd temperature;
   /// N heat sources r_p, power per unit mass (heat transport); empty: none.
   Eigen::VectorXd heat_source;
-  /// N × d² velocity gradients L_p (row-major), carried by the velocity-gradient transfer
-  /// (StepOptions::transfer); empty: none (zero).
+  /// N × d² affine velocities L_p (row-major), carried by the affine transfers
+  /// (StepOptions::transfer): the velocity gradient G v, or APIC's C_p = B_p D_p⁻¹; empty: none
+  /// (zero).
   Field gradient;
   /// N × 9: b̄ᵉ = J^{−2/3} Fᵉ Fᵉᵀ, the isochoric elastic left Cauchy–Green tensor (row-major 3 × 3)
   /// of J2 plasticity (plasticity.hpp); empty: no plastic material (or none yet: b̄ᵉ of F).

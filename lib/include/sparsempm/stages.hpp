@@ -65,6 +65,24 @@ struct AffineOffsets {
 /// `grid` (the step's grid; node i of a field block α n_g + i is grid node i).
 void affine_offsets(const ParticleOperators& op, const Grid& grid, const ConstFieldRef& X,
                     AffineOffsets& offsets);
+/// APIC's affine weights over S's pattern (Transfer::Apic; Jiang, Schroeder, Selle, Teran &
+/// Stomakhin 2015, "The affine particle-in-cell method", ACM TOG 34(4):51): Ĝ_pi = D_p⁻¹ S_pi Δ_pi
+/// with the inertia tensor D_p = Σ_i S_pi Δ_pi Δ_piᵀ, one array per direction b < d, so that
+/// APIC's G2P C_p = B_p D_p⁻¹ = Σ_i v_i ⊗ Ĝ_pi is velocity_gradient with Ĝ in place of ∇S
+/// (with_weights). For the linear hat, D_p is diagonal, (D_p)_bb = (X_pb − x_0b)(x_1b − X_pb),
+/// singular on a node, and Ĝ = ∇S wherever it is not (the multilinear limit of Jiang et al.
+/// 2015 §5.3): Ĝ is ∇S there, so APIC is the velocity-gradient transfer with hats.
+struct ApicWeights {
+  std::array<std::vector<double>, 3> g; ///< Ĝ_b over S's entries (ParticleOperators::S)
+};
+/// Ĝ of `op`'s entries from the step's offsets Δ (affine_offsets) and its shape. Throws
+/// NumericalError naming the first particle whose D_p is not positive definite (a pivot of its
+/// Cholesky factorisation at most 10⁻¹² of D_p's largest diagonal entry: a CPDI domain collapsed
+/// to a segment).
+void apic_weights(const ParticleOperators& op, const AffineOffsets& offsets, Shape shape,
+                  ApicWeights& weights);
+/// The view of `op` with APIC's weights Ĝ in place of the G_b (the same pattern and masses).
+ParticleOperators with_weights(const ParticleOperators& op, const ApicWeights& weights);
 /// P2G's term of the velocity-gradient transfer: the offsets of the step and the particles'
 /// velocity gradients L (N × d², row-major), which P2G reads and the particle update sets.
 struct AffineMomentum {

@@ -42,9 +42,15 @@ enum class Transfer {
   /// gradient G v of the grid velocity its last particle update took (Wallstedt & Guilkey 2007,
   /// "Improved velocity projection for the material point method", CMES 19:223–232; FMPM 2026
   /// §3.3's Ref. [30]): affine velocity fields cross P2G and G2P exactly
-  VelocityGradient
+  VelocityGradient,
+  /// APIC (Jiang et al. 2015, "The affine particle-in-cell method", ACM TOG 34(4):51): P2G as
+  /// VelocityGradient with the particle's affine velocity C_p = B_p D_p⁻¹ in place of L_p, B_p =
+  /// Σ_i v_i ⊗ S_pi (x_i − X_p) and D_p = Σ_i S_pi (x_i − X_p)(x_i − X_p)ᵀ (stages.hpp,
+  /// apic_weights); its mass operator m̃_A is symmetric and m̃ ≤ m̃_A ≤ m. With linear hats it is
+  /// VelocityGradient (the multilinear limit)
+  Apic
 };
-/// Name used in input files: standard | velocity_gradient.
+/// Name used in input files: standard | velocity_gradient | apic.
 std::string_view to_string(Transfer t);
 /// The transfer named `name`; throws InputError naming the valid choices.
 Transfer transfer_from_string(std::string_view name);
@@ -97,12 +103,15 @@ enum class NodalSystem {
   ConsistentMass, ///< m̃ = Sᵀ diag(M) S of the velocity update (symmetric; FMPM 2026 §2.1)
   /// m̃_L of the velocity-gradient transfer (Transfer::VelocityGradient; not symmetric)
   GradientMass,
+  /// m̃_A of the APIC transfer (Transfer::Apic; symmetric, m̃ ≤ m̃_A ≤ m)
+  ApicMass,
   ConsistentCapacity ///< c̃ = Sᵀ diag(𝗖) S of heat transport (symmetric; FMPM 2026 §3.5)
 };
 /// The matrix's name in messages: "consistent mass matrix m~", "mass matrix m~_L of the
-/// velocity-gradient transfer" or "consistent capacity matrix c~".
+/// velocity-gradient transfer", "mass matrix m~_A of the APIC transfer" or "consistent capacity
+/// matrix c~".
 std::string_view to_string(NodalSystem s);
-/// Whether the system's matrix is symmetric: m̃ and c̃ are, m̃_L is not.
+/// Whether the system's matrix is symmetric: m̃, m̃_A and c̃ are, m̃_L is not.
 bool is_symmetric(NodalSystem s);
 
 /// The settings of the exact consistent-mass inverse (VelocityUpdate::Exact; exact.hpp and the

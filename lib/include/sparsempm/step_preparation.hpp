@@ -92,10 +92,12 @@ struct StepPreparation {
   const SparseRowMatrix& consistent_mass();
   /// The storage of m̃ as the last assembly left it (its pattern, whether it was reused).
   const ConsistentMass& consistent_mass_storage() const { return mt_; }
-  /// m̃_L of the velocity-gradient transfer at the positions X of the preparation's particles
-  /// (assemble_transfer_mass), in its own stencil storage, assembled on the first call after
-  /// each prepare_step.
-  const SparseRowMatrix& transfer_mass(const ConstFieldRef& X);
+  /// The mass operator of an affine transfer at the positions X of the preparation's particles,
+  /// in its own stencil storage, assembled on the first call after each prepare_step: m̃_L of the
+  /// velocity-gradient transfer (assemble_transfer_mass), or with `weights` (APIC's Ĝ over S's
+  /// entries, one array per axis) assemble_affine_mass's m̃_A.
+  const SparseRowMatrix& transfer_mass(const ConstFieldRef& X,
+                                       const std::array<const double*, 3>* weights = nullptr);
 
   /// Heat transport: the transport operators of the configuration (when prepared with
   /// transport) ...

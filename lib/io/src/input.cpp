@@ -324,8 +324,8 @@ RunConfig read_input(const std::string& input_text, const std::string& source,
   check_heat(r, root, cfg);
   if (uses_plasticity(cfg.model.materials)) // the plastic state at the start (every frame has it)
     initial_plastic_state(cfg.model.particles);
-  if (cfg.step.transfer == Transfer::VelocityGradient) { // the state of the transfer: L_p = 0
-    Particles& P = cfg.model.particles;                  // at the start (every frame has it)
+  if (cfg.step.transfer != Transfer::Standard) { // the state of an affine transfer: L_p = 0
+    Particles& P = cfg.model.particles;          // at the start (every frame has it)
     P.gradient.setZero(P.size(), P.dim * P.dim);
   }
   check_supports(cfg);
