@@ -196,3 +196,21 @@ TEST_CASE("no reported interval holds an unstable point: the bar with and withou
     }
   }
 }
+
+TEST_CASE("a dense rho(T) that Eigen's real Schur iteration cannot resolve is resolved",
+          "[stability]") {
+  // The §3.3 bar with quadratic B-splines, APIC and FMPM(4) blended with FMPM(2) (α = 0.8) at
+  // C = 0.003125, one of the search's small points: T (240 rows, dense) is near the identity
+  // and Eigen's EigenSolver stops without converging, which the search took for ρ = ∞, an
+  // unstable point (it reported C* = 0.0025). The complex Schur iteration resolves it: ρ(T) = 1
+  // to 1e-12 (numpy's LAPACK: 1 + 6e-15).
+  const Model bar = vibrating_bar({});
+  const StepOptions o{.shape = Shape::BSpline2,
+                      .velocity = VelocityUpdate::FMPM,
+                      .fmpm = {.order = 4, .blend_alpha = 0.8, .blend_every = 2},
+                      .transfer = Transfer::Apic};
+  const LinearizedStep T(bar, o, stable_time_step(bar, 0.003125));
+  const SpectralRadius r = spectral_radius(T);
+  CHECK(r.status == SpectralStatus::Converged);
+  CHECK(std::abs(r.rho_T - 1) <= 1e-12);
+}
