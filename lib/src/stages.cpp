@@ -136,9 +136,18 @@ void affine_offsets(const ParticleOperators& op, const Grid& grid, const ConstFi
   });
 }
 
+std::array<const double*, 3> ApicWeights::pointers() const {
+  std::array<const double*, 3> p{};
+  for (size_t b = 0; b < 3; ++b)
+    p[b] = g[b].empty() ? nullptr : g[b].data();
+  return p;
+}
+
 void apic_weights(const ParticleOperators& op, const AffineOffsets& offsets, Shape shape,
                   ApicWeights& weights) {
   const size_t entries = size_t(op.outer[op.rows]);
+  for (int b = op.dim; b < 3; ++b)
+    weights.g[size_t(b)].clear();
   for (int b = 0; b < op.dim; ++b) {
     SMPM_VERIFY(offsets.delta[size_t(b)].size() >= entries,
                 "apic_weights: the affine offsets must be those of the operators");
@@ -167,8 +176,11 @@ void apic_weights(const ParticleOperators& op, const AffineOffsets& offsets, Sha
       const double pivot = llt.info() == Eigen::Success
                                ? Vec(llt.matrixLLT().diagonal()).cwiseAbs2().minCoeff()
                                : 0.0;
-      if (!(pivot > 1e-12 * largest))
-        bad_particle(q, "a singular APIC inertia tensor D_p (least Cholesky pivot)", pivot);
+      if (!(pivot > 1e-12 * largest) || !std::isfinite(largest))
+        bad_particle(op.first + q,
+                     "a singular APIC inertia tensor D_p (its least Cholesky pivot; a collapsed "
+                     "domain: try gimp or bspline2)",
+                     pivot);
       for (int k = k0; k < k1; ++k) { // Ĝ_pi = D_p⁻¹ S_pi Δ_pi
         Vec dk;
         for (int b = 0; b < D; ++b)
@@ -189,6 +201,16 @@ ParticleOperators with_weights(const ParticleOperators& op, const ApicWeights& w
     view.G[size_t(b)] = weights.g[size_t(b)].data();
   }
   return view;
+}
+
+void assemble_apic_mass(const Operators& ops, const ConstFieldRef& X, Shape shape,
+                        ConsistentMass& mt) {
+  const ParticleOperators op = particle_operators(ops);
+  AffineOffsets offsets;
+  affine_offsets(op, ops.grid, X, offsets);
+  ApicWeights weights;
+  apic_weights(op, offsets, shape, weights);
+  assemble_affine_mass(ops, X, weights.pointers(), mt);
 }
 
 void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p,

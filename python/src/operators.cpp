@@ -192,16 +192,8 @@ void bind_products(py::class_<PyOperators>& c) {
       .def(
           "apic_mass",
           [](PyOperators& o) {
-            const ParticleOperators op = particle_operators(o.ops());
-            AffineOffsets offsets;
-            affine_offsets(op, o.grid(), o.X, offsets);
-            ApicWeights weights;
-            apic_weights(op, offsets, o.shape, weights);
-            std::array<const double*, 3> g{};
-            for (int b = 0; b < op.dim; ++b)
-              g[size_t(b)] = weights.g[size_t(b)].data();
             ConsistentMass mt;
-            assemble_affine_mass(o.ops(), o.X, g, mt);
+            assemble_apic_mass(o.ops(), o.X, o.shape, mt);
             return csr_owned(SparseRowMatrix(mt.matrix));
           },
           "m̃_A, n × n: the mass operator of the APIC transfer (Jiang et al. 2015), (m̃_A)_ij = "

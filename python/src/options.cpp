@@ -119,7 +119,9 @@ void bind_step_choices(py::class_<StepOptions>& c) {
       [](StepOptions& o, const std::string& s) { o.transfer = transfer_from_string(s); },
       "P2G of the momenta: 'standard' (default): p = S^T M V | 'velocity_gradient': p_i = "
       "sum_p S_ip M_p (V_p + L_p (x_i - X_p)), L_p = G v of the particle update (Wallstedt & "
-      "Guilkey 2007)");
+      "Guilkey 2007) | 'apic': the same P2G with L_p = C_p = B_p D_p^-1, B_p = sum_i v_i (x) "
+      "S_pi (x_i - X_p) and D_p = sum_i S_pi (x_i - X_p)(x_i - X_p)^T of the particle update "
+      "(Jiang et al. 2015)");
 }
 
 void bind_step_numbers(py::class_<StepOptions>& c) {

@@ -91,6 +91,7 @@ Spin spin(const StepOptions& opt, int steps) {
     P.gradient(q, 1) = -w; // L = [[0, −ω], [ω, 0]]
     P.gradient(q, 2) = w;
   }
+
   auto angular = [&] { // about the centre of mass, in the centre-of-mass frame
     const double M = P.mass.sum();
     const Eigen::RowVector2d xc = P.mass.transpose() * P.X / M, vc = P.mass.transpose() * P.V / M;
@@ -129,6 +130,8 @@ TEST_CASE("a spinning block keeps its momenta under the affine transfers", "[tra
         const Spin s = spin(gradient, 200);
         CHECK(s.momentum_change <= 1e-8);
         CHECK(std::abs(s.angular / s.angular0 - 1) <= 5e-4);
+        if (transfer == Transfer::Apic)
+          continue;
         StepOptions standard = gradient;
         standard.transfer = Transfer::Standard;
         const Spin t = spin(standard, 200);
@@ -311,15 +314,19 @@ TEST_CASE("with gradients, bonded stick contact is single material mode and fric
       CAPTURE(to_string(v), int(method));
       ContactPair law = pair_law(ContactLaw::Stick, ContactDetection::Always);
       law.fmpm_method = method;
-      Model multi = cut_block(4, &law), single = cut_block(4, nullptr);
-      const StepOptions opt{.shape = Shape::GIMP,
-                            .velocity = v,
-                            .fmpm = {.order = 4},
-                            .transfer = Transfer::VelocityGradient};
-      step_side_by_side(opt, multi, single, 20);
-      CHECK(max_difference(multi.particles.V, single.particles.V) < 1e-7);
-      CHECK(max_difference(multi.particles.gradient, single.particles.gradient) < 1e-6);
-      CHECK(max_difference(multi.particles.X, single.particles.X) < 1e-7);
+      // APIC with quadratic B-splines (whose Ĝ is not ∇S; with GIMP domains inside a cell
+      // it is, and APIC would repeat the velocity-gradient transfer).
+      for (const auto& [shape, transfer] : {std::pair{Shape::GIMP, Transfer::VelocityGradient},
+                                            std::pair{Shape::BSpline2, Transfer::Apic}}) {
+        CAPTURE(to_string(transfer));
+        Model multi = cut_block(4, &law), single = cut_block(4, nullptr);
+        const StepOptions opt{
+            .shape = shape, .velocity = v, .fmpm = {.order = 4}, .transfer = transfer};
+        step_side_by_side(opt, multi, single, 20);
+        CHECK(max_difference(multi.particles.V, single.particles.V) < 1e-7);
+        CHECK(max_difference(multi.particles.gradient, single.particles.gradient) < 1e-6);
+        CHECK(max_difference(multi.particles.X, single.particles.X) < 1e-7);
+      }
     }
   // Coulomb friction (μ = 0.4, contact where the fields approach): the contact momenta cancel
   // in pairs (contact 2020 Eq. 7) and the gradient term of P2G moves no momentum (Σ_i D_b = 0:

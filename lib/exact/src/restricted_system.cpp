@@ -77,22 +77,28 @@ std::string lightest_nodes(const Operators& ops, const std::vector<int>& free, N
   return os.str();
 }
 
+namespace {
+// The remedies of a singular velocity system whose matrix is `name` (m~, m~_L or m~_A).
+std::string velocity_remedies(const char* name) {
+  return std::string(" (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, "
+                     "or step.exact_regularization > 0 to factor (1 - eps) ") +
+         name + " + eps m)";
+}
+} // namespace
+
 std::string remedies(NodalSystem system) {
   switch (system) {
   case NodalSystem::ConsistentCapacity:
     return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped temperature, or "
            "step.exact_regularization > 0 to factor (1 - eps) c~ + eps c)";
   case NodalSystem::GradientMass:
-    return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
-           "step.exact_regularization > 0 to factor (1 - eps) m~_L + eps m)";
+    return velocity_remedies("m~_L");
   case NodalSystem::ApicMass:
-    return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
-           "step.exact_regularization > 0 to factor (1 - eps) m~_A + eps m)";
+    return velocity_remedies("m~_A");
   case NodalSystem::ConsistentMass:
     break;
   }
-  return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped velocity, or "
-         "step.exact_regularization > 0 to factor (1 - eps) m~ + eps m)";
+  return velocity_remedies("m~");
 }
 
 std::vector<std::pair<std::vector<int>, std::vector<int>>> free_groups(const Operators& ops,

@@ -198,7 +198,7 @@ struct StepContext {
   /// Δt, the length of the step.
   double dt = 0;
   bool grid_update = false; ///< update particles from grid velocities (false: FLIP)
-  /// P2G's term of the velocity-gradient transfer (its part); null: p = Sᵀ M V.
+  /// P2G's term of an affine transfer (its part); null: p = Sᵀ M V.
   const AffineMomentum* affine = nullptr;
   /// The parts' work at the stage boundaries (StageHooks), in the parts' order.
   std::span<StageHooks* const> hooks{};

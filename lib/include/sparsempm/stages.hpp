@@ -70,21 +70,30 @@ void affine_offsets(const ParticleOperators& op, const Grid& grid, const ConstFi
 /// with the inertia tensor D_p = Σ_i S_pi Δ_pi Δ_piᵀ, one array per direction b < d, so that
 /// APIC's G2P C_p = B_p D_p⁻¹ = Σ_i v_i ⊗ Ĝ_pi is velocity_gradient with Ĝ in place of ∇S
 /// (with_weights). For the linear hat, D_p is diagonal, (D_p)_bb = (X_pb − x_0b)(x_1b − X_pb),
-/// singular on a node, and Ĝ = ∇S wherever it is not (the multilinear limit of Jiang et al.
-/// 2015 §5.3): Ĝ is ∇S there, so APIC is the velocity-gradient transfer with hats.
+/// singular on a node, and Ĝ = ∇S wherever it is not (the multilinear limit): with Shape::Linear
+/// Ĝ is ∇S, and APIC is the velocity-gradient transfer.
 struct ApicWeights {
   std::array<std::vector<double>, 3> g; ///< Ĝ_b over S's entries (ParticleOperators::S)
+  /// The arrays Ĝ_b as assemble_affine_mass takes them (null beyond d).
+  std::array<const double*, 3> pointers() const;
 };
-/// Ĝ of `op`'s entries from the step's offsets Δ (affine_offsets) and its shape. Throws
-/// NumericalError naming the first particle whose D_p is not positive definite (a pivot of its
-/// Cholesky factorisation at most 10⁻¹² of D_p's largest diagonal entry: a CPDI domain collapsed
-/// to a segment).
+/// Ĝ of `op`'s entries from the step's offsets Δ (affine_offsets) and its shape (the operators
+/// do not record it: Shape::Linear takes Ĝ = ∇S). Throws NumericalError naming the first
+/// particle whose D_p is not positive definite (a pivot of its Cholesky factorisation at most
+/// 10⁻¹² of D_p's largest diagonal entry, or not finite: with hats, a CPDI domain collapsed
+/// onto a node line).
 void apic_weights(const ParticleOperators& op, const AffineOffsets& offsets, Shape shape,
                   ApicWeights& weights);
 /// The view of `op` with APIC's weights Ĝ in place of the G_b (the same pattern and masses).
 ParticleOperators with_weights(const ParticleOperators& op, const ApicWeights& weights);
-/// P2G's term of the velocity-gradient transfer: the offsets of the step and the particles'
-/// velocity gradients L (N × d², row-major), which P2G reads and the particle update sets.
+/// m̃_A of `ops` at the particles' positions X (N × d) of its assembly with `shape`:
+/// affine_offsets, apic_weights and assemble_affine_mass, as the APIC transfer's part does each
+/// step (for analysis: Python's Operators.apic_mass()).
+void assemble_apic_mass(const Operators& ops, const ConstFieldRef& X, Shape shape,
+                        ConsistentMass& mt);
+/// P2G's term of an affine transfer: the offsets of the step and the particles' affine
+/// velocities L (N × d², row-major: G v, or APIC's C_p), which P2G reads and the particle update
+/// sets.
 struct AffineMomentum {
   const AffineOffsets* offsets = nullptr; ///< Δ_b of the step's S
   const Field* L = nullptr;               ///< N × d² velocity gradients L_p

@@ -45,9 +45,10 @@ enum class Transfer {
   VelocityGradient,
   /// APIC (Jiang et al. 2015, "The affine particle-in-cell method", ACM TOG 34(4):51): P2G as
   /// VelocityGradient with the particle's affine velocity C_p = B_p D_p⁻¹ in place of L_p, B_p =
-  /// Σ_i v_i ⊗ S_pi (x_i − X_p) and D_p = Σ_i S_pi (x_i − X_p)(x_i − X_p)ᵀ (stages.hpp,
-  /// apic_weights); its mass operator m̃_A is symmetric and m̃ ≤ m̃_A ≤ m. With linear hats it is
-  /// VelocityGradient (the multilinear limit)
+  /// Σ_i v_i ⊗ S_pi (x_i − X_p) and D_p = Σ_i S_pi (x_i − X_p)(x_i − X_p)ᵀ at the G2P's
+  /// positions (stages.hpp, apic_weights; the particles carry C_p, not B_p: README); its mass
+  /// operator m̃_A is symmetric and m̃ ≤ m̃_A ≤ m. With linear hats it is VelocityGradient (the
+  /// multilinear limit)
   Apic
 };
 /// Name used in input files: standard | velocity_gradient | apic.
@@ -122,7 +123,7 @@ struct ExactOptions {
   double regularization = 0;
   /// τ ∈ [0, 1): active nodes lighter than τ max m take their lumped velocity p_i/m_i
   double mass_cutoff = 0;
-  /// The system the solver is given: m̃, m̃_L (not symmetric) or c̃, named in its messages. Set
+  /// The system the solver is given: m̃, m̃_L (not symmetric), m̃_A or c̃, named in its messages. Set
   /// where a solver is made (velocity_solver_options from the step's transfer,
   /// transport_solver_options), not an input entry.
   NodalSystem system = NodalSystem::ConsistentMass;
@@ -197,8 +198,8 @@ void validate(const ExactOptions& options);
 /// set of limits: the Stepper, the linearised step, the input reader, the command line and the
 /// Python module call it.
 void validate(const StepOptions& options);
-/// The settings of the velocity update's exact solver: options.exact on m̃, or on m̃_L (not
-/// symmetric) with the velocity-gradient transfer.
+/// The settings of the velocity update's exact solver: options.exact on m̃, on m̃_L (not
+/// symmetric) with the velocity-gradient transfer, or on m̃_A with APIC.
 ExactOptions velocity_solver_options(const StepOptions& options);
 /// The settings of the exact transport solve: options.exact on the capacity matrix c̃.
 ExactOptions transport_solver_options(const StepOptions& options);

@@ -95,7 +95,8 @@ struct StepPreparation {
   /// The mass operator of an affine transfer at the positions X of the preparation's particles,
   /// in its own stencil storage, assembled on the first call after each prepare_step: m̃_L of the
   /// velocity-gradient transfer (assemble_transfer_mass), or with `weights` (APIC's Ĝ over S's
-  /// entries, one array per axis) assemble_affine_mass's m̃_A.
+  /// entries, one array per axis) assemble_affine_mass's m̃_A: whichever the first call after a
+  /// prepare_step asks for (a run has one transfer).
   const SparseRowMatrix& transfer_mass(const ConstFieldRef& X,
                                        const std::array<const double*, 3>* weights = nullptr);
 

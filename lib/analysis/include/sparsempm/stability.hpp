@@ -24,9 +24,9 @@
 namespace smpm {
 
 /// One step linearised at a frozen configuration (positions, S, G, M, m, m̃, volumes, F and the
-/// material tangent fixed), acting on x = (V, σ) with N d + N d² entries (x = (V, σ, L) with the
-/// velocity-gradient transfer, whose particle gradients L_p are state: P2G reads them and the
-/// particle update sets them to G u, both linear in the state). It runs the Stepper's
+/// material tangent fixed), acting on x = (V, σ) with N d + N d² entries (x = (V, σ, L) with an
+/// affine transfer, whose particle terms L_p are state: P2G reads them and the particle update
+/// sets them to G u, or APIC's moment B_p, both linear in the state). It runs the Stepper's
 /// own stages (scheme_step of scheme.hpp) on the frozen operators with homogeneous velocity
 /// BCs (their directions with zero values: the linear part of the step) and no body force; the
 /// strain update is σ' = σ + Δt 𝕂 : L with L = Σ_i v_i ⊗ G_pi and 𝕂_p = ∂σ/∂L at F_p (from
@@ -60,9 +60,8 @@ public:
   double dt() const;
   /// Time steps spanned by one application of T (1, or ceil(C_X / C) for periodic FMPM).
   int steps_per_application() const;
-  /// N d + N d², the entries of x = (V, σ); N d² more with the velocity-gradient transfer, whose
-  /// particle gradients L_p are state (P2G reads them, the particle update sets them): x = (V, σ,
-  /// L).
+  /// N d + N d², the entries of x = (V, σ); N d² more with an affine transfer, whose particle
+  /// terms L_p are state (P2G reads them, the particle update sets them): x = (V, σ, L).
   Index rows() const;
   /// rows(): T is square.
   Index cols() const { return rows(); }

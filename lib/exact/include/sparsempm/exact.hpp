@@ -2,8 +2,8 @@
 #pragma once
 /// \file exact.hpp
 /// The exact consistent-mass inverse v = m̃⁻¹ p ("FMPM(∞)") with a CHOLMOD Cholesky factor
-/// of m̃ restricted to the active, unconstrained nodes, or UMFPACK's LU for the non-symmetric
-/// m̃_L of the velocity-gradient transfer.
+/// of m̃ (or of m̃_A of the APIC transfer) restricted to the active, unconstrained nodes, or
+/// UMFPACK's LU for the non-symmetric m̃_L of the velocity-gradient transfer.
 
 #include "sparsempm/step_options.hpp"
 
@@ -94,7 +94,7 @@ Field prescribed_components(const LoopConstraints& bc,
 /// Symmetric matrices only (a solver made for NodalSystem::GradientMass throws).
 MassSolverFactory cholmod_solver_factory();
 /// The factory the reader, the command line and Python use: a CholmodSolver for symmetric
-/// matrices (m̃, the capacity matrix), an UmfpackSolver otherwise (m̃_L; the Stepper sets
+/// matrices (m̃, m̃_A, the capacity matrix), an UmfpackSolver otherwise (m̃_L; the Stepper sets
 /// ExactOptions::system from StepOptions::transfer, velocity_solver_options).
 MassSolverFactory exact_solver_factory();
 
