@@ -266,8 +266,12 @@ def check_fig12_gradient(r):
                             assert (int(row["order"]), v) in drawn(main, full), (row, col)
                         elif other is not None:
                             assert (int(row["order"]), v) in drawn(other, full), (row, col)
-                    count += 1
-    assert count == 2 * 3 * (4 + 2)  # two methods, three transfers, bar 4 rows, plate 2
+                        else:
+                            continue  # panel C has no blended rows
+                        count += 1
+    # Two methods: the standard transfer's 6 rows (bar 4, plate 2) on A or B, the gradient
+    # transfer's on A or B and its 5 unblended rows on C, APIC's 5 unblended rows on C.
+    assert count == 2 * (6 + 6 + 5 + 5)
     # The script's own table holds the same rows, and the summary prints FLIP for both.
     table = rows(r.tables[0])
     assert len(table) == 3 * (4 + 2)
