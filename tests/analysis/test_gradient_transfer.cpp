@@ -112,7 +112,7 @@ Spin spin(const StepOptions& opt, int steps) {
 }
 } // namespace
 
-TEST_CASE("a spinning block keeps its momenta under the affine transfers", "[transfer]") {
+TEST_CASE("a spinning block keeps its momenta under the affine transfers", "[transfer][long]") {
   // 200 steps (about 0.2 rad of spin) of the free block of spin(): linear momentum to 1e-8 of
   // its size (measured ≤ 7e-11, and ≤ 3e-9 with the standard transfer: nodes below the mass
   // tolerance keep none), the angular momentum about the centre of mass within 5e-4 (measured

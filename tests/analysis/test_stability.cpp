@@ -33,7 +33,8 @@ TEST_CASE("the matrix-free spectral radius equals the dense eigensolver's", "[st
     }
 }
 
-TEST_CASE("critical Courant numbers of the vibrating bar (FMPM 2026 Fig. 12A)", "[stability]") {
+TEST_CASE("critical Courant numbers of the vibrating bar (FMPM 2026 Fig. 12A)",
+          "[stability][long]") {
   // At the initial (undeformed) configuration of the §3.3 bar, CPDI, USL, α = 1. Measured:
   // FLIP 0.755; FMPM(k) 0.791, 0.641, 0.555, 0.514, 0.502, 0.500, 0.500 for k = 1, 2, 4, 8, 16,
   // 40, 80; blending α = 0.8 with FMPM(1) 0.570 and with FMPM(2) 0.531 (k = 40).
@@ -268,7 +269,7 @@ TEST_CASE("the linearised step is the derivative of the Stepper's step in 2D", "
   }
 }
 
-TEST_CASE("a hint changes the evaluations of the C* search, not C*", "[stability]") {
+TEST_CASE("a hint changes the evaluations of the C* search, not C*", "[stability][long]") {
   // critical_courant searches one grid of spacing ≤ resolution in the doubling bracket that
   // holds C*; started from a hint it gallops to the same transition. FMPM(8) on the §3.3 bar
   // (C* 0.514): with hints below, at, above and far above C*, and outside [0, c_max], the same

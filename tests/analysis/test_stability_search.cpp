@@ -158,7 +158,7 @@ TEST_CASE("the limit C -> 0 is judged by T(0) and its first-order term", "[stabi
 }
 
 TEST_CASE("no reported interval holds an unstable point: the bar with and without gradients",
-          "[stability]") {
+          "[stability][long]") {
   // The §3.3 bar (CPDI, USL, α = 1). With the velocity-gradient transfer, FLIP at lattice shift
   // 1/8 of a cell has an eigenvalue of modulus above 1 below C ≈ 0.042, 1 + γ C with γ = 0.016
   // as C → 0 (measured ρ − 1 = 1.6e-5 at C = 0.001, 1.7e-4 at 0.02, 1.5e-14 at 0.05), and is
