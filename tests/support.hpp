@@ -56,6 +56,29 @@ inline Particles random_cloud(const Grid& g, Index N, unsigned seed, double marg
   return P;
 }
 
+/// A random affine velocity field V = V₀ + L₀ x on the particles (Eigen's Random: V₀, L₀ in
+/// [−1, 1]) and its gradient on every particle, L_p = L₀ (N × d², row-major).
+struct AffineField {
+  Field V, L;
+};
+inline AffineField random_affine_field(const Particles& P) {
+  const int d = P.dim;
+  const Eigen::MatrixXd L0 = Eigen::MatrixXd::Random(d, d);
+  const Eigen::RowVectorXd V0 = Eigen::RowVectorXd::Random(d);
+  AffineField f{P.X * L0.transpose(), Field(P.size(), d * d)};
+  f.V.rowwise() += V0;
+  for (Index q = 0; q < P.size(); ++q)
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        f.L(q, a * d + b) = L0(a, b);
+  return f;
+}
+
+/// The largest |entry| of a matrix.
+inline double max_abs(const Eigen::MatrixXd& a) {
+  return a.cwiseAbs().maxCoeff();
+}
+
 /// Particles on a regular lattice (ppc per axis) over cells [lo, lo + count) of each axis,
 /// each jittered by up to ±jitter of its spacing, with half-lengths shrunk by (1 − 2 jitter)
 /// so that every domain stays inside its own lattice site (and the block).

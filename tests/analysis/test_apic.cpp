@@ -17,9 +17,7 @@
 using namespace smpm;
 
 namespace {
-double max_abs(const Eigen::MatrixXd& a) {
-  return a.cwiseAbs().maxCoeff();
-}
+using smpm::test::max_abs;
 
 // m̃_A of the library (assemble_apic_mass), dense.
 Eigen::MatrixXd apic_mass(const Operators& ops, const Particles& P, Shape shape) {
@@ -79,8 +77,7 @@ TEST_CASE("APIC's mass m~_A is Jiang et al.'s transfer, symmetric, between m~ an
   // whose D_p is positive definite: m̃_A equals the construction from the paper's definitions
   // (reference_mass) to 1e-12 of its largest entry; it is symmetric to 1e-13 (entries (i, j) and
   // (j, i) are products equal in exact arithmetic, summed in another order), its rows sum to m
-  // and it maps
-  // every affine field to m times it (1e-12 of m |v|); vᵀ m̃_A v lies between vᵀ m̃ v and
+  // and it maps every affine field to m times it (1e-12 of m |v|); vᵀ m̃_A v lies between vᵀ m̃ v and
   // vᵀ m v (the least eigenvalues of m̃_A − m̃ and m − m̃_A on the active nodes are above
   // −1e-12 of the largest mass; 1D and 2D, the dense eigenproblem of 3D being 1331 nodes). With
   // linear hats the construction with D_p⁻¹ equals the velocity-gradient transfer's m̃_L (the
@@ -144,15 +141,7 @@ TEST_CASE("APIC's weights: D_p = h^2/4 for quadratic B-splines, affine fields cr
                                       4 * op.S[k] * offsets.delta[size_t(b)][size_t(k)] / (h * h)));
           CHECK(worst <= 1e-12 * 4 / h);
         }
-      const Eigen::MatrixXd L0 = Eigen::MatrixXd::Random(dim, dim);
-      const Eigen::RowVectorXd V0 = Eigen::RowVectorXd::Random(dim);
-      Field exact = P.X * L0.transpose();
-      exact.rowwise() += V0;
-      Field Lrows(P.size(), dim * dim);
-      for (Index q = 0; q < P.size(); ++q)
-        for (int a = 0; a < dim; ++a)
-          for (int b = 0; b < dim; ++b)
-            Lrows(q, a * dim + b) = L0(a, b);
+      const auto [exact, Lrows] = smpm::test::random_affine_field(P);
       Field V = exact, L = Lrows, p, v, X = P.X;
       const AffineMomentum affine{&offsets, &L}; // P2G: Σ S M (V + C Δ)
       map_momentum(op, V, p, &affine);

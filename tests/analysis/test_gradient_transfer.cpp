@@ -17,9 +17,7 @@
 using namespace smpm;
 
 namespace {
-double max_abs(const Eigen::MatrixXd& a) {
-  return a.cwiseAbs().maxCoeff();
-}
+using smpm::test::max_abs;
 
 // One P2G (p by the transfer; v = m⁻¹ p) and a PIC G2P (V' = S v, L' = G v) of the particles'
 // V and L on their operators; X is not moved (Δt = 0).
@@ -50,15 +48,7 @@ TEST_CASE("an affine velocity field crosses P2G and G2P exactly with the gradien
       CAPTURE(dim, to_string(shape));
       const Grid g = smpm::test::test_grid(dim, 10);
       const Particles P = smpm::test::random_cloud(g, 60, 7u + unsigned(dim), 3.0, true);
-      const Eigen::MatrixXd L0 = Eigen::MatrixXd::Random(dim, dim);
-      const Eigen::RowVectorXd V0 = Eigen::RowVectorXd::Random(dim);
-      Field exact = P.X * L0.transpose();
-      exact.rowwise() += V0;
-      Field Lrows(P.size(), dim * dim);
-      for (Index q = 0; q < P.size(); ++q)
-        for (int a = 0; a < dim; ++a)
-          for (int b = 0; b < dim; ++b)
-            Lrows(q, a * dim + b) = L0(a, b);
+      const auto [exact, Lrows] = smpm::test::random_affine_field(P);
       const double scale = max_abs(exact);
       Field V = exact, L = Lrows;
       round_trip(g, P, shape, true, V, L);
