@@ -10,6 +10,10 @@
 
 namespace smpm::detail {
 
+/// Throws NumericalError "particle p has what (value)" (stages.cpp): the one message of a kernel
+/// that meets a bad particle.
+[[noreturn]] void bad_particle(Index p, const char* what, double value);
+
 /// The CSR arrays of an N × n operator.
 struct Csr {
   const int* outer;
