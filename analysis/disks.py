@@ -19,15 +19,25 @@ def grid(cell):
             f"grid.cells=[{round(EXTENT[0] / cell)}, {round(EXTENT[1] / cell)}]"]
 
 
-def velocity(name):
-    """Overrides for "FLIP" or "FMPM(k)", with a heat transport to go with it: the lumped (FLIP)
-    update for FLIP, FMPM(k) on the capacity matrix for FMPM(k). NairnMPM's transport does not
-    follow its velocity update: it conducts by the lumped update unless its periodic-FMPM task is
-    given conduction settings, and adds friction heat to the nodal rate after its nodal
-    temperature update; FMPM(k) transport here is this library's choice for the FMPM rows."""
+def velocity(name, transport=None):
+    """Overrides for "FLIP" or "FMPM(k)" mechanics and a heat transport: `transport` "lumped" or
+    "FMPM" (FMPM(k) on the capacity matrix, the mechanics' order; FMPM(4) with FLIP), or by
+    default the one that goes with the mechanics, the lumped (FLIP) update for FLIP and FMPM(k)
+    for FMPM(k) (fig8-fig11's pairs). NairnMPM's transport does not follow its velocity update:
+    it conducts by the lumped update unless its periodic-FMPM task is given conduction settings,
+    and adds friction heat to the nodal rate after its nodal temperature update, which for the
+    lumped update is the same as adding it to the flow q; so "lumped" is NairnMPM's choice
+    (fig7.py's default, as the example's)."""
+    if transport is None:
+        transport = "lumped" if name == "FLIP" else "FMPM"
+    if transport not in ("lumped", "FMPM"):
+        raise ValueError(f"transport {transport!r}: lumped or FMPM")
+    order = 4 if name == "FLIP" else int(name[5:-1])
+    heat = ["step.transport=" + transport] + \
+        ([f"step.transport_order={order}"] if transport == "FMPM" else [])
     if name == "FLIP":
-        return ["step.velocity=FLIP", "step.transport=lumped"]
-    return ["step.velocity=FMPM", f"step.order={int(name[5:-1])}", "step.transport=FMPM"]
+        return ["step.velocity=FLIP"] + heat
+    return ["step.velocity=FMPM", f"step.order={order}"] + heat
 
 
 def run(smpm, out, sets):

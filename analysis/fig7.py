@@ -2,14 +2,17 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """FMPM 2026 Fig. 7: temperatures of two disks in an offset impact with friction.
 
-    analysis/fig7.py [--smpm build/apps/smpm] [--cell 1.0] [--times 0.04,0.08,0.12,0.16]
-                     [--set section.key=value ...] [-o fig7]
+    analysis/fig7.py [--smpm build/apps/smpm] [--cell 1.0] [--transport lumped|FMPM]
+                     [--times 0.04,0.08,0.12,0.16] [--set section.key=value ...] [-o fig7]
 
-Runs examples/disk_impact.toml with `smpm run` (mu = 0.6, FMPM(4), heat by FMPM(4) on the
-capacity matrix: the paper's Fig. 7) at cell size `cell` (mm; the grid keeps its extent; the
-paper's is 1/3 mm) and draws the particles coloured by temperature at the frames nearest each
-of `times` (ms), from the lowest temperature drawn (300 K unless the transport undershoots) to
-the highest, black to red as the paper,
+Runs examples/disk_impact.toml with `smpm run` (mu = 0.6, FMPM(4) mechanics: the paper's Fig. 7)
+with heat by `transport`: lumped (the default, NairnMPM's conduction: the lumped update, the
+friction heat in its rate) or FMPM (FMPM(4) on the capacity matrix, which undershoots 300 K
+beside the contact unless --set step.transport_limiter=fct) at cell size `cell` (mm; the grid
+keeps its extent; the paper's is 1/3 mm; the peak rises as 1/cell, README "Heat") and draws the
+particles coloured by temperature at the frames nearest each of `times` (ms), from the lowest
+temperature drawn (300 K unless the transport undershoots) to the highest, black to red as the
+paper,
 with an arrow at each disk's centre along its velocity. Prints and writes to PREFIX.csv, per
 frame: time, the lowest, highest and capacity-weighted mean temperature, the heat Q and the
 frictional work (mJ; equal, the heat comes from friction alone). Writes PREFIX.png (a trailing
@@ -35,6 +38,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
     ap.add_argument("--cell", type=float, default=1.0)
+    ap.add_argument("--transport", choices=("lumped", "FMPM"), default="lumped")
     ap.add_argument("--times", default="0.04,0.08,0.12,0.16")
     figures.add_sets(ap)
     figures.add_output(ap, "fig7", "PREFIX.csv and PREFIX.png")
@@ -43,7 +47,8 @@ def main():
     times = [float(t) for t in a.times.split(",")]
     with tempfile.TemporaryDirectory() as work:
         out = pathlib.Path(work) / "fig7.h5"
-        sets = velocity("FMPM(4)") + ["contact.0.friction=0.6"] + disks.grid(a.cell) + a.sets
+        sets = (velocity("FMPM(4)", a.transport) + ["contact.0.friction=0.6"] +
+                disks.grid(a.cell) + a.sets)
         try:
             r = disks.run(a.smpm, out, sets)
         except RuntimeError as e:
@@ -56,8 +61,10 @@ def main():
     # The scale starts at the lowest temperature drawn, so that an undershoot below the initial
     # 300 K (FMPM(k) transport without transport_limiter = "fct") shows rather than clips.
     t_cold = min(300.0, min(float(p["temperature"].min()) for p in snaps))
-    print(f"cell {a.cell} mm, mu = 0.6, FMPM(4): highest temperature of the run "
-          f"{r['t_max']:.1f} K (paper, 1/3 mm: 456 K); U + K lost {r['lost']:.2f}%")
+    heat = "lumped" if a.transport == "lumped" else "FMPM(4)"
+    print(f"cell {a.cell} mm, mu = 0.6, FMPM(4), {heat} transport: highest temperature of the "
+          f"run {r['t_max']:.1f} K (paper, 1/3 mm: 456 K); lowest {t_cold:.2f} K; U + K lost "
+          f"{r['lost']:.2f}%")
     print(f"{'t (ms)':>8s} {'T min':>8s} {'T max':>8s} {'T mean':>8s} {'Q (mJ)':>9s}"
           f" {'friction (mJ)':>13s}")
     rows = []
@@ -94,7 +101,8 @@ def main():
         ax.set_xlabel("x (mm)")
     axes[0].set_ylabel("y (mm)")
     fig.colorbar(im, ax=axes[-1], label="temperature (K)")
-    fig.suptitle(f"Two disks, $\\mu$ = 0.6, FMPM(4), {a.cell:g} mm cells (FMPM 2026 Fig. 7)")
+    fig.suptitle(f"Two disks, $\\mu$ = 0.6, FMPM(4), {heat} transport, {a.cell:g} mm cells "
+                 "(FMPM 2026 Fig. 7)")
     save_figure(fig, a.out, tables=[a.out + ".csv"])
     return 0
 

@@ -40,6 +40,17 @@ constexpr detail::EnumNames<TransportLimiter, 2> kTransportLimiters{
     {{TransportLimiter::None, "none"}, {TransportLimiter::FCT, "fct"}}};
 } // namespace
 
+std::string held_temperature_refusal(Shape shape) {
+  if (shape != Shape::BSpline2 && shape != Shape::B2CPDI)
+    return {};
+  return "a held temperature needs shape functions whose nodal values interpolate: with "
+         "step.shape = \"" +
+         std::string(to_string(shape)) +
+         "\" a held node is a quadratic B-spline's control point, not the temperature at its "
+         "plane, and the error next to it does not converge (lumped) or converges at first order "
+         "(FMPM, exact); use step.shape = \"linear\", \"gimp\" or \"cpdi\"";
+}
+
 std::string_view to_string(TransportLimiter l) {
   return detail::enum_name(l, kTransportLimiters);
 }

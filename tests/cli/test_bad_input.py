@@ -86,6 +86,21 @@ class BadInput(Base):
         self.assertIn("does not exist", r.stderr)
         self.assertFalse((self.dir / "no").exists())
 
+    def test_held_temperature_with_b_splines(self):
+        # Quadratic B-spline nodal values are control points: a held temperature node does not
+        # hold the plane (README, "Heat"), so `smpm run` refuses the pair before any write; the
+        # transport stability of the same input, which runs no simulation, takes it.
+        bar = EXAMPLES / "conduction_bar.toml"
+        for shape in ("bspline2", "b2cpdi"):
+            out = self.dir / (shape + ".h5")
+            line = one_line(self, smpm("run", bar, "-o", out, "--set", "step.shape=" + shape), 2)
+            self.assertIn("conduction_bar.toml: bc.0.temperature: a held temperature needs", line)
+            self.assertIn('step.shape = "%s"' % shape, line)
+            self.assertFalse(list(self.dir.glob(shape + "*")), "a file was left behind")
+        r = smpm("transport-stability", bar, "--set", "step.shape=bspline2", "--order", "4",
+                 "--no-exact", "-o", self.dir / "t.csv")
+        self.assertEqual(r.returncode, 0, r.stderr)
+
     def test_missing_input_file(self):
         r = smpm("run", self.dir / "absent.toml")
         self.assertEqual(r.returncode, 2)

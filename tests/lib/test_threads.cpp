@@ -142,7 +142,7 @@ TEST_CASE("1 and 2 threads give bit-identical heat transport", "[threads][transp
   // with the lumped one: X, the stress and the temperatures equal bit for bit, and so do the
   // thermal sums.
   for (const std::vector<std::string>& scheme :
-       {std::vector<std::string>{},
+       {std::vector<std::string>{"step.transport=FMPM"},
         std::vector<std::string>{"step.velocity=FLIP", "step.transport=lumped"}}) {
     std::vector<std::string> sets = scheme;
     sets.push_back("material.left.thermal_expansion=6e-5");

@@ -250,6 +250,31 @@ TEST_CASE("conduction in a bar with fixed end temperatures converges to the seri
   }
 }
 
+TEST_CASE("held temperatures are refused with quadratic B-splines, whose nodes do not hold them",
+          "[transport]") {
+  // A quadratic B-spline's nodal value is a control point: at a held node x_i the field is
+  // θ_{i−1}/8 + 3θ_i/4 + θ_{i+1}/8, not θ_i. Measured on this bar before the refusal (max particle
+  // error at 10, 20, 40, 80 cells, README "Heat"): lumped 24.2, 26.4, 41.5, 62.1 K (grows),
+  // FMPM(4) 12.9, 6.7, 3.4, 1.7 K and exact 186, 106, 55, 27 K (first order), against FMPM(4)'s
+  // 0.216, 0.056, 0.0136, 0.0034 K with linear hats (second order). The Stepper refuses the pair;
+  // insulated ends are taken (FMPM(4) second order with B-splines: 0.37, 0.094, 0.024, 0.0059 K).
+  for (Shape shape : {Shape::BSpline2, Shape::B2CPDI}) {
+    CAPTURE(to_string(shape));
+    Model held = bar(10, 300, 400, 350);
+    Stepper stepper(transport_options(TransportUpdate::FMPM, 4, shape));
+    CHECK_THROWS_WITH(stepper.step(held, 1e-4),
+                      Catch::StartsWith("temperature condition '") &&
+                          Catch::Contains("a held temperature needs shape functions whose nodal "
+                                          "values interpolate"));
+    CHECK(held.step == 0);
+    Model insulated = bar(10, 300, 0, 0, true);
+    Stepper free(transport_options(TransportUpdate::FMPM, 4, shape));
+    CHECK_NOTHROW(free.step(insulated, 1e-4));
+  }
+  for (Shape shape : {Shape::Linear, Shape::GIMP, Shape::CPDI})
+    CHECK(held_temperature_refusal(shape).empty());
+}
+
 TEST_CASE("the steady state of the bar is linear to round-off (FMPM form)", "[transport]") {
   // After t = 3 L²/D every mode has decayed by e^{-3π²} < 1e-12: T_p = S θ⁺ with θ⁺ the nodal
   // solution of K T = 0 with the end values, linear, and S reproduces linear fields (S x = X_p):

@@ -88,9 +88,11 @@ std::string velocity_remedies(const char* name) {
 
 std::string remedies(NodalSystem system) {
   switch (system) {
-  case NodalSystem::ConsistentCapacity:
-    return " (set step.exact_mass_cutoff > 0 to give light nodes their lumped temperature, or "
-           "step.exact_regularization > 0 to factor (1 - eps) c~ + eps c)";
+  case NodalSystem::ConsistentCapacity: // c~ = S^T C S is singular where S v = 0 for some v
+    return " (c~ = S^T C S is singular where fewer particles reach a group of nodes than it has "
+           "nodes: set step.exact_regularization > 0 to factor (1 - eps) c~ + eps c, positive "
+           "definite for every eps > 0, or step.exact_mass_cutoff > 0 to give light nodes their "
+           "lumped temperature, which cures it only where those nodes are the light ones)";
   case NodalSystem::GradientMass:
     return velocity_remedies("m~_L");
   case NodalSystem::ApicMass:

@@ -22,6 +22,7 @@
 #include "sparsempm/operators.hpp"
 #include "sparsempm/particles.hpp"
 
+#include <string>
 #include <string_view>
 
 namespace smpm {
@@ -57,6 +58,15 @@ enum class TransportLimiter {
 std::string_view to_string(TransportLimiter l);
 /// The limiter named `name`; throws InputError naming the valid choices.
 TransportLimiter transport_limiter_from_string(std::string_view name);
+
+/// Why temperature conditions cannot be held with shape functions `shape`: empty for linear hats,
+/// uGIMP and CPDI, whose nodal values interpolate, so that a held node holds the temperature at
+/// its plane; the reason for the quadratic B-splines (bspline2, b2cpdi), whose nodal values are
+/// control points, so that the field at a held plane is not the held value and the error next
+/// to it does not converge (measured on a bar with held ends, README "Heat": the lumped update's
+/// grows as the cells shrink, FMPM(k)'s and the exact solve's fall at first order only; with
+/// insulated ends every shape converges at second order with FMPM(k) and the exact solve).
+std::string held_temperature_refusal(Shape shape);
 
 /// The options of heat transport in a step (part of StepOptions).
 struct TransportOptions {

@@ -7,6 +7,7 @@
 #include "sparsempm/output.hpp"
 #include "sparsempm/run_file.hpp"
 #include "sparsempm/step_part.hpp"
+#include "sparsempm/transport.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -225,6 +226,15 @@ void check_steps(const RunConfig& cfg) {
   }
 }
 
+// Held temperatures the shape functions cannot hold (held_temperature_refusal) are refused
+// before any write; the stability analyses, which run no simulation, take them.
+void check_held_temperatures(const RunConfig& cfg) {
+  const auto& held = cfg.model.temperature_bcs.conditions;
+  if (cfg.step.transport.update != TransportUpdate::Off && !held.empty())
+    if (const std::string why = held_temperature_refusal(cfg.step.shape); !why.empty())
+      throw InputError(cfg.source + ": " + held[0].label + ": " + why);
+}
+
 // The time loop of the run to its end, and its report; a loop that stops leaves its reason as
 // the run file's status.
 RunReport advance_run(Run& r, RunConfig& cfg, const ProgressFn& progress,
@@ -271,8 +281,10 @@ RunReport run(RunConfig& cfg, const RunOptions& options, const ProgressFn& progr
   const std::string option = options.output.empty() && !restart ? "output.file" : "-o";
   check_run_output(target, restart ? std::string() : cfg.source, option, options.restart_from,
                    options.discard_partial);
-  if (!restart)
+  if (!restart) {
     check_steps(cfg);
+    check_held_temperatures(cfg);
+  }
   const OutputLock lock(target); // a second run on this path stops here, before any write
   // Again under the lock: a run of this path that stopped between the check and the lock left
   // a restart point the first check could not see.

@@ -7,6 +7,7 @@
 #include "parts.hpp"
 
 #include "sparsempm/diagnostics.hpp"
+#include "sparsempm/errors.hpp"
 #include "sparsempm/transport.hpp"
 
 #include <algorithm>
@@ -20,8 +21,12 @@ namespace {
 
 class Heat final : public StepPart {
 public:
-  explicit Heat(TransportUpdate update) : update_(update) {}
+  Heat(TransportUpdate update, Shape shape) : update_(update), shape_(shape) {}
   void start(Model& model) override {
+    if (!model.temperature_bcs.conditions.empty())
+      if (const std::string why = held_temperature_refusal(shape_); !why.empty())
+        throw InputError("temperature condition '" + model.temperature_bcs.conditions[0].label +
+                         "': " + why);
     Particles& P = model.particles;
     if (P.temperature.size() != P.size()) // no temperatures yet: T_ref
       set_reference_temperatures(P, model.materials);
@@ -84,6 +89,7 @@ public:
 
 private:
   TransportUpdate update_;
+  Shape shape_;
   std::unique_ptr<MassSolver> solver_; // the exact transport update's solver
   TransportContext transport_;
   TransportState* state_ = nullptr; // the transport stages' fields (StepBuffers::heat)
@@ -94,7 +100,7 @@ private:
 std::unique_ptr<StepPart> make(const StepOptions& options) {
   if (options.transport.update == TransportUpdate::Off)
     return nullptr;
-  return std::make_unique<Heat>(options.transport.update);
+  return std::make_unique<Heat>(options.transport.update, options.shape);
 }
 
 constexpr ParticleColumn kColumns[] = {
