@@ -371,7 +371,7 @@ def check_fig7(r):
     assert len(table) == 2
     for row in table:
         assert float(row["heat_mJ"]) == pytest.approx(float(row["friction_mJ"]), abs=1e-3)
-        assert float(row["temperature_min_K"]) >= 300 - 1e-9
+        assert float(row["temperature_min_K"]) >= 300 - 1e-7  # round-off
         assert float(row["temperature_max_K"]) >= float(row["temperature_min_K"])
     assert "lumped transport" in r.stdout
     assert len(r.figure().axes) == 3  # two frames and the colour bar
