@@ -3,11 +3,15 @@
 """FMPM 2026 Fig. 11: energy lost by the two-disk impact against cell size and Courant number.
 
     analysis/fig11.py [--smpm build/apps/smpm] [--cells 2,1,0.5] [--courants 0.1,0.2,0.4]
-                      [--jobs 2] [--set section.key=value ...] [-o fig11]
+                      [--cell-b 1] [--periodic-cx 0.8] [--jobs 2]
+                      [--set section.key=value ...] [-o fig11]
 
 Runs examples/disk_impact.toml (mu = 0.3) with `smpm run`: A, at C = 0.2 for each cell size
-(mm; the grid keeps its extent) with FLIP and FMPM(4), each by USL and USL+; B, at 1 mm cells
-for each Courant number with FLIP and FMPM(4) by USL. The energy lost is
+(mm; the grid keeps its extent) with FLIP and FMPM(4), each by USL and USL+; B, at cells of
+`cell-b` mm (the paper's 1/3 mm: --cell-b 0.3333333333333333) for each Courant number with
+FLIP, FMPM(4) and periodic FMPM(4) (FMPM on the steps that complete a Courant budget C_X,
+the paper's 0.8) by USL. A run that fails (unstable) is a gap in its curve and a row with its
+message. The energy lost is
 1 - (U + K)(end) / (U + K)(0) in %, U = W + Q the strain energy and the heat of the run's heat
 transport (negative: the run gained energy). Writes
 PREFIX.csv and PREFIX.png (a trailing .png of -o is dropped); --set changes an input entry of
@@ -28,6 +32,7 @@ import figures  # noqa: E402
 from figures import save_figure  # noqa: E402
 
 UPDATES = {name: velocity(name) for name in ("FLIP", "FMPM(4)")}
+PERIODIC = "periodic FMPM(4)"
 
 
 def run(smpm, work, tag, sets):
@@ -44,6 +49,8 @@ def main():
     ap.add_argument("--smpm", default=str(ROOT / "build" / "apps" / "smpm"))
     ap.add_argument("--cells", default="2,1,0.5")
     ap.add_argument("--courants", default="0.1,0.2,0.4")
+    ap.add_argument("--cell-b", type=float, default=1.0)
+    ap.add_argument("--periodic-cx", type=float, default=0.8)
     ap.add_argument("--jobs", type=int, default=2)
     figures.add_sets(ap)
     figures.add_output(ap, "fig11", "PREFIX.csv and PREFIX.png")
@@ -56,9 +63,11 @@ def main():
         for name, sets in UPDATES.items():
             for update in ("USL", "USL+"):
                 todo[("A", cell, name, update)] = sets + grid(cell) + [f"step.scheme={update}"]
+    updates_b = dict(UPDATES)
+    updates_b[PERIODIC] = velocity("FMPM(4)") + [f"step.periodic_cx={a.periodic_cx}"]
     for c in courants:
-        for name, sets in UPDATES.items():
-            todo[("B", c, name, "USL")] = sets + [f"time.courant={c}"]
+        for name, sets in updates_b.items():
+            todo[("B", c, name, "USL")] = sets + grid(a.cell_b) + [f"time.courant={c}"]
     with tempfile.TemporaryDirectory() as work, \
             concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
         futures = {k: pool.submit(run, a.smpm, work, f"r{i}", v + a.sets)
@@ -71,10 +80,11 @@ def main():
     for cell in cells:
         vals = [res[("A", cell, n, u)][0] for n in UPDATES for u in ("USL", "USL+")]
         print(f"{cell:8.3f} " + " ".join(f"{v:14.3f}" for v in vals))
-    print("B: energy lost (%) against C, 1 mm cells, USL, mu = 0.3")
-    print(f"{'C':>8s} " + " ".join(f"{n:>14s}" for n in UPDATES))
+    print(f"B: energy lost (%) against C, {a.cell_b:g} mm cells, USL, mu = 0.3 (C_X = "
+          f"{a.periodic_cx:g})")
+    print(f"{'C':>8s} " + " ".join(f"{n:>17s}" for n in updates_b))
     for c in courants:
-        print(f"{c:8.2f} " + " ".join(f"{res[('B', c, n, 'USL')][0]:14.3f}" for n in UPDATES))
+        print(f"{c:8.2f} " + " ".join(f"{res[('B', c, n, 'USL')][0]:17.3f}" for n in updates_b))
     for (panel, x, name, update), (lost, err) in res.items():
         rows.append([panel, x, name, update, f"{lost:.4f}", err])
         if err:
@@ -90,13 +100,15 @@ def main():
         for update, style in (("USL", "o-"), ("USL+", "s--")):
             axes[0].plot(cells, [res[("A", c, name, update)][0] for c in cells], style,
                          color=f"C{i}", label=f"{name} {update}")
+    for i, name in enumerate(updates_b):
         axes[1].plot(courants, [res[("B", c, name, "USL")][0] for c in courants], "o-",
-                     color=f"C{i}", label=f"{name} USL")
+                     color=f"C{i}", label=name + (f", $C_X$ = {a.periodic_cx:g}"
+                                                  if name == PERIODIC else ""))
     axes[0].set_xlabel("cell size $\\Delta x$ (mm)")
     axes[0].set_title("Fig. 11A: $C$ = 0.2, $\\mu$ = 0.3")
     axes[0].set_ylabel("energy lost $1 - (U + K)/(U + K)_0$ (%)")
     axes[1].set_xlabel("Courant number $C$")
-    axes[1].set_title("Fig. 11B: 1 mm cells, USL, $\\mu$ = 0.3")
+    axes[1].set_title(f"Fig. 11B: {a.cell_b:.3g} mm cells, USL, $\\mu$ = 0.3")
     axes[1].set_ylabel("energy lost $1 - (U + K)/(U + K)_0$ (%)")
     for ax in axes:
         ax.axhline(0, color="k", lw=0.6)

@@ -65,6 +65,7 @@ from ._sparsempm import (  # noqa: F401
     UsageError,
     __version__,
     assemble,
+    contact_momentum_change,
     courant_of,
     critical_courant,
     critical_fourier,

@@ -6,6 +6,7 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 
+#include <sparsempm/contact.hpp>
 #include <sparsempm/diagnostics.hpp>
 #include <sparsempm/errors.hpp>
 #include <sparsempm/exact.hpp>
@@ -294,7 +295,39 @@ void bind_model_tables(py::class_<PyModel>& c) {
 
 } // namespace
 
+// The contact law at one node (contact_momentum_change): Δp of field α from Δp(0) and n̂, for
+// d = len(dp0) components.
+py::tuple contact_law(const std::vector<double>& dp0, const std::vector<double>& normal,
+                      const std::string& law, double friction, double separation,
+                      const std::string& detection) {
+  if (dp0.empty() || dp0.size() > 3 || normal.size() != dp0.size())
+    throw InputError("contact_momentum_change: dp0 and normal need the same 1 to 3 components");
+  if (!(friction >= 0))
+    throw InputError("contact_momentum_change: friction = " + number_text(friction) +
+                     ": must be non-negative");
+  ContactPair pair;
+  pair.law = contact_law_from_string(law);
+  pair.friction = friction;
+  pair.detection = contact_detection_from_string(detection);
+  Eigen::Vector3d d0 = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(), dp;
+  for (size_t a = 0; a < dp0.size(); ++a) {
+    d0[Index(a)] = dp0[a];
+    n[Index(a)] = normal[a];
+  }
+  const bool in_contact = contact_momentum_change(pair, d0, n, separation, dp);
+  return py::make_tuple(in_contact, std::vector<double>(dp.data(), dp.data() + dp0.size()));
+}
+
 void bind_model(py::module_& m) {
+  m.def("contact_momentum_change", &contact_law, py::arg("dp0"), py::arg("normal"),
+        py::arg("law") = "coulomb", py::arg("friction") = 0.0, py::arg("separation") = -1.0,
+        py::arg("detection") = "LR",
+        "The contact law at one node (contact.hpp, FMPM 2026 Eq. 18): (in_contact, dp), the "
+        "momentum change of field α given Δp(0) = (m^α p^β − m^β p^α)/(m^α + m^β) and the unit "
+        "normal n̂ from α to β (d components each), the law ('stick' | 'frictionless' | "
+        "'coulomb' with friction μ), the separation (negative: the materials touch) and the "
+        "detection; with N_c = −Δp(0)·n̂ and T_c = |Δp(0) − (Δp(0)·n̂) n̂| (per A_c Δt), "
+        "|dp| = √(N_c² + min(T_c, μ N_c)²) in contact (FMPM 2026 Fig. 6).");
   bind_grid(m);
   bind_particles(m); // particles.cpp
   bind_conditions(m);

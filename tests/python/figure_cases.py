@@ -123,6 +123,10 @@ def case_fig9(w):
             w / "fig9"], ["fig9"], ["fig9"]
 
 
+def case_fig6(w):
+    return ["--build", BUILD, "-o", w / "fig6"], ["fig6"], ["fig6"]
+
+
 def case_fig7(w):
     return ["--smpm", SMPM, "--cell", "4", "--times", "0.01,0.02", "--set", "time.end=0.02",
             "-o", w / "fig7"], ["fig7"], ["fig7"]
@@ -134,8 +138,8 @@ def case_fig10(w):
 
 
 def case_fig11(w):
-    return ["--smpm", SMPM, "--jobs", "1", "--cells", "4", "--courants", "0.4", "--set",
-            "time.end=0.02", "-o", w / "fig11"], ["fig11"], ["fig11"]
+    return ["--smpm", SMPM, "--jobs", "1", "--cells", "4", "--courants", "0.4", "--cell-b", "4",
+            "--set", "time.end=0.02", "-o", w / "fig11"], ["fig11"], ["fig11"]
 
 
 def case_fig13a(w):
@@ -176,4 +180,4 @@ CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
          "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
          "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
-         "df_fit.py": case_df_fit, "fig7.py": case_fig7, "fig10.py": case_fig10}
+         "df_fit.py": case_df_fit, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10}

@@ -363,6 +363,19 @@ def check_fig9(r):
     assert len(rows(r.tables[0])) == 3 * 4 + 5  # μ × updates, and FMPM(3, 5, 6, 7, 8) at μ = 0.3
 
 
+def check_fig6(r):
+    # The library's contact law against the paper's ‖f_c‖/A_c = √(N_c² + min(T_c, μ N_c)²)
+    # (N_c > 0; 0 otherwise) at every point: the same operations, so to round-off (measured 0).
+    table = rows(r.tables[0])
+    assert len(table) == 3 * 601
+    for row in table:
+        assert float(row["force_per_area"]) == pytest.approx(float(row["paper_force_per_area"]),
+                                                             abs=1e-12)
+    states = {row["state"] for row in table if row["T_c"] == "2"}
+    assert states == {"none", "slip", "stick"}
+    assert "largest |library - formula|" in r.stdout and len(legend_texts(r.figure().axes[0])) == 3
+
+
 def check_fig7(r):
     # One row per frame; the heat is the frictional work (to the printed digits), and with the
     # default lumped transport no temperature falls below the initial 300 K (positive friction
@@ -384,8 +397,9 @@ def check_fig10(r):
 
 
 def check_fig11(r):
-    table = rows(r.tables[0])
-    assert len(table) == 4 + 2 and not any(row["error"] for row in table)
+    table = rows(r.tables[0])  # A: 2 updates x 2 schemes; B: FLIP, FMPM(4), periodic FMPM(4)
+    assert len(table) == 4 + 3 and not any(row["error"] for row in table)
+    assert [row["velocity"] for row in table if row["panel"] == "B"][-1] == "periodic FMPM(4)"
 
 
 def check_fig13a(r):

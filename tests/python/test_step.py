@@ -456,3 +456,36 @@ def test_bonded_contact_is_single_material_mode_for_every_shape(tmp_path, shape)
         momentum = [p.mass @ p.V for p in runs]
         momentum_scale = (runs[1].mass @ np.abs(single_V)).max()
         assert np.abs(momentum[0] - momentum[1]).max() < 1e-11 * momentum_scale
+
+
+def test_contact_law_at_one_node():
+    # contact_momentum_change is the law every contact step calls (FMPM 2026 Eq. 18): with
+    # N_c = −Δp(0)·n̂ and T_c = |Δp(0)_t| (per A_c Δt), Δp = −N_c n̂ + min(T_c, μ N_c) t̂ when the
+    # fields approach and touch, none otherwise; stick gives Δp(0), frictionless its normal part.
+    rng = np.random.default_rng(3)
+    for d in (2, 3):
+        for _ in range(200):
+            n = rng.normal(size=d)
+            n /= np.linalg.norm(n)
+            dp0 = rng.normal(size=d)
+            mu = rng.uniform(0, 1.5)
+            dn = dp0 @ n
+            tangential = dp0 - dn * n
+            t_c = np.linalg.norm(tangential)
+            touching, dp = smpm.contact_momentum_change(list(dp0), list(n), "coulomb", mu, -0.1)
+            assert touching == (dn < 0)
+            if dn < 0:
+                expected = dn * n + min(t_c, -mu * dn) / t_c * tangential
+                assert np.abs(np.array(dp) - expected).max() <= 1e-14 * np.abs(dp0).max()
+            else:
+                assert dp == [0.0] * d
+            _, stick = smpm.contact_momentum_change(list(dp0), list(n), "stick", 0.0, -0.1)
+            assert stick == (list(dp0) if dn < 0 else [0.0] * d)
+            _, slip = smpm.contact_momentum_change(list(dp0), list(n), "frictionless", 0.0, -0.1)
+            assert np.abs(np.array(slip) - (dn * n if dn < 0 else 0)).max() <= 1e-15
+            apart, none = smpm.contact_momentum_change(list(dp0), list(n), "coulomb", mu, 0.1)
+            assert not apart and none == [0.0] * d  # separated: no contact
+    with pytest.raises(smpm.InputError, match="friction = -1: must be non-negative"):
+        smpm.contact_momentum_change([1.0, 0.0], [0.0, 1.0], "coulomb", -1.0)
+    with pytest.raises(smpm.InputError, match="same 1 to 3 components"):
+        smpm.contact_momentum_change([1.0, 0.0], [0.0, 1.0, 0.0])
