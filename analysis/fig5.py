@@ -45,6 +45,8 @@ METHODS = {
                 "contact.0.direction=[0.0, 1.0]"],
     "LR normal, d_LR": ["contact.0.normal=LR", "contact.0.detection=LR"],
     "LR normal, approaching": ["contact.0.normal=LR", "contact.0.detection=approaching"],
+    "LR Once": ["contact.0.normal=LR", "contact.0.detection=LR",
+                "step.contact_corrections=once"],
 }
 REPORT = [1, 5, 10, 20]  # strains (%) of the table
 

@@ -93,12 +93,14 @@ struct Stages {
     map_momentum(op, fields.V, b.g.p, c.affine);
     if (c.sums) // the totals over the processes
       c.sums->add(b.g.p);
+    const bool once = opt.contact_corrections == ContactCorrections::Once;
     if (c.contact_nodes && opt.velocity == VelocityUpdate::XPIC &&
         opt.xpic_contact == XpicContact::Term) { // keep Δv^α (Eq. 37)
       b.contact_dv = b.g.p;
-      contact(b.g.p);
+      if (!once)
+        contact(b.g.p);
       b.contact_dv = c.ops->m_inv.asDiagonal() * (b.g.p - b.contact_dv);
-    } else {
+    } else if (!once) {
       contact(b.g.p);
     }
     if (correct_bcs())

@@ -37,6 +37,16 @@ DeformationUpdate deformation_update_from_string(std::string_view name) {
   return detail::parse_enum(name, kDeformations, "deformation update");
 }
 
+constexpr detail::EnumNames<ContactCorrections, 2> kContactCorrections{
+    {{ContactCorrections::Twice, "twice"}, {ContactCorrections::Once, "once"}}};
+
+std::string_view to_string(ContactCorrections c) {
+  return detail::enum_name(c, kContactCorrections);
+}
+ContactCorrections contact_corrections_from_string(std::string_view name) {
+  return detail::parse_enum(name, kContactCorrections, "number of contact corrections");
+}
+
 std::string_view to_string(XpicContact c) {
   return detail::enum_name(c, kXpicContacts);
 }

@@ -160,6 +160,13 @@ void bind_step_numbers(py::class_<StepOptions>& c) {
       [](StepOptions& o, const std::string& s) { o.xpic_contact = xpic_contact_from_string(s); },
       "multimaterial XPIC(m): 'increments' (contact on every increment of the loop), 'term' "
       "(contact 2020 Eq. (37)'s term) or 'none'");
+  name_property(
+      c, "contact_corrections", [](const StepOptions& o) { return o.contact_corrections; },
+      [](StepOptions& o, const std::string& s) {
+        o.contact_corrections = contact_corrections_from_string(s);
+      },
+      "multimaterial contact: 'twice' (after the extrapolation and after the momentum update, "
+      "contact 2020 §3.2) or 'once' (after the momentum update only: the paper's \"LR Once\")");
   c.def_property(
       "exact_regularization", [](const StepOptions& o) { return o.exact.regularization; },
       [](StepOptions& o, double eps) { o.exact.regularization = eps; },
