@@ -100,10 +100,29 @@ def main():
         for update, style in (("USL", "o-"), ("USL+", "s--")):
             axes[0].plot(cells, [res[("A", c, name, update)][0] for c in cells], style,
                          color=f"C{i}", label=f"{name} {update}")
+    # Panel B's scale holds the runs that kept their energy within 5% (gained) to 20% (lost);
+    # a run beyond it (unstable, but not stopped) is a triangle at the edge with its value, and
+    # a run that failed a cross at the top.
+    values_b = [res[("B", c, n, "USL")][0] for c in courants for n in updates_b]
+    shown = [v for v in values_b if -5 <= v <= 20] or [0.0]
+    lo, hi = min(shown + [0.0]), max(shown)
+    pad = 0.15 * (hi - lo) + 0.1
+    lo, hi = lo - pad, hi + pad
     for i, name in enumerate(updates_b):
-        axes[1].plot(courants, [res[("B", c, name, "USL")][0] for c in courants], "o-",
-                     color=f"C{i}", label=name + (f", $C_X$ = {a.periodic_cx:g}"
-                                                  if name == PERIODIC else ""))
+        ys = [res[("B", c, name, "USL")][0] for c in courants]
+        inside = [y if lo <= y <= hi else float("nan") for y in ys]
+        axes[1].plot(courants, inside, "o-", color=f"C{i}",
+                     label=name + (f", $C_X$ = {a.periodic_cx:g}" if name == PERIODIC else ""))
+        for c, y in zip(courants, ys):
+            if y != y:  # failed
+                axes[1].plot([c], [hi - 0.02 * (hi - lo) * (1 + i)], "x", color=f"C{i}", ms=8)
+            elif not lo <= y <= hi:
+                edge = lo if y < lo else hi
+                axes[1].plot([c], [edge], "v" if y < lo else "^", color=f"C{i}", ms=8)
+                axes[1].annotate(f"{y:.1f}%", (c, edge), textcoords="offset points",
+                                 xytext=(-30, 8 if y < lo else -14), color=f"C{i}")
+    axes[1].set_ylim(lo, hi)
+    axes[1].text(0.02, 0.97, "x: the run failed", transform=axes[1].transAxes, va="top")
     axes[0].set_xlabel("cell size $\\Delta x$ (mm)")
     axes[0].set_title("Fig. 11A: $C$ = 0.2, $\\mu$ = 0.3")
     axes[0].set_ylabel("energy lost $1 - (U + K)/(U + K)_0$ (%)")
