@@ -37,6 +37,16 @@ DeformationUpdate deformation_update_from_string(std::string_view name) {
   return detail::parse_enum(name, kDeformations, "deformation update");
 }
 
+constexpr detail::EnumNames<BCOrdering, 2> kBCOrderings{
+    {{BCOrdering::Correct, "correct"}, {BCOrdering::Improper, "improper"}}};
+
+std::string_view to_string(BCOrdering o) {
+  return detail::enum_name(o, kBCOrderings);
+}
+BCOrdering bc_ordering_from_string(std::string_view name) {
+  return detail::parse_enum(name, kBCOrderings, "BC ordering");
+}
+
 constexpr detail::EnumNames<ContactCorrections, 2> kContactCorrections{
     {{ContactCorrections::Twice, "twice"}, {ContactCorrections::Once, "once"}}};
 

@@ -161,6 +161,12 @@ void bind_step_numbers(py::class_<StepOptions>& c) {
       "multimaterial XPIC(m): 'increments' (contact on every increment of the loop), 'term' "
       "(contact 2020 Eq. (37)'s term) or 'none'");
   name_property(
+      c, "bc_ordering", [](const StepOptions& o) { return o.bc_ordering; },
+      [](StepOptions& o, const std::string& s) { o.bc_ordering = bc_ordering_from_string(s); },
+      "where velocity BCs act (Buzzi et al. §5.5): 'correct' (BC1 after the extrapolation and "
+      "BC2 on the rates) or 'improper' (BC2 and BC3, the BC velocity only in the strain update, "
+      "without BC1: his Fig. 22, kept for comparison)");
+  name_property(
       c, "contact_corrections", [](const StepOptions& o) { return o.contact_corrections; },
       [](StepOptions& o, const std::string& s) {
         o.contact_corrections = contact_corrections_from_string(s);

@@ -123,6 +123,10 @@ def case_fig9(w):
             w / "fig9"], ["fig9"], ["fig9"]
 
 
+def case_buzzi(w):
+    return ["--smpm", SMPM, "-o", w / "buzzi"], ["buzzi"], ["buzzi"]
+
+
 def case_fig6(w):
     return ["--build", BUILD, "-o", w / "fig6"], ["fig6"], ["fig6"]
 
@@ -140,6 +144,11 @@ def case_fig10(w):
 def case_fig11(w):
     return ["--smpm", SMPM, "--jobs", "1", "--cells", "4", "--courants", "0.4", "--cell-b", "4",
             "--set", "time.end=0.02", "-o", w / "fig11"], ["fig11"], ["fig11"]
+
+
+def case_fig13b(w):
+    return ["--smpm", SMPM, "--limits", "0.01,0.0001", "--set", "time.end=0.0002", "-o",
+            w / "fig13b"], ["fig13b"], ["fig13b"]
 
 
 def case_fig13a(w):
@@ -176,8 +185,8 @@ CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig3.py": case_fig3, "compaction.py": case_compaction, "rho_map.py": case_rho_map,
          "compaction_paper.py": case_compaction_paper,
          "fig12a.py": case_fig12a, "fig12_gradient.py": case_fig12_gradient,
-         "fig8.py": case_fig8, "fig13a.py": case_fig13a,
+         "fig8.py": case_fig8, "fig13a.py": case_fig13a, "fig13b.py": case_fig13b,
          "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
          "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
          "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
-         "df_fit.py": case_df_fit, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10}
+         "df_fit.py": case_df_fit, "buzzi.py": case_buzzi, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10}

@@ -103,6 +103,10 @@ enum class BCOrdering {
   Correct, ///< zero the fixed momentum after P2G (BC1) and its rate before the update (BC2)
   Improper ///< BC2 and zero velocity only in the strain update (BC3), without BC1 (Fig. 22)
 };
+/// Name used in input files: correct | improper.
+std::string_view to_string(BCOrdering o);
+/// The ordering named `name`; throws InputError naming the valid choices.
+BCOrdering bc_ordering_from_string(std::string_view name);
 
 /// Names of the input files: USL | USF | USL+ | USAVG | USAVG+ and FLIP | PIC | FMPM | XPIC |
 /// exact; the parsers throw InputError naming the valid choices.

@@ -69,6 +69,8 @@ void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
       r.choice(t, "deformation", "step.deformation", "linear", &deformation_update_from_string);
   step.xpic_contact =
       r.choice(t, "xpic_contact", "step.xpic_contact", "increments", &xpic_contact_from_string);
+  step.bc_ordering =
+      r.choice(t, "bc_ordering", "step.bc_ordering", "correct", &bc_ordering_from_string);
   step.contact_corrections = r.choice(t, "contact_corrections", "step.contact_corrections", "twice",
                                       &contact_corrections_from_string);
   step.transfer = r.choice(t, "transfer", "step.transfer", "standard", &transfer_from_string);
