@@ -110,6 +110,17 @@ TEST_CASE("scheme options: position alpha, deformation update, exact solver, fra
              Catch::Contains("step.exact_mass_cutoff = 1.5: must lie in [0, 1)"));
   CHECK_THAT(error_of(bar, {"step.exact_regularization=2"}),
              Catch::Contains("step.exact_regularization = 2: must lie in [0, 1]"));
+  // The comparisons' settings (Buzzi §5.5; contact 2020's "LR Once"), default the methods'.
+  CHECK(unset.step.bc_ordering == BCOrdering::Correct);
+  CHECK(unset.step.contact_corrections == ContactCorrections::Twice);
+  const RunConfig compared =
+      read_input(bar, "bar.toml", {"step.bc_ordering=improper", "step.contact_corrections=once"});
+  CHECK(compared.step.bc_ordering == BCOrdering::Improper);
+  CHECK(compared.step.contact_corrections == ContactCorrections::Once);
+  CHECK_THAT(error_of(bar, {"step.bc_ordering=wrong"}),
+             Catch::Contains("step.bc_ordering") && Catch::Contains("correct | improper"));
+  CHECK_THAT(error_of(bar, {"step.contact_corrections=thrice"}),
+             Catch::Contains("step.contact_corrections") && Catch::Contains("twice | once"));
 }
 
 TEST_CASE("the step options' limits are the library's, reported at the line of the key",
