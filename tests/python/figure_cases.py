@@ -127,6 +127,10 @@ def case_buzzi(w):
     return ["--smpm", SMPM, "-o", w / "buzzi"], ["buzzi"], ["buzzi"]
 
 
+def case_fig2b(w):
+    return ["--smpm", SMPM, "--end", "8.5", "-o", w / "fig2b"], ["fig2b"], ["fig2b"]
+
+
 def case_fig6(w):
     return ["--build", BUILD, "-o", w / "fig6"], ["fig6"], ["fig6"]
 
@@ -189,4 +193,4 @@ CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
          "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
          "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
-         "df_fit.py": case_df_fit, "buzzi.py": case_buzzi, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10}
+         "df_fit.py": case_df_fit, "buzzi.py": case_buzzi, "fig2b.py": case_fig2b, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10}

@@ -383,6 +383,21 @@ def check_buzzi(r):
     assert "order in dt of the difference" in r.stdout and len(r.figure().axes) == 4
 
 
+def check_fig2b(r):
+    # Contact 2020 Fig. 2B: logistic regression finds the contact at the contact time on a grid
+    # line and mid cell (measured +0.06 and +0.01 ms: the first frame after t_c; asserted within
+    # 0.15 ms, three frames), the approaching criterion alone milliseconds early (measured
+    # -5.09 and -7.69 ms).
+    table = rows(r.tables[0])
+    found = {(row["method"], row["contact_plane"]): float(row["detected_minus_tc_ms"])
+             for row in table}
+    assert len(found) == 10
+    for plane in ("grid line", "mid cell"):
+        assert abs(found[("LR", plane)]) < 0.15
+        assert found[("Δv < 0 (AG)", plane)] < -1.0
+    assert "contact time t_c = 7.795 ms" in r.stdout
+
+
 def check_fig6(r):
     # The library's contact law against the paper's ‖f_c‖/A_c = √(N_c² + min(T_c, μ N_c)²)
     # (N_c > 0; 0 otherwise) at every point: the same operations, so to round-off (measured 0).
