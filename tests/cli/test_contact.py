@@ -48,9 +48,9 @@ class TwoBlocks(unittest.TestCase):
             "ag_df": ["contact.0.detection=DF", "contact.0.normal=AG"],
             "df_sn": ["contact.0.detection=DF"] + SN,
             "lr": LR,
-            "lr_once": LR + ["step.contact_corrections=once"],
         }
         if not SANITIZED:
+            cases["lr_once"] = LR + ["step.contact_corrections=once"]
             cases["fmpm_single"] = FMPM4 + ["contact.0.law=single-field"]
             cases["fmpm_net"] = FMPM4 + LR + ["contact.0.fmpm_method=net"]
         with concurrent.futures.ThreadPoolExecutor(2) as pool:
@@ -82,6 +82,7 @@ class TwoBlocks(unittest.TestCase):
         # material mode up to 20% strain (paper: < 1%); measured at most 3.7e-5 %.
         self.assertLess(self.error("lr").max(), 1.0)
 
+    @unittest.skipIf(SANITIZED, "a full run that checks a number; the Release build runs it")
     def test_one_contact_correction_per_step_errs_more(self):
         # Contact 2020 §3.2 and its Fig. 5 "LR Once": with contact after the momentum update
         # only, the step cannot split the change into the extrapolation's and the update's, and
