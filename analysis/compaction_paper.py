@@ -14,14 +14,14 @@ the box, from the 280-pixel image at two particles per cell along each axis, fou
 CPDI, multimaterial XPIC(5), 3+ nodes lumped. The paper's peak mean axial stresses: CP = 0.8
 80 GPa, DF 84 GPa, LR 105 GPa, with visible interpenetration for DF and none for LR.
 
-Choices the paper leaves open (said here and in the README): the ellipses are this script's
+Choices the paper leaves open (said here and in docs/studies/contact.md): the ellipses are this script's
 (random sizes, positions and orientations, seed --seed, no two closer than a particle spacing),
 since the paper's bitmap is not published; the piston is a moving wall one cell deep (as
 examples/compaction.toml); contact between every pair is Coulomb with mu = 0.2 (the friction of
 the paper's §4.1 test); C = 0.4, USL. CP and DF use average-gradient normals, LR logistic
 regression for both the normal and the separation. The velocity update is the paper's
 multimaterial XPIC(5), with contact on every increment of its loop (step.xpic_contact =
-"increments", the library's default; README, "Multimaterial MPM"); --velocity FLIP for FLIP.
+"increments", the library's default; docs/studies/contact.md); --velocity FLIP for FLIP.
 
 Writes PREFIX.png.in.png (the bitmap) and PREFIX.toml (the input), runs every method to
 PREFIX_<method>.h5 and writes PREFIX.csv (per method and frame: compaction, mean sigma_yy of the

@@ -9,7 +9,7 @@
 Each --problem names a problem and two or three tables written by `smpm stability --method
 both` on the same input: one with the standard transfer, one with `--set
 step.transfer=velocity_gradient` (Wallstedt & Guilkey 2007) and optionally one with `--set
-step.transfer=apic` (Jiang et al. 2015; README "Velocity-gradient transfers: does C* reach 1?").
+step.transfer=apic` (Jiang et al. 2015; docs/studies/gradient-transfers.md).
 One row of panels per problem: (A) FMPM(k), FLIP and the exact update, (B) FMPM(k) blended with
 FMPM(1) and FMPM(2) and periodic FMPM(k), with the velocity-gradient transfer drawn in full and
 the standard transfer faded; with an APIC table, (C) APIC's FMPM(k), FLIP and exact update in
@@ -19,7 +19,7 @@ C = 1 and FMPM(k) plateaus at C = 0.60) are thin black lines.
 
 Writes PREFIX.png and PREFIX.csv (one row per problem, series, order and transfer: the two C*
 and the total energy change of the simulation at its C*), and prints the summary table of the
-README (order 80 for the blended and periodic series).
+docs/studies/gradient-transfers.md (order 80 for the blended and periodic series).
 """
 import argparse
 import csv
@@ -139,7 +139,7 @@ def write_table(rows, path):
 
 
 def summary(rows, problems):
-    """The README's table: per problem and series, C* (spectral / simulation) for each transfer
+    """The table of docs/studies/gradient-transfers.md: per problem and series, C* (spectral / simulation) for each transfer
     and the energy change of the simulation at its C*."""
     def cell(v):
         return "–" if math.isnan(v) else f"{v:.3f}"

@@ -64,7 +64,7 @@ def run(smpm, workdir, case, extra=()):
             f"bc.0.wall.depth_cells={d}", f"bc.1.wall.depth_cells={d}"]
     if method == "FLIP":
         sets += ["step.velocity=FLIP"]
-    elif method == "exact":  # m~ + light nodes is singular to round-off late in the run (README)
+    elif method == "exact":  # m~ + light nodes is singular to round-off late in the run (docs/studies/moving-walls.md)
         sets += ["step.velocity=exact", "step.exact_regularization=1e-4"]
     else:
         sets += ["step.velocity=FMPM", f"step.order={k}",

@@ -9,7 +9,7 @@ Runs examples/disk_impact.toml with `smpm run` (mu = 0.6, FMPM(4) mechanics: the
 with heat by `transport`: lumped (the default, NairnMPM's conduction: the lumped update, the
 friction heat in its rate) or FMPM (FMPM(4) on the capacity matrix, which undershoots 300 K
 beside the contact unless --set step.transport_limiter=fct) at cell size `cell` (mm; the grid
-keeps its extent; the paper's is 1/3 mm; the peak rises as 1/cell, README "Heat") and draws the
+keeps its extent; the paper's is 1/3 mm; the peak rises as 1/cell, docs/studies/heat.md) and draws the
 particles coloured by temperature at the frames nearest each of `times` (ms), from the lowest
 temperature drawn (300 K unless the transport undershoots) to the highest, black to red as the
 paper,

@@ -167,7 +167,7 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   return run;
 }
 
-// The options renamed for one vocabulary (README, "One vocabulary"): each earlier spelling is
+// The options renamed for one vocabulary (docs/guide/vocabulary.md): each earlier spelling is
 // accepted in this release, hidden from --help, with a note when used.
 class Aliases {
 public:

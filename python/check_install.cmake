@@ -18,7 +18,7 @@ message(STATUS "installed module printed: ${out}")
 if(rc)
   message(FATAL_ERROR "importing the installed module failed: ${err}")
 endif()
-# Imported from the prefix, not the build tree; ρ(A) of the README's four particles
+# Imported from the prefix, not the build tree; ρ(A) of the four particles of docs/guide/cpp.md
 # (the largest eigenvalue printed by examples/hello: 0.9459).
 if(NOT out MATCHES "^${site}/sparsempm/__init__.py\n" OR NOT out MATCHES "rho\\(A\\) = 0\\.9459")
   message(FATAL_ERROR "unexpected output of the installed module")

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# `pip install --no-build-isolation .` as README says, into a scratch virtual environment that
+# `pip install --no-build-isolation .` as docs/guide/python.md says, into a scratch virtual environment that
 # sees the system's numpy and scipy: the package builds offline (setup.py drives CMake) and
 # imports from the environment. Its CMake build is made beside the test build, BUILD_DIR.pip,
 # with the test build's flags: the same relative paths, so that ccache (with CCACHE_BASEDIR at
@@ -27,7 +27,7 @@ message(STATUS "the pip-installed module printed: ${out}")
 if(rc)
   message(FATAL_ERROR "importing the pip-installed module failed: ${err}")
 endif()
-# From the environment, with the project's version, and ρ(A) of the README's four particles
+# From the environment, with the project's version, and ρ(A) of the four particles of docs/guide/cpp.md
 # (examples/hello: 0.9459).
 if(NOT out MATCHES "^${WORK_DIR}/venv/lib/python3[.0-9]*/site-packages/sparsempm/__init__.py\n"
    OR NOT out MATCHES "\n${VERSION}\n" OR NOT out MATCHES "rho\\(A\\) = 0\\.9459")

@@ -3,10 +3,10 @@
 """MPM as matrices from Python, and one point of FMPM 2026 Fig. 12A.
 Run: PYTHONPATH=build/python python3 examples/python/matrices.py (from the source tree).
 Look at: spec(A) lies in [0, 1); FMPM(4)'s critical Courant number by simulation is 0.543
-(the paper: 0.539), its spectral bound over lattice shifts 0.451 (README's stability table)."""
+(the paper: 0.539), its spectral bound over lattice shifts 0.451 (docs/studies/stability.md)."""
 import os, numpy as np, scipy.linalg, sparsempm as smpm
 
-# 1. The README's four particles of mass 1/4 on a 1D grid of three cells (linear shapes).
+# 1. The four particles of docs/guide/cpp.md of mass 1/4 on a 1D grid of three cells (linear shapes).
 model = smpm.Model(smpm.Grid(cells=[3]), X=[0.75, 1.25, 1.75, 2.25], mass=[0.25] * 4,
                    volume0=[0.5] * 4, materials=[smpm.Material(density=0.5)])
 ops = smpm.assemble(model, "linear")

@@ -89,7 +89,8 @@ void parallel_for(Index n, Body&& body, Index rows = -1) {
     {
       region_enter();
       // nowait: the barrier that ends the region is the one barrier needed (one barrier less:
-      // 1.4 of the 4.4 µs a two-thread region costs on the machine of the README's figures).
+      // 1.4 of the 4.4 µs a two-thread region costs on the machine of docs/performance.md's
+      // figures).
 #pragma omp for schedule(static) nowait
       for (Index i = 0; i < n; ++i)
         guarded(i);

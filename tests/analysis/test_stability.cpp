@@ -137,7 +137,7 @@ TEST_CASE("the linearised step is the derivative of the Stepper's step, for ever
   // multiply O(ε) fields. Asserted: |(step − 0)/ε − T x̂| ≤ 1e-4 |T x̂| with ε = 1e-7.
   // The lattice is shifted by 0.1 cell so that no particle domain ends on a node: there a
   // perturbation of O(ε) would activate a node of mass O(ε), a jump that the exact inverse
-  // m̃⁻¹ magnifies (see the exact-update notes in the README).
+  // m̃⁻¹ magnifies (see the exact-update notes in docs/studies/stability.md).
   const Model bar = shifted(vibrating_bar({}), {0.1, 0, 0});
   const double E = bar.materials[0].youngs, dt = 0.2 / courant_of(bar, 1.0), eps = 1e-7;
   const Index N = bar.particles.size();

@@ -164,9 +164,9 @@ TEST_CASE("no reported interval holds an unstable point: the bar with and withou
   // as C → 0 (measured ρ − 1 = 1.6e-5 at C = 0.001, 1.7e-4 at 0.02, 1.5e-14 at 0.05), and is
   // stable from there to 1.164: the search reports that interval and growth_rate γ, and an
   // independent evaluation of ρ(T) inside the unstable part is above 1 + tol. Without
-  // gradients FLIP at shift 0 is stable from C → 0 to C* = 0.755 (Fig. 12A's bar; README), with
-  // γ at round-off (|γ| < 1e-10). In each reported interval ρ(T) ≤ 1 + 10⁻⁶ on 24 points spread
-  // logarithmically from its lower end (or 10⁻⁴) to C*.
+  // gradients FLIP at shift 0 is stable from C → 0 to C* = 0.755 (Fig. 12A's bar;
+  // docs/studies/stability.md), with γ at round-off (|γ| < 1e-10). In each reported interval ρ(T) ≤
+  // 1 + 10⁻⁶ on 24 points spread logarithmically from its lower end (or 10⁻⁴) to C*.
   const Model bar = vibrating_bar({});
   const StepOptions gradient{.shape = Shape::CPDI, .transfer = Transfer::VelocityGradient};
   const StepOptions standard{.shape = Shape::CPDI};

@@ -88,7 +88,7 @@ class BadInput(Base):
 
     def test_held_temperature_with_b_splines(self):
         # Quadratic B-spline nodal values are control points: a held temperature node does not
-        # hold the plane (README, "Heat"), so `smpm run` refuses the pair before any write; the
+        # hold the plane (docs/studies/heat.md), so `smpm run` refuses the pair before any write; the
         # transport stability of the same input, which runs no simulation, takes it.
         bar = EXAMPLES / "conduction_bar.toml"
         for shape in ("bspline2", "b2cpdi"):

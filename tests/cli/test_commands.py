@@ -65,7 +65,7 @@ class Stability(Base):
         self.assertEqual(r.returncode, 0, r.stderr)
         text = out.read_text()
         # A plain CSV (no comment lines), read as it is by csv and numpy.genfromtxt; the
-        # configuration's rho(A) (0.75 for the bar's CPDI lattice, README) on every row.
+        # configuration's rho(A) (0.75 for the bar's CPDI lattice, docs/studies/stability.md) on every row.
         rows = read_table(text.splitlines())
         self.assertEqual(list(rows[0]), ["order", "blend_alpha", "blend_every", "truncation_error",
                                          "courant", "rho_T", "rho_A", "min_eig_minv_mt", "cond_mt",
@@ -100,7 +100,7 @@ class Stability(Base):
             self.assertEqual(cells[-4], row["critical_fourier"])
             self.assertEqual(" ".join(cells[-2:]), row["configuration"])
             self.assertGreater(int(row["evaluations"]), 0)
-        # FMPM(1) is PIC: F* of the lumped update is larger (README's conduction bar).
+        # FMPM(1) is PIC: F* of the lumped update is larger (the conduction bar of docs/studies/heat.md).
         self.assertGreater(float(rows[0]["critical_fourier"]), float(rows[1]["critical_fourier"]))
 
     def test_frames_sweep(self):
@@ -118,7 +118,7 @@ class Stability(Base):
             self.assertRegex(row["configuration"], r"^(shift 0|frame [0-9]+)$")
 
     def test_earlier_option_names(self):
-        # One release of aliases (README, "One vocabulary"): --k, --blend m:alpha and --periodic
+        # One release of aliases (docs/guide/vocabulary.md): --k, --blend m:alpha and --periodic
         # of stability, --k, --alpha and --every of spectrum give the tables of the current
         # names, with a note on standard error for each.
         bar = EXAMPLES / "vibrating_bar.toml"

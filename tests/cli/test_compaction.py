@@ -112,7 +112,7 @@ class PaperScale(unittest.TestCase):
         # contact (mu = 0.2, LR) with the objects; at nodes where two objects meet it, each
         # contacts the piston alone, with its infinite mass. At --scale 5, FLIP, LR, to 75%,
         # measured: rigid -72.4 GPa and 25.1% inside another object against the wall's -90.8
-        # GPa and 24.0% (at full scale with XPIC(5) within 4%: README). Lumping
+        # GPa and 24.0% (at full scale with XPIC(5) within 4%: docs/studies/contact.md). Lumping
         # the piston with its particles' mass at those nodes let the objects through it beyond
         # 55% compaction (-17.6 GPa at 75%).
         wall, rigid = lr_at_75(self, ["--velocity", "FLIP"],

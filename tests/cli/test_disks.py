@@ -95,7 +95,7 @@ class Disks(unittest.TestCase):
         # loses what K + W + W_friction does. Without friction nothing heats (mu = 0: 300 K to
         # round-off); with it the contact surfaces heat (FLIP, 1 mm: measured 314.6 and 311.7 K
         # at mu = 0.3 and 0.6, the example (FMPM(4), lumped transport, mu = 0.6) 323.8 K; at the
-        # paper's 1/3 mm 420.6 K for the example, beside its 456 K: README).
+        # paper's 1/3 mm 420.6 K for the example, beside its 456 K: docs/studies/heat.md).
         for name, r in self.r.items():
             with self.subTest(name):
                 self.assertLess(abs(r["heat"] - r["friction_work"]), 1e-13 * r["content"])
@@ -106,12 +106,12 @@ class Disks(unittest.TestCase):
         self.assertGreater(self.r["example"]["t_max"], 305)
         # The lumped update adds Δt S c⁻¹ q, and friction heat is positive: no particle cools
         # below the 300 K it started at (measured 300 K to round-off in every lumped run; FMPM(4)
-        # transport reaches 291.3 K at 1/3 mm, README "Heat"), but by round-off (1e-9 K at 0.5 mm).
+        # transport reaches 291.3 K at 1/3 mm, docs/studies/heat.md), but by round-off (1e-9 K at 0.5 mm).
         for name, r in self.r.items():  # every run here conducts by the lumped update
             with self.subTest(name):
                 self.assertGreaterEqual(r["t_min"], 300 - 1e-7)
         # FMPM 2026 Fig. 9A: U + K lost by FMPM(4) at mu = 0.6 (1 mm: measured 5.96%; 2.01% at
-        # the paper's 1/3 mm, README, beside its "< 2%")
+        # the paper's 1/3 mm, docs/studies/shocks.md, beside its "< 2%")
         self.assertLess(self.r["example"]["lost_uk"], 0.07)
 
     def test_friction_turns_the_disks(self):

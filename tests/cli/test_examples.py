@@ -132,7 +132,7 @@ class Examples(Base):
         self.assertLess(np.abs(total - total[0]).max(), 1e-12 * total[0])
         self.assertGreater(momentum[-1, 2], 0.1 * total[0])
 
-    @unittest.skipIf(SANITIZED, "the two full runs check the README's numbers only (111 s "
+    @unittest.skipIf(SANITIZED, "the two full runs check the docs' numbers only (111 s "
                      "under ASan); the Release build runs them, the thread tests the same code")
     def test_block_impact(self):
         flip = self.energy_change(self.run_example("block_impact"))

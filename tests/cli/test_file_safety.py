@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: BSD-3-Clause
-"""Run-file safety (README, "What survives"): a result is never destroyed by a rerun that fails,
+"""Run-file safety (docs/guide/file-safety.md): a result is never destroyed by a rerun that fails,
 is killed, races another run or points at the wrong path; the names beside the output (the
 partial file, sidecars, lock files, links and damaged files there) are checked before any work
 and never written through; tables never replace run files; a signal, a full or read-only disk,

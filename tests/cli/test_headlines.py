@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: BSD-3-Clause
-"""The papers' headline numbers at a stated resolution, each beside the README's table it
+"""The papers' headline numbers at a stated resolution, each beside the docs' table it
 reproduces: the two-disk impact's U + K lost at the paper's 1/3 mm cells (FMPM 2026 Fig. 9) and
 its free energy (Fig. 10), its peak temperature at 0.5 mm (Fig. 7), and the critical Courant
-numbers of the vibrating bar with the three transfers (README, "Velocity-gradient transfers").
+numbers of the vibrating bar with the three transfers (docs/studies/gradient-transfers.md).
 
 Run by ctest (cli.headlines, label long: the Release build only) with SMPM (the binary) and
 SMPM_SOURCE (the source tree) in the environment; about a minute on two cores.
@@ -84,7 +84,7 @@ class Headlines(unittest.TestCase):
 
     def test_fig9_energy_lost_at_the_papers_cells(self):
         # FMPM 2026 Fig. 9B at 1/3 mm, mu = 0.3: FMPM(1) loses 18.7% (the paper's number;
-        # measured 18.92%, README), FLIP and FMPM(4) under 2% (the paper's words; measured 1.03%
+        # measured 18.92%, docs/studies/shocks.md), FLIP and FMPM(4) under 2% (the paper's words; measured 1.03%
         # and 1.64%), FMPM(4) more than FLIP.
         r = self.r
         self.assertAlmostEqual(r["fmpm1_mu0.3"]["lost"], 18.7, delta=0.5)
@@ -95,14 +95,14 @@ class Headlines(unittest.TestCase):
     def test_fig10_free_energy(self):
         # FMPM 2026 Fig. 10: the free energy A = U - TS peaks during the impact and returns
         # close to zero once the disks separate. FLIP with the lumped transport at 1/3 mm,
-        # mu = 0.3 (README's table: peak 25.94%, end -1.09%; asserted to 0.3 points).
+        # mu = 0.3 (docs/studies/shocks.md's table: peak 25.94%, end -1.09%; asserted to 0.3 points).
         r = self.r["flip_mu0.3"]
         self.assertAlmostEqual(r["dA_peak"], 25.94, delta=0.3)
         self.assertAlmostEqual(r["dA_end"], -1.09, delta=0.3)
 
     def test_fig7_peak_temperature(self):
         # FMPM 2026 Fig. 7, the example (mu = 0.6, FMPM(4), lumped transport) at 0.5 mm on the
-        # example's grid: the peak 379.0 K of the README's table of cell sizes and grid shifts
+        # example's grid: the peak 379.0 K of docs/studies/heat.md's table of cell sizes and grid shifts
         # (asserted to 1 K; the shifts move it by up to 13 K), and no particle below 300 K but
         # by round-off (measured 1.4e-9 K below; FMPM(4) transport reaches 291 K at 1/3 mm).
         r = self.r["fig7_half_mm"]
@@ -110,7 +110,7 @@ class Headlines(unittest.TestCase):
         self.assertGreaterEqual(r["t_min"], 300 - 1e-7)
 
     def test_gradient_table_of_the_bar(self):
-        # README, "Velocity-gradient transfers": C* by rho(T) on the bar (CPDI), to the printed
+        # docs/studies/gradient-transfers.md: C* by rho(T) on the bar (CPDI), to the printed
         # digits (0.0005). The velocity-gradient transfer's FMPM(80) and exact rows have a weak
         # mode unstable at every C (C* = 0); FLIP's table entry reaches 1 but with an unstable
         # interval below C = 0.04 at two lattice shifts, which the table must say.

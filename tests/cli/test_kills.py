@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: BSD-3-Clause
-"""Nothing lost, whatever the moment of the kill (README, "What survives"): runs with heat,
+"""Nothing lost, whatever the moment of the kill (docs/guide/file-safety.md): runs with heat,
 plasticity, contact and many small frames are killed with SIGKILL at random instants, uniform
 over the run and concentrated on the writing of frame files, of the index, of the assembled
 file and on restarts; every file left must list its completed frames and restart from the

@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: BSD-3-Clause
 """What reads a run file: scipy (the CSR matrices), the XDMF sidecar (it points at existing
-datasets, and is XML whatever the run file's name holds), smpm info and info --layout (the
-README's list of objects), the analysis scripts (their PNGs), and a run in progress read by
-smpm info and by an XML parser (never half written). ParaView's and meshio's XDMF readers are
+datasets, and is XML whatever the run file's name holds), smpm info and info --layout (whose
+print the site's run-file page shows, made by the site's build), the analysis scripts (their
+PNGs), and a run in progress read by smpm info and by an XML parser (never half written). ParaView's and meshio's XDMF readers are
 io.readers' (tests/io/test_readers.py).
 
 Run by ctest (cli.readers) with SMPM (the binary) and SMPM_SOURCE (the source tree) in the
@@ -86,15 +86,6 @@ class RunFiles(Base):
                     line = next(l for l in r.stdout.splitlines() if l.split() and l.split()[0] == "/" + n)
                     self.assertIn(" x ".join(map(str, f[n].shape)) or "scalar", line)
         self.assertNotIn("not of the sparsempm layout", r.stdout)
-
-    def test_readme_shows_the_layout(self):
-        # The README's list of a run file's objects is the print of `smpm info --layout`
-        # (output.hpp's run_file_layout, the one statement of it).
-        r = smpm("info", "--layout")
-        self.assertEqual(r.returncode, 0, r.stderr)
-        readme = (SOURCE / "README.md").read_text()
-        block = readme.split("<!-- smpm info --layout -->\n```text\n", 1)[1].split("```", 1)[0]
-        self.assertEqual(block, r.stdout)
 
     def test_analysis_scripts_write_pngs(self):
         # -o is an output prefix (p writes p.png); a trailing .png is the same prefix.

@@ -233,7 +233,7 @@ TEST_CASE("the exact transport solve names a singular capacity matrix as such", 
   // The remedy the message gives first: (1 − ε) c̃ + ε c is positive definite for every ε > 0. Its
   // rows sum to c, so θ uniform on a particle's two nodes solves it: no particle shares a node,
   // so none exchanges heat and each keeps its own temperature (a gradient in T_p, 300 + 100 X)
-  // to round-off. (The disk impact's c̃ is singular the same way: README, "Heat".)
+  // to round-off. (The disk impact's c̃ is singular the same way: docs/studies/heat.md.)
   Model regularized = m;
   regularized.particles.temperature = (300 + 100 * regularized.particles.X.col(0).array()).matrix();
   const Eigen::VectorXd start = regularized.particles.temperature;

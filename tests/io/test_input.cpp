@@ -173,7 +173,7 @@ TEST_CASE("step.xpic_contact_term reads as step.xpic_contact, in the file and in
 }
 
 TEST_CASE("the earlier names [scheme], update and --set scheme.* read as [step]", "[input]") {
-  // One release of aliases (README, "One vocabulary"): the same options, with a note each.
+  // One release of aliases (docs/guide/vocabulary.md): the same options, with a note each.
   const std::string bar = example("vibrating_bar.toml");
   const std::string old =
       replace(replace(bar, "[step]", "[scheme]"), "scheme = \"USL\"", "update = \"USF\"");

@@ -48,7 +48,7 @@ class Readers(unittest.TestCase):
 
     def test_live_run(self):
         # A run still writing: its partial file's sidecars, read without HDF5's file lock
-        # (HDF5_USE_FILE_LOCKING=FALSE, as README says for h5py and ParaView).
+        # (HDF5_USE_FILE_LOCKING=FALSE, as docs/guide/run-files.md says for h5py and ParaView).
         out = self.dir / "live.h5"
         p = subprocess.Popen([SMPM, "run", EXAMPLES / "block_impact.toml", "-o", out, "-q",
                               "--set", "time.end=100", "--set", "output.every=0.01"],

@@ -254,7 +254,7 @@ TEST_CASE("held temperatures are refused with quadratic B-splines, whose nodes d
           "[transport]") {
   // A quadratic B-spline's nodal value is a control point: at a held node x_i the field is
   // θ_{i−1}/8 + 3θ_i/4 + θ_{i+1}/8, not θ_i. Measured on this bar before the refusal (max particle
-  // error at 10, 20, 40, 80 cells, README "Heat"): lumped 24.2, 26.4, 41.5, 62.1 K (grows),
+  // error at 10, 20, 40, 80 cells, docs/studies/heat.md): lumped 24.2, 26.4, 41.5, 62.1 K (grows),
   // FMPM(4) 12.9, 6.7, 3.4, 1.7 K and exact 186, 106, 55, 27 K (first order), against FMPM(4)'s
   // 0.216, 0.056, 0.0136, 0.0034 K with linear hats (second order). The Stepper refuses the pair;
   // insulated ends are taken (FMPM(4) second order with B-splines: 0.37, 0.094, 0.024, 0.0059 K).

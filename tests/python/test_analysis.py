@@ -65,7 +65,7 @@ def test_critical_courant_matches_the_command(bar, tmp_path):
     flip, fmpm = stability_table(tmp_path, "--shifts", "1")
     c_flip = smpm.critical_courant(bar, options(bar, "FLIP")).critical_courant
     c_fmpm = smpm.critical_courant(bar, options(bar, "FMPM", 4)).critical_courant
-    # The table prints 4 significant digits (0.7555 and 0.5547 in README's bar).
+    # The table prints 4 significant digits (0.7555 and 0.5547 in docs/studies/stability.md's bar).
     assert f"{c_flip:.4g}" == flip["critical_courant"] and f"{c_fmpm:.4g}" == fmpm["critical_courant"]
     assert c_fmpm < c_flip - 0.1  # FMPM(4) is less stable than FLIP (FMPM 2026 Fig. 12A)
     # Started from a neighbour's C* (hint), the search finds the same grid point: from
@@ -80,7 +80,7 @@ def test_critical_courant_matches_the_command(bar, tmp_path):
     for hint, most in ((c2, rest), (plain.critical_courant + 0.002, rest // 2)):
         hinted = smpm.critical_courant(bar, options(bar, "FMPM", 4), hint=hint)
         assert hinted.critical_courant == plain.critical_courant and hinted.evaluations - small <= most
-    # The default sweep over 4 lattice shifts (the numbers of the README's table: FLIP 0.755,
+    # The default sweep over 4 lattice shifts (the numbers of docs/studies/stability.md's table: FLIP 0.755,
     # FMPM(4) 0.451).
     flip, fmpm = stability_table(tmp_path)
     s_flip = smpm.sweep_shifts(bar, options(bar, "FLIP"), 4)

@@ -44,7 +44,7 @@ def test_bad_override(tmp_path):
 
 
 def test_numerical_failure_message(tmp_path):
-    # C = 1.5 is above FLIP's limit (0.86): the energy test stops the run (README).
+    # C = 1.5 is above FLIP's limit (0.86): the energy test stops the run (docs/getting-started.md).
     r = run_smpm("run", BAR, "-q", "-o", tmp_path / "out.h5", "--set", "time.courant=1.5")
     assert r.returncode == 3
     expected = cli_message(r, "smpm: numerical failure: ")

@@ -6,7 +6,7 @@ figures.save_figure refuses a figure drawn without the shared style or with an a
 bar that has no label, so a zero exit status and the PNG are the first check. save_figure also
 pickles each figure here (SMPM_FIGURE_DUMP), and the tests open it through matplotlib: every axis
 is labelled (with a unit, or named as a dimensionless quantity), the legends say what the data
-say, and each script's table has its rows and columns. The README's tour is test_tour.py's.
+say, and each script's table has its rows and columns. The README's first run is test_tour.py's.
 """
 import concurrent.futures
 import dataclasses
@@ -171,8 +171,8 @@ def check_rho_map(r):
     stable = int((rho <= 1 + 1e-6).sum())
     assert 10 < stable < 70
     assert f"{stable} of 80 stable" in r.figure().axes[0].get_title()
-    readme = " ".join((SOURCE / "README.md").read_text().split())
-    assert f"{stable} of its 80 (k, α) cells are stable" in readme
+    page = " ".join((SOURCE / "docs" / "studies" / "stability.md").read_text().split())
+    assert f"{stable} of its 80 (k, α) cells are stable" in page
     assert "rho(T)" in colour_bar_label(r.figure())
     assert r.stdout.rstrip().endswith(f"(sparsempm {smpm.__version__})")
 
@@ -365,7 +365,7 @@ def check_fig9(r):
 
 def check_buzzi(r):
     # Buzzi et al.: the single point at dt = 0.001 within 2.4% of v0 cos wt with USF (his
-    # Figs. 9-10; measured 2.33%, the README's example claim 2.3%), USL dissipating (-7.6% of
+    # Figs. 9-10; measured 2.33%, docs/studies/examples.md's claim 2.3%), USL dissipating (-7.6% of
     # the energy); the difference from a run at dt = 1e-5 falls at first order in dt (measured
     # orders 1.18, 1.02, 1.04); one cell (2 nodes) misses the bar's first mode whatever the
     # points (189-192%), 8 nodes follow it within 9%; the improper BC ordering changes v_cm by

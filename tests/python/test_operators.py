@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The operators from Python: the invariants of FMPM 2026 §2.1 on the scipy matrices, the values
-of S for the README's four particles, and numpy views of the particle fields."""
+of S for the four particles of docs/guide/cpp.md, and numpy views of the particle fields."""
 import numpy as np
 import pytest
 import scipy.linalg
@@ -114,7 +114,7 @@ def test_expansion_matrix_spectrum_in_unit_interval(bar):
 
 
 def test_readme_four_particles_from_arrays():
-    # The README's "MPM as matrices": 4 particles of mass 1/4 at 0.75 ... 2.25 on nodes 0 ... 3.
+    # docs/guide/cpp.md's "MPM as matrices": 4 particles of mass 1/4 at 0.75 ... 2.25 on nodes 0 ... 3.
     grid = smpm.Grid(cells=[3])
     model = smpm.Model(grid, X=[0.75, 1.25, 1.75, 2.25], mass=np.full(4, 0.25),
                        volume0=np.full(4, 0.5), materials=[smpm.Material("m", density=0.5)])
@@ -124,7 +124,7 @@ def test_readme_four_particles_from_arrays():
                         [0, 0, 0.75, 0.25]])
     assert np.array_equal(ops.S.toarray(), S_exact)
     assert np.array_equal(ops.m, [0.0625, 0.4375, 0.4375, 0.0625])
-    # m̃ of the README: 0.25 (S_pi S_pj) summed over particles, exact in binary.
+    # m̃ of docs/guide/cpp.md: 0.25 (S_pi S_pj) summed over particles, exact in binary.
     assert np.array_equal(ops.consistent_mass().toarray(), 0.25 * S_exact.T @ S_exact)
 
 

@@ -345,7 +345,7 @@ def test_every_table_of_an_input_from_python(example, steps):
 
 
 def test_earlier_python_names_warn_and_mean_the_same():
-    # The renames of one vocabulary (README): k, alpha, every, volume, body_force, t_end and the
+    # The renames of one vocabulary (docs/guide/vocabulary.md): k, alpha, every, volume, body_force, t_end and the
     # input's step.update / [scheme] still work in this release, each with a DeprecationWarning.
     bar = smpm.Model.from_toml(str(BAR))
     ops = smpm.assemble(bar)

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The README's five-minute tour, step 2: its commands run as written (from the source tree,
-with this build's smpm) print the README's block, and its sentences state what the runs show
-(the energy change and swing, PIC's dissipation, the unstable run's exit status 3).
+"""The README's first run: its commands run as written (from the source tree, with this build's
+smpm) print the README's block, and its sentences, and the getting-started page's, state what the
+runs show (the energy change and swing, PIC's dissipation, the unstable run's exit status 3).
 """
 import re
 import subprocess
@@ -13,20 +13,28 @@ from conftest import SOURCE
 from figure_cases import SMPM, env
 
 
-# The README's five-minute tour, step 2: its commands, what they print, and its sentences.
+# The README's first run: its commands, what they print, and its sentences; the getting-started
+# page of the site makes the same claims of the same runs (its commands' output is the site
+# build's own).
 
 def tour_step_2():
-    """(the commands, the printed block, the prose) of step 2 of the README's tour."""
+    """(the commands, the printed block, the prose) of the README's first run."""
     readme = (SOURCE / "README.md").read_text()
-    tour = readme[readme.index("## A five-minute tour"):]
-    tour = tour[:tour.index("\n## ", 5)]
-    step = tour[tour.index("\n2. "):tour.index("\n3. ")]
+    step = readme[readme.index("## A first run"):]
+    step = step[:step.index("\nThe same step as matrix products")]
     blocks = re.findall(r"```(\w*)\n(.*?)```", step, re.S)
     commands = [line.split("#")[0].split() for line in blocks[0][1].splitlines() if line.strip()]
     assert blocks[0][0] == "sh" and len(blocks) == 2
     printed = " ".join(line.strip() for line in blocks[1][1].splitlines() if line.strip())
     prose = " ".join(step[step.rindex("```") + 3:].split())
     return commands, printed, prose, blocks[0][1]
+
+
+def getting_started_prose():
+    """The getting-started page's paragraph on the same runs."""
+    page = (SOURCE / "docs" / "getting-started.md").read_text()
+    start = page.index("Kinetic and strain energy exchange")
+    return " ".join(page[start:page.index("```", start)].split())
 
 
 def command(words):
@@ -69,13 +77,16 @@ def test_the_tour_prints_the_readme_numbers(tmp_path):
     assert (tmp_path / png).stat().st_size > 20000
     assert f"{png}: {steps} steps, total energy {e0} -> {e1} ({change:+.4f}%)" in outputs[1]
     # "after five periods the total is within 0.041% of its start": the change, rounded.
-    within = re.search(r"within (\d+\.\d+)% of its start", prose)[1]
-    assert within == f"{abs(change):.{len(within.split('.')[1])}f}"
+    for text in (prose, getting_started_prose()):
+        within = re.search(r"within (\d+\.\d+)% of its start", text)[1]
+        assert within == f"{abs(change):.{len(within.split('.')[1])}f}"
     # "the total swings by up to 0.99%": the largest |E(t) − E(0)|/E(0) of the series.
     with h5py.File(tmp_path / "vibrating_bar.h5") as f:
         total = f["series"]["total"][:]
-    swing = re.search(r"swings by up to (\d+\.\d+)%", prose)[1]
-    assert swing == f"{100 * np.max(np.abs(total / total[0] - 1)):.{len(swing.split('.')[1])}f}"
+    for text in (prose, getting_started_prose()):
+        swing = re.search(r"swings by up to (\d+\.\d+)%", text)[1]
+        largest = 100 * np.max(np.abs(total / total[0] - 1))
+        assert swing == f"{largest:.{len(swing.split('.')[1])}f}"
 
 
 def test_the_tour_pic_and_unstable_claims(tmp_path):
@@ -84,6 +95,7 @@ def test_the_tour_pic_and_unstable_claims(tmp_path):
     # "`--set step.velocity=PIC` shows FMPM(1) dissipating 43% of it"
     m = re.search(r"`--set step\.velocity=PIC` shows\s+FMPM\(1\) dissipating (\d+)% of it", prose)
     assert m, prose
+    assert m[0] in getting_started_prose()
     r = subprocess.run(run + ["--set", "step.velocity=PIC", "-o", "pic.h5"], capture_output=True,
                        text=True, cwd=tmp_path, env=env(), timeout=120)
     assert r.returncode == 0, r.stderr
@@ -91,8 +103,9 @@ def test_the_tour_pic_and_unstable_claims(tmp_path):
     assert change < 0 and m[1] == f"{-change:.0f}"
     # "`--set time.courant=1.5` shows the run stopping with the step, time and particle where
     # it became unstable (exit status 3)"
-    assert re.search(r"`--set time\.courant=1\.5` shows the run stopping with the step, time "
-                     r"and\s+particle where it became unstable \(exit status 3\)", prose), prose
+    for text in (prose, getting_started_prose()):
+        assert re.search(r"`--set time\.courant=1\.5` shows the run stopping with the step, "
+                         r"time and\s+particle where it became unstable \(exit status 3\)", text)
     r = subprocess.run(run + ["--set", "time.courant=1.5", "-o", "unstable.h5", "-q"],
                        capture_output=True, text=True, cwd=tmp_path, env=env(), timeout=120)
     assert r.returncode == 3

@@ -89,7 +89,7 @@ struct ContactPair {
   /// The defaults are contact 2020's recommendation (§5: "use logistic regression to find contact
   /// normal and material separation"): LR normals with LR separation. A block sliding on an
   /// inclined, grid-unaligned slab keeps g(sin θ − μ cos θ) within 4% with them; with AG normals
-  /// and the approaching criterion it loses half of it (README, "Multimaterial MPM").
+  /// and the approaching criterion it loses half of it (docs/studies/contact.md).
   ContactNormal normal = ContactNormal::LogisticRegression;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitY(); ///< SN: unit n̂ from α to β
   /// When a node whose fields approach is in contact.

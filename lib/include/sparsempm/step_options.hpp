@@ -46,9 +46,9 @@ enum class Transfer {
   /// APIC (Jiang et al. 2015, "The affine particle-in-cell method", ACM TOG 34(4):51): P2G as
   /// VelocityGradient with the particle's affine velocity C_p = B_p D_p⁻¹ in place of L_p, B_p =
   /// Σ_i v_i ⊗ S_pi (x_i − X_p) and D_p = Σ_i S_pi (x_i − X_p)(x_i − X_p)ᵀ at the G2P's
-  /// positions (stages.hpp, apic_weights; the particles carry C_p, not B_p: README); its mass
-  /// operator m̃_A is symmetric and m̃ ≤ m̃_A ≤ m. With linear hats it is VelocityGradient (the
-  /// multilinear limit)
+  /// positions (stages.hpp, apic_weights; the particles carry C_p, not B_p:
+  /// docs/studies/gradient-transfers.md); its mass operator m̃_A is symmetric and m̃ ≤ m̃_A ≤ m. With
+  /// linear hats it is VelocityGradient (the multilinear limit)
   Apic
 };
 /// Name used in input files: standard | velocity_gradient | apic.
@@ -137,8 +137,8 @@ std::string_view to_string(NodalSystem s);
 bool is_symmetric(NodalSystem s);
 
 /// The settings of the exact consistent-mass inverse (VelocityUpdate::Exact; exact.hpp and the
-/// README, "The exact inverse"): data, read by the solver a MassSolverFactory makes and by
-/// anyone who inspects the options.
+/// docs/studies/stability.md, "The exact inverse"): data, read by the solver a MassSolverFactory
+/// makes and by anyone who inspects the options.
 struct ExactOptions {
   /// ε ∈ [0, 1]: factor the blended mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 instead of m̃
   double regularization = 0;

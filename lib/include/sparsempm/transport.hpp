@@ -63,9 +63,9 @@ TransportLimiter transport_limiter_from_string(std::string_view name);
 /// uGIMP and CPDI, whose nodal values interpolate, so that a held node holds the temperature at
 /// its plane; the reason for the quadratic B-splines (bspline2, b2cpdi), whose nodal values are
 /// control points, so that the field at a held plane is not the held value and the error next
-/// to it does not converge (measured on a bar with held ends, README "Heat": the lumped update's
-/// grows as the cells shrink, FMPM(k)'s and the exact solve's fall at first order only; with
-/// insulated ends every shape converges at second order with FMPM(k) and the exact solve).
+/// to it does not converge (measured on a bar with held ends, docs/studies/heat.md: the lumped
+/// update's grows as the cells shrink, FMPM(k)'s and the exact solve's fall at first order only;
+/// with insulated ends every shape converges at second order with FMPM(k) and the exact solve).
 std::string held_temperature_refusal(Shape shape);
 
 /// The options of heat transport in a step (part of StepOptions).
@@ -154,7 +154,7 @@ double diffusion_time(const Grid& grid, const std::vector<Material>& materials,
 /// 0.1 in every dimension, below the smallest critical Fourier number critical_fourier finds for
 /// the lumped, FMPM(k) and exact transport over lattice shifts of 2 particles per cell per axis:
 /// 0.229 (2D, linear shape functions, the exact capacity solve with particles near the nodes);
-/// uGIMP 0.42, CPDI 0.50 (README, "Heat"). The grid forms conduct with the lumped nodal
+/// uGIMP 0.42, CPDI 0.50 (docs/studies/heat.md). The grid forms conduct with the lumped nodal
 /// temperature c⁻¹ τ, whose limit λ_max(c⁻¹ K) = 4D/Δx² gives 1/2 on regular lattices, not the
 /// consistent capacity's 1/6.
 double default_fourier(int dim);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The frame files of a run being written (internal to sparsempm_io; README, "What survives").
+// The frame files of a run being written (internal to sparsempm_io; docs/guide/file-safety.md).
 //
 // A run in progress is an index file ("run.partial.h5") beside a directory of frame files
 // ("run.partial.frames/000012.h5"). Each file is written whole under a temporary name, closed,

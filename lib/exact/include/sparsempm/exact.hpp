@@ -26,11 +26,11 @@ struct UmfpackBackend;
 /// instances (exact.cpp).
 ///
 /// Two documented departures from m̃⁻¹ remedy a m̃_FF that cannot be factored (ExactOptions;
-/// README, "The exact inverse"): with regularization ε ∈ (0, 1] the solver factors the blended
-/// mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 (rows still sum to m, so a uniform translation keeps
-/// its velocity; the k → ∞ limit of FMPM(k) blended with α = 1 − ε, m = 1); with mass_cutoff
-/// τ > 0 nodes lighter than τ max m take their lumped velocity p_i/m_i and enter the equations of
-/// the others as known values (like velocity BCs).
+/// docs/studies/stability.md, "The exact inverse"): with regularization ε ∈ (0, 1] the solver
+/// factors the blended mass (1 − ε) m̃ + ε m of FMPM 2026 §3.3 (rows still sum to m, so a uniform
+/// translation keeps its velocity; the k → ∞ limit of FMPM(k) blended with α = 1 − ε, m = 1); with
+/// mass_cutoff τ > 0 nodes lighter than τ max m take their lumped velocity p_i/m_i and enter the
+/// equations of the others as known values (like velocity BCs).
 template <class Backend>
 class FactoredMassSolver final : public MassSolver {
 public:

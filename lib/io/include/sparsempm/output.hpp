@@ -4,8 +4,8 @@
 /// HDF5 output of a run, one file per run, with XDMF sidecars for ParaView. Its layout is
 /// stated once, in run_file_layout() (frames named 000000, 000001, …): the writer makes those
 /// objects and no others (a test walks a file against it), `smpm info --layout` prints it and
-/// the README shows that print. While the run is in progress its frames are files of their
-/// own, each complete once named (OutputFile), so a kill at any instant keeps every completed
+/// the site's run-file page shows that print. While the run is in progress its frames are files of
+/// their own, each complete once named (OutputFile), so a kill at any instant keeps every completed
 /// frame.
 
 #include "sparsempm/diagnostics.hpp"
