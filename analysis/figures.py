@@ -104,10 +104,20 @@ def add_sets(ap):
 
 
 def add_units(ap):
-    """Adds --units (a key of UNITS) to the parser `ap`."""
-    ap.add_argument("--units", choices=sorted(UNITS), default="input",
-                    help="the input's unit system, for the axis labels (default: input, "
-                         "labelled 'input units'; mm-ms-g: mm, ms, g, MPa; SI)")
+    """Adds --units (a key of UNITS) to the parser `ap`; unset, units_of() takes the run file's."""
+    ap.add_argument("--units", choices=sorted(UNITS), default=None,
+                    help="the input's unit system, for the axis labels (default: the run file's "
+                         "output.units; input, when it states none, labels 'input units'; "
+                         "mm-ms-g: mm, ms, g, MPa; SI)")
+
+
+def units_of(given, run):
+    """The key of UNITS for a run's labels: `given` (--units) if set, else the unit system the
+    run file states (output.units, /@units: none, SI or mm-ms-g; none is "input")."""
+    if given:
+        return given
+    stated = getattr(run, "units", "none")
+    return stated if stated in UNITS else "input"
 
 
 def set_values(sets):

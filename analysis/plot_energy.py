@@ -4,6 +4,8 @@
 
     analysis/plot_energy.py run.h5 [--units input|mm-ms-g|SI] [-o PREFIX]
 
+The labels' units are the run file's (output.units) unless --units names others.
+
 Reads /series/{t, kinetic, strain, total} of a file written by `smpm run` and writes PREFIX.png
 (default: the run's name with _energy: run_energy.png; a trailing .png of -o is dropped): the
 energies above, and below them the relative change of the total, (E(t) − E(0))/E(0) in %, so
@@ -35,7 +37,7 @@ def main():
     status = run.status
     default = pathlib.Path(args.run).with_suffix("").as_posix() + "_energy"
     prefix = figures.output_prefix(args.out or default)
-    unit = figures.UNITS[args.units]
+    unit = figures.UNITS[figures.units_of(args.units, run)]
     plt = figures.style()
     fig, (ax, dax) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True, height_ratios=[2, 1])
     ax.plot(t, kin, label="kinetic $K$")

@@ -7,8 +7,10 @@
 
 Fields: vx, vy, vz, speed, stress_xx, stress_xy, stress_yy, ..., pressure, mass, volume,
 material, J (det F). 1D runs are drawn as field against x, others as points coloured by the
-field. Writes PREFIX.png (default: <run>_<frame>_<field>.png; a trailing .png of -o is
-dropped); --units names the input's units in the labels.
+field, with a colour bar as long as the drawing (below it when the body is wide: a bar 20 times
+longer than high gets a bar along it, not one 20 times the body's height) whose ticks share one
+power of ten. Writes PREFIX.png (default: <run>_<frame>_<field>.png; a trailing .png of -o is
+dropped). The labels' units are the run file's (output.units) unless --units names others.
 """
 import argparse
 import pathlib
@@ -56,6 +58,32 @@ def field(g, name, d):
     raise KeyError(name)
 
 
+def coloured_points(plt, X, c, what):
+    """Points at X coloured by c, drawn to scale, with a colour bar labelled `what` as long as
+    the drawing beside it (tall bodies) or below it (bodies more than twice as wide as high),
+    its ticks in one power of ten (118000 MPa reads 1.18 × 10⁵)."""
+    from matplotlib import ticker
+    width, height = np.ptp(X[:, 0]) or 1.0, np.ptp(X[:, 1]) or 1.0
+    wide = width > 2 * height
+    fig, ax = plt.subplots(figsize=(7, 3.2) if wide else (7, 5))
+    sc = ax.scatter(X[:, 0], X[:, 1], c=c, s=4)
+    ax.set_aspect("equal")
+    ax.grid(False)
+    with plt.rc_context({"axes.grid": False}):  # a colour bar has no grid
+        if wide:  # a bar along the body, as wide as the drawing
+            bar = fig.colorbar(sc, ax=ax, label=what, orientation="horizontal", fraction=0.1,
+                               pad=0.3, aspect=40)
+        else:  # beside it, as tall as the drawing (fraction 0.046: the axes' height)
+            bar = fig.colorbar(sc, ax=ax, label=what, fraction=0.046 * height / width,
+                               pad=0.04)
+    formatter = ticker.ScalarFormatter(useMathText=True)
+    formatter.set_powerlimits((-3, 4))
+    bar.formatter = formatter
+    bar.locator = ticker.MaxNLocator(6)
+    bar.update_ticks()
+    return fig, ax
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run")
@@ -90,21 +118,19 @@ def main():
     t = g["@time"]
     prefix = figures.output_prefix(
         args.out or f"{pathlib.Path(args.run).with_suffix('').as_posix()}_{name}_{args.field}")
-    length = figures.UNITS[args.units]["length"]
+    units = figures.units_of(args.units, run)
+    length, time_unit = figures.UNITS[units]["length"], figures.UNITS[units]["time"]
     plt = figures.style()
-    fig, ax = plt.subplots(figsize=(7, 4.5))
     if d == 1:
+        fig, ax = plt.subplots(figsize=(7, 4.5))
         ax.plot(X[:, 0], c, ".")
         ax.set_xlabel(f"$x$ ({length})")
-        ax.set_ylabel(label(args.field, args.units))
+        ax.set_ylabel(label(args.field, units))
     else:
-        sc = ax.scatter(X[:, 0], X[:, 1], c=c, s=4)
-        ax.set_aspect("equal")
+        fig, ax = coloured_points(plt, X, c, label(args.field, units))
         ax.set_xlabel(f"$x$ ({length})")
         ax.set_ylabel(f"$y$ ({length})")
-        ax.grid(False)
-        fig.colorbar(sc, ax=ax, label=label(args.field, args.units))
-    ax.set_title(f"{pathlib.Path(args.run).name}, frame {name}, t = {t:g}")
+    ax.set_title(f"{pathlib.Path(args.run).name}, frame {name}, $t$ = {t:g} ({time_unit})")
     png = figures.save_figure(fig, prefix, report=False)
     print(f"{png}: {len(c)} particles, {args.field} in [{c.min():.4g}, {c.max():.4g}]")
 

@@ -2,10 +2,12 @@
 #include "info_command.hpp"
 
 #include <sparsempm/errors.hpp>
+#include <sparsempm/input.hpp>
 #include <sparsempm/output.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 namespace smpm::app {
 
@@ -36,7 +38,16 @@ void print_energies(const StoredRun& run) {
 
 } // namespace
 
-int info_command(const std::string& path, bool layout) {
+int info_command(const std::string& path, bool layout, bool keys) {
+  if (keys) {
+    if (!path.empty() || layout)
+      throw InputError("smpm info --keys takes no file and no --layout (it prints the input's "
+                       "keys)");
+    std::ostringstream text;
+    write_input_keys(text);
+    std::fputs(text.str().c_str(), stdout);
+    return 0;
+  }
   if (layout) {
     if (!path.empty())
       throw InputError("smpm info --layout takes no file (it prints the layout of every run file)");

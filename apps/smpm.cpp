@@ -276,6 +276,7 @@ struct Commands {
   smpm::app::TransportStabilityArgs transport_args;
   std::string info_path;
   bool layout = false;
+  bool keys = false;
   CLI::App *run = nullptr, *stability = nullptr, *spectrum = nullptr, *transport = nullptr;
 };
 
@@ -287,6 +288,8 @@ void add_commands(CLI::App& app, Commands& c, Aliases& aliases) {
   CLI::App* info = app.add_subcommand("info", "describe a run's HDF5 output");
   info->add_option("file", c.info_path, "HDF5 file written by smpm run");
   info->add_flag("--layout", c.layout, "print the layout of every run file instead");
+  info->add_flag("--keys", c.keys,
+                 "print every key of the input files instead (TOML: type, default, values, unit)");
 }
 
 // Runs the command given; its exit status, with the message of an error on stderr (one line).
@@ -309,7 +312,7 @@ int run_chosen(Commands& c) {
       return smpm::app::spectrum_command(c.spectrum_args);
     if (*c.transport)
       return smpm::app::transport_stability_command(c.transport_args);
-    return smpm::app::info_command(c.info_path, c.layout);
+    return smpm::app::info_command(c.info_path, c.layout, c.keys);
   } catch (const smpm::InputError& e) {
     std::fprintf(stderr, "smpm: error: %s\n", e.what());
     return 2;

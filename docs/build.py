@@ -9,7 +9,8 @@ The steps, each printed with its time:
   1. a fresh staging tree OUT/source: the pages of docs/, with examples/ and analysis/ linked
      beside them, so that the pages' commands run there as a user runs them in a clone
      (`smpm run examples/vibrating_bar.toml`) and write their files into the build tree;
-  2. the figures the pages show that a command makes (the getting-started page's);
+  2. what the pages show that a command makes: the input reference (reference.py, from the
+     reader's own table of keys and the errors smpm prints) and the getting-started figures;
   3. sphinx-build -W -E -b html: any warning fails, nothing of an earlier build is reused
      (the pages' command-output blocks run their commands here: the command-line reference
      is smpm's own --help, the run-file layout `smpm info --layout`);
@@ -96,6 +97,9 @@ def main():
     src = stage(out)
     count = header_pages(src, build / "docs" / "doxygen" / "xml")
     step(f"staged the pages ({count} header pages)", t0)
+    t = time.monotonic()
+    run([sys.executable, HERE / "reference.py", src / "generated" / "input-keys.md"], src, env)
+    step("the input reference", t)
     t = time.monotonic()
     figures(src, env)
     step("getting-started figures", t)

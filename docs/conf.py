@@ -5,6 +5,7 @@
 import logging
 import os
 import re
+import subprocess
 from xml.etree import ElementTree
 import pathlib
 import sys
@@ -19,8 +20,10 @@ import sparsempm  # noqa: E402  (autodoc documents this build's module)
 project = "sparsempm"
 author = "the sparsempm authors"
 copyright = "the sparsempm authors, BSD 3-Clause"
-release = sparsempm.__version__
-version = release
+# "0.2.0 (commit 1a2b3c4)": the release and the commit this build's smpm was built from.
+version = sparsempm.__version__
+release = subprocess.run([str(BUILD / "apps" / "smpm"), "--version"], capture_output=True,
+                         text=True, check=True).stdout.strip().removeprefix("smpm ")
 
 extensions = [
     "myst_parser",
@@ -36,15 +39,14 @@ myst_enable_extensions = ["colon_fence", "dollarmath"]
 myst_heading_anchors = 3
 exclude_patterns = ["_build", "examples", "analysis", "generated/*.md", "Thumbs.db", ".DS_Store"]
 # Figures are kept beside the pages (docs/*.png); the analysis scripts write them there.
-suppress_warnings = []
-nitpicky = False
 
+smartquotes = False  # quotes stay as typed: the values of keys are TOML
 html_theme = "sphinx_rtd_theme"
 html_title = f"sparsempm {release}"
-html_static_path = []
+html_theme_options = {"navigation_depth": 3, "display_version": True}
+html_static_path = ["_static"]
+html_css_files = ["sparsempm.css"]  # wider pages, table cells that wrap
 html_show_sourcelink = False
-# No fonts or scripts from another site: the pages open offline.
-html_theme_options = {"navigation_depth": 3}
 
 # The commands of the pages run in a fresh directory with this build's smpm and module first.
 programoutput_use_ansi = False

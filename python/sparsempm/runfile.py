@@ -70,6 +70,9 @@ class Run:
             self.source = _text(attrs.get("source", ""))
             self.overrides = [_text(o) for o in np.atleast_1d(attrs.get("overrides", []))]
             self.version = _text(attrs.get("version", ""))
+            #: The unit system of the input's numbers (output.units): none, SI or mm-ms-g
+            #: ("none" for files of releases that did not store it).
+            self.units = _text(attrs.get("units", "none"))
             #: running | completed | failed: ... | interrupted: ...
             self.status = _text(attrs.get("status", ""))
             index_series = {k: f["series"][k][()] for k in f["series"]}

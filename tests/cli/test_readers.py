@@ -9,6 +9,7 @@ io.readers' (tests/io/test_readers.py).
 Run by ctest (cli.readers) with SMPM (the binary) and SMPM_SOURCE (the source tree) in the
 environment.
 """
+import os
 import pathlib
 import subprocess
 import tempfile
@@ -86,6 +87,25 @@ class RunFiles(Base):
                     line = next(l for l in r.stdout.splitlines() if l.split() and l.split()[0] == "/" + n)
                     self.assertIn(" x ".join(map(str, f[n].shape)) or "scalar", line)
         self.assertNotIn("not of the sparsempm layout", r.stdout)
+
+    def test_units_stated_in_the_input_label_the_plots(self):
+        # output.units is stored as /@units (the layout's) and the plotting scripts' labels
+        # follow it unless --units says otherwise; a run that states none is "input units".
+        import pickle
+        for units, expected in (("SI", "time $t$ (s)"), ("none", "time $t$ (input units)")):
+            out = self.dir / f"bar_{units}.h5"
+            r = smpm("run", str(BAR), "--set", f'output.units="{units}"', "--set", "time.end=4",
+                     "-o", str(out), "--quiet")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with h5py.File(out, "r") as f:
+                self.assertEqual(f.attrs["units"], units)
+            for given, label in (([], expected), (["--units", "mm-ms-g"], "time $t$ (ms)")):
+                r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "plot_energy.py",
+                                    out, "-o", self.dir / "e", *given], capture_output=True,
+                                   text=True, env={**os.environ, "SMPM_FIGURE_DUMP": str(self.dir)})
+                self.assertEqual(r.returncode, 0, r.stderr)
+                with open(self.dir / "e.pickle", "rb") as f:
+                    self.assertEqual(pickle.load(f).axes[-1].get_xlabel(), label)
 
     def test_analysis_scripts_write_pngs(self):
         # -o is an output prefix (p writes p.png); a trailing .png is the same prefix.

@@ -77,7 +77,7 @@ Grid read_grid(const Reader& r, const toml::table& root) {
 }
 
 // [output]: file (default: the input's name with .h5), frame interval (default end/10), CSR
-// matrices.
+// matrices, the unit system of the labels (default none).
 OutputSettings read_output(const Reader& r, const toml::table& root, const std::string& source,
                            double end) {
   static const toml::table empty;
@@ -96,6 +96,10 @@ OutputSettings read_output(const Reader& r, const toml::table& root, const std::
     r.fail(output->get("every"), "output.every", why.str());
   }
   out.matrices = r.boolean(*output, "matrices", "output.matrices", false);
+  out.units = r.string(*output, "units", "output.units", kUnitSystems[0]);
+  if (std::find(std::begin(kUnitSystems), std::end(kUnitSystems), out.units) ==
+      std::end(kUnitSystems))
+    r.fail(output->get("units"), "output.units", "expected \"none\", \"SI\" or \"mm-ms-g\"");
   return out;
 }
 

@@ -74,7 +74,8 @@ int body_material(const Reader& r, const toml::table& t, const std::string& key,
       return int(k);
     names.push_back(mats[k].name);
   }
-  r.fail(t.get("material"), key + "material", "no such material" + suggest(mname, names));
+  r.fail(t.get("material"), key + "material",
+         "no such material" + suggest(mname, names, "materials"));
 }
 
 // The particles of a body's region: box | disk | ellipse, on the lattice of ppc per cell.

@@ -41,7 +41,8 @@ std::vector<Index> bc_nodes(const Reader& r, const toml::table& t, const std::st
     if (std::string(e.what()).find(": ") != std::string::npos &&
         std::string(e.what()).rfind(r.source_, 0) == 0)
       throw;
-    r.fail(plane ? t.get("plane") : t.get("box"), key + (plane ? "plane" : "box"), e.what());
+    // No node on the plane (its position `at` misses the grid) or in the box.
+    r.fail(plane ? plane->get("at") : t.get("box"), key + (plane ? "plane.at" : "box"), e.what());
   }
 }
 
@@ -118,7 +119,8 @@ MovingWall moving_wall(const Reader& r, const toml::table& w, const std::string&
   else
     wall.depth = r.number(w, "depth", key + "wall.depth", 0.0);
   if (!(wall.depth >= 0))
-    r.fail(w.get(w.get("depth_cells") ? "depth_cells" : "depth"), key + "wall.depth",
+    r.fail(w.get(w.get("depth_cells") ? "depth_cells" : "depth"),
+           key + (w.get("depth_cells") ? "wall.depth_cells" : "wall.depth"),
            "must be non-negative");
   wall.label = key + "wall";
   return wall;

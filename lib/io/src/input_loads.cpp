@@ -96,7 +96,7 @@ std::vector<ParticleLoad> read_loads(const Reader& r, const toml::table& loads, 
                                      const std::vector<BodyRange>& bodies) {
   std::vector<ParticleLoad> out;
   const int d = P.dim;
-  const std::vector<const toml::table*> forces = r.tables(loads, "body_force", false);
+  const std::vector<const toml::table*> forces = r.tables(loads, "body_force", false, "loads.");
   for (size_t k = 0; k < forces.size(); ++k) {
     const std::string key = "loads.body_force." + std::to_string(k) + ".";
     r.check_keys(*forces[k], "loads.body_force");
@@ -107,7 +107,7 @@ std::vector<ParticleLoad> read_loads(const Reader& r, const toml::table& loads, 
     load.value = load_value(r, *forces[k], key, d);
     out.push_back(std::move(load));
   }
-  const std::vector<const toml::table*> tractions = r.tables(loads, "traction", false);
+  const std::vector<const toml::table*> tractions = r.tables(loads, "traction", false, "loads.");
   for (size_t k = 0; k < tractions.size(); ++k) {
     const toml::table& t = *tractions[k];
     const std::string key = "loads.traction." + std::to_string(k) + ".";

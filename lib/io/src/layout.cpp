@@ -46,6 +46,8 @@ std::vector<LayoutEntry> file_entries() {
       {"/@input", "text", "the input file with the --set overrides appended", ""},
       {"/@overrides", "strings", "the --set overrides", ""},
       {"/@source", "text", "the input file's name", ""},
+      {"/@units", "text",
+       "the unit system of the input's numbers (output.units): none, SI or mm-ms-g", ""},
       {"/@version", "text", "the sparsempm version that wrote the file", ""},
       {"/@status", "text", "running | completed | failed: ... | interrupted: ...", ""},
       {"/@frame_files", "text", "the directory of the frame files, beside the index",

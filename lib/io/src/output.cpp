@@ -112,6 +112,7 @@ void OutputFile::start(const RunConfig& cfg) {
   input_ = cfg.text;
   overrides_ = cfg.overrides;
   source_ = cfg.source;
+  units_ = cfg.output.units;
   layout_ = SeriesLayout(cfg);
   dim_ = cfg.model.grid.dim();
   for (const Material& m : cfg.model.materials)
@@ -208,6 +209,7 @@ void OutputFile::write_index(long f, bool tail) {
   h5::set_attribute(f, "input", input_);
   h5::set_attribute(f, "overrides", overrides_);
   h5::set_attribute(f, "source", source_);
+  h5::set_attribute(f, "units", units_);
   h5::set_attribute(f, "version", std::string(kVersion));
   h5::set_attribute(f, "status", status_);
   const std::string dir_name = fs::path(dir_).filename().string();

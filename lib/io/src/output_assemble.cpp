@@ -98,6 +98,7 @@ void OutputFile::finish(const std::string& target) {
           h5::set_attribute(f, "input", input_);
           h5::set_attribute(f, "overrides", overrides_);
           h5::set_attribute(f, "source", source_);
+          h5::set_attribute(f, "units", units_);
           h5::set_attribute(f, "version", std::string(kVersion));
           h5::set_attribute(f, "status", std::string("completed"));
           assemble(f, r, layout_);

@@ -205,18 +205,20 @@ public:
   }
 
   // The tables of an array of tables ([[section]]).
+  // `within`: the path of the table that holds them in messages ("loads." for [[loads.traction]]).
   std::vector<const toml::table*> tables(const toml::table& root, const std::string& key,
-                                         bool required) const {
+                                         bool required, const std::string& within = "") const {
     std::vector<const toml::table*> out;
+    const std::string name = within + key;
     const toml::node* n = root.get(key);
     if (!n) {
       if (required)
-        fail(nullptr, "[[" + key + "]]", "at least one is required");
+        fail(nullptr, "[[" + name + "]]", "at least one is required");
       return out;
     }
     const toml::array* a = n->as_array();
     if (!a || !a->is_array_of_tables())
-      fail(n, key, "expected [[" + key + "]] tables");
+      fail(n, name, "expected [[" + name + "]] tables");
     for (auto&& e : *a)
       out.push_back(e.as_table());
     return out;

@@ -2,6 +2,7 @@
 #include "toml_text.hpp"
 
 #include "sparsempm/errors.hpp"
+#include "sparsempm/input.hpp"
 
 #include <algorithm>
 #include <optional>
@@ -10,55 +11,15 @@
 
 namespace smpm::detail {
 
-// Valid keys of every table of the schema ("" is the top level).
+// Valid keys of every table of the schema ("" is the top level): the keys of input_keys(), the
+// one list of them, which the input reference prints.
 const std::map<std::string, std::vector<std::string>>& schema() {
-  static const std::map<std::string, std::vector<std::string>> keys = {
-      {"", {"grid", "material", "body", "bc", "contact", "time", "step", "output", "loads"}},
-      {"contact",
-       {"materials", "law", "friction", "normal", "direction", "detection", "critical_separation",
-        "df_exponent", "df_reach", "fmpm_method"}},
-      {"grid", {"dim", "origin", "cell_size", "cells"}},
-      {"material",
-       {"name", "model", "density", "youngs", "poisson", "bulk", "shear", "gruneisen", "s1",
-        "viscosity", "heat_capacity", "conductivity", "reference_temperature", "thermal_expansion",
-        "yield_stress", "hardening", "velocity", "free"}},
-      {"body",
-       {"material", "region", "min", "max", "center", "radius", "semi_axes", "image", "pixel_size",
-        "origin", "levels", "ppc", "velocity", "temperature", "heat_source", "name"}},
-      {"bc", {"plane", "box", "fixed", "velocity", "wall", "temperature"}},
-      {"bc.wall", {"normal", "position", "velocity", "gradient", "depth", "depth_cells"}},
-      {"bc.plane", {"axis", "at"}},
-      {"bc.box", {"min", "max"}},
-      {"bc.velocity", {"direction", "value"}},
-      {"time", {"courant", "end", "land_on_frames", "fourier", "max_steps"}},
-      {"step",
-       {"scheme",
-        "velocity",
-        "shape",
-        "position_alpha",
-        "order",
-        "blend_alpha",
-        "blend_every",
-        "periodic_cx",
-        "dynamic_metric",
-        "dynamic_limit",
-        "bc_method",
-        "exact_regularization",
-        "exact_mass_cutoff",
-        "deformation",
-        "xpic_contact",
-        "transport",
-        "transport_order",
-        "transport_limiter",
-        "transfer",
-        "contact_corrections",
-        "bc_ordering"}},
-      {"output", {"file", "every", "matrices"}},
-      {"loads", {"gravity", "body_force", "traction"}},
-      {"loads.body_force", {"body", "value"}},
-      {"loads.traction", {"body", "face", "value", "box"}},
-      {"loads.traction.box", {"min", "max"}},
-  };
+  static const std::map<std::string, std::vector<std::string>> keys = [] {
+    std::map<std::string, std::vector<std::string>> by_table;
+    for (const InputKey& k : input_keys())
+      by_table[k.table].push_back(k.key);
+    return by_table;
+  }();
   return keys;
 }
 
@@ -127,7 +88,8 @@ size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-std::string suggest(const std::string& key, const std::vector<std::string>& valid) {
+std::string suggest(const std::string& key, const std::vector<std::string>& valid,
+                    const std::string& what) {
   std::string best;
   size_t dist = 1000;
   for (const auto& v : valid)
@@ -140,7 +102,7 @@ std::string suggest(const std::string& key, const std::vector<std::string>& vali
   std::string list;
   for (const auto& v : valid)
     list += (list.empty() ? "" : ", ") + v;
-  return " (valid keys: " + list + ")";
+  return " (" + what + ": " + list + ")";
 }
 
 namespace {

@@ -14,7 +14,8 @@ namespace smpm::detail {
 /// Valid keys of every table of the input schema ("" is the top level).
 const std::map<std::string, std::vector<std::string>>& schema();
 /// " (did you mean 'x'?)" for the nearest valid key, or the list of valid keys.
-std::string suggest(const std::string& key, const std::vector<std::string>& valid);
+std::string suggest(const std::string& key, const std::vector<std::string>& valid,
+                    const std::string& what = "valid keys");
 /// Throws InputError naming the line of a non-ASCII character outside the places where its
 /// role is unambiguous (see toml_text.cpp).
 void check_non_ascii(const std::string& text, const std::string& source);

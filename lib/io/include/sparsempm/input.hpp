@@ -11,6 +11,7 @@
 #include "sparsempm/model.hpp"
 #include "sparsempm/step_options.hpp"
 
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,13 @@ struct OutputSettings {
   std::string file;      ///< HDF5 output path
   double every = 0;      ///< simulated time between frames
   bool matrices = false; ///< also write S, G_d and m̃ of every frame in CSR form
+  /// The consistent unit system of the input's numbers, stored in the run file (the attribute
+  /// `/@units`) for the plotting scripts' axis labels: "SI", "mm-ms-g" (mm, ms, g: MPa, m/s, mJ) or
+  /// "none" (unstated: the labels say "input units"). It changes no number.
+  std::string units = "none";
 };
+/// The unit systems output.units names (kUnitSystems[0] is the default, "none").
+inline constexpr const char* kUnitSystems[] = {"none", "SI", "mm-ms-g"};
 
 /// Everything `smpm run` needs: the model at t = 0, the step options, the clock and output.
 struct RunConfig {
@@ -76,6 +83,26 @@ ConditionTables read_bc_tables(const std::string& text, const std::string& sourc
 /// read_input does: the velocity fields of the materials and the laws between them.
 Contact read_contact_tables(const std::string& text, const std::string& source,
                             const std::vector<Material>& materials, int dim);
+
+/// One key of the input files: the table of these is the reader's schema (an unknown key is one
+/// it does not list, and --set addresses only these) and the site's input reference
+/// (`smpm info --keys` prints it as TOML).
+struct InputKey {
+  std::string table;    ///< "grid", "step", "bc.wall", ...; "" for a table of the top level
+  std::string key;      ///< its name in the table
+  std::string type;     ///< what it holds: "number", "integer", "string", "array of d numbers", ...
+  std::string fallback; ///< its default as TOML text, "required", or a rule ("end / 10")
+  bool literal = false; ///< fallback is the TOML text of the value the reader takes
+  std::string values;   ///< the values accepted: a range ("> 0") or the choices
+  std::string unit;     ///< the dimension of a number ("length", "time", ...); "" if none
+  std::string description; ///< what it sets, in one sentence
+  std::string bad;         ///< a value the reader refuses, as TOML text ("" for none)
+};
+/// Every key of the input files, table by table, in the order of the reference.
+const std::vector<InputKey>& input_keys();
+/// Writes input_keys() as a TOML document, one [[key]] table per key with the fields of
+/// InputKey (`smpm info --keys`; the site's build reads it).
+void write_input_keys(std::ostream& out);
 
 /// Most frames a run may write (output.every ≥ time.end / kMaxFrames).
 inline constexpr long kMaxFrames = 100000;

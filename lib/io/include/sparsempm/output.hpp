@@ -185,7 +185,7 @@ private:
   void write_sidecars(const std::string& h5_path, bool split) const;
   static FrameRecord record_of(long file, int frame);
   std::string path_, dir_; // the index and the frames directory
-  std::string input_, source_, status_ = "running";
+  std::string input_, source_, units_ = "none", status_ = "running";
   std::vector<std::string> overrides_, material_names_;
   detail::SeriesLayout layout_;
   int dim_ = 1;
