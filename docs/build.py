@@ -10,7 +10,8 @@ The steps, each printed with its time:
      beside them, so that the pages' commands run there as a user runs them in a clone
      (`smpm run examples/vibrating_bar.toml`) and write their files into the build tree;
   2. what the pages show that a command makes: the input reference (reference.py, from the
-     reader's own table of keys and the errors smpm prints) and the getting-started figures;
+     reader's own table of keys and the errors smpm prints), every analysis script on its short
+     case for the study pages (short_cases.py) and the getting-started figures;
   3. sphinx-build -W -E -b html: any warning fails, nothing of an earlier build is reused
      (the pages' command-output blocks run their commands here: the command-line reference
      is smpm's own --help, the run-file layout `smpm info --layout`);
@@ -28,6 +29,8 @@ import time
 
 HERE = pathlib.Path(__file__).resolve().parent
 SOURCE = HERE.parent
+sys.path.insert(0, str(HERE))
+import short_cases  # noqa: E402
 
 
 def step(name, started):
@@ -100,6 +103,9 @@ def main():
     t = time.monotonic()
     run([sys.executable, HERE / "reference.py", src / "generated" / "input-keys.md"], src, env)
     step("the input reference", t)
+    t = time.monotonic()
+    manifest = short_cases.draw_all(src / "generated" / "figures", build)
+    step(f"the analysis scripts on their short cases ({len(manifest)})", t)
     t = time.monotonic()
     figures(src, env)
     step("getting-started figures", t)

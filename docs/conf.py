@@ -31,6 +31,7 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinxcontrib.programoutput",
     "breathe",
+    "smpm_docs",
 ]
 
 # Markdown pages; the headings down to ### get anchors, so links may name them (page.md#anchor).
