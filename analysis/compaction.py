@@ -15,7 +15,8 @@ regression (LR normals and d_LR), and reports for each the piston's mean axial s
 and the interpenetration: the fraction of particles whose centre lies inside the deformed
 domain (the ellipse inscribed in the initial domain, carried by F) of a particle of another
 object. Writes PREFIX.toml (the input), PREFIX.csv and PREFIX.png (the final particles, x and
-y in mm, coloured by object; a trailing .png of -o is dropped), and keeps the runs as
+y in mm, each object in its own colour, named in the legend by its material, object0, ...; a
+trailing .png of -o is dropped), and keeps the runs as
 PREFIX_0.h5, PREFIX_1.h5, PREFIX_2.h5. --set changes an entry of every run (after the method's
 own; --set time.end=0.2 for a short run).
 """
@@ -119,6 +120,39 @@ def interpenetration(X, F, r0, mat):
     return inside.mean()
 
 
+def object_colours(n):
+    """n colours, one for each object (object k takes the k-th): matplotlib's tab20, its ten
+    strong colours first and then their ten light ones, so that up to 20 objects never share a
+    colour (tab10, the first ten, was reused past ten objects); beyond 20, n colours spread
+    over the turbo colour map."""
+    import matplotlib
+    import matplotlib.colors
+    if n <= 20:
+        tab = matplotlib.colormaps["tab20"].colors
+        return [matplotlib.colors.to_hex(c) for c in (list(tab[0::2]) + list(tab[1::2]))[:n]]
+    turbo = matplotlib.colormaps["turbo"]
+    return [matplotlib.colors.to_hex(turbo(0.05 + 0.9 * i / (n - 1))) for i in range(n)]
+
+
+def draw_objects(ax, X, mat, colours, size):
+    """The particles at X on `ax`, each in the colour of its object (colours[mat])."""
+    import matplotlib.colors
+    ax.scatter(X[:, 0], X[:, 1], c=mat, cmap=matplotlib.colors.ListedColormap(colours),
+               vmin=-0.5, vmax=len(colours) - 0.5, s=size)
+
+
+def objects_legend(fig, colours, ncol):
+    """A legend under the figure (left out of its tight layout, so that the panels keep their
+    size) that names the object of each colour by its material name in the input (object0,
+    object1, ...)."""
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], ls="none", marker="o", ms=6, color=c, label=f"object{k}")
+               for k, c in enumerate(colours)]
+    return fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=ncol,
+                      title="objects (materials of the input), one colour each",
+                      columnspacing=1.0, handletextpad=0.2)
+
+
 def run(smpm, src, out, sets):
     r, secs = run_smpm(smpm, src, out, sets)
     if r.returncode != 0:
@@ -159,8 +193,9 @@ def main():
     plt = figures.style()
     height = 4.1 * (1 - compaction) + 1.3  # panels as high as the compacted box, and titles
     fig, axes = plt.subplots(1, len(results), figsize=(4.6 * len(results), height), sharey=True)
+    colours = object_colours(a.objects)
     for ax, (k, r) in zip(np.atleast_1d(axes), results.items()):
-        ax.scatter(r["X"][:, 0], r["X"][:, 1], c=r["mat"] % 10, cmap="tab10", vmin=0, vmax=9, s=2)
+        draw_objects(ax, r["X"], r["mat"], colours, 2)
         piston = BOX * (1 - r["compaction"])
         ax.plot([0, 0, BOX, BOX], [piston, 0, 0, piston], color="k", lw=1)  # box on rollers
         ax.plot([0, BOX], [piston, piston], color="gray", lw=3)  # the piston
@@ -170,7 +205,8 @@ def main():
                      f"mean $\\sigma_{{yy}}$ = {r['stress']:.3g} MPa")
         ax.set_xlabel("$x$ (mm)")
     np.atleast_1d(axes)[0].set_ylabel("$y$ (mm)")
-    fig.suptitle(f"{a.objects} objects (colours) compacted by {100 * compaction:.0f}% "
+    objects_legend(fig, colours, ncol=min(a.objects, 8))
+    fig.suptitle(f"{a.objects} objects compacted by {100 * compaction:.0f}% "
                  "(contact 2020 Fig. 6)")
     figures.save_figure(fig, a.out, tables=[f"{a.out}.toml", f"{a.out}.csv"])
     return 0

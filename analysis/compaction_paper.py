@@ -26,7 +26,8 @@ multimaterial XPIC(5), with contact on every increment of its loop (step.xpic_co
 Writes PREFIX.png.in.png (the bitmap) and PREFIX.toml (the input), runs every method to
 PREFIX_<method>.h5 and writes PREFIX.csv (per method and frame: compaction, mean sigma_yy of the
 particles in GPa, interpenetration) and PREFIX.png (mean sigma_yy against compaction beside the
-paper's peaks; the final particles of each method). --scale s divides the resolution by s (the
+paper's peaks; the final particles of each method, each object in its own colour, named in the
+legend by its material, object0, ...). --scale s divides the resolution by s (the
 ctest runs --scale 5). --piston rigid replaces the moving wall by a rigid piston (rigid particles
 PISTON_CELLS deep moving down at 100 m/s, in contact with the objects by the same law). Units:
 mm, ms, g, MPa.
@@ -41,7 +42,8 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import figures  # noqa: E402
-from compaction import interpenetration  # noqa: E402
+from compaction import (draw_objects, interpenetration, object_colours,  # noqa: E402
+                        objects_legend)
 from figures import read_run, run_smpm  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -253,15 +255,16 @@ def main():
     ax.set_ylabel(r"$-$mean $\sigma_{yy}$ (GPa)")
     ax.set_title("dotted: paper's peaks")
     ax.legend()
+    colours = object_colours(OBJECTS)
     for ax, (k, r) in zip(axes[1:], results.items()):
-        ax.scatter(r["X"][:, 0], r["X"][:, 1], c=r["mat"] % 10, cmap="tab10", vmin=0, vmax=9,
-                   s=0.2)
+        draw_objects(ax, r["X"], r["mat"], colours, 0.2)
         ax.set_aspect("equal")
         ax.grid(False)
         c, s, i = r["rows"][-1]
         ax.set_title(f"{k}: {100 * i:.2f}% inside another")
         ax.set_xlabel("$x$ (mm)")
         ax.set_ylabel("$y$ (mm)")
+    objects_legend(fig, colours, ncol=10)
     figures.save_figure(fig, a.out, tables=[f"{a.out}.toml", f"{a.out}.csv"])
     return 0
 

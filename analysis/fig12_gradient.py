@@ -10,12 +10,13 @@ Each --problem names a problem and two or three tables written by `smpm stabilit
 both` on the same input: one with the standard transfer, one with `--set
 step.transfer=velocity_gradient` (Wallstedt & Guilkey 2007) and optionally one with `--set
 step.transfer=apic` (Jiang et al. 2015; docs/studies/gradient-transfers.md).
-One row of panels per problem: (A) FMPM(k), FLIP and the exact update, (B) FMPM(k) blended with
-FMPM(1) and FMPM(2) and periodic FMPM(k), with the velocity-gradient transfer drawn in full and
-the standard transfer faded; with an APIC table, (C) APIC's FMPM(k), FLIP and exact update in
-full beside the velocity-gradient transfer's faded. Colours are the series as in fig12a.py;
-spectral C* dashed with open circles, simulation C* solid with squares. The paper's preliminary claims (FMPM 2026 §3.3: FLIP's limit rises to
-C = 1 and FMPM(k) plateaus at C = 0.60) are thin black lines.
+One column of panels per problem: (A) FMPM(k), FLIP and the exact update, (B) FMPM(k) blended
+with FMPM(1) and FMPM(2) and periodic FMPM(k), with the velocity-gradient transfer drawn in full
+and the standard transfer faded; with an APIC table, (C) APIC's FMPM(k), FLIP and exact update
+in full beside the velocity-gradient transfer's faded. Each series has its own colour (of the
+shared palette, figures.COLOURS) and its own marker; spectral C* is dashed with open markers,
+simulation C* solid with filled ones. The paper's preliminary claims (FMPM 2026 §3.3: FLIP's
+limit rises to C = 1 and FMPM(k) plateaus at C = 0.60) are thin black dotted lines.
 
 Writes PREFIX.png and PREFIX.csv (one row per problem, series, order and transfer: the two C*
 and the total energy change of the simulation at its C*), and prints the summary table of the
@@ -33,6 +34,15 @@ from fig12a import EXACT_COLOUR, FLIP_COLOUR, STYLE, mathtext, name_of, num, rea
 
 TRANSFERS = ("standard", "velocity gradient", "APIC")
 FADED = 0.35  # the standard transfer's opacity
+# The colours (of the shared palette, figures.COLOURS, FMPM(k) taking the first), markers and
+# marker sizes of the blended and periodic series, in the order of their names: the three of
+# panel B are the palette's rose, green and olive, which stay apart (the purple next in the
+# cycle is too close to the rose, and to the exact update's wine), and each is drawn over the
+# one before with a smaller marker, so that where their C* coincide (the velocity-gradient
+# transfer's, near 1) every marker still shows around the next.
+SERIES_STYLES = [(figures.COLOURS[1], "^", 9), (figures.COLOURS[2], "D", 6),
+                 (figures.COLOURS[5], "s", 4), (figures.COLOURS[4], "v", 3),
+                 (figures.COLOURS[3], "P", 3), (figures.COLOURS[7], "X", 3)]
 CLAIMS = ((1.0, "FLIP → 1"), (0.60, "FMPM(k) plateau 0.60"))  # FMPM 2026 §3.3, preliminary
 METHODS = (("spectral", "critical_courant"), ("simulation", "simulation_courant"))
 # The rows of the printed summary: (series, order); None: FLIP's and the exact update's rows.
@@ -56,45 +66,72 @@ def collect(problems):
     return out
 
 
+def series_styles(names):
+    """{series: (colour, marker, marker size)}: FMPM(k) and the blended and periodic series
+    (`names`) each in its own colour of the shared palette and its own marker (SERIES_STYLES),
+    so that the series of panel B stay apart where their lines cross or lie together; FLIP and
+    the exact update (lines, no marker) in theirs."""
+    styles = {"FMPM(k)": (figures.COLOURS[0], "o", 6)}
+    styles.update(zip(names, SERIES_STYLES))
+    styles["FLIP"], styles["exact"] = (FLIP_COLOUR, None, 0), (EXACT_COLOUR, None, 0)
+    return styles
+
+
 def draw(rows, problems):
-    """The figure: one row of two panels per problem, three with an APIC table."""
+    """The figure: one column per problem, with (A) and (B) above each other, and (C) below
+    them with an APIC table."""
     from matplotlib.lines import Line2D
     plt = figures.style()
     apic = any(r[1] == "APIC" for r in rows)
-    cols = 3 if apic else 2
-    fig, axes = plt.subplots(len(problems), cols, figsize=(6 * cols, 4.2 * len(problems) + 2.4),
-                             sharey=True, squeeze=False)
+    nrows, ncols = (3 if apic else 2), len(problems)
+    # A column per problem (two for the bar and the plate, not a row of three panels each), so
+    # that the docs, which show the figure about 700 px wide, show each panel large enough to
+    # tell its series apart.
+    fig = plt.figure(figsize=(5.2 * ncols, 3.3 * nrows + 2.6))
+    grid = fig.add_gridspec(nrows, ncols)
     names = sorted({r[2] for r in rows} - {"FLIP", "exact", "FMPM(k)"})
-    colour = {n: f"C{i}" for i, n in enumerate(["FMPM(k)"] + names)}
-    colour["FLIP"], colour["exact"] = FLIP_COLOUR, EXACT_COLOUR
+    if len(names) > len(SERIES_STYLES):
+        sys.exit(f"fig12_gradient.py: {len(names)} blended and periodic series; "
+                 f"styles for {len(SERIES_STYLES)}")
+    style = series_styles(names)
     lines = [n for n in ("FLIP", "exact") if any(r[2] == n for r in rows)]
 
     def plot(mine, a, b, alpha):  # FLIP and the exact update as lines, FMPM(k) on a, the rest on b
+        faded = alpha < 1
         for method, column in METHODS:
-            ls, marker, face = STYLE[method]
+            ls, _, face = STYLE[method]
             for r in mine:  # FLIP and the exact update do not depend on k
                 if r[2] in lines and not math.isnan(r[4][column]):
-                    a.axhline(r[4][column], ls=ls, color=colour[r[2]], lw=1.2, alpha=alpha)
+                    a.axhline(r[4][column], ls=ls, color=style[r[2]][0], lw=1.2, alpha=alpha)
             for name in ["FMPM(k)"] + names:
                 pts = sorted((r[3], r[4][column]) for r in mine if r[2] == name)
                 if not any(not math.isnan(v) for _, v in pts):
                     continue
                 ax = a if name == "FMPM(k)" else b
                 if ax is not None:
+                    colour, marker, size = style[name]
+                    # spectral: dashed, open markers; simulation: solid, filled markers
                     ax.plot([k for k, _ in pts], [v for _, v in pts], ls=ls, marker=marker,
-                            color=colour[name], mfc=face or colour[name], ms=4, alpha=alpha)
+                            color=colour, mfc="white" if face == "none" else colour,
+                            ms=0.75 * size if faded else size, lw=1.2 if faded else 1.8,
+                            alpha=alpha)
 
-    for (problem, _), row in zip(problems, axes):
-        a, b = row[0], row[1]
+    axes = {}
+    for j, (problem, _) in enumerate(problems):  # created problem by problem: A, B, C of each
+        for i in range(nrows):
+            axes[i, j] = fig.add_subplot(grid[i, j], sharey=axes.get((0, 0)))
+    for j, (problem, _) in enumerate(problems):
+        a, b = axes[0, j], axes[1, j]
         mine = {t: [r for r in rows if r[0] == problem and r[1] == t] for t in TRANSFERS}
         plot(mine["standard"], a, b, FADED)
         plot(mine["velocity gradient"], a, b, 1)
         titles = [(a, f"(A) {problem}: FMPM($k$), FLIP and exact"),
                   (b, f"(B) {problem}: blended and periodic FMPM($k$)")]
         if apic:
-            plot(mine["velocity gradient"], row[2], None, FADED)
-            plot(mine["APIC"], row[2], None, 1)
-            titles.append((row[2], f"(C) {problem}: APIC, FMPM($k$), FLIP and exact"))
+            c = axes[2, j]
+            plot(mine["velocity gradient"], c, None, FADED)
+            plot(mine["APIC"], c, None, 1)
+            titles.append((c, f"(C) {problem}: APIC, FMPM($k$), FLIP and exact"))
         orders = sorted({r[3] for r in rows if r[0] == problem and r[3] is not None})
         for ax, title in titles:
             for level, _ in CLAIMS:
@@ -104,24 +141,35 @@ def draw(rows, problems):
             ax.minorticks_off()
             ax.set_xlabel("FMPM order $k$")
             ax.set_title(title)
-        a.set_ylabel("critical Courant number $C^*$")
-    # Legends under the last row: the series (colours), and how they are drawn.
-    a, b = axes[-1][0], axes[-1][1]
+            if j == 0:
+                ax.set_ylabel("critical Courant number $C^*$")
+            else:  # the C* axis is shared: its numbers on the left column only
+                ax.tick_params(labelleft=False)
+    # Legends under the last row: the series (colour and marker), and how they are drawn.
+    a, b = axes[nrows - 1, 0], axes[nrows - 1, ncols - 1]
     label = {"exact": "exact $\\tilde m^{-1}$ (standard), $\\tilde m_L^{-1}$ (gradient)" +
              (", $\\tilde m_A^{-1}$ (APIC)" if apic else "")}
-    series = [Line2D([], [], color=colour[n], lw=2.5,
+    series = [Line2D([], [], color=style[n][0], lw=2, marker=style[n][1], ms=max(style[n][2], 5),
                      label=label.get(n, mathtext(n).replace("(k)", "($k$)")))
               for n in lines + ["FMPM(k)"] + names]
-    a.legend(handles=series, loc="upper left", bbox_to_anchor=(0.0, -0.16), title="series")
-    how = [Line2D([], [], ls=STYLE[m][0], marker=STYLE[m][1], color="k", mfc=STYLE[m][2] or "k",
-                  ms=4, label=m) for m, _ in METHODS]
-    how += [Line2D([], [], color="k", lw=2.5, label="velocity-gradient transfer" +
+    how = [Line2D([], [], ls=STYLE[m][0], marker="o", color="k",
+                  mfc="white" if STYLE[m][2] == "none" else "k", ms=6, lw=1.8, label=m)
+           for m, _ in METHODS]
+    how += [Line2D([], [], color="k", lw=1.8, label="velocity-gradient transfer" +
                    (" (A, B); APIC (C)" if apic else "")),
-            Line2D([], [], color="k", lw=2.5, alpha=FADED, label="standard transfer" +
+            Line2D([], [], color="k", lw=1.2, alpha=FADED, label="standard transfer" +
                    (" (A, B); velocity gradient (C)" if apic else "")),
             Line2D([], [], color="k", lw=0.8, ls=(0, (1, 3)),
                    label="paper's preliminary claims (1, 0.60)")]
-    b.legend(handles=how, loc="upper right", bbox_to_anchor=(1.0, -0.16), title="drawn as")
+    if ncols > 1:
+        a.legend(handles=series, loc="upper left", bbox_to_anchor=(0.0, -0.2),
+                 title="series (colour and marker)")
+        b.legend(handles=how, loc="upper right", bbox_to_anchor=(1.0, -0.2), title="drawn as")
+    else:  # one problem: the two legends one above the other
+        first = a.legend(handles=series, loc="upper left", bbox_to_anchor=(0.0, -0.2),
+                         title="series (colour and marker)")
+        a.add_artist(first)
+        a.legend(handles=how, loc="upper left", bbox_to_anchor=(0.0, -1.0), title="drawn as")
     fig.suptitle("Critical Courant number with and without velocity gradients "
                  "(FMPM 2026 §3.3, Fig. 12A)")
     return fig

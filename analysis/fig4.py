@@ -17,7 +17,8 @@ For each case the table gives the plateau pressure behind the front (mean over 3
 the Rankine-Hugoniot 118.4 GPa), the front position (where p crosses half of it), and the
 plateau's and the largest difference from single material mode by the same update, in % of the
 plateau and of the Rankine-Hugoniot pressure. The legends say which curves coincide to plotting
-precision (figures.coincidences). Writes
+precision (figures.coincidences), and name the reference lines: the Rankine-Hugoniot pressure
+(dotted) and the interface of the two materials at 40 mm (dashed). Writes
 PREFIX.csv (the profiles) and PREFIX.png (a trailing .png of -o is dropped). --set changes an
 input entry of every run (--set time.end=0.5e-3 for a short run: the front is then near the
 wall, and the plateau and front are blank where the profile does not reach them).
@@ -81,6 +82,11 @@ CASES = {
     "stick XPIC(5) uncorrected": (7, XPIC5 + ['step.xpic_contact="none"'], "single XPIC(5) Eq. 41"),
 }
 BINS = np.arange(30.0, 47.0, 0.25)
+INTERFACE = 40.0  # mm: where the bar is split into its two materials
+# The reference lines of every panel, with their legend entries (after the curves').
+RH_LABEL = f"Rankine–Hugoniot pressure ({RH:.1f} GPa)"
+INTERFACE_LABEL = f"material interface ($x$ = {INTERFACE:g} mm)"
+REFERENCE_LABELS = (RH_LABEL, INTERFACE_LABEL)
 
 
 def run(smpm, work, name, sets):
@@ -159,8 +165,8 @@ def main():
                 ax.plot(x, y, lw=1, color=f"C{i % 9}", label=name)
     for ax, title in zip(axes, ["Fig. 4: stick contact", "Fig. 5: frictional contact",
                                 "contact 2020 Fig. 7: multimaterial XPIC(5)"]):
-        ax.axhline(RH, color="k", ls=":", lw=0.8)
-        ax.axvline(40, color="k", ls="--", lw=0.6)
+        ax.axhline(RH, color="k", ls=":", lw=0.8, label=RH_LABEL)
+        ax.axvline(INTERFACE, color="k", ls="--", lw=0.6, label=INTERFACE_LABEL)
         ax.set_title(title)
         ax.set_xlabel("$x$ (mm)")
         ax.legend(fontsize=7)

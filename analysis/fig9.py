@@ -13,7 +13,8 @@ matrix). For each run it reports the energy lost, 1 - (U + K)(end) / (U + K)(0) 
 U = W + Q (strain energy and heat; FMPM 2026 Fig. 9), the heat Q gained and the frictional work
 in % of the initial energy (equal: the heat comes from friction alone), the highest
 temperature reached, and the left disk's centre-of-mass displacement at the end (the
-deflection grows with mu).
+deflection grows with mu). Panel A draws the energy lost by each update as bars grouped by
+update (one per mu), panel B against the order k as a line.
 Writes PREFIX.csv and PREFIX.png (a trailing .png of -o is dropped). --set changes an input
 entry of every run (--set time.end=0.02 for a short run). The trajectories of Fig. 8 are
 analysis/fig8.py.
@@ -86,12 +87,24 @@ def main():
         w.writerows(rows)
     plt = figures.style()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
-    for mu in (0.0, 0.3, 0.6):
-        axes[0].plot(NAMES, [res[(mu, n)]["lost"] for n in NAMES], "o-", label=f"$\\mu$ = {mu}")
+    # A: the updates are categories, so bars grouped by update (one per mu, labelled with its
+    # value), not lines between them.
+    mus = (0.0, 0.3, 0.6)
+    width = 0.8 / len(mus)
+    top = 0
+    for j, mu in enumerate(mus):
+        lost = [res[(mu, n)]["lost"] for n in NAMES]
+        bars = axes[0].bar([i + (j - (len(mus) - 1) / 2) * width for i in range(len(NAMES))], lost,
+                           width, color=f"C{j}", label=f"$\\mu$ = {mu}")
+        axes[0].bar_label(bars, fmt="%.1f", fontsize=7, padding=1)
+        top = max([top] + lost)
+    axes[0].set_xticks(range(len(NAMES)), NAMES)
+    axes[0].grid(False, axis="x")
+    axes[0].set_ylim(min(0, axes[0].get_ylim()[0]), 1.1 * top if top > 0 else None)
     axes[0].set_title("Fig. 9A: energy lost by each update")
     axes[0].set_xlabel("velocity update")
     axes[0].set_ylabel("energy lost $1 - (U + K)/(U + K)_0$ (%)")
-    axes[0].legend()
+    axes[0].legend(title="Coulomb friction")
     ks = list(range(1, 9))
     axes[1].plot(ks, [res[(0.3, f"FMPM({k})")]["lost"] for k in ks], "o-", label="FMPM(k)")
     axes[1].axhline(res[(0.3, "FLIP")]["lost"], color="k", lw=0.8, label="FLIP")

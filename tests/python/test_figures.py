@@ -334,8 +334,13 @@ def check_fig4(r):
         for row in table:
             if row["figure"] == figure:
                 curves.setdefault(row["case"], []).append(float(row["pressure_GPa"]))
-        assert_legend_says_which_coincide(legend_texts(ax), {k: np.array(v) for k, v in
-                                                             curves.items()})
+        # The curves' entries, then the reference lines' (the Rankine-Hugoniot pressure and
+        # the material interface), each named.
+        texts = legend_texts(ax)
+        refs = len(fig4.REFERENCE_LABELS)
+        assert texts[-refs:] == list(fig4.REFERENCE_LABELS)
+        assert_legend_says_which_coincide(texts[:-refs], {k: np.array(v) for k, v in
+                                                          curves.items()})
 
 
 def check_fig5(r):
