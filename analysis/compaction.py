@@ -99,7 +99,7 @@ def input_text(objects):
               'gradient = 0.0, depth_cells = 1.0 }', "",
               "[time]", "courant = 0.4", f"end = {end}", "",
               "[step]", 'scheme = "USL"', 'velocity = "FLIP"', 'shape = "gimp"', "",
-              "[output]", f"every = {end / 6}", ""]
+              "[output]", f"every = {end / 6}", 'units = "mm-ms-g"', ""]
     return "\n".join(lines)
 
 

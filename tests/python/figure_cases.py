@@ -180,6 +180,10 @@ def case_three_materials(w):
         ["three_materials"], ["three_materials"]
 
 
+def case_plastic_bar(w):  # the whole example: 0.3 s
+    return ["--smpm", SMPM, "-o", w / "plastic_bar"], ["plastic_bar"], ["plastic_bar"]
+
+
 def case_df_fit(w):
     return ["-o", w / "df_fit.png"], ["df_fit"], ["df_fit"]
 
@@ -193,4 +197,5 @@ CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig11.py": case_fig11, "fig14.py": case_fig14, "three_materials.py": case_three_materials,
          "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
          "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
-         "df_fit.py": case_df_fit, "buzzi.py": case_buzzi, "fig2b.py": case_fig2b, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10}
+         "df_fit.py": case_df_fit, "buzzi.py": case_buzzi, "fig2b.py": case_fig2b, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10,
+         "plastic_bar.py": case_plastic_bar}
