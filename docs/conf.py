@@ -21,9 +21,11 @@ project = "sparsempm"
 author = "the sparsempm authors"
 copyright = "the sparsempm authors, BSD 3-Clause"
 # "0.2.0 (commit 1a2b3c4)": the release and the commit this build's smpm was built from.
-version = sparsempm.__version__
 release = subprocess.run([str(BUILD / "apps" / "smpm"), "--version"], capture_output=True,
                          text=True, check=True).stdout.strip().removeprefix("smpm ")
+version = release  # the theme shows it under the project's name
+if not release.startswith(sparsempm.__version__ + " "):
+    raise RuntimeError(f"smpm {release} and the module {sparsempm.__version__} differ")
 
 extensions = [
     "myst_parser",
