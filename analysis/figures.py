@@ -60,6 +60,8 @@ UNITS = {
                             "momentum"), "input units"),
     "mm-ms-g": {"length": "mm", "time": "ms", "velocity": "m/s", "stress": "MPa", "energy": "mJ",
                 "mass": "g", "volume": "mm$^3$", "momentum": "g m/s"},
+    "none": dict.fromkeys(("length", "time", "velocity", "stress", "energy", "mass", "volume",
+                           "momentum"), "input units"),  # output.units = "none"
     "SI": {"length": "m", "time": "s", "velocity": "m/s", "stress": "Pa", "energy": "J",
            "mass": "kg", "volume": "m$^3$", "momentum": "kg m/s"},
 }

@@ -32,6 +32,22 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "plastic_bar.toml"
 
 
+def with_overrides(doc, sets):
+    """The parsed input `doc` with the --set overrides applied as smpm applies them (entries of
+    [[material]] and [[bc]] by index or name): the run file stores them as comments only."""
+    for key, value in figures.set_values(sets).items():
+        *path, last = key.split(".")
+        node = doc
+        for part in path:
+            if isinstance(node, list):
+                node = node[int(part)] if part.isdigit() else \
+                    next(e for e in node if e.get("name") == part)
+            else:
+                node = node.setdefault(part, {})
+        node[last] = value
+    return doc
+
+
 def closed_form(material, v0, t):
     """(ε_HEL, c_e, ε_plastic, c_p) of the bar: uniaxial strain, elastic–perfectly plastic."""
     E, nu, rho, sy = (material[k] for k in ("youngs", "poisson", "density", "yield_stress"))
@@ -60,7 +76,7 @@ def main():
             sys.exit(f"plastic_bar.py: smpm run failed: {r.stderr.strip()}")
         run = figures.read_run(out)
         p = run.particles(-1)
-        doc = tomllib.loads(run.input)
+        doc = with_overrides(tomllib.loads(EXAMPLE.read_text()), a.sets)
     t = float(p["@time"])
     X, strain = p["X"][:, 0], 1 - p["F"][:, 0]
     eps_p = p["plastic_strain"]
@@ -70,7 +86,8 @@ def main():
     e_hel, ce, e_pl, cp = closed_form(doc["material"][0], v0, t)
     x0 = float(doc["body"][0]["min"][0])
     exact = np.where(X - x0 < cp * t, e_pl, np.where(X - x0 < ce * t, e_hel, 0.0))
-    # ε̄ᵖ = √(2/3) ‖εᵖ‖ with εᵖ = (ε − ε_HEL) diag(1, −½, −½) in uniaxial strain (small strain)
+    # ε̄ᵖ = √(2/3) ‖εᵖ‖ with εᵖ = (2/3)(ε − ε_HEL) diag(1, −½, −½) in uniaxial strain (small
+    # strain): ε̄ᵖ = (2/3)(ε − ε_HEL)
     exact_p = np.where(X - x0 < cp * t, 2 * (e_pl - e_hel) / 3, 0.0)
     found_e = front(X, strain, e_hel / 2) - x0
     found_p = front(X, strain, (e_hel + e_pl) / 2) - x0

@@ -27,6 +27,7 @@ import subprocess
 import sys
 import time
 
+sys.dont_write_bytecode = True  # nothing written into the source tree
 HERE = pathlib.Path(__file__).resolve().parent
 SOURCE = HERE.parent
 sys.path.insert(0, str(HERE))
@@ -90,7 +91,7 @@ def main():
     a = ap.parse_args()
     build = a.build.resolve()
     out = (a.out or build / "docs").resolve()
-    env = dict(os.environ, SMPM_BUILD=str(build), SMPM_THREADS=os.environ.get("SMPM_THREADS", "2"),
+    env = dict(os.environ, SMPM_BUILD=str(build), PYTHONDONTWRITEBYTECODE="1", SMPM_THREADS=os.environ.get("SMPM_THREADS", "2"),
                PYTHONPATH=str(build / "python"),
                PATH=os.pathsep.join([str(build / "apps"), "/usr/bin", os.environ["PATH"]]))
     if not (build / "docs" / "doxygen" / "xml" / "index.xml").exists():

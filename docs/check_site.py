@@ -56,6 +56,9 @@ def check_links(root):
             links += 1
             target = (page.parent / urllib.parse.unquote(url.path)).resolve() if url.path else page
             where = f"{page.relative_to(root)}: {tag} {ref}"
+            if root not in target.parents and target != root:
+                failures.append(f"{where}: leaves the site ({target})")
+                continue
             if not target.exists():
                 failures.append(f"{where}: no file {target}")
                 continue

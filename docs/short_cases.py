@@ -28,7 +28,8 @@ def draw(name, case, out, env):
     if r.returncode != 0:
         raise RuntimeError(f"analysis/{name} on its short case: exit status {r.returncode}: "
                            f"{r.stderr.strip()[-2000:]}")
-    shown = [str(a).replace(f"{w}/", "").replace(f"{SOURCE}/", "") for a in args]
+    shown = [str(a).replace(f"{w}/", "").replace(f"{SOURCE}/", "")
+             .replace(str(pathlib.Path(os.environ["SMPM"]).parents[1]), "build") for a in args]
     return {"command": " ".join(["python3", f"analysis/{name}", *shown]),
             "pngs": [f"{name.removesuffix('.py')}/{pathlib.Path(p).name}.png" for p in pngs],
             "seconds": round(time.monotonic() - start, 1)}
@@ -41,7 +42,7 @@ def draw_all(out, build):
     sys.path[:0] = [str(build / "python"), str(SOURCE / "tests" / "python")]
     import figure_cases  # noqa: E402  (reads SMPM and SMPM_SOURCE)
     out.mkdir(parents=True)
-    env = figure_cases.env()
+    env = dict(figure_cases.env(), PYTHONDONTWRITEBYTECODE="1")
     with concurrent.futures.ThreadPoolExecutor(2) as pool:
         futures = {n: pool.submit(draw, n, c, out, env) for n, c in figure_cases.CASES.items()}
         manifest = {n.removesuffix(".py"): f.result() for n, f in futures.items()}
