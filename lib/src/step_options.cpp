@@ -92,11 +92,34 @@ double position_alpha(const StepOptions& options) {
   return options.position_alpha.value_or(default_position_alpha(options.velocity));
 }
 
+constexpr detail::EnumNames<ExactMethod, 2> kExactMethods{
+    {{ExactMethod::Factor, "factor"}, {ExactMethod::PCG, "pcg"}}};
+std::string_view to_string(ExactMethod m) {
+  return detail::enum_name(m, kExactMethods);
+}
+ExactMethod exact_method_from_string(std::string_view name) {
+  return detail::parse_enum(name, kExactMethods, "exact method");
+}
+constexpr detail::EnumNames<ExactPreconditioner, 2> kExactPreconditioners{
+    {{ExactPreconditioner::Diagonal, "diagonal"}, {ExactPreconditioner::IncompleteCholesky, "ic"}}};
+std::string_view to_string(ExactPreconditioner p) {
+  return detail::enum_name(p, kExactPreconditioners);
+}
+ExactPreconditioner exact_preconditioner_from_string(std::string_view name) {
+  return detail::parse_enum(name, kExactPreconditioners, "preconditioner");
+}
+
 void validate(const ExactOptions& o) {
   if (!(o.regularization >= 0 && o.regularization <= 1))
     throw OptionError("exact_regularization", number_text(o.regularization), "must lie in [0, 1]");
   if (!(o.mass_cutoff >= 0 && o.mass_cutoff < 1))
     throw OptionError("exact_mass_cutoff", number_text(o.mass_cutoff), "must lie in [0, 1)");
+  if (!(o.tolerance > 0 && o.tolerance < 1))
+    throw OptionError("exact_tolerance", number_text(o.tolerance), "must lie in (0, 1)");
+  if (o.method == ExactMethod::PCG && !is_symmetric(o.system))
+    throw OptionError("exact_method", "pcg",
+                      "the conjugate gradient needs a symmetric matrix, and the " +
+                          std::string(to_string(o.system)) + " is not (use \"factor\")");
 }
 
 std::string_view to_string(NodalSystem s) {
@@ -142,6 +165,7 @@ ExactOptions transport_solver_options(const StepOptions& opt) {
 void validate(const StepOptions& opt) {
   validate(opt.fmpm);
   validate(opt.exact);
+  validate(velocity_solver_options(opt)); // PCG needs the symmetric m~ or m~_A
   if (!(opt.periodic_cx >= 0) || !std::isfinite(opt.periodic_cx))
     throw OptionError("periodic_cx", number_text(opt.periodic_cx),
                       "must be non-negative and finite (0: FMPM on every step)");

@@ -181,6 +181,21 @@ void bind_step_numbers(py::class_<StepOptions>& c) {
       "exact_mass_cutoff", [](const StepOptions& o) { return o.exact.mass_cutoff; },
       [](StepOptions& o, double tau) { o.exact.mass_cutoff = tau; },
       "exact: nodes below tau max m take p_i / m_i");
+  c.def_property(
+      "exact_method", [](const StepOptions& o) { return std::string(to_string(o.exact.method)); },
+      [](StepOptions& o, const std::string& s) { o.exact.method = exact_method_from_string(s); },
+      "exact: 'factor' (CHOLMOD, UMFPACK for m~_L) or 'pcg' (conjugate gradient, symmetric m~)");
+  c.def_property(
+      "exact_tolerance", [](const StepOptions& o) { return o.exact.tolerance; },
+      [](StepOptions& o, double tol) { o.exact.tolerance = tol; },
+      "exact, pcg: the relative residual at which the conjugate gradient stops");
+  c.def_property(
+      "exact_preconditioner",
+      [](const StepOptions& o) { return std::string(to_string(o.exact.preconditioner)); },
+      [](StepOptions& o, const std::string& s) {
+        o.exact.preconditioner = exact_preconditioner_from_string(s);
+      },
+      "exact, pcg: 'diagonal' (Jacobi) or 'ic' (incomplete Cholesky)");
 }
 
 std::string repr(const StepOptions& o) {

@@ -9,6 +9,9 @@
 #include <cholmod.h>
 #include <umfpack.h>
 
+#include <Eigen/IterativeLinearSolvers>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -188,6 +191,75 @@ struct UmfpackBackend {
   }
 };
 
+struct PcgBackend {
+  // The conjugate gradient on a symmetric restricted m̃ (stored whole: its rows are its
+  // columns), preconditioned by its diagonal or Eigen's IncompleteCholesky, to a relative
+  // residual. It factors nothing: "factorize" checks the diagonal, solve builds the
+  // preconditioner and iterates from v_F = 0.
+  struct Factor : Restricted {
+    bool ready = false;
+    bool analysed() const { return ready; }
+    bool factored() const { return ready; }
+  };
+  NodalSystem system = NodalSystem::ConsistentMass; // the matrix its messages name
+  ExactOptions options;
+
+  static void accept(const ExactOptions& options) {
+    if (!is_symmetric(options.system))
+      throw UsageError("the conjugate gradient needs a symmetric matrix, and the " +
+                       std::string(to_string(options.system)) + " is not");
+  }
+  void analyse(Factor& f) { f.ready = true; }
+  double factorize(const Operators& ops, Factor& f) {
+    for (size_t j = 0; j < f.free.size(); ++j) // a non-positive diagonal: not SPD
+      for (int q = f.colptr[j]; q < f.colptr[j + 1]; ++q)
+        if (f.rowind[size_t(q)] == int(j) && !(f.values[size_t(q)] > 0))
+          not_positive_definite(ops, f, long(j), system);
+    return std::numeric_limits<double>::quiet_NaN(); // no condition estimate
+  }
+  static Eigen::MatrixXd right_hand_sides(const Operators& ops, const SparseRowMatrix& mt,
+                                          double blend, const Field& p, const Field& prescribed,
+                                          const std::vector<int>& F, const std::vector<int>& local,
+                                          const std::vector<int>& comps, Field& v) {
+    return detail::symmetric_right_hand_sides(ops, mt, blend, p, prescribed, F, local, comps, v);
+  }
+  template <class Preconditioner>
+  void iterate(Factor& f, const Eigen::MatrixXd& B, Field& v) {
+    const Index m = Index(f.free.size());
+    const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::ColMajor, int>> A(
+        m, m, Index(f.values.size()), f.colptr.data(), f.rowind.data(), f.values.data());
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double, Eigen::ColMajor, int>,
+                             Eigen::Lower | Eigen::Upper, Preconditioner>
+        cg;
+    cg.setTolerance(options.tolerance);
+    cg.setMaxIterations(std::max<Index>(100, 10 * m));
+    cg.compute(A);
+    if (cg.info() != Eigen::Success)
+      throw NumericalError("the preconditioner of the conjugate gradient failed on the " +
+                           std::string(to_string(system)));
+    for (size_t k = 0; k < f.comps.size(); ++k) {
+      const Eigen::VectorXd x = cg.solve(B.col(Index(k)));
+      if (cg.info() != Eigen::Success) {
+        std::ostringstream os;
+        os << "the conjugate gradient on the " << to_string(system) << " reached a relative "
+           << "residual of " << cg.error() << " after " << cg.iterations()
+           << " iterations, not the tolerance " << options.tolerance << " (a larger tolerance, "
+           << "or exact_method = \"factor\")" << detail::remedies(system);
+        throw NumericalError(os.str());
+      }
+      for (size_t q = 0; q < f.free.size(); ++q)
+        v(f.free[q], f.comps[k]) = x[Index(q)];
+    }
+  }
+  void solve(Factor& f, const Eigen::MatrixXd& B, Field& v) {
+    if (options.preconditioner == ExactPreconditioner::IncompleteCholesky)
+      iterate<Eigen::IncompleteCholesky<double, Eigen::Lower>>(f, B, v);
+    else
+      iterate<Eigen::DiagonalPreconditioner<double>>(f, B, v);
+  }
+  void release(Factor& f) { f.ready = false; }
+};
+
 template <class Backend>
 struct FactoredMassSolver<Backend>::Impl {
   Backend backend;
@@ -208,6 +280,8 @@ FactoredMassSolver<Backend>::FactoredMassSolver(const ExactOptions& options)
   validate(options_);
   Backend::accept(options_);
   impl_->backend.system = options_.system;
+  if constexpr (requires { impl_->backend.options; }) // PCG's tolerance and preconditioner
+    impl_->backend.options = options_;
 }
 template <class Backend>
 FactoredMassSolver<Backend>::~FactoredMassSolver() = default;
@@ -286,6 +360,7 @@ void FactoredMassSolver<Backend>::solve_again(const Field& r, Field& v) {
 
 template class FactoredMassSolver<CholmodBackend>;
 template class FactoredMassSolver<UmfpackBackend>;
+template class FactoredMassSolver<PcgBackend>;
 
 MassSolverFactory cholmod_solver_factory() {
   return [](const ExactOptions& options) { return std::make_unique<CholmodSolver>(options); };
@@ -293,6 +368,8 @@ MassSolverFactory cholmod_solver_factory() {
 
 MassSolverFactory exact_solver_factory() {
   return [](const ExactOptions& options) -> std::unique_ptr<MassSolver> {
+    if (options.method == ExactMethod::PCG)
+      return std::make_unique<PcgSolver>(options);
     if (is_symmetric(options.system))
       return std::make_unique<CholmodSolver>(options);
     return std::make_unique<UmfpackSolver>(options);

@@ -136,6 +136,27 @@ std::string_view to_string(NodalSystem s);
 /// Whether the system's matrix is symmetric: m̃, m̃_A and c̃ are, m̃_L is not.
 bool is_symmetric(NodalSystem s);
 
+/// How the exact update solves m̃_FF v_F = b (exact.hpp): a sparse factorisation (CHOLMOD's
+/// Cholesky for a symmetric m̃, UMFPACK's LU for m̃_L) or the preconditioned conjugate gradient
+/// (Eigen's ConjugateGradient, symmetric m̃ only) to a relative residual.
+enum class ExactMethod {
+  Factor, ///< CHOLMOD or UMFPACK: m̃_FF⁻¹ to round-off
+  PCG     ///< conjugate gradient to ‖b − m̃_FF v_F‖ ≤ tolerance ‖b‖
+};
+/// The preconditioner of ExactMethod::PCG.
+enum class ExactPreconditioner {
+  Diagonal,          ///< the diagonal of m̃_FF (Jacobi)
+  IncompleteCholesky ///< Eigen's IncompleteCholesky of m̃_FF (zero fill, with its shift)
+};
+/// Names used in input files: factor | pcg.
+std::string_view to_string(ExactMethod m);
+/// Inverse of to_string; throws InputError naming the valid choices.
+ExactMethod exact_method_from_string(std::string_view name);
+/// Names used in input files: diagonal | ic.
+std::string_view to_string(ExactPreconditioner p);
+/// Inverse of to_string; throws InputError naming the valid choices.
+ExactPreconditioner exact_preconditioner_from_string(std::string_view name);
+
 /// The settings of the exact consistent-mass inverse (VelocityUpdate::Exact; exact.hpp and the
 /// docs/studies/stability.md, "The exact inverse"): data, read by the solver a MassSolverFactory
 /// makes and by anyone who inspects the options.
@@ -144,6 +165,11 @@ struct ExactOptions {
   double regularization = 0;
   /// τ ∈ [0, 1): active nodes lighter than τ max m take their lumped velocity p_i/m_i
   double mass_cutoff = 0;
+  /// A factorisation (CHOLMOD, UMFPACK) or the preconditioned conjugate gradient (symmetric m̃)
+  ExactMethod method = ExactMethod::Factor;
+  /// PCG: the relative residual ‖b − m̃_FF v_F‖ / ‖b‖ it stops at, in (0, 1)
+  double tolerance = 1e-12;
+  ExactPreconditioner preconditioner = ExactPreconditioner::Diagonal; ///< PCG's preconditioner
   /// The system the solver is given: m̃, m̃_L (not symmetric), m̃_A or c̃, named in its messages. Set
   /// where a solver is made (velocity_solver_options from the step's transfer,
   /// transport_solver_options), not an input entry.

@@ -47,6 +47,11 @@ void read_fmpm(const Reader& r, const toml::table& t, StepOptions& step) {
   f.bc_method = r.choice(t, "bc_method", "step.bc_method", "incremental", &bc_method_from_string);
   step.exact.regularization = r.number(t, "exact_regularization", "step.exact_regularization", 0.0);
   step.exact.mass_cutoff = r.number(t, "exact_mass_cutoff", "step.exact_mass_cutoff", 0.0);
+  step.exact.method =
+      r.choice(t, "exact_method", "step.exact_method", "factor", exact_method_from_string);
+  step.exact.tolerance = r.number(t, "exact_tolerance", "step.exact_tolerance", 1e-12);
+  step.exact.preconditioner = r.choice(t, "exact_preconditioner", "step.exact_preconditioner",
+                                       "diagonal", exact_preconditioner_from_string);
   // Always set, so that analyses adding an exact row (smpm stability) use these options.
   step.exact_solver = exact_solver_factory();
 }

@@ -16,6 +16,8 @@ namespace smpm {
 struct CholmodBackend;
 /// UMFPACK's sparse LU factorisation of a general m̃_FF (the back end of UmfpackSolver).
 struct UmfpackBackend;
+/// The preconditioned conjugate gradient on a symmetric m̃_FF (the back end of PcgSolver).
+struct PcgBackend;
 
 /// Solves m̃_FF v_F = p_F − m̃_FC v_C for each velocity component, F the active nodes free in
 /// that component and C those whose component is prescribed (v_C = v_b). This is the k → ∞
@@ -76,8 +78,16 @@ using CholmodSolver = FactoredMassSolver<CholmodBackend>;
 /// motion. Throws NumericalError naming the lightest nodes when m̃_FF is singular.
 using UmfpackSolver = FactoredMassSolver<UmfpackBackend>;
 
+/// The same equations for a symmetric m̃ (m̃, m̃_A, c̃) by Eigen's ConjugateGradient, preconditioned
+/// by the diagonal of m̃_FF or its IncompleteCholesky (ExactOptions::preconditioner), from
+/// v_F = 0 to the relative residual ExactOptions::tolerance: m̃⁻¹ to that tolerance, not to
+/// round-off. It keeps no factor: solve_again iterates again. A NumericalError names the
+/// residual and iterations reached when it does not converge in max(100, 10 |F|) iterations.
+using PcgSolver = FactoredMassSolver<PcgBackend>;
+
 extern template class FactoredMassSolver<CholmodBackend>;
 extern template class FactoredMassSolver<UmfpackBackend>;
+extern template class FactoredMassSolver<PcgBackend>;
 
 /// The known velocities of the exact solve: the prescribed velocity of every (active node, axis)
 /// with a condition of `bc` (FMPM 2026 Table 2's superposition rule, boundary.hpp; directions
@@ -93,9 +103,10 @@ Field prescribed_components(const LoopConstraints& bc,
 /// the options it runs with) gets a solver of its own, with the settings StepOptions::exact.
 /// Symmetric matrices only (a solver made for NodalSystem::GradientMass throws).
 MassSolverFactory cholmod_solver_factory();
-/// The factory the reader, the command line and Python use: a CholmodSolver for symmetric
-/// matrices (m̃, m̃_A, the capacity matrix), an UmfpackSolver otherwise (m̃_L; the Stepper sets
-/// ExactOptions::system from StepOptions::transfer, velocity_solver_options).
+/// The factory the reader, the command line and Python use: with ExactOptions::method PCG a
+/// PcgSolver; else a CholmodSolver for symmetric matrices (m̃, m̃_A, the capacity matrix), an
+/// UmfpackSolver otherwise (m̃_L; the Stepper sets ExactOptions::system from
+/// StepOptions::transfer, velocity_solver_options).
 MassSolverFactory exact_solver_factory();
 
 } // namespace smpm
