@@ -4,7 +4,7 @@
 // error for a singular m̃.
 
 #include "contact_support.hpp"
-#include "support.hpp"
+#include "exact_setup.hpp"
 
 #include <sparsempm/exact.hpp>
 
@@ -13,22 +13,9 @@
 using namespace smpm;
 
 namespace {
-struct Setup {
-  Grid grid = Grid(2, {0, 0, 0}, {1, 1, 1}, {8, 8, 1});
-  Particles P;
-  Operators ops;
-  ConsistentMass mt;
-  Field p;
-};
+using Setup = smpm::test::ExactSetup;
 Setup setup() {
-  Setup s;
-  s.P = smpm::test::jittered_lattice(s.grid, 2, 4, 2, 0.3, 5u);
-  for (Index q = 0; q < s.P.size(); ++q)
-    s.P.V.row(q) << std::sin(1.1 * s.P.X(q, 1)), 0.3 * std::cos(0.9 * s.P.X(q, 0) + q);
-  assemble(s.grid, s.P, Shape::CPDI, s.ops);
-  assemble_consistent_mass(s.ops, s.mt);
-  map_momentum(particle_operators(s.ops), s.P.V, s.p);
-  return s;
+  return smpm::test::exact_setup();
 }
 } // namespace
 

@@ -3,7 +3,7 @@
 // CHOLMOD's factorisation: the same equations (velocity BCs, regularisation, mass cutoff), m̃⁻¹
 // to the tolerance asked, and a refusal for the non-symmetric m̃_L.
 
-#include "support.hpp"
+#include "exact_setup.hpp"
 
 #include <sparsempm/exact.hpp>
 
@@ -12,22 +12,9 @@
 using namespace smpm;
 
 namespace {
-struct Setup {
-  Grid grid = Grid(2, {0, 0, 0}, {1, 1, 1}, {8, 8, 1});
-  Particles P;
-  Operators ops;
-  ConsistentMass mt;
-  Field p;
-};
+using Setup = smpm::test::ExactSetup;
 Setup setup() {
-  Setup s;
-  s.P = smpm::test::jittered_lattice(s.grid, 2, 4, 2, 0.3, 5u);
-  for (Index q = 0; q < s.P.size(); ++q)
-    s.P.V.row(q) << std::sin(1.1 * s.P.X(q, 1)), 0.3 * std::cos(0.9 * s.P.X(q, 0) + q);
-  assemble(s.grid, s.P, Shape::CPDI, s.ops);
-  assemble_consistent_mass(s.ops, s.mt);
-  map_momentum(particle_operators(s.ops), s.P.V, s.p);
-  return s;
+  return smpm::test::exact_setup();
 }
 // The relative distance of a PCG solve from CHOLMOD's, with the same options but the method.
 double distance(const Setup& s, ExactOptions o, const LoopConstraints& bc) {
