@@ -3,6 +3,8 @@
 // Text-level helpers of the input reader: the schema of valid keys, key suggestions, the
 // non-ASCII check that keeps toml++ 3.3 away from undefined behaviour, and --set overrides.
 
+#include "sparsempm/input.hpp"
+
 #include <toml++/toml.h>
 
 #include <map>
@@ -11,6 +13,8 @@
 
 namespace smpm::detail {
 
+/// The keys of [time], [step], [output] and the loads: the second half of input_keys().
+std::vector<InputKey> run_input_keys();
 /// Valid keys of every table of the input schema ("" is the top level).
 const std::map<std::string, std::vector<std::string>>& schema();
 /// " (did you mean 'x'?)" for the nearest valid key, or the list of valid keys.
