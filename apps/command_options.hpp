@@ -23,6 +23,13 @@ inline void add_stability_options(CLI::App& stab, StabilityArgs& st) {
   stab.add_option("--periodic-cx", st.periodic_cx, "periodic FMPM budgets C_X (none: no rows)")
       ->delimiter(',')
       ->capture_default_str();
+  stab.add_option("--polynomial", st.polynomials,
+                  "rows of the other polynomials of the same k - 1 products, for every order k "
+                  "> 1: chebyshev, least_squares, chebyshev_squared")
+      ->delimiter(',');
+  stab.add_option("--interval-low", st.interval_low,
+                  "lambda_lo of their interval [lambda_lo, 1] (default: the input's "
+                  "step.interval_low if positive, else min eig(m^-1 m~) at t = 0)");
   stab.add_option("--method", st.method, "spectral | simulation | both")->capture_default_str();
   stab.add_option("--shifts", st.shifts, "lattice shifts in the spectral sweep")
       ->capture_default_str();

@@ -145,6 +145,7 @@ int run_command(const std::string& input, const std::vector<std::string>& sets,
 
 struct RunArgs {
   std::string input, output, restart;
+  std::string velocity; // --velocity: --set step.velocity="NAME" before the --set entries
   std::vector<std::string> sets;
   bool discard = false;
   bool quiet = false;
@@ -156,6 +157,9 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   run->add_option("input", a.input, "input file (TOML)");
   run->add_option("--set", a.sets, "override an input entry, e.g. --set time.courant=0.3")
       ->allow_extra_args(false);
+  run->add_option("--velocity", a.velocity,
+                  "the velocity update, as --set step.velocity=NAME: FLIP | PIC | FMPM | XPIC | "
+                  "exact | chebyshev | least_squares | chebyshev_squared");
   run->add_option("-o,--output", a.output, "output HDF5 file (default: output.file of the input)");
   run->add_option("--restart", a.restart, "continue the run stored in this HDF5 file");
   run->add_flag("--discard-partial", a.discard,
@@ -300,9 +304,12 @@ int run_chosen(Commands& c) {
     if (*c.run && c.run->count("--output") > 0 && ra.output.empty())
       throw smpm::InputError("-o '': an empty path; name the output file (or leave -o out "
                              "for the input's output.file)");
-    if (*c.run)
-      return run_command(ra.input, ra.sets, ra.output, ra.restart, ra.discard, ra.quiet,
-                         ra.timings);
+    if (*c.run) {
+      std::vector<std::string> sets = ra.sets;
+      if (c.run->count("--velocity") > 0) // as its --set entry, which a later --set overrides
+        sets.insert(sets.begin(), "step.velocity=\"" + ra.velocity + "\"");
+      return run_command(ra.input, sets, ra.output, ra.restart, ra.discard, ra.quiet, ra.timings);
+    }
     if (*c.stability) {
       // whether --position-alpha was given (a NaN given is refused)
       c.stability_args.position_alpha_given = c.stability->count("--position-alpha") > 0;

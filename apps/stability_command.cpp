@@ -13,6 +13,7 @@
 #include <sparsempm/input.hpp>
 #include <sparsempm/output.hpp>
 #include <sparsempm/run_file.hpp>
+#include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
 
 #include <algorithm>
@@ -39,6 +40,7 @@ struct Row {
   double energy_change = std::nan("");
   bool simulated = false; // the simulation search ran (NaN then: no C in its bracket held)
   bool fmpm() const { return opt.velocity == VelocityUpdate::FMPM; }
+  bool polynomial() const { return fmpm() && opt.fmpm.polynomial != Polynomial::Series; }
   /// C* simulation: "none" when every C of the search failed (unstable, or beyond
   /// --max-energy-change, down to the bracket's lowest C), empty when not searched.
   std::string simulation_cell() const {
@@ -78,6 +80,38 @@ std::vector<std::pair<int, double>> blend_pairs(const StabilityArgs& a) {
   return pairs;
 }
 
+std::vector<Polynomial> polynomials(const StabilityArgs& a) {
+  std::vector<Polynomial> out;
+  for (const std::string& name : a.polynomials) {
+    if (name.empty() || name == "none")
+      continue;
+    Polynomial p = Polynomial::Series;
+    try {
+      p = polynomial_from_string(name);
+    } catch (const InputError&) {
+      throw InputError("--polynomial " + clip(name) +
+                       ": expected chebyshev | least_squares | chebyshev_squared");
+    }
+    if (p == Polynomial::Series)
+      throw InputError("--polynomial series: the FMPM rows are the series; expected chebyshev | "
+                       "least_squares | chebyshev_squared");
+    out.push_back(p);
+  }
+  return out;
+}
+
+// λ_lo of the polynomial rows: --interval-low, else the input's, else λ_min(m⁻¹m̃) at t = 0.
+double interval_low(const StabilityArgs& a, const RunConfig& cfg) {
+  if (!std::isnan(a.interval_low))
+    return a.interval_low;
+  if (cfg.step.fmpm.interval_low > 0)
+    return cfg.step.fmpm.interval_low;
+  const Operators ops = assemble(cfg.model.grid, cfg.model.particles, cfg.step.shape);
+  ConsistentMass mt;
+  assemble_consistent_mass(ops, mt);
+  return mass_spectrum(ops, mt.matrix).min_eig_minv_mt;
+}
+
 std::vector<double> periodic_budgets(const StabilityArgs& a) {
   std::vector<double> out;
   for (const std::string& text : a.periodic_cx) {
@@ -95,7 +129,8 @@ std::vector<double> periodic_budgets(const StabilityArgs& a) {
 // The rows: FLIP, FMPM(k) for every --order, blended and periodic FMPM(k > 1), exact. α of
 // Eqs. (8)-(9): --position-alpha, else the input's, else each row's default (1 for FLIP, ½ for
 // grid-velocity updates).
-std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
+std::vector<Row> make_rows(const StabilityArgs& a, const RunConfig& cfg) {
+  const StepOptions& base = cfg.step;
   std::vector<Row> rows;
   auto row = [&](VelocityUpdate v, int k, double alpha, int every, double cx) {
     Row r;
@@ -108,6 +143,7 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
     r.opt.fmpm.blend_alpha = alpha;
     r.opt.fmpm.blend_every = every;
     r.opt.periodic_cx = cx;
+    r.opt.fmpm.polynomial = Polynomial::Series;
     rows.push_back(std::move(r));
   };
   row(VelocityUpdate::FLIP, base.fmpm.order, 1.0, 1, 0.0);
@@ -121,6 +157,15 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
     for (int k : a.orders)
       if (k > 1)
         row(VelocityUpdate::FMPM, k, 1.0, 1, cx);
+  const std::vector<Polynomial> members = polynomials(a);
+  const double lo = members.empty() ? 0.0 : interval_low(a, cfg);
+  for (const Polynomial p : members)
+    for (int k : a.orders)
+      if (k > 1) {
+        row(VelocityUpdate::FMPM, k, 1.0, 1, 0.0);
+        rows.back().opt.fmpm.polynomial = p;
+        rows.back().opt.fmpm.interval_low = lo;
+      }
   if (!a.no_exact) {
     row(VelocityUpdate::Exact, base.fmpm.order, 1.0, 1, 0.0); // the input's exact_* options
     if (!rows.back().opt.exact_solver)
@@ -132,7 +177,7 @@ std::vector<Row> make_rows(const StabilityArgs& a, const StepOptions& base) {
 // The cells of a row: velocity, order, blend_alpha, blend_every, periodic_cx, position_alpha.
 std::vector<std::string> option_cells(const Row& r) {
   const FmpmOptions& f = r.opt.fmpm;
-  return {std::string(to_string(r.opt.velocity)),
+  return {std::string(velocity_name(r.opt)),
           r.fmpm() ? std::to_string(f.order) : "",
           r.fmpm() ? cell(f.blend_alpha) : "",
           r.fmpm() ? std::to_string(f.blend_every) : "",
@@ -149,13 +194,14 @@ void write_table(const std::vector<Row>& rows, const std::string& path,
       out << c << ",";
     out << cell(r.critical_courant) << "," << r.configuration << "," << r.spectral_status << ","
         << cell(r.stable_from) << "," << r.small_courant << "," << r.simulation_cell() << ","
-        << cell(r.energy_change) << "\n";
+        << cell(r.energy_change) << "," << (r.polynomial() ? cell(r.opt.fmpm.interval_low) : "")
+        << "\n";
   }
   write_table_file(path, out.str(), inputs, "-o");
 }
 
 void print_table(const std::vector<Row>& rows) {
-  const char* format = "%-8s %5s %11s %11s %11s %14s %11s %-16s %13s %14s  %s\n";
+  const char* format = "%-17s %5s %11s %11s %11s %14s %11s %-16s %13s %14s  %s\n";
   std::printf(format, "velocity", "order", "blend_alpha", "blend_every", "periodic_cx",
               "position_alpha", "C* spectral", "configuration", "C* simulation", "energy change",
               "below C* spectral");
@@ -181,7 +227,8 @@ void spectral_rows(std::vector<Row>& rows, const Model& model, const StabilityAr
     const StepOptions& o = rows[i].opt;
     auto same = [&](const CourantSeries& s) {
       const StepOptions& q = s.options.front();
-      return rows[i].fmpm() && q.velocity == o.velocity &&
+      return rows[i].fmpm() && q.velocity == o.velocity && q.fmpm.polynomial == o.fmpm.polynomial &&
+             q.fmpm.interval_low == o.fmpm.interval_low &&
              q.fmpm.blend_alpha == o.fmpm.blend_alpha && q.fmpm.blend_every == o.fmpm.blend_every &&
              q.periodic_cx == o.periodic_cx;
     };
@@ -278,6 +325,11 @@ void validate(const StabilityArgs& a) {
       f.blend_alpha = alpha;
     });
   }
+  if (!a.polynomials.empty())
+    check_list("--polynomial", a.polynomials);
+  polynomials(a);
+  if (!std::isnan(a.interval_low) && !(a.interval_low > 0 && a.interval_low < 1))
+    throw InputError("--interval-low " + shown(a.interval_low) + ": must lie in (0, 1)");
   check_list("--periodic-cx", a.periodic_cx);
   for (const double cx : periodic_budgets(a))
     check_fmpm_option("--periodic-cx", shown(cx),
@@ -299,7 +351,7 @@ int stability_command(const StabilityArgs& a, const StabilityEngine& engine) {
   RunConfig cfg = read_input_file(a.input, a.sets);
   if (engine.root)
     print_notes(cfg);
-  std::vector<Row> rows = make_rows(a, cfg.step);
+  std::vector<Row> rows = make_rows(a, cfg);
   const std::vector<Configuration> frames = frame_configurations(a, cfg.model);
   const auto start = std::chrono::steady_clock::now();
   compute_rows(rows, cfg, a, frames, engine);

@@ -23,9 +23,15 @@ struct StabilityArgs {
   std::vector<int> blend_every{1, 2};        ///< blending periods m (--blend-every)
   std::vector<std::string> blends;           ///< m:α pairs (--blend, the earlier form)
   std::vector<std::string> periodic_cx{"2"}; ///< C_X values (--periodic-cx; "none": no rows)
-  std::string method = "spectral";           ///< spectral | simulation | both
-  int shifts = 4;                            ///< lattice shifts per sweep
-  std::string frames;                        ///< run file whose frames are swept too
+  /// The other members of the polynomial family (--polynomial: chebyshev, least_squares), a row
+  /// for each with every --order k > 1.
+  std::vector<std::string> polynomials;
+  /// λ_lo of their interval (--interval-low); NaN: the input's step.interval_low when it is
+  /// positive, else λ_min(m⁻¹m̃) of the configuration at t = 0.
+  double interval_low = std::nan("");
+  std::string method = "spectral"; ///< spectral | simulation | both
+  int shifts = 4;                  ///< lattice shifts per sweep
+  std::string frames;              ///< run file whose frames are swept too
   int frame_stride = 1;
   std::string output = "stability.csv";
   bool quiet = false;
@@ -54,7 +60,8 @@ struct SpectrumArgs {
 /// c_simulation too).
 inline constexpr const char* kStabilityColumns =
     "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,critical_courant,"
-    "configuration,spectral_status,stable_from,small_courant,simulation_courant,energy_change";
+    "configuration,spectral_status,stable_from,small_courant,simulation_courant,energy_change,"
+    "interval_low";
 /// The columns of the spectrum table: every row the same CSV (no comment lines; csv readers and
 /// numpy.genfromtxt take it as it is), the configuration's ρ(A), λ_min(m⁻¹m̃), cond(m̃) and
 /// active nodes repeated on each.

@@ -8,6 +8,7 @@
 #include "sparsempm/stages.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 namespace smpm {
@@ -21,6 +22,11 @@ constexpr detail::EnumNames<ConvergenceMetric, 3> kMetrics{
     {{ConvergenceMetric::None, "none"},
      {ConvergenceMetric::Means, "means"},
      {ConvergenceMetric::Changes, "changes"}}};
+constexpr detail::EnumNames<Polynomial, 4> kPolynomials{
+    {{Polynomial::Series, "series"},
+     {Polynomial::Chebyshev, "chebyshev"},
+     {Polynomial::LeastSquares, "least_squares"},
+     {Polynomial::ChebyshevSquared, "chebyshev_squared"}}};
 } // namespace
 
 std::string_view to_string(BCMethod m) {
@@ -35,6 +41,12 @@ std::string_view to_string(ConvergenceMetric m) {
 ConvergenceMetric convergence_metric_from_string(std::string_view name) {
   return detail::parse_enum(name, kMetrics, "convergence metric");
 }
+std::string_view to_string(Polynomial p) {
+  return detail::enum_name(p, kPolynomials);
+}
+Polynomial polynomial_from_string(std::string_view name) {
+  return detail::parse_enum(name, kPolynomials, "polynomial");
+}
 
 void validate(const FmpmOptions& opt) {
   const std::string range = "must be an integer from 1 to " + std::to_string(kMaxFmpmOrder);
@@ -47,6 +59,153 @@ void validate(const FmpmOptions& opt) {
   if (!(opt.dynamic_limit >= 0) || !std::isfinite(opt.dynamic_limit))
     throw OptionError("dynamic_limit", number_text(opt.dynamic_limit),
                       "must be non-negative and finite");
+  if (!(opt.interval_low >= 0 && opt.interval_low < 1))
+    throw OptionError("interval_low", number_text(opt.interval_low), "must lie in [0, 1)");
+  if (opt.polynomial == Polynomial::Series)
+    return;
+  if (opt.blend_alpha != 1)
+    throw OptionError("blend_alpha", number_text(opt.blend_alpha),
+                      "blends the series only; the " + std::string(to_string(opt.polynomial)) +
+                          " polynomial takes none (1)");
+  if ((opt.polynomial == Polynomial::Chebyshev || opt.polynomial == Polynomial::ChebyshevSquared) &&
+      !(opt.interval_low > 0 && opt.interval_low < 1))
+    throw OptionError("interval_low", number_text(opt.interval_low),
+                      "the Chebyshev interval [interval_low, 1] needs 0 < interval_low < 1 "
+                      "(smpm spectrum prints min eig(m^-1 m~))");
+  if (opt.polynomial == Polynomial::LeastSquares && opt.order > kMaxLeastSquaresOrder)
+    throw OptionError("order", std::to_string(opt.order),
+                      "the least-squares polynomial takes orders up to " +
+                          std::to_string(kMaxLeastSquaresOrder));
+}
+
+namespace {
+// The monic orthogonal polynomials π_{j+1} = (λ − α_j) π_j − γ_j π_{j−1} whose values at 0
+// normalise R̂_j = π_j / π_j(0), for j = 0 … n − 1.
+struct Recurrence {
+  std::vector<double> alpha, gamma; // γ_0 unused
+};
+
+// Chebyshev polynomials on [λ_lo, 1] (weight 1/√((λ − λ_lo)(1 − λ))): α_j = θ, γ_1 = δ²/2,
+// γ_j = δ²/4 for j ≥ 2 (T_j mapped from [−1, 1] by λ = θ + δ t, made monic).
+Recurrence chebyshev_recurrence(int n, double lo) {
+  const double theta = (1 + lo) / 2, delta = (1 - lo) / 2;
+  Recurrence r{std::vector<double>(size_t(n), theta), std::vector<double>(size_t(n), 0.0)};
+  for (int j = 1; j < n; ++j)
+    r.gamma[size_t(j)] = delta * delta * (j == 1 ? 0.5 : 0.25);
+  return r;
+}
+
+// The kernel polynomials of the least-squares member: R = (1 − λ) R̂ minimises ∫ R² w dλ with
+// R̂(0) = 1 when R̂ ∝ Σ_i p_i(0) p_i(λ), p_i orthonormal for (1 − λ)² w; those are orthogonal for
+// λ (1 − λ)² w. Their recurrence by the Stieltjes procedure (Gautschi, "Orthogonal
+// polynomials: computation and approximation", 2004, §2.2.3.1) on the Gauss–Chebyshev points of
+// [λ_lo, 1], which integrate λ (1 − λ)² π_i π_j w exactly for i + j ≤ 2N − 4; the vectors are
+// normalised on each step (no under- or overflow at large k).
+Recurrence least_squares_recurrence(int n, double lo) {
+  const double theta = (1 + lo) / 2, delta = (1 - lo) / 2;
+  const int points = 2 * n + 8;
+  Eigen::ArrayXd lambda(points), weight(points);
+  for (int i = 0; i < points; ++i) {
+    const double t = std::cos((2.0 * i + 1) * std::numbers::pi / (2.0 * points));
+    lambda[i] = theta + delta * t;
+    weight[i] = lambda[i] * (1 - lambda[i]) * (1 - lambda[i]);
+  }
+  Recurrence r{std::vector<double>(size_t(n), 0.0), std::vector<double>(size_t(n), 0.0)};
+  Eigen::ArrayXd prev = Eigen::ArrayXd::Zero(points), cur = Eigen::ArrayXd::Ones(points);
+  cur /= std::sqrt((weight * cur * cur).sum());
+  double beta = 0; // ‖π_j‖ / ‖π_{j−1}‖
+  for (int j = 0; j < n; ++j) {
+    r.alpha[size_t(j)] = (weight * lambda * cur * cur).sum();
+    r.gamma[size_t(j)] = beta * beta;
+    Eigen::ArrayXd next = (lambda - r.alpha[size_t(j)]) * cur - beta * prev;
+    beta = std::sqrt((weight * next * next).sum());
+    prev = cur;
+    cur = next / beta;
+  }
+  return r;
+}
+} // namespace
+
+namespace {
+// The passes of R̂_1 … R̂_n from the recurrence of π: Δv(j + 2) = −u_j r(j + 2) + w_j Δv(j + 1),
+// u_j = π_j(0)/π_{j+1}(0), w_j = γ_j u_{j−1} u_j, since R̂_{j+1} = R̂_j + u_j λ R̂_j + w_j (R̂_j −
+// R̂_{j−1}) from π's recurrence and R̂_{j+1}(0) = 1.
+void append_passes(const Recurrence& rec, int n, PolynomialPasses& p) {
+  double u_prev = 0; // π_{−1} = 0
+  for (int j = 0; j < n; ++j) {
+    const double u = 1 / (-rec.alpha[size_t(j)] - rec.gamma[size_t(j)] * u_prev);
+    p.a.push_back(-u);
+    p.b.push_back(rec.gamma[size_t(j)] * u_prev * u);
+    u_prev = u;
+  }
+}
+} // namespace
+
+PolynomialPasses polynomial_passes(const FmpmOptions& opt) {
+  validate(opt);
+  PolynomialPasses p;
+  p.polynomial = opt.polynomial;
+  p.order = opt.order;
+  p.interval_low = opt.interval_low;
+  const int n = opt.order - 1; // passes ℓ = 2 … k: R̂_1 … R̂_{k−1}
+  switch (opt.polynomial) {
+  case Polynomial::Series:
+    break;
+  case Polynomial::Chebyshev:
+    append_passes(chebyshev_recurrence(n, opt.interval_low), n, p);
+    break;
+  case Polynomial::LeastSquares:
+    append_passes(least_squares_recurrence(n, opt.interval_low), n, p);
+    break;
+  case Polynomial::ChebyshevSquared: {
+    const int m = n / 2;
+    if (n % 2 == 1) { // one series pass: Δv = r (a = 1, b = 0)
+      p.a.push_back(1);
+      p.b.push_back(0);
+    }
+    const Recurrence rec = chebyshev_recurrence(m, opt.interval_low);
+    append_passes(rec, m, p); // C_m ...
+    append_passes(rec, m, p); // ... again from the residual it left (b = 0 on its first pass)
+    break;
+  }
+  }
+  return p;
+}
+
+const PolynomialPasses& polynomial_passes(const FmpmOptions& opt, PolynomialPasses& cache) {
+  if (cache.polynomial != opt.polynomial || cache.order != opt.order ||
+      cache.interval_low != opt.interval_low)
+    cache = polynomial_passes(opt);
+  return cache;
+}
+
+double residual_polynomial(const FmpmOptions& opt, double lambda) {
+  // The loop of fmpm_recursion with m⁻¹m̃ = λ and v⁺(1) = 1: R_k(λ) = 1 − λ v⁺(k).
+  struct ScalarLoop {
+    const FmpmOptions& opt;
+    double lambda, v = 1, dv = 1, r = 1;
+    PolynomialPasses cache;
+    bool corrects() const { return false; }
+    const PolynomialPasses& passes() { return polynomial_passes(opt, cache); }
+    void pass(double c, bool) {
+      dv = c * (dv - lambda * dv);
+      v += dv;
+    }
+    void polynomial_pass(double a, double b, bool first, bool) {
+      r = (first ? dv : r) - lambda * dv;
+      dv = a * r + b * dv;
+      v += dv;
+    }
+    void correct(int) {}
+    void accumulate() {}
+    bool tests_convergence() const { return false; }
+    bool converged(int, double&) { return false; }
+  };
+  validate(opt);
+  ScalarLoop loop{opt, lambda, 1, 1, 1, {}};
+  std::vector<double> metrics;
+  fmpm_recursion(opt, loop, metrics);
+  return 1 - lambda * loop.v;
 }
 
 double blend_factor(const FmpmOptions& opt, int ell) {
@@ -154,12 +313,35 @@ void fmpm_pass(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, double c
     v ? rows.template operator()<false, true>() : rows.template operator()<false, false>();
 }
 
+namespace {
+// One pass of a Chebyshev or least-squares member in one sweep over the rows of m̃:
+// r −= m⁻¹ m̃ dv, next = a r + b dv and, when v is given, v += next (PolynomialPasses).
+void polynomial_sweep(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, double a, double b,
+                      const Field& dv, Field& r, Field& next, Field* v) {
+  check_product(m_inv, mt, dv);
+  reverse_map_rows(m_inv, mt, dv, next, [&](Index i, int cols, double* out) {
+    const double* d = dv.data() + i * cols;
+    double* ri = r.data() + i * cols;
+    for (int c = 0; c < cols; ++c) {
+      ri[c] -= out[c];               // r(ℓ) = r(ℓ−1) − S⁺S Δv(ℓ−1)
+      out[c] = a * ri[c] + b * d[c]; // Δv(ℓ) = a_ℓ r(ℓ) + b_ℓ Δv(ℓ−1)
+    }
+    if (v) {
+      double* vi = v->data() + i * cols;
+      for (int c = 0; c < cols; ++c)
+        vi[c] += out[c]; // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)
+    }
+  });
+}
+} // namespace
+
 FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
                      const FmpmOptions& opt, const FmpmHooks& hooks, Field& v, FmpmWorkspace& w) {
   // The algebra of fmpm_recursion on Eigen fields: Δv(ℓ) in w.prev, the next one in w.next.
   struct EigenLoop {
     const Eigen::VectorXd& m_inv;
     const SparseRowMatrix& mt;
+    const FmpmOptions& opt;
     const FmpmHooks& hooks;
     Field& v;
     FmpmWorkspace& w;
@@ -176,6 +358,22 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
       }
       w.prev.swap(w.next);
     }
+    const PolynomialPasses& passes() { return polynomial_passes(opt, w.passes); }
+    void polynomial_pass(double a, double b, bool first, bool fused) {
+      if (first)
+        w.residual = w.prev; // r(1) = Δv(1)
+      if (hooks.sums) {      // across processes: m̃ Δv summed over them
+        w.dv.noalias() = mt * w.prev;
+        hooks.sums->add(w.dv);
+        w.residual -= m_inv.asDiagonal() * w.dv;
+        w.next = a * w.residual + b * w.prev;
+        if (fused)
+          v += w.next;
+      } else {
+        polynomial_sweep(m_inv, mt, a, b, w.prev, w.residual, w.next, fused ? &v : nullptr);
+      }
+      w.prev.swap(w.next);
+    }
     void correct(int ell) {
       if (hooks.velocity_bcs)
         hooks.velocity_bcs(ell, w.prev); // (1)
@@ -187,7 +385,7 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
     bool converged(int ell, double& metric) { return hooks.converged(ell, w.prev, v, metric); }
   };
   w.prev = v; // Δv(1) = v⁺(1)
-  EigenLoop loop{m_inv, mt, hooks, v, w};
+  EigenLoop loop{m_inv, mt, opt, hooks, v, w};
   return fmpm_recursion(opt, loop, w.metrics);
 }
 
@@ -290,9 +488,19 @@ SparseMatrix fmpm_inverse(const Operators& ops, const FmpmOptions& opt) {
       term.coeffRef(i, i) = 0;
   term.prune(0.0);
   sum = term;
-  for (int ell = 2; ell <= opt.order; ++ell) {
-    term = SparseMatrix(blend_factor(opt, ell) * (A * term));
-    sum += term;
+  if (opt.polynomial == Polynomial::Series) {
+    for (int ell = 2; ell <= opt.order; ++ell) {
+      term = SparseMatrix(blend_factor(opt, ell) * (A * term));
+      sum += term;
+    }
+  } else { // the passes of fmpm_recursion on matrices, m⁻¹m̃ Δv = Δv − A Δv
+    const PolynomialPasses passes = polynomial_passes(opt);
+    SparseMatrix residual = term;
+    for (int ell = 2; ell <= opt.order; ++ell) {
+      residual = SparseMatrix(residual - term + A * term);
+      term = SparseMatrix(passes.a[size_t(ell - 2)] * residual + passes.b[size_t(ell - 2)] * term);
+      sum += term;
+    }
   }
   return sum * ops.m_inv.asDiagonal();
 }

@@ -84,6 +84,32 @@ VelocityUpdate velocity_update_from_string(std::string_view name) {
   return detail::parse_enum(name, kVelocities, "velocity update");
 }
 
+namespace {
+constexpr detail::EnumNames<VelocityChoice, 8> kVelocityChoices{
+    {{{VelocityUpdate::FLIP, Polynomial::Series}, "FLIP"},
+     {{VelocityUpdate::PIC, Polynomial::Series}, "PIC"},
+     {{VelocityUpdate::FMPM, Polynomial::Series}, "FMPM"},
+     {{VelocityUpdate::XPIC, Polynomial::Series}, "XPIC"},
+     {{VelocityUpdate::Exact, Polynomial::Series}, "exact"},
+     {{VelocityUpdate::FMPM, Polynomial::Chebyshev}, "chebyshev"},
+     {{VelocityUpdate::FMPM, Polynomial::LeastSquares}, "least_squares"},
+     {{VelocityUpdate::FMPM, Polynomial::ChebyshevSquared}, "chebyshev_squared"}}};
+} // namespace
+
+VelocityChoice velocity_choice_from_string(std::string_view name) {
+  return detail::parse_enum(name, kVelocityChoices, "velocity update");
+}
+void set_velocity(StepOptions& options, std::string_view name) {
+  const VelocityChoice c = velocity_choice_from_string(name);
+  options.velocity = c.velocity;
+  options.fmpm.polynomial = c.polynomial;
+}
+std::string_view velocity_name(const StepOptions& options) {
+  if (options.velocity == VelocityUpdate::FMPM && options.fmpm.polynomial != Polynomial::Series)
+    return to_string(options.fmpm.polynomial);
+  return to_string(options.velocity);
+}
+
 double default_position_alpha(VelocityUpdate velocity) {
   return velocity == VelocityUpdate::FLIP ? 1.0 : 0.5;
 }

@@ -75,6 +75,7 @@ from ._sparsempm import (  # noqa: F401
     fmpm_temperature,
     fmpm_velocity,
     mass_spectrum,
+    residual_polynomial,
     set_threads,
     simulation_courant,
     stable_time_step,

@@ -34,8 +34,11 @@ Field momentum(const PyOperators& o, const DoubleArray& p) {
 // then the loop of Table 1.
 py::array fmpm_grid_velocity(PyOperators& o, const DoubleArray& p_in, int order, double blend_alpha,
                              int blend_every, const BoundaryConditions* bcs, double time,
-                             const std::string& bc_method, const py::kwargs& earlier) {
+                             const std::string& bc_method, const std::string& polynomial,
+                             double interval_low, const py::kwargs& earlier) {
   FmpmOptions opt{.order = order, .blend_alpha = blend_alpha, .blend_every = blend_every};
+  opt.polynomial = polynomial_from_string(polynomial);
+  opt.interval_low = interval_low;
   for (const auto& [key, value] : earlier) { // k, alpha, every: accepted in this release only
     const std::string name = py::str(key);
     const char* current = name == "k"       ? "order"
@@ -256,13 +259,37 @@ void bind_operators(py::module_& m) {
   m.def("fmpm_velocity", &fmpm_grid_velocity, py::arg("ops"), py::arg("p"), py::arg("order") = 1,
         py::arg("blend_alpha") = 1.0, py::arg("blend_every") = 1, py::arg("bcs") = nullptr,
         py::arg("time") = 0.0, py::arg("bc_method") = "incremental",
+        py::arg("polynomial") = "series", py::arg("interval_low") = 0.0,
         "v⁺(k) = m̃_k⁻¹ p = Σ_{ℓ=1}^{k} Δv(ℓ), Δv(1) = m⁻¹ p, Δv(ℓ) = c_ℓ A Δv(ℓ−1) (FMPM 2026 "
         "Eqs. 5-6, Table 1, k = order; c_ℓ = blend_alpha on every blend_every-th pass, §3.3): "
         "without blending "
         "Σ_{j<k} Aʲ m⁻¹ p. With bcs (ops.bcs: the model's, walls included) the velocity BCs "
         "of bc_method (§3.1) as a step applies them to its updated momentum: Table 2 on p in "
         "momentum form (unless 'velocity'), then the loop. p: n or n × d; the result has its "
-        "shape.");
+        "shape. polynomial 'chebyshev', 'least_squares' or 'chebyshev_squared' (interval "
+        "[interval_low, 1]): the "
+        "same k − 1 products with m̃ applying that member's q(m⁻¹m̃) m⁻¹ p "
+        "(docs/studies/polynomials.md).");
+  m.def(
+      "residual_polynomial",
+      [](const DoubleArray& lam, int order, const std::string& polynomial, double interval_low,
+         double blend_alpha, int blend_every) {
+        FmpmOptions opt{.order = order, .blend_alpha = blend_alpha, .blend_every = blend_every};
+        opt.polynomial = polynomial_from_string(polynomial);
+        opt.interval_low = interval_low;
+        validate(opt);
+        py::array_t<double> out(lam.request().shape);
+        const py::array_t<double, py::array::c_style | py::array::forcecast> flat = lam;
+        const double* in = flat.data();
+        double* o = out.mutable_data();
+        for (py::ssize_t i = 0; i < lam.size(); ++i)
+          o[i] = residual_polynomial(opt, in[i]);
+        return out;
+      },
+      py::arg("lam"), py::arg("order"), py::arg("polynomial") = "series",
+      py::arg("interval_low") = 0.0, py::arg("blend_alpha") = 1.0, py::arg("blend_every") = 1,
+      "R_k(λ) = 1 − λ q(λ) of FMPM(k)'s polynomial member at each λ of `lam` (an eigenvalue of "
+      "m⁻¹m̃): what the member leaves of that mode of v = m̃⁻¹ p (series: (1 − λ)^k).");
   m.def("exact_velocity", &exact_grid_velocity, py::arg("ops"), py::arg("p"),
         py::arg("bcs") = nullptr, py::arg("time") = 0.0, py::arg("regularization") = 0.0,
         py::arg("mass_cutoff") = 0.0,

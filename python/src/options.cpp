@@ -72,10 +72,11 @@ void bind_step_choices(py::class_<StepOptions>& c) {
         o.scheme = update_scheme_from_string(s);
       },
       "the earlier name of `scheme` (accepted in this release only)");
-  name_property(
-      c, "velocity", [](const StepOptions& o) { return o.velocity; },
-      [](StepOptions& o, const std::string& s) { o.velocity = velocity_update_from_string(s); },
-      "FLIP (default) | PIC | FMPM | XPIC | exact");
+  c.def_property(
+      "velocity", [](const StepOptions& o) { return std::string(velocity_name(o)); },
+      [](StepOptions& o, const std::string& s) { set_velocity(o, s); },
+      "FLIP (default) | PIC | FMPM | XPIC | exact | chebyshev | least_squares | chebyshev_squared "
+      "(FMPM's loop with that polynomial on [interval_low, 1])");
   name_property(
       c, "deformation", [](const StepOptions& o) { return o.deformation; },
       [](StepOptions& o, const std::string& s) {
@@ -136,6 +137,11 @@ void bind_step_numbers(py::class_<StepOptions>& c) {
       "blend_alpha", [](const StepOptions& o) { return o.fmpm.blend_alpha; },
       [](StepOptions& o, double a) { o.fmpm.blend_alpha = a; },
       "blending fraction α of §3.3 (1: none)");
+  c.def_property(
+      "interval_low", [](const StepOptions& o) { return o.fmpm.interval_low; },
+      [](StepOptions& o, double v) { o.fmpm.interval_low = v; },
+      "λ_lo of the interval [λ_lo, 1] of the Chebyshev and least-squares polynomials "
+      "(mass_spectrum's min_eig_minv_mt covers the spectrum)");
   c.def_property(
       "blend_every", [](const StepOptions& o) { return o.fmpm.blend_every; },
       [](StepOptions& o, int e) { o.fmpm.blend_every = e; }, "blend every m-th pass (§3.3)");
@@ -201,7 +207,7 @@ void bind_step_numbers(py::class_<StepOptions>& c) {
 std::string repr(const StepOptions& o) {
   std::ostringstream os;
   os << "StepOptions(shape='" << to_string(o.shape) << "', scheme='" << to_string(o.scheme)
-     << "', velocity='" << to_string(o.velocity) << "', order=" << o.fmpm.order
+     << "', velocity='" << velocity_name(o) << "', order=" << o.fmpm.order
      << ", blend_alpha=" << o.fmpm.blend_alpha << ", blend_every=" << o.fmpm.blend_every
      << ", position_alpha=" << position_alpha(o) << ", transport='" << to_string(o.transport.update)
      << "', transport_order=" << o.transport.order;

@@ -32,7 +32,7 @@ class Stability(Base):
         lines = out.read_text().splitlines()
         self.assertEqual(lines[0], "velocity,order,blend_alpha,blend_every,periodic_cx,position_alpha,critical_courant,"
                                    "configuration,spectral_status,stable_from,small_courant,simulation_courant,"
-                                   "energy_change")
+                                   "energy_change,interval_low")
         rows = read_table(out)
         self.assertEqual([r["velocity"] for r in rows], ["FLIP", "FMPM", "FMPM", "FMPM", "FMPM", "exact"])
         for r in rows:  # the input's position_alpha (1) is used and recorded for every row
@@ -58,6 +58,47 @@ class Stability(Base):
         r = subprocess.run(["/usr/bin/python3", SOURCE / "analysis" / "fig12a.py", out, "-o", png], capture_output=True, text=True)
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertGreater(png.stat().st_size, 10000)
+
+    def test_polynomial_rows(self):
+        # The other members of FMPM's polynomial family (docs/studies/polynomials.md), on the
+        # interval [lambda_min(m^-1 m~), 1] of the configuration at t = 0 (0.25 on the bar).
+        out = self.dir / "poly.csv"
+        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--order", "2,8", "--polynomial",
+                 "chebyshev,chebyshev_squared", "--blend-alpha", "none", "--periodic-cx", "none",
+                 "--no-exact", "--shifts", "2", "-q", "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = {(r["velocity"], r["order"]): r for r in read_table(out)}
+        self.assertEqual(sorted(rows), [("FLIP", ""), ("FMPM", "2"), ("FMPM", "8"), ("chebyshev", "2"),
+                                        ("chebyshev", "8"), ("chebyshev_squared", "2"), ("chebyshev_squared", "8")])
+        for key in [("chebyshev", "2"), ("chebyshev_squared", "8")]:
+            self.assertAlmostEqual(float(rows[key]["interval_low"]), 0.25, places=9)
+        self.assertEqual(rows[("FMPM", "8")]["interval_low"], "")
+        # Chebyshev(2): R = (1 - l)(1 - l/theta) < 0 on (theta, 1), so the particle update carries
+        # those modes by 1 - R > 1 and no C is stable.
+        self.assertEqual(rows[("chebyshev", "2")]["critical_courant"], "0")
+        # Squared Chebyshev with k - 1 = 1 is the series' one pass: FMPM(2) exactly.
+        self.assertEqual(rows[("chebyshev_squared", "2")]["critical_courant"], rows[("FMPM", "2")]["critical_courant"])
+        r = smpm("stability", EXAMPLES / "vibrating_bar.toml", "--polynomial", "series", "-o", self.dir / "x.csv")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--polynomial series", r.stderr)
+
+    def test_velocity_option(self):
+        # smpm run --velocity NAME is --set step.velocity="NAME" (before the --set entries): the
+        # same file, bit for bit; a bad name is refused on one line naming the key.
+        common = ["--set", "step.order=4", "--set", "step.interval_low=0.25", "--set", "time.end=5", "-q"]
+        a, b = self.dir / "a.h5", self.dir / "b.h5"
+        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "--velocity", "chebyshev_squared", *common, "-o", a)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "--set", 'step.velocity="chebyshev_squared"', *common, "-o", b)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        va, vb = (h5py.File(f, "r")["particles"] for f in (a, b))
+        last = sorted(va)[-1]
+        self.assertTrue(np.array_equal(va[last]["V"][()], vb[last]["V"][()]))
+        r = smpm("run", EXAMPLES / "vibrating_bar.toml", "--velocity", "cheb", "-o", self.dir / "c.h5")
+        self.assertEqual(r.returncode, 2)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1)
+        self.assertIn("step.velocity", r.stderr)
+        self.assertFalse((self.dir / "c.h5").exists())
 
     def test_spectrum_table(self):
         out = self.dir / "spec.csv"

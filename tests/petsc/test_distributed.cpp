@@ -181,6 +181,16 @@ TEST_CASE("FMPM(k) across ranks equals the serial loop", "[petsc][fmpm]") {
       cases.push_back({std::string("bcs ") + std::string(to_string(method)),
                        {.order = k, .bc_method = method},
                        true});
+    // The family's other members (fmpm.hpp, Polynomial): the same passes with a residual.
+    for (Polynomial p :
+         {Polynomial::Chebyshev, Polynomial::LeastSquares, Polynomial::ChebyshevSquared}) {
+      FmpmOptions o{.order = k};
+      o.polynomial = p;
+      o.interval_low = 0.05;
+      cases.push_back({std::string(to_string(p)), o, false});
+      o.bc_method = BCMethod::Incremental;
+      cases.push_back({std::string(to_string(p)) + " bcs", o, true});
+    }
   }
   cases.push_back({"dynamic means",
                    {.order = 20, .metric = ConvergenceMetric::Means, .dynamic_limit = 1e-3},

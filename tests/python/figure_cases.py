@@ -184,6 +184,12 @@ def case_plastic_bar(w):  # the whole example: 0.3 s
     return ["--smpm", SMPM, "-o", w / "plastic_bar"], ["plastic_bar"], ["plastic_bar"]
 
 
+def case_polynomials(w):  # two orders, one shift, a fifth of the runs
+    return ["--smpm", SMPM, "--build", BUILD, "--orders", "2,4", "--shifts", "1", "--jobs", "1",
+            "--set", "time.end=20", "-o", w / "polynomials"], \
+        ["polynomials", "polynomials_residual"], ["polynomials"]
+
+
 def case_df_fit(w):
     return ["-o", w / "df_fit.png"], ["df_fit"], ["df_fit"]
 
@@ -198,4 +204,4 @@ CASES = {"fig4.py": case_fig4, "fig5.py": case_fig5, "fig9.py": case_fig9,
          "fig12b.py": case_fig12b, "plot_particles.py": case_plot_particles,
          "plot_energy.py": case_plot_energy, "truncation.py": case_truncation,
          "df_fit.py": case_df_fit, "buzzi.py": case_buzzi, "fig2b.py": case_fig2b, "fig6.py": case_fig6, "fig7.py": case_fig7, "fig10.py": case_fig10,
-         "plastic_bar.py": case_plastic_bar}
+         "plastic_bar.py": case_plastic_bar, "polynomials.py": case_polynomials}

@@ -411,6 +411,35 @@ def check_plastic_bar(r):
     assert (eps_p[X > 110] == 0).all()
 
 
+def check_polynomials(r):
+    # FMPM's polynomial family (docs/studies/polynomials.md) on the bar and the plate.
+    table = {(row["problem"], row["velocity"], row["order"]): row for row in rows(r.tables[0])}
+    members = ("FMPM", "blended", "chebyshev", "least_squares", "chebyshev_squared")
+    assert set(table) == {(p, v, k) for p in ("bar", "plate") for v in members for k in ("2", "4")} | \
+        {(p, v, "") for p in ("bar", "plate") for v in ("FLIP", "exact")}
+    for p, lo in (("bar", 0.25), ("plate", 0.0625)):  # lambda_min(m^-1 m~) as smpm spectrum prints it
+        assert abs(float(table[(p, "chebyshev", "2")]["interval_low"]) - lo) < 1e-9
+        # Squared Chebyshev with k - 1 = 1 product is the series' one pass: FMPM(2), bit for bit.
+        for col in ("critical_courant", "energy_change_percent"):
+            assert table[(p, "chebyshev_squared", "2")][col] == table[(p, "FMPM", "2")][col]
+        # Chebyshev(2): R = (1 - l)(1 - l/theta) < 0 on (theta, 1): the particle update grows
+        # those modes (1 - R > 1) at every C.
+        assert table[(p, "chebyshev", "2")]["critical_courant"] == "0"
+    titles = [ax.get_title() for ax in r.figure(0).axes]
+    assert [t[:4] for t in titles] == ["(A) ", "(B) ", "(C) ", "(D) "]
+    # R_8 of each member: R(0) = 1 (q is a polynomial: v = q m^-1 p), the series (1 - l)^8.
+    lines = {line.get_label(): line for line in r.figure(1).axes[0].get_lines()}
+    series = lines["FMPM($k$), the series"]
+    lam, R = series.get_data()
+    assert np.allclose(R, (1 - lam) ** 8, atol=1e-14)
+    for name in ("Chebyshev", "least squares", "squared Chebyshev"):
+        assert abs(lines[name].get_data()[1][0] - 1) < 1e-14
+    assert lines["squared Chebyshev"].get_data()[1].min() >= -1e-15
+    # Chebyshev's negative lobes on the bar's [0.25, 1]: |R_8| <= (1 - 0.25) / T_7(5/3), T_7(5/3) =
+    # (3^7 + 3^-7) / 2 = 1093.5, so -6.86e-4 <= min R_8 (measured -6.52e-4).
+    assert -0.75 / 1093.5 - 1e-12 <= lines["Chebyshev"].get_data()[1].min() < -1e-4
+
+
 def check_fig2b(r):
     # Contact 2020 Fig. 2B: logistic regression finds the contact at the contact time on a grid
     # line and mid cell (measured +0.06 and +0.01 ms: the first frame after t_c; asserted within

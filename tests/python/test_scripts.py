@@ -122,14 +122,14 @@ def test_tables_of_the_earlier_column_names_are_read(tmp_path):
             for r in smpm.read_table(transport)] == [("lumped", "0.9992", "shift 0.25", "17"),
                                                      ("FMPM", "0.5836", "shift 0.25", "15")]
     # The current header is the one `smpm stability` writes, with the columns added since
-    # (stable_from and small_courant, what lies below C*).
+    # (stable_from and small_courant, what lies below C*; interval_low, the polynomial rows' λ_lo).
     st = tmp_path / "st.csv"
     r = subprocess.run([SMPM, "stability", BAR, "--order", "1", "--blend-alpha", "none",
                         "--periodic-cx", "none", "--no-exact", "--shifts", "1", "--method",
                         "spectral", "-q", "-o", st], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     assert st.read_text().splitlines()[0] == now.read_text().splitlines()[0].replace(
-        "spectral_status,", "spectral_status,stable_from,small_courant,")
+        "spectral_status,", "spectral_status,stable_from,small_courant,") + ",interval_low"
     # The scripts, without the package (-S: no site directory, so no sparsempm): figures.read_table and
     # fig12a's series of an earlier table.
     code = ("import sys; sys.path.insert(0, sys.argv[1]); import fig12a; "

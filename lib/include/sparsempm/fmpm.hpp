@@ -31,6 +31,27 @@ enum class ConvergenceMetric {
   Changes ///< mean over active nodes of |Δv_i(ℓ)| / (|v⁺_i(ℓ)| + ε), ε = 1% of max_i |v⁺_i(ℓ)|
 };
 
+/// The polynomial q of the approximate inverse m̃_k⁻¹ = q(m⁻¹m̃) m⁻¹ that k − 1 products with m̃
+/// apply (docs/studies/polynomials.md). Each member keeps v⁺(1) = m⁻¹ p⁺ and the series' first
+/// pass Δv(2) = A Δv(1), so its residual polynomial R_k(λ) = 1 − λ q(λ) on the spectrum λ of
+/// m⁻¹m̃ is (1 − λ) R̂_{k−1}(λ), R̂(0) = 1, and Table 2's BC methods act on the increments as in
+/// the series:
+///   - Series: R̂ = (1 − λ)^{k−1}, FMPM 2026 Eqs. 5–6 (and its blends, §3.3);
+///   - Chebyshev: R̂ = T_{k−1}((θ − λ)/δ) / T_{k−1}(θ/δ) on [λ_lo, 1], θ = (1 + λ_lo)/2,
+///     δ = (1 − λ_lo)/2: the smallest max |R̂| on the interval (Golub & Varga 1961; Saad,
+///     "Iterative methods for sparse linear systems", 2nd ed. 2003, §12.3);
+///   - LeastSquares: the R_k of that form with the smallest ∫ R_k(λ)² w(λ) dλ on [λ_lo, 1], w the
+///     Chebyshev weight 1/√((λ − λ_lo)(1 − λ)) (Saad 1985, "Practical use of polynomial
+///     preconditionings for the conjugate gradient method", SIAM J. Sci. Stat. Comput. 6:865);
+///   - ChebyshevSquared: R̂ = C_m(λ)² for k − 1 = 2m (C_m the Chebyshev R̂ of degree m: its passes
+///     twice, the second from the residual the first left) and (1 − λ) C_m(λ)² for k − 1 = 2m + 1
+///     (one more series pass first).
+/// The particle update V = S v⁺ carries the modes of m⁻¹m̃ by 1 − R_k(λ). The series and
+/// ChebyshevSquared keep 0 ≤ R_k ≤ 1 on [0, 1], so no mode grows; Chebyshev and LeastSquares
+/// change sign on the interval, and 1 − R_k > 1 where R_k < 0 grows those modes at every time
+/// step, however small (docs/studies/polynomials.md measures what that does to C*).
+enum class Polynomial { Series, Chebyshev, LeastSquares, ChebyshevSquared };
+
 /// Name used in input files: incremental | lumped | velocity | combined.
 std::string_view to_string(BCMethod m);
 /// Inverse of to_string; throws InputError naming the valid choices.
@@ -39,9 +60,15 @@ BCMethod bc_method_from_string(std::string_view name);
 std::string_view to_string(ConvergenceMetric m);
 /// Inverse of to_string; throws InputError naming the valid choices.
 ConvergenceMetric convergence_metric_from_string(std::string_view name);
+/// Name used in input files and tables: series | chebyshev | least_squares | chebyshev_squared.
+std::string_view to_string(Polynomial p);
+/// Inverse of to_string; throws InputError naming the valid choices.
+Polynomial polynomial_from_string(std::string_view name);
 
 /// Largest order k of FMPM(k) (m of XPIC(m)) and blending period accepted by validate.
 inline constexpr int kMaxFmpmOrder = 100000;
+/// Largest order k of the least-squares polynomial (its recurrence costs O(k²) per loop).
+inline constexpr int kMaxLeastSquaresOrder = 2000;
 
 /// The options of the FMPM(k) loop of FMPM 2026 Table 1 (and the order m of XPIC(m)): the
 /// order k, blending (§3.3), the velocity-BC method (§3.1) and dynamic FMPM (§3.4).
@@ -51,15 +78,44 @@ struct FmpmOptions {
   int blend_every = 1;      ///< m: scale by α when ℓ mod m = 1 or m = 1 (FMPM 2026 §3.3)
   BCMethod bc_method = BCMethod::Incremental;         ///< velocity BCs in the loop (§3.1)
   ConvergenceMetric metric = ConvergenceMetric::None; ///< dynamic FMPM (§3.4); None: run to k
-  double dynamic_limit = 0; ///< stop at the first ℓ whose metric is below this
+  double dynamic_limit = 0;                   ///< stop at the first ℓ whose metric is below this
+  Polynomial polynomial = Polynomial::Series; ///< the member of the family (Polynomial)
+  /// λ_lo of the Chebyshev and least-squares intervals [λ_lo, 1]: λ_min(m⁻¹m̃) as `smpm
+  /// spectrum` prints it covers the spectrum; a larger λ_lo leaves the modes below it less
+  /// converged. The Chebyshev members need λ_lo > 0.
+  double interval_low = 0;
 };
 
 /// Throws OptionError (an InputError naming the option) unless 1 ≤ order ≤ kMaxFmpmOrder,
-/// 0 ≤ α ≤ 1, 1 ≤ m ≤ kMaxFmpmOrder and the dynamic limit is ≥ 0 and finite.
+/// 0 ≤ α ≤ 1, 1 ≤ m ≤ kMaxFmpmOrder, the dynamic limit is ≥ 0 and finite and 0 ≤ λ_lo < 1; for
+/// the other members of the family, unless there is no blending, λ_lo > 0 (Chebyshev) and the
+/// least-squares order is at most kMaxLeastSquaresOrder.
 void validate(const FmpmOptions& opt);
 
 /// Scale factor of pass ℓ ≥ 2: α if m = 1 or ℓ mod m = 1, else 1 (FMPM 2026 §3.3).
 double blend_factor(const FmpmOptions& opt, int ell);
+
+/// The passes of a Chebyshev or least-squares loop: with r(1) = Δv(1) = v⁺(1), pass ℓ ≥ 2 is
+///     r(ℓ) = r(ℓ−1) − m⁻¹m̃ Δv(ℓ−1),   Δv(ℓ) = a_ℓ r(ℓ) + b_ℓ Δv(ℓ−1),   v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ),
+/// r(ℓ) the residual of v⁺(ℓ−1) on the free directions. The series is a_ℓ = 1, b_ℓ = 0.
+struct PolynomialPasses {
+  std::vector<double> a;                      ///< a_ℓ at index ℓ − 2, for ℓ = 2 … k
+  std::vector<double> b;                      ///< b_ℓ at index ℓ − 2 (b_2 = 0)
+  Polynomial polynomial = Polynomial::Series; ///< the member they were made for (the cache's key)
+  int order = 0;                              ///< its k
+  double interval_low = 0;                    ///< its λ_lo
+};
+/// a_ℓ and b_ℓ of `opt`'s member from the three-term recurrence of the orthogonal polynomials
+/// whose values at 0 normalise R̂ (Chebyshev: its closed form; least squares: the discretised
+/// Stieltjes procedure on k + 1 Gauss–Chebyshev points, exact for the degrees involved).
+/// Empty for the series.
+PolynomialPasses polynomial_passes(const FmpmOptions& opt);
+/// `cache`, remade by polynomial_passes(opt) unless it was made for the same member, order and
+/// interval: what a loop calls on every step.
+const PolynomialPasses& polynomial_passes(const FmpmOptions& opt, PolynomialPasses& cache);
+/// R_k(λ) = 1 − λ q(λ) of `opt`'s member (blended series included), by the loop's own
+/// recurrence on scalars: |R_k| on the spectrum of m⁻¹m̃ is what the member leaves of each mode.
+double residual_polynomial(const FmpmOptions& opt, double lambda);
 
 /// Node sums over processes: a process holds the partial sums of its own particles on the nodes
 /// of its window of the grid (m = Sᵀ M, p = Sᵀ M V, f, m̃ x); add() replaces them by the sums over
@@ -98,6 +154,8 @@ struct FmpmWorkspace {
   /// Δv(ℓ), the increment of the pass in hand (XPIC: v*_k)
   Field prev, next; ///< the next increment, then swapped with prev (XPIC: S⁺S v*_k)
   Field dv;         ///< XPIC's Δv*_k (multimaterial); across processes, the summed product m̃ Δv
+  Field residual;   ///< r(ℓ) of the Chebyshev and least-squares members (PolynomialPasses)
+  PolynomialPasses passes;     ///< their coefficients, made once per loop
   std::vector<double> metrics; ///< metric of passes ℓ = 2, 3, ... of the last loop (dynamic FMPM)
 };
 
@@ -133,6 +191,9 @@ void fmpm_pass(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt, double c
 ///   - loop.corrects(): whether hooks (1) or (2) change Δv(ℓ) between Eqs. 6 and 5;
 ///   - loop.pass(c, fused): Δv(ℓ) = c A Δv(ℓ−1) into the increment (Eq. 6, §3.3), and when
 ///     `fused` also v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ) (Eq. 5) in the same sweep;
+///   - loop.passes() and loop.polynomial_pass(a, b, first, fused): the other members of the
+///     family (PolynomialPasses), r(ℓ) = r(ℓ−1) − S⁺S Δv(ℓ−1) with r(1) = Δv(1) when `first`,
+///     then Δv(ℓ) = a r(ℓ) + b Δv(ℓ−1), and v⁺(ℓ) when `fused`;
 ///   - loop.correct(ℓ): hooks (1) and (2) on Δv(ℓ);
 ///   - loop.accumulate(): v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ) (Eq. 5) when not fused;
 ///   - loop.tests_convergence() and loop.converged(ℓ, metric): hook (3).
@@ -143,9 +204,13 @@ FmpmReport fmpm_recursion(const FmpmOptions& opt, Loop& loop, std::vector<double
   metrics.clear();
   // Without corrections between Eqs. 6 and 5, one pass over the rows does both.
   const bool fused = !loop.corrects();
+  const bool series = opt.polynomial == Polynomial::Series;
+  const PolynomialPasses* passes = series ? nullptr : &loop.passes();
   for (int ell = 2; ell <= opt.order; ++ell) {
-    // Δv(ℓ) = A Δv(ℓ−1) = Δv(ℓ−1) − S⁺S Δv(ℓ−1), blended                  (Eq. 6, §3.3)
-    loop.pass(blend_factor(opt, ell), fused);
+    if (series) // Δv(ℓ) = A Δv(ℓ−1) = Δv(ℓ−1) − S⁺S Δv(ℓ−1), blended       (Eq. 6, §3.3)
+      loop.pass(blend_factor(opt, ell), fused);
+    else // r(ℓ) = r(ℓ−1) − S⁺S Δv(ℓ−1), Δv(ℓ) = a_ℓ r(ℓ) + b_ℓ Δv(ℓ−1)    (PolynomialPasses)
+      loop.polynomial_pass(passes->a[size_t(ell - 2)], passes->b[size_t(ell - 2)], ell == 2, fused);
     loop.correct(ell); // (1), (2)
     if (!fused)
       loop.accumulate(); // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)                   (Eq. 5)
@@ -266,7 +331,8 @@ void xpic_grid_velocity(const Operators& ops, const SparseRowMatrix& mt, int m, 
 
 /// For analysis on small problems: m̃_k⁻¹ = (Σ_{ℓ=1}^{k} c_ℓ A^{ℓ−1}) m⁻¹ with the blending
 /// coefficients c_1 = 1, c_ℓ = c_{ℓ−1} blend_factor(ℓ), assembled as an n × n sparse matrix
-/// (rows and columns of inactive nodes zero). Without blending this is Σ_{j<k} Aʲ m⁻¹.
+/// (rows and columns of inactive nodes zero). Without blending this is Σ_{j<k} Aʲ m⁻¹. For the
+/// Chebyshev and least-squares members, q(m⁻¹m̃) m⁻¹ by the loop's passes on matrices.
 SparseMatrix fmpm_inverse(const Operators& ops, const FmpmOptions& opt);
 
 } // namespace smpm

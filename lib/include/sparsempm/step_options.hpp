@@ -118,6 +118,21 @@ UpdateScheme update_scheme_from_string(std::string_view name);
 /// The velocity update named `name`; throws InputError naming the valid choices.
 VelocityUpdate velocity_update_from_string(std::string_view name);
 
+/// A velocity update as input files, the command line, Python and the tables name it: FLIP |
+/// PIC | FMPM | XPIC | exact, or the other members of FMPM's polynomial family, chebyshev |
+/// least_squares | chebyshev_squared (VelocityUpdate::FMPM with FmpmOptions::polynomial).
+struct VelocityChoice {
+  VelocityUpdate velocity = VelocityUpdate::FLIP; ///< the update
+  Polynomial polynomial = Polynomial::Series;     ///< FMPM's member of the family
+};
+/// The choice named `name`; throws InputError naming the eight valid names.
+VelocityChoice velocity_choice_from_string(std::string_view name);
+/// Sets options.velocity and options.fmpm.polynomial from the choice named `name`.
+void set_velocity(struct StepOptions& options, std::string_view name);
+/// The name of the options' velocity update: the polynomial's for FMPM with a member other than
+/// the series, else to_string(velocity).
+std::string_view velocity_name(const struct StepOptions& options);
+
 /// The nodal system m̃ v = p an exact solver is given (ExactOptions::system): the generic system of
 /// the consistent-mass inverse, named once where its solver is made, so that the solver's
 /// messages name the matrix it factors (velocity_solver_options, transport_solver_options).

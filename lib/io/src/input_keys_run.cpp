@@ -25,9 +25,12 @@ std::vector<InputKey> run_input_keys() {
        "\"USL\" | \"USF\" | \"USL+\" | \"USAVG\" | \"USAVG+\"", "",
        "Where the stress update and the FMPM loop sit in the step (FMPM 2026 Fig. 1)", "\"bogus\""},
       {"step", "velocity", "string", "\"FLIP\"", true,
-       "\"FLIP\" | \"PIC\" | \"FMPM\" | \"XPIC\" | \"exact\"", "",
-       "How particle velocities follow the grid: FLIP (FMPM 2026 Eq. 8), PIC, FMPM(k), XPIC(m) or "
-       "the exact m̃⁻¹",
+       "\"FLIP\" | \"PIC\" | \"FMPM\" | \"XPIC\" | \"exact\" | \"chebyshev\" | "
+       "\"least_squares\" | \"chebyshev_squared\"",
+       "",
+       "How particle velocities follow the grid: FLIP (FMPM 2026 Eq. 8), PIC, FMPM(k), XPIC(m), "
+       "the exact m̃⁻¹, or the Chebyshev, least-squares or squared Chebyshev polynomial in m⁻¹m̃ "
+       "of the same k − 1 products (docs/studies/polynomials.md)",
        "\"bogus\""},
       {"step", "shape", "string", "\"cpdi\"", true,
        "\"linear\" | \"gimp\" | \"bspline2\" | \"cpdi\" | \"b2cpdi\"", "",
@@ -36,8 +39,8 @@ std::vector<InputKey> run_input_keys() {
        "α of FMPM 2026 Eqs. (8)–(9), the weight of the new grid velocity in the position update",
        "2.0"},
       {"step", "order", "integer",
-       "required with velocity = \"FMPM\" or \"XPIC\" (else unused, but checked)", false,
-       "1 to 100000", "",
+       "required with velocity = \"FMPM\", \"XPIC\" or a polynomial (else unused, but checked)",
+       false, "1 to 100000", "",
        "k of FMPM(k), the terms of the loop of FMPM 2026 Table 1, or m of XPIC(m)", "0"},
       {"step", "blend_alpha", "number", "1.0", true, "[0, 1]", "",
        "α of the blended recursion (FMPM 2026 §3.3), scaling Δv(ℓ) when ℓ mod m = 1 or m = 1",
@@ -58,6 +61,11 @@ std::vector<InputKey> run_input_keys() {
        "required with a dynamic_metric (else unused, but checked)", false, "≥ 0", "",
        "The convergence limit of dynamic FMPM (FMPM 2026 §3.4); order is then the maximum order",
        "-1.0"},
+      {"step", "interval_low", "number", "0.0", true, "[0, 1); > 0 with the Chebyshev members", "",
+       "λ_lo of the interval [λ_lo, 1] of the spectrum of m⁻¹m̃ on which the Chebyshev and "
+       "least-squares polynomials are made (smpm spectrum prints min eig(m^-1 m~)); modes below "
+       "it converge less",
+       "1.0"},
       {"step", "bc_method", "string", "\"incremental\"", true,
        "\"incremental\" | \"lumped\" | \"velocity\" | \"combined\"", "",
        "How the velocity BCs enter the FMPM loop: FMPM 2026 §3.1's incremental method or an "

@@ -45,6 +45,7 @@ void read_fmpm(const Reader& r, const toml::table& t, StepOptions& step) {
     r.fail(t.get("dynamic_metric"), "step.dynamic_metric",
            "needs step.dynamic_limit (the convergence limit)");
   f.bc_method = r.choice(t, "bc_method", "step.bc_method", "incremental", &bc_method_from_string);
+  f.interval_low = r.number(t, "interval_low", "step.interval_low", 0.0);
   step.exact.regularization = r.number(t, "exact_regularization", "step.exact_regularization", 0.0);
   step.exact.mass_cutoff = r.number(t, "exact_mass_cutoff", "step.exact_mass_cutoff", 0.0);
   step.exact.method =
@@ -65,7 +66,10 @@ void read_step(const Reader& r, const toml::table& root, StepOptions& step) {
   const toml::table& t = table ? *table : empty;
   r.check_keys(t, "step");
   step.scheme = r.choice(t, "scheme", "step.scheme", "USL", &update_scheme_from_string);
-  step.velocity = r.choice(t, "velocity", "step.velocity", "FLIP", &velocity_update_from_string);
+  const VelocityChoice velocity =
+      r.choice(t, "velocity", "step.velocity", "FLIP", &velocity_choice_from_string);
+  step.velocity = velocity.velocity;
+  step.fmpm.polynomial = velocity.polynomial;
   step.shape = r.choice(t, "shape", "step.shape", "cpdi", &shape_from_string);
   // α of Eqs. (8)–(9); unset: default_position_alpha (1 for FLIP, ½ otherwise).
   if (t.get("position_alpha"))

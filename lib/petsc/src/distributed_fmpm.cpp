@@ -13,6 +13,8 @@ namespace smpm::petsc {
 
 namespace {
 
+void ensure_like(OwnedVec& x, Vec like);
+
 // The algebra of fmpm_recursion on distributed vectors: Δv(ℓ) in w.prev, the next in w.next.
 struct PetscLoop {
   const DistributedGrid& grid;
@@ -32,6 +34,21 @@ struct PetscLoop {
       SMPM_PETSC_CALL(VecScale(w.next, c)); // blended recursion (§3.3)
     if (fused)
       SMPM_PETSC_CALL(VecAXPY(v, 1.0, w.next)); // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ) (Eq. 5)
+    std::swap(w.prev, w.next);
+  }
+  const PolynomialPasses& passes() { return polynomial_passes(opt, w.passes); }
+  void polynomial_pass(double a, double b, bool first, bool fused) {
+    if (first) { // r(1) = Δv(1)
+      ensure_like(w.residual, w.prev);
+      SMPM_PETSC_CALL(VecCopy(w.prev, w.residual));
+    }
+    SMPM_PETSC_CALL(MatMult(ops.mt_d, w.prev, w.product));                // m̃ Δv(ℓ−1)
+    SMPM_PETSC_CALL(VecPointwiseMult(w.product, ops.m_inv_d, w.product)); // S⁺S Δv(ℓ−1)
+    SMPM_PETSC_CALL(VecAXPY(w.residual, -1.0, w.product)); // r(ℓ) = r(ℓ−1) − S⁺S Δv(ℓ−1)
+    SMPM_PETSC_CALL(VecCopy(w.prev, w.next));
+    SMPM_PETSC_CALL(VecAXPBY(w.next, a, b, w.residual)); // Δv(ℓ) = a r(ℓ) + b Δv(ℓ−1)
+    if (fused)
+      SMPM_PETSC_CALL(VecAXPY(v, 1.0, w.next)); // v⁺(ℓ) = v⁺(ℓ−1) + Δv(ℓ)
     std::swap(w.prev, w.next);
   }
   void correct(int) { // (1): Table 2's bottom block on the nodes this rank owns
@@ -61,7 +78,7 @@ struct PetscLoop {
   }
 };
 
-void ensure(OwnedVec& x, Vec like) {
+void ensure_like(OwnedVec& x, Vec like) {
   PetscInt have = -1, want = 0;
   SMPM_PETSC_CALL(VecGetLocalSize(like, &want));
   if (x.get())
@@ -100,9 +117,9 @@ struct PetscSequence {
   void lumped_solve() { SMPM_PETSC_CALL(VecPointwiseMult(v, ops.m_inv_d, p_plus)); }
   FmpmReport loop() {
     validate(opt);
-    ensure(w.prev, v);
-    ensure(w.next, v);
-    ensure(w.product, v);
+    ensure_like(w.prev, v);
+    ensure_like(w.next, v);
+    ensure_like(w.product, v);
     SMPM_PETSC_CALL(VecCopy(v, w.prev)); // Δv(1) = v⁺(1)
     PetscLoop loop{grid, ops, opt, bc, v, w, {}, {}};
     return fmpm_recursion(opt, loop, w.metrics);

@@ -200,6 +200,8 @@ SparseMatrix gather(const DistributedGrid& grid, Mat a);
 /// Scratch vectors of the distributed loop.
 struct DistributedFmpmWorkspace {
   OwnedVec prev, next, product; ///< Δv(ℓ), Δv(ℓ + 1) and m̃ Δv(ℓ)
+  OwnedVec residual;            ///< r(ℓ) of the Chebyshev and least-squares members
+  PolynomialPasses passes;      ///< their coefficients (polynomial_passes)
   Field owned;                  ///< the owned rows of a vector for the velocity BCs
   std::vector<double> metrics;  ///< the metric of each pass (dynamic FMPM)
 };
