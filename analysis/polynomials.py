@@ -37,6 +37,9 @@ LABEL = {"FMPM": "FMPM($k$), the series", "blended": "FMPM($k$) blended with FMP
          "chebyshev_squared": "squared Chebyshev"}
 MARKER = {"FMPM": "o", "blended": "v", "chebyshev": "s", "least_squares": "D",
           "chebyshev_squared": "^"}
+COLOUR = dict(zip(MEMBERS, figures.COLOURS))
+# Where the energy panels mark a run that stopped (energy above 10x its start, or det F <= 0).
+STOPPED = 3e3
 
 
 def num(s):
@@ -143,21 +146,34 @@ def main():
             ax = axes[row][col]
             for member in MEMBERS:
                 ys = [num(results[(name, member, k)][key]) for k in orders]
-                ax.plot(orders, ys, "-", marker=MARKER[member], label=LABEL[member])
+                ax.plot(orders, ys, "-", marker=MARKER[member], color=COLOUR[member],
+                        label=LABEL[member])
+                stopped = [k for k in orders if results[(name, member, k)][key] == "unstable"]
+                if stopped:  # the runs that stopped, at the top of the energy panel
+                    ax.plot(stopped, [STOPPED] * len(stopped), ls="none", marker="x", ms=8,
+                            color=COLOUR[member])
             for member, colour, style in (("exact", "#882255", "--"), ("FLIP", "#555555", ":")):
-                y = num(results[(name, member, 0)][key])
+                cell = results[(name, member, 0)][key]
+                if cell == "unstable":
+                    ax.plot([orders[-1]], [STOPPED], ls="none", marker="x", ms=8, color=colour)
+                y = num(cell)
                 if not math.isnan(y):
                     ax.axhline(y, color=colour, ls=style,
                                label=("exact $\\tilde m^{-1}$" if member == "exact" else "FLIP"))
             ax.set_xscale("log", base=2)
             ax.set_xticks(orders, [str(k) for k in orders])
             ax.set_ylabel(ylabel)
+            if row == 1:  # gains of hundreds of per cent beside losses of a thousandth
+                ax.set_yscale("symlog", linthresh=1e-3)
+                ax.plot([], [], ls="none", marker="x", color="k",
+                        label=f"run stopped (unstable), drawn at {STOPPED:g}")
             letter = "AB"[col] if row == 0 else "CD"[col]
             what = "C*" if row == 0 else "dissipation"
             ax.set_title(f"({letter}) {name}: {what}")
             if row == 1:
                 ax.set_xlabel("order $k$ ($k - 1$ products with $\\tilde m$)")
-    axes[0][0].legend(fontsize=8)
+    handles, names = axes[1][0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=3, fontsize=9)
     figures.save_figure(fig, args.prefix, tables)
 
     sp = smpm_python.sparsempm(args)
@@ -166,17 +182,22 @@ def main():
     import numpy as np
     lo = num(results[("bar", "chebyshev", orders[0])]["interval_low"])
     lam = np.linspace(0, 1, 801)
-    fig, ax = plt.subplots(figsize=(7, 4.5))
     k = 8
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.5))
     for member in ("FMPM", "chebyshev", "least_squares", "chebyshev_squared"):
         poly = "series" if member == "FMPM" else member
-        ax.plot(lam, sp.residual_polynomial(lam, k, poly, lo if poly != "series" else 0.0),
-                label=LABEL[member])
-    ax.axhline(0, color="k", lw=0.6)
-    ax.axvline(lo, color="#555555", ls=":", label=f"$\\lambda_{{lo}}$ = {lo:.4g}")
-    ax.set_xlabel("eigenvalue $\\lambda$ of $m^{-1}\\tilde m$ (dimensionless)")
-    ax.set_ylabel(f"$R_{k}(\\lambda) = 1 - \\lambda\\, q(\\lambda)$ (dimensionless)")
-    ax.set_title(f"What each member leaves of a mode ($k$ = {k}); $V$ carries $1 - R$")
+        R = sp.residual_polynomial(lam, k, poly, lo if poly != "series" else 0.0)
+        ax.plot(lam, R, color=COLOUR[member], label=LABEL[member])
+        bx.plot(lam, R, color=COLOUR[member], label=LABEL[member])
+    for a in (ax, bx):
+        a.axhline(0, color="k", lw=0.6)
+        a.axvline(lo, color="#555555", ls=":", label=f"$\\lambda_{{lo}}$ = {lo:.4g}")
+        a.set_xlabel("eigenvalue $\\lambda$ of $m^{-1}\\tilde m$ (dimensionless)")
+        a.set_ylabel(f"$R_{k}(\\lambda) = 1 - \\lambda\\, q(\\lambda)$ (dimensionless)")
+    bx.set_yscale("symlog", linthresh=1e-6)
+    bx.set_xlim(lo / 2, 1)
+    ax.set_title(f"(A) what each member leaves of a mode ($k$ = {k})")
+    bx.set_title("(B) the same on a signed log scale: $V$ carries $1 - R$")
     ax.legend(fontsize=8)
     figures.save_figure(fig, f"{args.prefix}_residual")
 

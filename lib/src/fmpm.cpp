@@ -72,6 +72,10 @@ void validate(const FmpmOptions& opt) {
     throw OptionError("interval_low", number_text(opt.interval_low),
                       "the Chebyshev interval [interval_low, 1] needs 0 < interval_low < 1 "
                       "(smpm spectrum prints min eig(m^-1 m~))");
+  if (opt.polynomial == Polynomial::ChebyshevSquared && opt.metric != ConvergenceMetric::None)
+    throw OptionError("dynamic_metric", std::string(to_string(opt.metric)),
+                      "dynamic FMPM would stop the squared Chebyshev loop before its second half, "
+                      "where R_k is not the non-negative C_m^2 (set dynamic_metric = \"none\")");
   if (opt.polynomial == Polynomial::LeastSquares && opt.order > kMaxLeastSquaresOrder)
     throw OptionError("order", std::to_string(opt.order),
                       "the least-squares polynomial takes orders up to " +

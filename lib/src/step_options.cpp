@@ -228,6 +228,10 @@ FmpmOptions transport_fmpm_options(const StepOptions& opt) {
                                                           : opt.fmpm.order;
   f.metric = ConvergenceMetric::None;
   f.dynamic_limit = 0;
+  // The series on c̃ whatever the velocity update's member: the interval polynomials change
+  // sign (their temperatures undershoot) and λ_lo is the mechanics' (docs/studies/polynomials.md).
+  f.polynomial = Polynomial::Series;
+  f.interval_low = 0;
   return f;
 }
 

@@ -32,10 +32,11 @@ enum class ConvergenceMetric {
 };
 
 /// The polynomial q of the approximate inverse m̃_k⁻¹ = q(m⁻¹m̃) m⁻¹ that k − 1 products with m̃
-/// apply (docs/studies/polynomials.md). Each member keeps v⁺(1) = m⁻¹ p⁺ and the series' first
-/// pass Δv(2) = A Δv(1), so its residual polynomial R_k(λ) = 1 − λ q(λ) on the spectrum λ of
-/// m⁻¹m̃ is (1 − λ) R̂_{k−1}(λ), R̂(0) = 1, and Table 2's BC methods act on the increments as in
-/// the series:
+/// apply (docs/studies/polynomials.md). Each member keeps v⁺(1) = m⁻¹ p⁺ and takes its first
+/// residual r(2) = A v⁺(1) as the series' first increment, so its residual polynomial
+/// R_k(λ) = 1 − λ q(λ) on the spectrum λ of m⁻¹m̃ is (1 − λ) R̂_{k−1}(λ), R̂(0) = 1 (R_k(1) = 0:
+/// uniform motion is kept exactly; each member is optimal among polynomials of that form), and
+/// Table 2's BC methods act on the increments as in the series:
 ///   - Series: R̂ = (1 − λ)^{k−1}, FMPM 2026 Eqs. 5–6 (and its blends, §3.3);
 ///   - Chebyshev: R̂ = T_{k−1}((θ − λ)/δ) / T_{k−1}(θ/δ) on [λ_lo, 1], θ = (1 + λ_lo)/2,
 ///     δ = (1 − λ_lo)/2: the smallest max |R̂| on the interval (Golub & Varga 1961; Saad,
@@ -88,7 +89,9 @@ struct FmpmOptions {
 
 /// Throws OptionError (an InputError naming the option) unless 1 ≤ order ≤ kMaxFmpmOrder,
 /// 0 ≤ α ≤ 1, 1 ≤ m ≤ kMaxFmpmOrder, the dynamic limit is ≥ 0 and finite and 0 ≤ λ_lo < 1; for
-/// the other members of the family, unless there is no blending, λ_lo > 0 (Chebyshev) and the
+/// the other members of the family, unless there is no blending, λ_lo > 0 (Chebyshev), no
+/// dynamic metric for ChebyshevSquared (its R_k is non-negative only at its order; Chebyshev and
+/// least squares are nested families, so stopping at ℓ gives their member of order ℓ) and the
 /// least-squares order is at most kMaxLeastSquaresOrder.
 void validate(const FmpmOptions& opt);
 
@@ -107,7 +110,7 @@ struct PolynomialPasses {
 };
 /// a_ℓ and b_ℓ of `opt`'s member from the three-term recurrence of the orthogonal polynomials
 /// whose values at 0 normalise R̂ (Chebyshev: its closed form; least squares: the discretised
-/// Stieltjes procedure on k + 1 Gauss–Chebyshev points, exact for the degrees involved).
+/// Stieltjes procedure on 2k + 6 Gauss–Chebyshev points, exact for the degrees involved).
 /// Empty for the series.
 PolynomialPasses polynomial_passes(const FmpmOptions& opt);
 /// `cache`, remade by polynomial_passes(opt) unless it was made for the same member, order and

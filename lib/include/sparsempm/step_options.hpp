@@ -271,7 +271,7 @@ ExactOptions transport_solver_options(const StepOptions& options);
 
 /// The FMPM options of the transport loop on c̃: the order of TransportOptions (the mechanics'
 /// order when it is 0; 1 for the lumped update), the mechanics' blending and BC method, no
-/// dynamic stopping.
+/// dynamic stopping, and the series whatever the mechanics' member of the polynomial family.
 FmpmOptions transport_fmpm_options(const StepOptions& options);
 /// Whether a step assembles c̃: heat transport by FMPM(k) of order > 1 or the exact solve.
 bool uses_consistent_capacity(const StepOptions& options);
