@@ -11,13 +11,23 @@
 namespace smpm::detail {
 
 // Linear elasticity written out for dimension D (the common case, kept cheap on the hot path):
+// The moduli of the linear law: E, λ and 2G, computed once for a run of particles of one
+// material (each is two divisions).
+struct LinearModuli {
+  double youngs = 0, lam = 0, G2 = 0;
+  LinearModuli() = default;
+  explicit LinearModuli(const Material& m)
+      : youngs(m.youngs), lam(m.lame_lambda()), G2(2 * m.shear_modulus()) {}
+};
+
 // σ = λ tr(ε) I + 2Gε with ε = sym(F) − I (D ≥ 2), σ = E (F − 1) in 1D.
 template <int D>
-void linear_stress(const Material& m, const double* F, double* sigma) {
+[[gnu::always_inline]] inline void linear_stress(const LinearModuli& m, const double* F,
+                                                 double* sigma) {
   if constexpr (D == 1) {
     sigma[0] = m.youngs * (F[0] - 1);
   } else {
-    const double lam = m.lame_lambda(), G2 = 2 * m.shear_modulus();
+    const double lam = m.lam, G2 = m.G2;
     double tr = 0;
     for (int a = 0; a < D; ++a)
       tr += F[a * D + a] - 1;
@@ -31,7 +41,8 @@ void linear_stress(const Material& m, const double* F, double* sigma) {
 
 // W = ½ σ : ε of linear elasticity from F and its σ (linear_stress), dimension D.
 template <int D>
-double linear_energy(const Material& m, const double* F, const double* sigma) {
+[[gnu::always_inline]] inline double linear_energy(const LinearModuli& m, const double* F,
+                                                   const double* sigma) {
   if constexpr (D == 1) {
     return 0.5 * m.youngs * (F[0] - 1) * (F[0] - 1);
   } else {
@@ -46,10 +57,11 @@ double linear_energy(const Material& m, const double* F, const double* sigma) {
 // σ and W of linear elasticity in dimension d (1, 2 or 3); W only with `energy`.
 inline void linear_stress_energy(const Material& m, int d, const double* F, double* sigma,
                                  double* energy) {
+  const LinearModuli moduli(m);
   auto run = [&]<int D>() {
-    linear_stress<D>(m, F, sigma);
+    linear_stress<D>(moduli, F, sigma);
     if (energy)
-      *energy = linear_energy<D>(m, F, sigma);
+      *energy = linear_energy<D>(moduli, F, sigma);
   };
   if (d == 1)
     run.template operator()<1>();
@@ -68,8 +80,16 @@ Eigen::Matrix3d corotational_stress(const Material& m, const Eigen::Matrix3d& F,
 // σ_shear = (G/J) dev(B̄), B̄ = J^{−2/3} F Fᵀ.
 Eigen::Matrix3d isochoric_shear(double G, const Eigen::Matrix3d& F, double J);
 
-// The material of particle p by its id; InputError when no material has the id.
-const Material& material_of(const std::vector<Material>& mats, int id, Index p);
+// Throws InputError: particle p's material id names no material.
+[[noreturn]] void throw_material_id(const std::vector<Material>& mats, int id, Index p);
+
+// The material of particle p by its id; InputError when no material has the id. Inline: it is
+// called once per particle of every stress update.
+inline const Material& material_of(const std::vector<Material>& mats, int id, Index p) {
+  if (unsigned(id) >= mats.size()) [[unlikely]]
+    throw_material_id(mats, id, p);
+  return mats[size_t(id)];
+}
 
 // Throws NumericalError naming particle p when its compression is beyond the Mie–Grüneisen
 // law's limit 1 − J < 1/S₁ (the law's pressure diverges there).

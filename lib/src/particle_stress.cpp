@@ -22,17 +22,51 @@ using detail::linear_stress_energy;
 using detail::material_of;
 
 namespace detail {
-const Material& material_of(const std::vector<Material>& mats, int id, Index p) {
-  if (id < 0 || id >= int(mats.size()))
-    throw InputError("particle " + std::to_string(p) + " has material id " + std::to_string(id) +
-                     " but only " + std::to_string(mats.size()) + " materials are defined");
-  return mats[size_t(id)];
+void throw_material_id(const std::vector<Material>& mats, int id, Index p) {
+  throw InputError("particle " + std::to_string(p) + " has material id " + std::to_string(id) +
+                   " but only " + std::to_string(mats.size()) + " materials are defined");
 }
 } // namespace detail
 
 namespace {
 Eigen::Matrix3d particle_F(const Particles& P, Index p) {
   return embed_3d(P.F.row(p).data(), P.dim);
+}
+
+// σ (and W into `energy` when given) of particle p under any law but the linear one without
+// thermal expansion: thermoelastic (with `temperature`), corotational, hyperelastic,
+// Mie–Grüneisen.
+void other_stress(const Material& mat, int d, const double* Fp, double* sigma, double* energy,
+                  const double* temperature, Index p) {
+  if (temperature && mat.thermal_expansion != 0) { // thermoelastic (heat transport)
+    double W, c;
+    const Eigen::Matrix3d s = thermoelastic_stress(mat, d, embed_3d(Fp, d), *temperature, W, c);
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        sigma[a * d + b] = s(a, b);
+    if (energy)
+      *energy = W;
+    return;
+  }
+  const Eigen::Matrix3d F3 = embed_3d(Fp, d);
+  if (mat.model == MaterialModel::LinearCorotational && d > 1) { // one polar decomposition
+    double W;
+    const Eigen::Matrix3d s = corotational_stress(mat, F3, W);
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        sigma[a * d + b] = s(a, b);
+    if (energy)
+      *energy = W;
+    return;
+  }
+  if (mat.model == MaterialModel::MieGruneisen)
+    check_compression(mat, F3.determinant(), p);
+  const Eigen::Matrix3d s = cauchy_stress(mat, d, F3);
+  for (int a = 0; a < d; ++a)
+    for (int b = 0; b < d; ++b)
+      sigma[a * d + b] = s(a, b);
+  if (energy)
+    *energy = strain_energy_density(mat, d, F3);
 }
 } // namespace
 
@@ -45,45 +79,42 @@ void update_stress(const std::vector<Material>& materials,
               "update_stress: F and stress must be N x d^2 and material of size N");
   if (density)
     density->resize(F.rows());
-  detail::parallel_for(F.rows(), [&](Index p) {
-    const Material& mat = material_of(materials, material[p], p);
-    const double* Fp = F.data() + p * F.outerStride();
-    double* sigma = stress.data() + p * stress.outerStride();
-    if (temperature && mat.thermal_expansion != 0) { // thermoelastic (heat transport)
-      double W, c;
-      const Eigen::Matrix3d s =
-          thermoelastic_stress(mat, d, embed_3d(Fp, d), (*temperature)[p], W, c);
-      for (int a = 0; a < d; ++a)
-        for (int b = 0; b < d; ++b)
-          sigma[a * d + b] = s(a, b);
-      if (density)
-        (*density)[p] = W;
-      return;
-    }
-    if (mat.model == MaterialModel::Linear) {
-      linear_stress_energy(mat, d, Fp, sigma, density ? density->data() + p : nullptr);
-      return;
-    }
-    const Eigen::Matrix3d F3 = embed_3d(Fp, d);
-    if (mat.model == MaterialModel::LinearCorotational && d > 1) { // one polar decomposition
-      double W;
-      const Eigen::Matrix3d s = corotational_stress(mat, F3, W);
-      for (int a = 0; a < d; ++a)
-        for (int b = 0; b < d; ++b)
-          sigma[a * d + b] = s(a, b);
-      if (density)
-        (*density)[p] = W;
-      return;
-    }
-    if (mat.model == MaterialModel::MieGruneisen)
-      check_compression(mat, F3.determinant(), p);
-    const Eigen::Matrix3d s = cauchy_stress(mat, d, F3);
-    for (int a = 0; a < d; ++a)
-      for (int b = 0; b < d; ++b)
-        sigma[a * d + b] = s(a, b);
-    if (density)
-      (*density)[p] = strain_energy_density(mat, d, F3);
-  });
+  // One range of particles per thread, its arrays in locals; the linear law's moduli are
+  // computed once for each run of particles of one material.
+  auto ranges = [&]<int D>() {
+    detail::parallel_segments(F.rows(), [&](Index p0, Index count) {
+      const double* Fd = F.data();
+      double* Sd = stress.data();
+      const Index fs = F.outerStride(), ss = stress.outerStride();
+      double* W = density ? density->data() : nullptr;
+      const int* id = material.data();
+      int linear_id = -1;
+      detail::LinearModuli linear;
+      for (Index p = p0; p < p0 + count; ++p) {
+        const Material& mat = material_of(materials, id[p], p);
+        const double* Fp = Fd + p * fs;
+        double* sigma = Sd + p * ss;
+        if (mat.model == MaterialModel::Linear && !(temperature && mat.thermal_expansion != 0)) {
+          if (id[p] != linear_id) {
+            linear = detail::LinearModuli(mat);
+            linear_id = id[p];
+          }
+          detail::linear_stress<D>(linear, Fp, sigma);
+          if (W)
+            W[p] = detail::linear_energy<D>(linear, Fp, sigma);
+          continue;
+        }
+        other_stress(mat, D, Fp, sigma, W ? W + p : nullptr,
+                     temperature ? temperature->data() + p : nullptr, p);
+      }
+    });
+  };
+  if (d == 1)
+    ranges.template operator()<1>();
+  else if (d == 2)
+    ranges.template operator()<2>();
+  else
+    ranges.template operator()<3>();
 }
 
 namespace {

@@ -255,18 +255,20 @@ bool build_pattern(const Grid& numbering, const std::vector<ShapeSupport>& suppo
   }
   for (int a = 0; a <= d; ++a)
     outer[size_t(a)][N] = int(nnz);
-  detail::for_prefix_blocks(N, starts, [&](Index begin, Index end, Index start) {
-    Index pos = start;
-    for (Index p = begin; p < end; ++p) {
-      int* row[4];
-      for (int a = 0; a <= d; ++a) {
-        outer[size_t(a)][p] = int(pos);
-        row[a] = inner[size_t(a)] + pos;
+  by_dim(d, [&]<int D>() { // D + 1 arrays (S and the G_a) known at compile time
+    detail::for_prefix_blocks(N, starts, [&](Index begin, Index end, Index start) {
+      Index pos = start;
+      for (Index p = begin; p < end; ++p) {
+        int* row[D + 1];
+        for (int a = 0; a <= D; ++a) {
+          outer[size_t(a)][p] = int(pos);
+          row[a] = inner[size_t(a)] + pos;
+        }
+        const ShapeSupport& s = support[size_t(p)];
+        write_box_row<D + 1>(numbering, s, rows.first_column(p, s), row);
+        pos += entries(p);
       }
-      const ShapeSupport& s = support[size_t(p)];
-      write_box_row(numbering, s, rows.first_column(p, s), row, d + 1);
-      pos += entries(p);
-    }
+    });
   });
   return true;
 }

@@ -3,6 +3,8 @@
 // Internal helpers of the shape-function assembly (shape.cpp, shape_points.cpp): the 1D grid
 // functions and the fast path of the point-based families.
 
+#include "kernels.hpp"
+
 #include "sparsempm/shape.hpp"
 
 #include <algorithm>
@@ -70,11 +72,20 @@ inline constexpr int kMaxBox = 12;
 // particle p when the box needs nodes outside the grid or more than kMaxBox nodes.
 inline void interval_box(const Grid& g, const Particles& P, Index p, int a, double lo, double hi,
                          double R, int& first, int& count) {
-  if (!std::isfinite(lo) || !std::isfinite(hi))
-    throw_outside(p, P, "has a non-finite position or domain");
+  // Bounds in cell units far inside int's range (and not NaN): floor and ceil by a truncation
+  // and its correction (std::floor and std::ceil without SSE4.1 are a sequence of 20
+  // instructions that also handle values beyond int's range).
+  constexpr double kFar = 1e9;
+  if (!(lo > -kFar && lo < kFar && hi > -kFar && hi < kFar)) {
+    if (!std::isfinite(lo) || !std::isfinite(hi))
+      throw_outside(p, P, "has a non-finite position or domain");
+    throw_outside(p, P, "has left the grid (its shape-function support needs nodes outside it)");
+  }
   constexpr double eps = 1e-12;
-  first = int(std::floor(lo - R + eps)) + 1;
-  const int last = int(std::ceil(hi + R - eps)) - 1;
+  const double x0 = lo - R + eps, x1 = hi + R - eps;
+  const int t0 = int(x0), t1 = int(x1);           // truncations toward zero
+  first = t0 - int(x0 < double(t0)) + 1;          // floor(x0) + 1
+  const int last = t1 + int(x1 > double(t1)) - 1; // ceil(x1) − 1
   if (first < 0 || last > g.cells(a))
     throw_outside(p, P, "has left the grid (its shape-function support needs nodes outside it)");
   count = last - first + 1;
@@ -86,23 +97,43 @@ inline void interval_box(const Grid& g, const Particles& P, Index p, int a, doub
 /// keeping its size, or some box changed size (S's rows change length: a new pattern).
 enum class BoxChange { None, Moved, Resized };
 
-/// Writes row p's column indices into each of `arrays` rows (S's and the G_a's, which share its
-/// pattern): the nodes of box s, x fastest, from node `first` (its first node's column). The
-/// box's sizes are read once (a write through an int* could alias them) and each index is
-/// stored to every array in the same pass, not copied afterwards (a copy of a row this short is
-/// a call to memmove).
+/// Writes row p's column indices into each of the `Arrays` arrays `row` (S's and the G_a's, which
+/// share its pattern): the nodes of box s, x fastest, from node `first` (its first node's
+/// column). The box's sizes are read once (a write through an int* could alias them) and each
+/// index is stored to every array in the same pass, not copied afterwards (a copy of a row this
+/// short is a call to memmove); the number of arrays is a compile-time constant, so that the
+/// stores of one index are straight-line code.
+template <int Arrays>
+inline void write_box_row(const Grid& g, const ShapeSupport& s, Index first, int* const* row) {
+  const Index nx = g.nodes(0), nxy = nx * g.nodes(1);
+  int* r[Arrays];
+  for (int a = 0; a < Arrays; ++a)
+    r[a] = row[a];
+  // The common boxes' sizes at compile time (kernels.hpp): the row's stores are then unrolled.
+  dispatch_box(s.count, [&]<int C0, int C1, int C2>() {
+    const int c0 = C0 ? C0 : s.count[0], c1 = C1 ? C1 : s.count[1], c2 = C2 ? C2 : s.count[2];
+    int q = 0;
+    for (int k2 = 0; k2 < c2; ++k2)
+      for (int k1 = 0; k1 < c1; ++k1) {
+        const int line = int(first + k1 * nx + k2 * nxy);
+        for (int k0 = 0; k0 < c0; ++k0, ++q)
+          for (int a = 0; a < Arrays; ++a)
+            r[a][q] = line + k0;
+      }
+  });
+}
+
+/// write_box_row for S and the G_a of a d-dimensional problem (d + 1 arrays).
 inline void write_box_row(const Grid& g, const ShapeSupport& s, Index first, int* const* row,
                           int arrays) {
-  const Index nx = g.nodes(0), nxy = nx * g.nodes(1);
-  const int c0 = s.count[0], c1 = s.count[1], c2 = s.count[2];
-  int q = 0;
-  for (int k2 = 0; k2 < c2; ++k2)
-    for (int k1 = 0; k1 < c1; ++k1) {
-      const int line = int(first + k1 * nx + k2 * nxy);
-      for (int k0 = 0; k0 < c0; ++k0, ++q)
-        for (int a = 0; a < arrays; ++a)
-          row[a][q] = line + k0;
-    }
+  switch (arrays) {
+  case 2:
+    return write_box_row<2>(g, s, first, row);
+  case 3:
+    return write_box_row<3>(g, s, first, row);
+  default:
+    return write_box_row<4>(g, s, first, row);
+  }
 }
 
 /// Records the boxes of a support pass from any number of threads. With the pattern of the

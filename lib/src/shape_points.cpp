@@ -24,18 +24,9 @@ void throw_outside(Index p, const Particles& P, std::string_view why) {
 
 namespace {
 
-// The axes beyond the dimension: weight 1, slope 0.
-template <int D, int W>
-inline void unit_axes(double (&w)[3][W], double (&dw)[3][W]) {
-  for (int a = D; a < 3; ++a) {
-    w[a][0] = 1;
-    dw[a][0] = 0;
-  }
-}
-
 // A row of S and G from the 1D weights w[a][k] and slopes dw[a][k] along each axis: their
 // tensor product over the box of count[0] × count[1] × count[2] nodes, x fastest, written at
-// position q of sv and of each gv[a].
+// position q of sv and of each gv[a] (the axes beyond D are not read).
 // Box sizes C0, C1, C2 are compile-time constants when nonzero.
 template <int D, int W, int C0 = 0, int C1 = 0, int C2 = 0>
 inline void tensor_row(const std::array<int, 3>& count, const double (&w)[3][W],
@@ -45,13 +36,22 @@ inline void tensor_row(const std::array<int, 3>& count, const double (&w)[3][W],
   for (int k2 = 0; k2 < c2; ++k2)
     for (int k1 = 0; k1 < c1; ++k1)
       for (int k0 = 0; k0 < c0; ++k0, ++q) {
-        const double w0 = w[0][k0], w1 = w[1][k1], w2 = w[2][k2];
-        sv[q] = w0 * w1 * w2;
-        gv[0][q] = dw[0][k0] * w1 * w2;
-        if constexpr (D > 1)
+        const double w0 = w[0][k0];
+        if constexpr (D == 1) {
+          sv[q] = w0;
+          gv[0][q] = dw[0][k0];
+        } else if constexpr (D == 2) {
+          const double w1 = w[1][k1];
+          sv[q] = w0 * w1;
+          gv[0][q] = dw[0][k0] * w1;
+          gv[1][q] = w0 * dw[1][k1];
+        } else {
+          const double w1 = w[1][k1], w2 = w[2][k2];
+          sv[q] = w0 * w1 * w2;
+          gv[0][q] = dw[0][k0] * w1 * w2;
           gv[1][q] = w0 * dw[1][k1] * w2;
-        if constexpr (D > 2)
           gv[2][q] = w0 * w1 * dw[2][k2];
+        }
       }
 }
 
@@ -85,7 +85,6 @@ void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupp
   parallel_for(P.size(), [&](Index p) {
     const ShapeSupport& s = support[size_t(p)];
     double w[3][width], dw[3][width];
-    unit_axes<D>(w, dw);
     for (int a = 0; a < D; ++a) {
       const double r0 = xi_of(p, a) - s.first[a];
       for (int k = 0; k < width; ++k) {
@@ -107,43 +106,76 @@ void point_values(const Grid& g, const Particles& P, const std::vector<ShapeSupp
 template <int D>
 void gimp_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>& support,
                    BoxChanges& changes) {
-  const CellCoordinates<D> xi_of(g, P);
-  const double* L = P.half_length.data();
-  parallel_for(P.size(), [&](Index p) {
-    ShapeSupport s;
-    for (int a = 0; a < D; ++a) {
-      const double xi = xi_of(p, a), l = L[p * D + a] * xi_of.inv_h[a];
-      interval_box(g, P, p, a, xi - l, xi + l, 1.0, s.first[size_t(a)], s.count[size_t(a)]);
+  parallel_segments(P.size(), [&](Index p0, Index n) {
+    const CellCoordinates<D> xi_of(g, P); // in the range's locals
+    const double* L = P.half_length.data();
+    ShapeSupport* boxes = support.data();
+    for (Index p = p0; p < p0 + n; ++p) {
+      ShapeSupport s;
+      for (int a = 0; a < D; ++a) {
+        const double xi = xi_of(p, a), l = L[p * D + a] * xi_of.inv_h[a];
+        interval_box(g, P, p, a, xi - l, xi + l, 1.0, s.first[size_t(a)], s.count[size_t(a)]);
+      }
+      changes.record(p, boxes[p], s);
     }
-    changes.record(p, support[size_t(p)], s);
   });
 }
 
-// uGIMP weights: the average of the hat over the particle's domain along each axis,
+// uGIMP weights along one axis: the average of the hat over the particle's domain,
 // S_i = (H(r + l) − H(r − l))/(2l) with H = ∫ hat and r = ξ − i, and its slope
-// (hat(r + l) − hat(r − l))/(2lh) (Buzzi Eqs. 17–18); the row is their tensor product.
+// (hat(r + l) − hat(r − l))/(2lh) (Buzzi Eqs. 17–18), for the `count` nodes of the box from its
+// first node; r0 = ξ − first, l = r⁰/h (cell units). A hat is linear within a cell, so its average
+// over the part of the domain in one cell is its value at that part's centre:
+// - two nodes, the domain within one cell: the hats at the centre, w = (1 − r0, r0), and the
+//   slopes (−1, 1)/h (linear interpolation);
+// - three nodes, the domain across node 1 with a = 1 − (r0 − l) of it to the left and
+//   b = r0 + l − 1 to the right: w0 = a²/(4l), w2 = b²/(4l), w1 = 1 − w0 − w2 (the hats sum to
+//   1), slopes (−a, a − b, b)/(2lh);
+// - any other box, the integrals node by node.
+// The closed forms agree with the integrals to round-off (tests/lib/test_shape.cpp); the box's
+// 10⁻¹² cell tolerance (interval_box) leaves out a part of the domain shorter than that.
+inline void gimp_axis(int count, double r0, double l, double inv_h, double* w, double* dw) {
+  const double inv_2l = 0.5 / l, slope = inv_2l * inv_h;
+  if (count == 2) {
+    w[0] = 1 - r0;
+    w[1] = r0;
+    dw[0] = -inv_h;
+    dw[1] = inv_h;
+  } else if (count == 3) {
+    const double a = 1 - (r0 - l), b = (r0 + l) - 1;
+    w[0] = 0.5 * a * a * inv_2l;
+    w[2] = 0.5 * b * b * inv_2l;
+    w[1] = 1 - w[0] - w[2];
+    dw[0] = -a * slope;
+    dw[1] = (a - b) * slope;
+    dw[2] = b * slope;
+  } else {
+    for (int k = 0; k < count; ++k) {
+      const double r = r0 - k;
+      w[k] = (hat_integral(r + l) - hat_integral(r - l)) * inv_2l;
+      dw[k] = (hat(r + l) - hat(r - l)) * slope;
+    }
+  }
+}
+
 template <int D>
 void gimp_values(const Grid& g, const Particles& P, const std::vector<ShapeSupport>& support,
                  const int* outer, double* sv, double* const* gv) {
-  const CellCoordinates<D> xi_of(g, P);
-  const double* L = P.half_length.data();
-  parallel_for(P.size(), [&](Index p) {
-    const ShapeSupport& s = support[size_t(p)];
-    double w[3][kMaxBox], dw[3][kMaxBox];
-    unit_axes<D>(w, dw);
-    for (int a = 0; a < D; ++a) {
-      const double l = L[p * D + a] * xi_of.inv_h[a];
-      const double inv_2l = 0.5 / l, slope = inv_2l * xi_of.inv_h[a];
-      const double r0 = xi_of(p, a) - s.first[size_t(a)];
-      for (int k = 0; k < s.count[size_t(a)]; ++k) {
-        const double r = r0 - k;
-        w[a][k] = (hat_integral(r + l) - hat_integral(r - l)) * inv_2l;
-        dw[a][k] = (hat(r + l) - hat(r - l)) * slope;
-      }
+  parallel_segments(P.size(), [&](Index p0, Index n) {
+    const CellCoordinates<D> xi_of(g, P); // in the range's locals
+    const double* L = P.half_length.data();
+    const ShapeSupport* boxes = support.data();
+    double* const g_v[3] = {gv[0], D > 1 ? gv[1] : nullptr, D > 2 ? gv[2] : nullptr};
+    for (Index p = p0; p < p0 + n; ++p) {
+      const ShapeSupport& s = boxes[p];
+      double w[3][kMaxBox], dw[3][kMaxBox];
+      for (int a = 0; a < D; ++a)
+        gimp_axis(s.count[size_t(a)], xi_of(p, a) - s.first[size_t(a)],
+                  L[p * D + a] * xi_of.inv_h[a], xi_of.inv_h[a], w[a], dw[a]);
+      dispatch_box(s.count, [&]<int C0, int C1, int C2>() {
+        tensor_row<D, kMaxBox, C0, C1, C2>(s.count, w, dw, sv, g_v, outer[p]);
+      });
     }
-    dispatch_box(s.count, [&]<int C0, int C1, int C2>() {
-      tensor_row<D, kMaxBox, C0, C1, C2>(s.count, w, dw, sv, gv, outer[p]);
-    });
   });
 }
 

@@ -38,21 +38,65 @@ auto* row(Ref& A, Index q) {
   return A.data() + q * A.outerStride();
 }
 
+// The CSR arrays of S and the G_b and a node field's data, copied into locals by each range of
+// particles of a kernel: its loop then keeps them in registers (read through `op` and the
+// Eigen objects, they are loaded again after each store to a particle's row, which the compiler
+// cannot prove does not alias them).
+template <int D>
+struct Rows {
+  const int* outer;
+  const int* inner;
+  const double* S;
+  const double* G[D];
+  explicit Rows(const ParticleOperators& op) : outer(op.outer), inner(op.inner), S(op.S) {
+    for (int b = 0; b < D; ++b)
+      G[b] = op.G[size_t(b)];
+  }
+};
+
+// A node's or a particle's D components as one value: Eigen packs a 2-vector into one SSE2
+// register, so that a 2D entry's two components take one multiply and one add (in the
+// gathers over a particle's row; the node sums' scatter is as short with scalar stores). Each
+// component is the same operation as on its own (no fused multiply-add on the baseline x86-64), so
+// the bits are those of a loop over the components.
+template <int D>
+using Vec = Eigen::Matrix<double, D, 1>;
+template <int D>
+using ConstVecMap = Eigen::Map<const Vec<D>>;
+
 // L = Σ_i v_i ⊗ G_qi of particle q (row-major D × D): L[a D + b] = Σ_i G_b(q, i) v(i, a).
 // Inlined into each per-particle loop that calls it (left to itself, GCC may call it per particle).
 template <int D>
-[[gnu::always_inline]] inline void particle_gradient(const ParticleOperators& op, Index q,
-                                                     const Field& v, double* L) {
-  for (int c = 0; c < D * D; ++c)
-    L[c] = 0;
-  for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
-    const double* vi = v.data() + Index(op.inner[k]) * D;
-    for (int b = 0; b < D; ++b) {
-      const double gb = op.G[size_t(b)][k];
-      for (int a = 0; a < D; ++a)
-        L[a * D + b] += vi[a] * gb;
-    }
+[[gnu::always_inline]] inline void particle_gradient(const Rows<D>& r, Index q, const double* v,
+                                                     double* L) {
+  Eigen::Matrix<double, D, D> Lc = Eigen::Matrix<double, D, D>::Zero(); // column b: Σ_i v_i G_b
+  for (int k = r.outer[q]; k < r.outer[q + 1]; ++k) {
+    const ConstVecMap<D> vi(v + Index(r.inner[k]) * D);
+    for (int b = 0; b < D; ++b)
+      Lc.col(b) += vi * r.G[b][k];
   }
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b)
+      L[a * D + b] = Lc(a, b);
+}
+
+// Whether the D values at x and at v are all finite, by one test: x − x is 0 for a finite x and
+// NaN for an infinite or NaN one.
+template <int D>
+[[gnu::always_inline]] inline bool all_finite(const double* x, const double* v) {
+  double probe = 0;
+  for (int b = 0; b < D; ++b)
+    probe += (x[b] - x[b]) + (v[b] - v[b]);
+  return probe == 0;
+}
+
+// Throws for the first non-finite component of particle q's position or velocity.
+template <int D>
+[[noreturn, gnu::noinline]] void bad_motion(Index q, const double* x, const double* v) {
+  for (int b = 0; b < D; ++b)
+    if (!std::isfinite(x[b]) || !std::isfinite(v[b]))
+      bad_particle(q, "a non-finite position or velocity", v[b]);
+  bad_particle(q, "a non-finite position or velocity", v[0]);
 }
 
 // out_i = Σ_q of particle q's terms on node i, in ascending particle order (the same bits for
@@ -67,15 +111,6 @@ void node_sums(const ParticleOperators& op, Field& out, Particle&& particle) {
       op.outer, op.inner, op.span, op.rows, op.nodes, op.col_outer,
       [&](Index r0, Index r1) { std::fill(o + r0 * D, o + r1 * D, 0.0); },
       [&](Index q, int k0, int k1) { particle(q, k0, k1, o); });
-}
-
-// Per-particle scratch of the calling thread (its worker threads write disjoint rows of it),
-// kept between steps so that a step allocates nothing.
-double* scratch(Index size) {
-  thread_local std::vector<double> buffer;
-  if (buffer.size() < size_t(size))
-    buffer.resize(size_t(size));
-  return buffer.data();
 }
 
 void check_node_field(const ParticleOperators& op, const Field& v, const char* who) {
@@ -154,14 +189,18 @@ void map_momentum(const ParticleOperators& op, const ConstFieldRef& V, Field& p,
   by_dim(op.dim, [&]<int D>() {
     if (!affine) {
       // p_i = Σ_q S_qi M_q V_q (FMPM 2026 task 1)
+      const Rows<D> r(op);
+      const double* M = op.M;
+      const double* Vd = V.data();
+      const Index vs = V.outerStride();
       node_sums<D>(op, p, [&](Index q, int k0, int k1, double* o) {
         double mv[D];
         for (int a = 0; a < D; ++a)
-          mv[a] = op.M[q] * V(q, a);
+          mv[a] = M[q] * Vd[q * vs + a];
         for (int k = k0; k < k1; ++k) {
-          double* pi = o + Index(op.inner[k]) * D;
+          double* pi = o + Index(r.inner[k]) * D;
           for (int a = 0; a < D; ++a)
-            pi[a] += op.S[k] * mv[a];
+            pi[a] += r.S[k] * mv[a];
         }
       });
       return;
@@ -205,24 +244,23 @@ void internal_force(const ParticleOperators& op, const ConstVectorRef& volume0,
                   stress.rows() == op.rows && stress.cols() == d2,
               "internal_force: volume0, F and stress must have one row per particle");
   by_dim(op.dim, [&]<int D>() {
-    double* tau = scratch(op.rows * D * D); // −Ω J σ of every particle
-    detail::parallel_for(op.rows, [&](Index q) {
-      const double* sq = stress.data() + q * stress.outerStride();
-      const double vol = -volume0[q] * det<D>(F.data() + q * F.outerStride()); // −Ω J
-      for (int c = 0; c < D * D; ++c)
-        tau[q * D * D + c] = vol * sq[c];
-    });
-    // f_i = Σ_q Σ_b τ_q,·b G_b(q, i) (Buzzi Eq. 15)
+    const double *v0 = volume0.data(), *Fd = F.data(), *sd = stress.data();
+    const Index fs = F.outerStride(), ss = stress.outerStride();
+    const Rows<D> r(op);
+    // f_i = Σ_q Σ_b τ_q,·b G_b(q, i) (Buzzi Eq. 15), τ_q = −Ω_q J_q σ_q computed as the particle's
+    // row is met (a row shared by two threads' node ranges is computed by both, the same bits).
     node_sums<D>(op, f, [&](Index q, int k0, int k1, double* o) {
+      const double* sq = sd + q * ss;
+      const double vol = -v0[q] * det<D>(Fd + q * fs); // −Ω J
       double tq[D * D];
       for (int c = 0; c < D * D; ++c)
-        tq[c] = tau[q * D * D + c];
+        tq[c] = vol * sq[c];
       for (int k = k0; k < k1; ++k) {
-        double* fi = o + Index(op.inner[k]) * D;
+        double* fi = o + Index(r.inner[k]) * D;
         for (int a = 0; a < D; ++a) {
           double sum = 0;
           for (int b = 0; b < D; ++b)
-            sum += tq[a * D + b] * op.G[size_t(b)][k];
+            sum += tq[a * D + b] * r.G[b][k];
           fi[a] += sum;
         }
       }
@@ -298,22 +336,27 @@ void update_particles_flip(const ParticleOperators& op, const Field& v_plus, con
   // One pass over S: (S v⁺)_p and (S a)_p, then V += Δt S a, X += Δt S v⁺ − (1 − α) Δt² S a.
   by_dim(op.dim, [&]<int D>() {
     const double c = (1 - alpha) * dt * dt;
-    detail::parallel_for(op.rows, [&](Index q) {
-      double sv[D] = {}, sa[D] = {};
-      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k) {
-        const Index i = op.inner[k];
-        for (int b = 0; b < D; ++b) {
-          sv[b] += op.S[k] * v_plus.data()[i * D + b];
-          sa[b] += op.S[k] * a.data()[i * D + b];
+    detail::parallel_segments(op.rows, [&](Index q0, Index count) {
+      const Rows<D> r(op);
+      const double *vp = v_plus.data(), *ag = a.data();
+      double *Xd = X.data(), *Vd = V.data();
+      const Index xs = X.outerStride(), vs = V.outerStride();
+      const double h = dt, cc = c;
+      for (Index q = q0; q < q0 + count; ++q) {
+        Vec<D> sv = Vec<D>::Zero(), sa = Vec<D>::Zero();
+        for (int k = r.outer[q]; k < r.outer[q + 1]; ++k) {
+          const Index i = r.inner[k];
+          sv += r.S[k] * ConstVecMap<D>(vp + i * D);
+          sa += r.S[k] * ConstVecMap<D>(ag + i * D);
         }
-      }
-      double* x = row(X, q);
-      double* v = row(V, q);
-      for (int b = 0; b < D; ++b) {
-        x[b] += dt * sv[b] - c * sa[b];
-        v[b] += dt * sa[b];
-        if (!std::isfinite(x[b]) || !std::isfinite(v[b]))
-          bad_particle(q, "a non-finite position or velocity", v[b]);
+        double* x = Xd + q * xs;
+        double* v = Vd + q * vs;
+        for (int b = 0; b < D; ++b) {
+          x[b] += h * sv[b] - cc * sa[b];
+          v[b] += h * sa[b];
+        }
+        if (!all_finite<D>(x, v)) [[unlikely]]
+          bad_motion<D>(q, x, v);
       }
     });
   });
@@ -324,18 +367,24 @@ void update_particles_pic(const ParticleOperators& op, const Field& vg, double d
   check_node_field(op, vg, "update_particles_pic");
   // One pass over S: V' = (S v)_p, X += (α V' + (1 − α) V) Δt, V = V'.
   by_dim(op.dim, [&]<int D>() {
-    detail::parallel_for(op.rows, [&](Index q) {
-      double sv[D] = {};
-      for (int k = op.outer[q]; k < op.outer[q + 1]; ++k)
-        for (int b = 0; b < D; ++b)
-          sv[b] += op.S[k] * vg.data()[Index(op.inner[k]) * D + b];
-      double* x = row(X, q);
-      double* v = row(V, q);
-      for (int b = 0; b < D; ++b) {
-        x[b] += (alpha * sv[b] + (1 - alpha) * v[b]) * dt;
-        v[b] = sv[b];
-        if (!std::isfinite(x[b]) || !std::isfinite(v[b]))
-          bad_particle(q, "a non-finite position or velocity", v[b]);
+    detail::parallel_segments(op.rows, [&](Index q0, Index count) {
+      const Rows<D> r(op);
+      const double* vd = vg.data();
+      double *Xd = X.data(), *Vd = V.data();
+      const Index xs = X.outerStride(), vs = V.outerStride();
+      const double h = dt, al = alpha;
+      for (Index q = q0; q < q0 + count; ++q) {
+        Vec<D> sv = Vec<D>::Zero();
+        for (int k = r.outer[q]; k < r.outer[q + 1]; ++k)
+          sv += r.S[k] * ConstVecMap<D>(vd + Index(r.inner[k]) * D);
+        double* x = Xd + q * xs;
+        double* v = Vd + q * vs;
+        for (int b = 0; b < D; ++b) {
+          x[b] += (al * sv[b] + (1 - al) * v[b]) * h;
+          v[b] = sv[b];
+        }
+        if (!all_finite<D>(x, v)) [[unlikely]]
+          bad_motion<D>(q, x, v);
       }
     });
   });
@@ -346,7 +395,11 @@ void velocity_gradient(const ParticleOperators& op, const Field& v, FieldRef L) 
   SMPM_VERIFY(L.rows() == op.rows && L.cols() == op.dim * op.dim,
               "velocity_gradient: L must be N x d^2");
   by_dim(op.dim, [&]<int D>() {
-    detail::parallel_for(op.rows, [&](Index q) { particle_gradient<D>(op, q, v, row(L, q)); });
+    detail::parallel_segments(op.rows, [&](Index q0, Index count) {
+      const Rows<D> r(op);
+      for (Index q = q0; q < q0 + count; ++q)
+        particle_gradient<D>(r, q, v.data(), row(L, q));
+    });
   });
 }
 
@@ -355,29 +408,36 @@ namespace {
 template <int D, bool Exponential>
 void deformation_rows(const ParticleOperators& op, const Field& v, double dt, FieldRef& F) {
   using Mat = Eigen::Matrix<double, D, D, Eigen::RowMajor>;
-  detail::parallel_for(op.rows, [&](Index q) {
-    double L[D * D];
-    particle_gradient<D>(op, q, v, L);
-    double* f = row(F, q);
-    double Fn[D * D];
-    if constexpr (Exponential) {
-      const Mat expL = (dt * Eigen::Map<const Mat>(L)).exp();
-      Eigen::Map<Mat> out(Fn);
-      out.noalias() = expL * Eigen::Map<const Mat>(f);
-    } else {
-      for (int a = 0; a < D; ++a)
-        for (int b = 0; b < D; ++b) {
-          double sum = f[a * D + b];
-          for (int c = 0; c < D; ++c)
-            sum += dt * L[a * D + c] * f[c * D + b];
-          Fn[a * D + b] = sum;
-        }
+  detail::parallel_segments(op.rows, [&](Index q0, Index count) {
+    const Rows<D> r(op);
+    const double* vd = v.data();
+    double* Fd = F.data();
+    const Index fs = F.outerStride();
+    const double h = dt;
+    for (Index q = q0; q < q0 + count; ++q) {
+      double L[D * D];
+      particle_gradient<D>(r, q, vd, L);
+      double* f = Fd + q * fs;
+      double Fn[D * D];
+      if constexpr (Exponential) {
+        const Mat expL = (h * Eigen::Map<const Mat>(L)).exp();
+        Eigen::Map<Mat> out(Fn);
+        out.noalias() = expL * Eigen::Map<const Mat>(f);
+      } else {
+        for (int a = 0; a < D; ++a)
+          for (int b = 0; b < D; ++b) {
+            double sum = f[a * D + b];
+            for (int c = 0; c < D; ++c)
+              sum += h * L[a * D + c] * f[c * D + b];
+            Fn[a * D + b] = sum;
+          }
+      }
+      for (int c = 0; c < D * D; ++c)
+        f[c] = Fn[c];
+      const double J = det<D>(f);
+      if (!(J > 0)) [[unlikely]]
+        bad_particle(q, "det F <= 0", J);
     }
-    for (int c = 0; c < D * D; ++c)
-      f[c] = Fn[c];
-    const double J = det<D>(f);
-    if (!(J > 0))
-      bad_particle(q, "det F <= 0", J);
   });
 }
 } // namespace
