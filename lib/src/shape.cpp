@@ -46,11 +46,15 @@ void corners_of(const CellCoordinates<D>& f, const Particles& P, Index p, double
   const double* X = P.X.data() + p * P.X.outerStride();
   const double* F = P.F.data() + p * P.F.outerStride();
   const double* r = P.half_length.data() + p * P.half_length.outerStride();
+  double R[D][D]; // F diag(r⁰): (F_ab · (±1)) · r_b is ±(F_ab r_b) exactly
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b)
+      R[a][b] = F[a * D + b] * r[b];
   for (int c = 0; c < (1 << D); ++c)
     for (int a = 0; a < D; ++a) {
       double x = X[a];
       for (int b = 0; b < D; ++b)
-        x += F[a * D + b] * ((c >> b) & 1 ? 1.0 : -1.0) * r[b];
+        x += (c >> b) & 1 ? R[a][b] : -R[a][b];
       xi_c[c][a] = (x - f.o[a]) * f.inv_h[a];
     }
 }
@@ -75,13 +79,18 @@ ShapeSupport corner_support(const Grid& g, const CellCoordinates<D>& f, const Pa
 
 // CPDI and B2CPDI (Sadeghirad et al. 2011): S_pi = 2^{-D} Σ_c N_i(x_c) and
 // ∇S_pi = Σ_c N_i(x_c) g_c with g_c = 2^{-D} R^{-T} s_c, R = F diag(r⁰), over the 2^D corners x_c,
-// written straight into the particle's row of S and G (box order, x fastest). Each corner adds
-// only to the nodes where its N can be nonzero (2 per axis for the hat, 3 for the B-spline),
-// in corner order: the sums are those over every corner and box node, without the zero terms.
-template <int D>
-void corner_row(const CellCoordinates<D>& f, const Particles& P, Index p, bool bspline,
-                const ShapeSupport& s, double* S, double* const G[3]) {
-  constexpr int nc = 1 << D;
+// written into the particle's row of S and G (box order, x fastest). Each corner adds to the W
+// nodes per axis where its N can be nonzero (2 for the hat, 3 for the B-spline), in corner
+// order: the sums are those over every corner and box node, without the zero terms. A corner's
+// node outside the box (its weight below the box's 10⁻¹² tolerance, interval_box) adds to one
+// slot past the row, which is dropped; the sums are made in `local` (len + 1 slots of S and the
+// G_a side by side, the G_a as one vector) and then copied, so that the loops have compile-time
+// bounds and no test per node.
+// The family (hat or B-spline) is a compile-time constant.
+template <int D, bool bspline>
+void corner_row(const CellCoordinates<D>& f, const Particles& P, Index p, const ShapeSupport& s,
+                double* S, double* const G[3], std::vector<double>& local) {
+  constexpr int nc = 1 << D, W = bspline ? 3 : 2;
   double xi_c[8][3];
   corners_of<D>(f, P, p, xi_c);
   Eigen::Matrix<double, D, D> Fp;
@@ -92,9 +101,11 @@ void corner_row(const CellCoordinates<D>& f, const Particles& P, Index p, bool b
   const double w = 1.0 / nc;
   const int c0 = s.count[0], c1 = D > 1 ? s.count[1] : 1, c2 = D > 2 ? s.count[2] : 1;
   const int len = c0 * c1 * c2;
-  std::fill(S, S + len, 0.0);
-  for (int a = 0; a < D; ++a)
-    std::fill(G[a], G[a] + len, 0.0);
+  constexpr int stride = D + 1; // slot q: S at q (D + 1), G_a at q (D + 1) + 1 + a
+  if (local.size() < size_t(stride * (len + 1)))
+    local.resize(size_t(stride * (len + 1))); // kept between particles and steps
+  double* sums = local.data();
+  std::fill(sums, sums + stride * (len + 1), 0.0);
   double inv_r[D]; // ±1/r as ±(1/r): the same bits, one division per axis
   for (int b = 0; b < D; ++b)
     inv_r[b] = 1.0 / P.half_length(p, b);
@@ -103,36 +114,46 @@ void corner_row(const CellCoordinates<D>& f, const Particles& P, Index p, bool b
     for (int b = 0; b < D; ++b)
       sr[b] = (c >> b) & 1 ? inv_r[b] : -inv_r[b];
     const Eigen::Matrix<double, D, 1> gc = w * Finv_t * sr;
-    // The corner's nodes on each axis, within the box (box-relative), and N there.
-    int lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
-    double n1[3][3] = {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
+    // The corner's W nodes on each axis (box-relative: pos), N there, and whether in the box.
+    int pos[3][W] = {}, in[3][W];
+    double n1[3][W];
+    for (int a = D; a < 3; ++a)
+      for (int k = 0; k < W; ++k) {
+        in[a][k] = 1;
+        n1[a][k] = 1;
+      }
     for (int a = 0; a < D; ++a) {
       const double xi = xi_c[c][a];
-      const int start = bspline ? int(std::floor(xi + 0.5)) - 1 : int(std::floor(xi));
-      const int first = s.first[size_t(a)];
-      lo[a] = std::max(start, first) - first;
-      hi[a] = std::min(start + (bspline ? 3 : 2), first + s.count[size_t(a)]) - first;
-      for (int k = lo[a]; k < hi[a]; ++k) {
-        const double r = xi - (first + k);
-        n1[a][k - lo[a]] = bspline ? bspline2(r) : hat(r);
+      const int first = s.first[size_t(a)], start = first_node(xi, bspline); // ξ checked
+      for (int k = 0; k < W; ++k) {
+        const int i = start + k - first;
+        pos[a][k] = i;
+        in[a][k] = unsigned(i) < unsigned(s.count[size_t(a)]);
+        const double r = xi - (start + k);
+        n1[a][k] = bspline ? bspline2(r) : hat(r);
       }
     }
-    for (int k2 = lo[2]; k2 < hi[2]; ++k2)
-      for (int k1 = lo[1]; k1 < hi[1]; ++k1)
-        for (int k0 = lo[0]; k0 < hi[0]; ++k0) {
-          double Nc = n1[0][k0 - lo[0]];
+    for (int k2 = 0; k2 < (D > 2 ? W : 1); ++k2)
+      for (int k1 = 0; k1 < (D > 1 ? W : 1); ++k1)
+        for (int k0 = 0; k0 < W; ++k0) {
+          double Nc = n1[0][k0];
           if constexpr (D > 1)
-            Nc *= n1[1][k1 - lo[1]];
+            Nc *= n1[1][k1];
           if constexpr (D > 2)
-            Nc *= n1[2][k2 - lo[2]];
-          const int q = k0 + c0 * (k1 + c1 * k2);
-          S[q] += Nc;
-          for (int a = 0; a < D; ++a)
-            G[a][q] += Nc * gc[a];
+            Nc *= n1[2][k2];
+          const int q = in[0][k0] & in[1][k1] & in[2][k2]
+                            ? pos[0][k0] + c0 * (pos[1][k1] + c1 * pos[2][k2])
+                            : len;
+          double* slot = sums + q * stride;
+          slot[0] += Nc;
+          Eigen::Map<Eigen::Matrix<double, D, 1>>(slot + 1) += Nc * gc;
         }
   }
-  for (int q = 0; q < len; ++q)
-    S[q] *= w;
+  for (int q = 0; q < len; ++q) {
+    S[q] = sums[q * stride] * w;
+    for (int a = 0; a < D; ++a)
+      G[a][q] = sums[q * stride + 1 + a];
+  }
 }
 
 // The window of the nodes in some particle's box (assemble_shape): their bounding box widened
@@ -289,12 +310,21 @@ void write_values(const Grid& grid, const Particles& P, Shape shape,
   const bool bs = uses_bspline(shape);
   by_dim(d, [&]<int D>() {
     const CellCoordinates<D> f(grid, P);
-    detail::parallel_for(P.size(), [&](Index p) {
-      const int begin = outer[p];
-      double* const g[3] = {gv[0] + begin, D > 1 ? gv[1] + begin : nullptr,
-                            D > 2 ? gv[2] + begin : nullptr};
-      corner_row<D>(f, P, p, bs, support[size_t(p)], sv + begin, g);
-    });
+    auto rows = [&]<bool BS>() {
+      detail::parallel_segments(P.size(), [&](Index p0, Index n) {
+        thread_local std::vector<double> local; // corner_row's sums
+        for (Index p = p0; p < p0 + n; ++p) {
+          const int begin = outer[p];
+          double* const g[3] = {gv[0] + begin, D > 1 ? gv[1] + begin : nullptr,
+                                D > 2 ? gv[2] + begin : nullptr};
+          corner_row<D, BS>(f, P, p, support[size_t(p)], sv + begin, g, local);
+        }
+      });
+    };
+    if (bs)
+      rows.template operator()<true>();
+    else
+      rows.template operator()<false>();
   });
 }
 

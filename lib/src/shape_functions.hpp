@@ -60,6 +60,20 @@ struct CellCoordinates {
   double operator()(Index p, int a) const { return (X[p * D + a] - o[a]) * inv_h[a]; }
 };
 
+// ⌊x⌋ and ⌈x⌉ of a value in cell units known to lie within ±kFarCells (checked by interval_box
+// before any other use): a truncation and its correction, the same integers as std::floor and
+// std::ceil, which without SSE4.1 are a sequence of about 20 instructions that also handles
+// values beyond int's range.
+inline constexpr double kFarCells = 1e9;
+inline int floor_int(double x) {
+  const int t = int(x); // toward zero
+  return t - int(x < double(t));
+}
+inline int ceil_int(double x) {
+  const int t = int(x);
+  return t + int(x > double(t));
+}
+
 // Nodes a particle may touch along an axis.
 inline constexpr int kMaxBox = 12;
 
@@ -72,20 +86,15 @@ inline constexpr int kMaxBox = 12;
 // particle p when the box needs nodes outside the grid or more than kMaxBox nodes.
 inline void interval_box(const Grid& g, const Particles& P, Index p, int a, double lo, double hi,
                          double R, int& first, int& count) {
-  // Bounds in cell units far inside int's range (and not NaN): floor and ceil by a truncation
-  // and its correction (std::floor and std::ceil without SSE4.1 are a sequence of 20
-  // instructions that also handle values beyond int's range).
-  constexpr double kFar = 1e9;
-  if (!(lo > -kFar && lo < kFar && hi > -kFar && hi < kFar)) {
+  // Bounds in cell units far inside int's range (and not NaN), for floor_int and ceil_int.
+  if (!(lo > -kFarCells && lo < kFarCells && hi > -kFarCells && hi < kFarCells)) {
     if (!std::isfinite(lo) || !std::isfinite(hi))
       throw_outside(p, P, "has a non-finite position or domain");
     throw_outside(p, P, "has left the grid (its shape-function support needs nodes outside it)");
   }
   constexpr double eps = 1e-12;
-  const double x0 = lo - R + eps, x1 = hi + R - eps;
-  const int t0 = int(x0), t1 = int(x1);           // truncations toward zero
-  first = t0 - int(x0 < double(t0)) + 1;          // floor(x0) + 1
-  const int last = t1 + int(x1 > double(t1)) - 1; // ceil(x1) − 1
+  first = floor_int(lo - R + eps) + 1;
+  const int last = ceil_int(hi + R - eps) - 1;
   if (first < 0 || last > g.cells(a))
     throw_outside(p, P, "has left the grid (its shape-function support needs nodes outside it)");
   count = last - first + 1;
@@ -184,9 +193,10 @@ struct BoxChanges {
   }
 };
 
-// First node of the box of a point at ξ (cell units) and the box width for a point.
+// First node of the box of a point at ξ (cell units, within ±kFarCells) and the box width for a
+// point.
 inline int first_node(double xi, bool bspline) {
-  return bspline ? int(std::floor(xi + 0.5)) - 1 : int(std::floor(xi));
+  return bspline ? floor_int(xi + 0.5) - 1 : floor_int(xi);
 }
 inline int point_count(bool bspline) {
   return bspline ? 3 : 2;

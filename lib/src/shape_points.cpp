@@ -66,7 +66,7 @@ void point_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>
       const double xi = xi_of(p, a);
       if (!std::isfinite(xi))
         throw_outside(p, P, "has a non-finite position or domain");
-      const int first = first_node(xi, BS);
+      const int first = xi > -kFarCells && xi < kFarCells ? first_node(xi, BS) : -1;
       if (first < 0 || first + width - 1 > g.cells(a))
         throw_outside(p, P,
                       "has left the grid (its shape-function support needs nodes outside it)");
