@@ -22,6 +22,7 @@ The steps, each printed with its time:
 import argparse
 import os
 import pathlib
+import random
 import shutil
 import subprocess
 import sys
@@ -43,6 +44,26 @@ def run(cmd, cwd, env):
     status = subprocess.run([str(c) for c in cmd], cwd=cwd, env=env).returncode
     if status != 0:
         sys.exit(f"docs: failed (exit status {status}): {' '.join(str(c) for c in cmd)}")
+
+
+def run_on_display(cmd, cwd, env, tries=4):
+    """run() under `xvfb-run -a`, again when ParaView could not connect to the X server it was
+    given: xvfb-run -a takes the first display number without a lock file, and two servers
+    started in the same moment (other programs of a shared machine) can take the same one, so
+    that ParaView aborts with "bad X server connection". Any other failure ends the build."""
+    cmd = ["xvfb-run", "-a"] + [str(c) for c in cmd]
+    print("docs: $ " + " ".join(cmd), flush=True)
+    for attempt in range(1, tries + 1):
+        p = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
+        sys.stdout.write(p.stdout)
+        if p.returncode == 0:
+            return
+        if "bad X server connection" not in p.stdout + p.stderr or attempt == tries:
+            sys.stderr.write(p.stderr)
+            sys.exit(f"docs: failed (exit status {p.returncode}): {' '.join(cmd)}")
+        print(f"docs: no connection to the X server (attempt {attempt} of {tries}): again",
+              flush=True)
+        time.sleep(random.uniform(0.5, 3.0))  # not in step with the server that took the display
 
 
 def stage(out):
@@ -78,9 +99,9 @@ def figures(src, env):
     run(["/usr/bin/python3", "analysis/plot_energy.py", "vibrating_bar.h5", "-o",
          "generated/vibrating_bar_energy"], src, env)
     run(["smpm", "run", "examples/two_disks.toml", "--quiet"], src, env)
-    run(["xvfb-run", "-a", "pvbatch", "analysis/paraview_view.py", "./two_disks.xmf", "--time",
-         "2.4", "--field", "stress", "--component", "0", "--label", "stress xx", "-o",
-         "generated/paraview_two_disks"], src, env)
+    run_on_display(["pvbatch", "analysis/paraview_view.py", "./two_disks.xmf", "--time", "2.4",
+                    "--field", "stress", "--component", "0", "--label", "stress xx", "-o",
+                    "generated/paraview_two_disks"], src, env)
 
 
 def main():
