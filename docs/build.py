@@ -54,12 +54,13 @@ def run_on_display(cmd, cwd, env, tries=4):
     cmd = ["xvfb-run", "-a"] + [str(c) for c in cmd]
     print("docs: $ " + " ".join(cmd), flush=True)
     for attempt in range(1, tries + 1):
-        p = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
+        p = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True,
+                           errors="replace")
         sys.stdout.write(p.stdout)
+        sys.stderr.write(p.stderr)
         if p.returncode == 0:
             return
         if "bad X server connection" not in p.stdout + p.stderr or attempt == tries:
-            sys.stderr.write(p.stderr)
             sys.exit(f"docs: failed (exit status {p.returncode}): {' '.join(cmd)}")
         print(f"docs: no connection to the X server (attempt {attempt} of {tries}): again",
               flush=True)

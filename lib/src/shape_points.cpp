@@ -114,6 +114,8 @@ void gimp_supports(const Grid& g, const Particles& P, std::vector<ShapeSupport>&
       ShapeSupport s;
       for (int a = 0; a < D; ++a) {
         const double xi = xi_of(p, a), l = L[p * D + a] * xi_of.inv_h[a];
+        if (!(l > 0)) // the average over the domain divides by its length
+          throw_outside(p, P, "has a uGIMP domain without length (half-length <= 0)");
         interval_box(g, P, p, a, xi - l, xi + l, 1.0, s.first[size_t(a)], s.count[size_t(a)]);
       }
       changes.record(p, boxes[p], s);

@@ -128,6 +128,19 @@ TEST_CASE("uGIMP's closed forms equal the integrals of the hat over the domain",
   }
 }
 
+TEST_CASE("uGIMP refuses a domain without length, naming the particle", "[shape]") {
+  // S_i = (H(r + l) - H(r - l))/(2l) divides by the domain's length: l = 0 has no average (the
+  // closed form of a two-node box would not divide and give the hat's values silently).
+  const Grid g(2, {0, 0, 0}, {1, 1, 1}, {6, 6, 1});
+  Particles P;
+  P.resize(2, 2);
+  P.X << 2.3, 2.4, 3.3, 3.6;
+  P.half_length << 0.25, 0.25, 0.25, 0.0;
+  P.mass.setOnes();
+  CHECK_THROWS_WITH(assemble(g, P, Shape::GIMP),
+                    Catch::Contains("particle 1 at (3.3, 3.6) has a uGIMP domain without length"));
+}
+
 TEST_CASE("2D CPDI gradient is the domain average of the corner interpolant's gradient",
           "[shape]") {
   // Independent evaluation of G_pi = (1/V_p) ∫ ∇(Σ_c Q_c N_i(x_c)) dV over a sheared
