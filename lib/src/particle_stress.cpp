@@ -4,6 +4,7 @@
 
 #include "sparsempm/material.hpp"
 
+#include "kernels.hpp"
 #include "material_laws.hpp"
 #include "parallel.hpp"
 
@@ -109,12 +110,7 @@ void update_stress(const std::vector<Material>& materials,
       }
     });
   };
-  if (d == 1)
-    ranges.template operator()<1>();
-  else if (d == 2)
-    ranges.template operator()<2>();
-  else
-    ranges.template operator()<3>();
+  detail::by_dim(d, ranges);
 }
 
 namespace {
