@@ -262,17 +262,49 @@ FmpmReport fmpm_loop(const Eigen::VectorXd& m_inv, const SparseRowMatrix& mt,
   return fmpm_recursion(opt, loop, w.metrics);
 }
 
+namespace {
+// The metric of dynamic FMPM across processes: the serial sums over every node once
+// (NodeSums::sum_rows of each node's terms), with ε from the largest |v⁺_i| over the processes;
+// so every process takes the same decision at each pass.
+double distributed_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
+                          const Operators& ops, const NodeSums& sums) {
+  const Index n = dv.rows();
+  const double eps = metric == ConvergenceMetric::Changes
+                         ? 0.01 * sums.maximum(n > 0 ? v.rowwise().norm().maxCoeff() : 0.0)
+                         : 0.0;
+  thread_local Field terms; // each node's numerator and denominator terms
+  terms.resize(n, 2);
+  for (Index i = 0; i < n; ++i) {
+    const double dn = dv.row(i).norm(), vn = v.row(i).norm();
+    if (metric == ConvergenceMetric::Means) {
+      terms(i, 0) = dn;
+      terms(i, 1) = vn;
+    } else {
+      const double den = vn + eps;
+      terms(i, 0) = ops.active[i] && den > 0 ? dn / den : 0.0;
+      terms(i, 1) = ops.active[i] ? 1.0 : 0.0;
+    }
+  }
+  double s[2] = {0, 0};
+  sums.sum_rows(terms, s);
+  return convergence_ratio(MetricSums{s[0], s[1]});
+}
+} // namespace
+
 FmpmHooks fmpm_hooks(const Operators& ops, const FmpmOptions& opt, const LoopConstraints& bc) {
   FmpmHooks hooks;
   hooks.sums = bc.sums;
-  if (bc.sums && opt.metric != ConvergenceMetric::None)
-    throw InputError("dynamic FMPM is not available across processes yet: its metric sums "
-                     "every node once (set fmpm.metric = \"none\")");
   if (bc.bcs && opt.bc_method == BCMethod::Incremental) // Table 2, bottom block
     hooks.velocity_bcs = [bcs = bc.bcs, grid = bc.grid](int, Field& dv) {
       bcs->zero_directions(*grid, dv);
     };
-  if (opt.metric != ConvergenceMetric::None) // dynamic FMPM (§3.4)
+  if (opt.metric != ConvergenceMetric::None && bc.sums) // dynamic FMPM across processes
+    hooks.converged = [&ops, sums = bc.sums, metric = opt.metric, limit = opt.dynamic_limit](
+                          int, const Field& dv, const Field& v, double& value) {
+      value = distributed_metric(metric, dv, v, ops, *sums);
+      return value < limit;
+    };
+  else if (opt.metric != ConvergenceMetric::None) // dynamic FMPM (§3.4)
     hooks.converged = [&ops, metric = opt.metric, limit = opt.dynamic_limit](
                           int, const Field& dv, const Field& v, double& value) {
       value = convergence_metric(metric, dv, v, ops);

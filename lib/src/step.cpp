@@ -59,6 +59,29 @@ Stepper::Stepper(const StepOptions& options) : opt_(options), buf_(std::make_uni
   buf_->parts = step_parts(opt_);
 }
 
+Stepper::Stepper(const StepOptions& options, NodeSums& sums) : Stepper(options) {
+  if (opt_.velocity == VelocityUpdate::XPIC)
+    throw InputError("a step across processes is FLIP, PIC, FMPM(k) or the exact update (not "
+                     "XPIC) for now");
+  if (solver_ && !solver_->across_processes())
+    throw InputError("the exact update across processes needs a MassSolver that solves across "
+                     "them (e.g. sparsempm::petsc's distributed_mass_solver_factory), not "
+                     "one process's");
+  sums_ = &sums;
+  prep_.ops.node_range = NodeRange::Particles;
+}
+
+void Stepper::release_others(const std::exception_ptr& failure) const {
+  if (!sums_)
+    return;
+  try {
+    std::rethrow_exception(failure);
+  } catch (const FailedElsewhere&) { // the others know
+  } catch (...) {
+    sums_->fail();
+  }
+}
+
 Stepper::~Stepper() = default;
 Stepper::Stepper(Stepper&&) noexcept = default;
 Stepper& Stepper::operator=(Stepper&&) noexcept = default;
@@ -92,7 +115,7 @@ Stepper::Prepared Stepper::prepared_of(const Model& model) {
 }
 
 void Stepper::prepare_configuration(const Model& model) {
-  prepare_step(model, opt_.shape, prep_);
+  prepare_step(model, opt_.shape, prep_, sums_);
   for (const std::unique_ptr<StepPart>& part : buf_->parts)
     part->prepare(model, prep_);
 }
@@ -102,8 +125,14 @@ const StepPreparation& Stepper::prepare(const Model& model) {
   prepared_ = {};
   try {
     prepare_configuration(model);
+  } catch (const FailedElsewhere&) {
+    throw;
   } catch (const NumericalError& e) { // the next step's failure
+    release_others(std::current_exception());
     throw at_step(e, model.step + 1, model.time);
+  } catch (...) {
+    release_others(std::current_exception());
+    throw;
   }
   prepared_ = prepared_of(model);
   return prep_;
@@ -123,13 +152,19 @@ void check_clock(const Model& model, double dt) {
 // nodes in every field (in its own field, for a condition on one). The conditions name nodes of
 // the whole grid; R and m are on the step's nodes (a window of it).
 void condition_sums(const StepPreparation& prep, const Field& R, std::vector<double>& reactions,
-                    std::vector<double>& mass) {
+                    std::vector<double>& mass, const NodeSums* sums) {
   const BoundaryConditions& bcs = prep.bcs;
   const Grid& sg = prep.ops.grid;
   const Index ng = sg.num_nodes();
-  reactions.assign(bcs.conditions.size(), 0.0);
-  mass.assign(bcs.conditions.size(), 0.0);
-  for (size_t c = 0; c < bcs.conditions.size() && R.rows() > 0; ++c) {
+  const size_t nc = bcs.conditions.size();
+  reactions.assign(nc, 0.0);
+  mass.assign(nc, 0.0);
+  // Across processes each node's terms go in a row of `terms` (reaction and mass of each
+  // condition), summed over every node once by the node sums.
+  thread_local Field terms;
+  if (sums)
+    terms.setZero(prep.ops.num_nodes(), Index(2 * nc));
+  for (size_t c = 0; c < nc && R.rows() > 0; ++c) {
     const VelocityCondition& bc = bcs.conditions[c];
     for (const Index whole : bc.nodes) {
       const Index i = sg.is_window() ? sg.node_of_whole(whole) : whole;
@@ -137,11 +172,18 @@ void condition_sums(const StepPreparation& prep, const Field& R, std::vector<dou
         continue; // outside the window: no mass, no reaction
       for (Index row = bc.field < 0 ? i : bc.field * ng + i; row < R.rows();
            row += bc.field < 0 ? ng : R.rows()) {
+        double& reaction = sums ? terms(row, Index(c)) : reactions[c];
         for (int a = 0; a < R.cols(); ++a)
-          reactions[c] += bc.direction[a] * R(row, a);
-        mass[c] += prep.ops.m[row];
+          reaction += bc.direction[a] * R(row, a);
+        (sums ? terms(row, Index(nc + c)) : mass[c]) += prep.ops.m[row];
       }
     }
+  }
+  if (sums) { // the totals over every node once
+    std::vector<double> totals(2 * nc);
+    sums->sum_rows(terms, totals.data());
+    std::copy(totals.begin(), totals.begin() + Index(nc), reactions.begin());
+    std::copy(totals.begin() + Index(nc), totals.end(), mass.begin());
   }
 }
 
@@ -152,8 +194,11 @@ bool Stepper::grid_velocity_step(const Model& model, double dt) {
   // the others.
   if (opt_.velocity == VelocityUpdate::FLIP)
     return false;
-  return opt_.periodic_cx <= 0 ||
-         periodic_fmpm_step(opt_.periodic_cx, courant_of(model, dt), state_.courant_budget);
+  if (opt_.periodic_cx <= 0)
+    return true;
+  const double courant = courant_of(model, dt); // the largest over the processes
+  return periodic_fmpm_step(opt_.periodic_cx, sums_ ? sums_->maximum(courant) : courant,
+                            state_.courant_budget);
 }
 
 StepContext Stepper::stage_context(const Model& model, double dt) const {
@@ -165,7 +210,8 @@ StepContext Stepper::stage_context(const Model& model, double dt) const {
           .gravity = model.gravity,
           .time = model.time,
           .dt = dt,
-          .grid_update = grid_update_};
+          .grid_update = grid_update_,
+          .sums = sums_};
 }
 
 void Stepper::start(Model& model) {
@@ -178,6 +224,8 @@ void Stepper::step(Model& model, double dt) {
   const Exclusive hold(*this);
   check_clock(model, dt);
   Particles& P = model.particles;
+  if (sums_) // the same answer on every process: nothing collective has begun
+    check_distributed(buf_->parts, model, "a step");
   try {
     const bool prepared = prepared_.model && prepared_ == prepared_of(model);
     prepared_ = {};
@@ -202,13 +250,19 @@ void Stepper::step(Model& model, double dt) {
                                 strain, buf_->hooks);
     scheme_step(context, fields, update, buf_->step);
     clock.lap(prep_.times.update);
-    condition_sums(prep_, buf_->step.g.reaction, reactions_, buf_->condition_mass);
+    condition_sums(prep_, buf_->step.g.reaction, reactions_, buf_->condition_mass, sums_);
     StepEnd end{model, dt, prep_, reactions_, buf_->condition_mass, buf_->density, state_};
     for (const std::unique_ptr<StepPart>& part : buf_->parts)
       part->end(end);
     clock.lap(prep_.times.reactions);
+  } catch (const FailedElsewhere&) {
+    throw;
   } catch (const NumericalError& e) {
+    release_others(std::current_exception());
     throw at_step(e, model.step + 1, model.time + dt);
+  } catch (...) {
+    release_others(std::current_exception());
+    throw;
   }
   model.time += dt;
   ++model.step;

@@ -4,6 +4,7 @@
 #include "parallel.hpp"
 
 #include "sparsempm/errors.hpp"
+#include "sparsempm/fmpm.hpp"
 #include "sparsempm/stages.hpp"
 
 #include <array>
@@ -79,7 +80,17 @@ void check_amounts(const Eigen::VectorXd& mass, const Eigen::VectorXd& volume0) 
 
 } // namespace
 
-void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
+void complete_masses(NodeSums& sums, Operators& ops) {
+  sums.bind(ops.grid, ops.fields);
+  Field m = ops.m;
+  sums.add(m);
+  ops.m = m.col(0);
+  const Index n = ops.m.size(), ng = ops.grid_node_count;
+  const double largest = sums.maximum(largest_total_mass(ops.m, ops.fields, ng, 0, ng));
+  active_nodes_of(ops.m, largest, 0, n, ops.active, ops.m_inv);
+}
+
+void prepare_step(const Model& model, Shape shape, StepPreparation& s, NodeSums* sums) {
   PhaseClock clock;
   const Particles& P = model.particles;
   check_amounts(P.mass, P.volume0);
@@ -96,6 +107,8 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s) {
     s.field.resize(0);
     assemble(model.grid, P, shape, s.ops);
   }
+  if (sums) // the totals over the processes, before the conditions select active nodes
+    complete_masses(*sums, s.ops);
   clock.lap(s.times.assemble);
   // The conditions of the step on its nodes (the particles' window or the grid, ops.grid); the
   // walls move (FMPM 2026 §3.1).

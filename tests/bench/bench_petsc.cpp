@@ -151,7 +151,7 @@ void BM_RhoProduct_Petsc(benchmark::State& state) {
   const Block& b = block(smpm::bench::side());
   Model local = b.model; // this rank's particles (DistributedOperators::particles)
   local.particles = sp::select_particles(b.model.particles, b.dops.particles);
-  const sp::WindowSums sums(*b.grid, b.dops);
+  sp::WindowSums sums(*b.grid, b.dops);
   const LinearizedStep T(local, rho_options(), stable_time_step(b.model, 0.5), sums);
   Eigen::VectorXd x = Eigen::VectorXd::Ones(T.rows()), y(T.rows());
   for (auto _ : state) {

@@ -146,7 +146,7 @@ TEST_CASE("the step across ranks refuses what it cannot sum", "[petsc][rho]") {
   sp::assemble(grid, bar.particles, Shape::GIMP, ops);
   Model local = bar;
   local.particles = sp::select_particles(bar.particles, ops.particles);
-  const sp::WindowSums sums(grid, ops);
+  sp::WindowSums sums(grid, ops);
   StepOptions exact;
   exact.shape = Shape::GIMP;
   exact.velocity = VelocityUpdate::Exact;

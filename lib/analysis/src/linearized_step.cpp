@@ -89,7 +89,7 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
 }
 
 LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, double dt,
-                               const NodeSums& sums)
+                               NodeSums& sums)
     : impl_(std::make_unique<Impl>()) {
   if (!model.bcs.walls.empty())
     throw InputError("the linearised step across processes does not take moving walls yet");
@@ -104,7 +104,7 @@ LinearizedStep::LinearizedStep(const Model& model, const StepOptions& options, d
 }
 
 void LinearizedStep::init(const Model& model, const StepOptions& options, double dt,
-                          const NodeSums* sums) {
+                          NodeSums* sums) {
   validate(options);
   if (options.fmpm.metric != ConvergenceMetric::None &&
       (options.velocity == VelocityUpdate::FMPM || options.velocity == VelocityUpdate::XPIC))
@@ -114,9 +114,9 @@ void LinearizedStep::init(const Model& model, const StepOptions& options, double
   for (const std::unique_ptr<StepPart>& part : parts) { // one rule for every part
     if (const std::string why = part->not_linearised(model); !why.empty())
       throw InputError(why);
-    if (const std::string why = sums ? part->not_distributed(model) : ""; !why.empty())
-      throw InputError("the linearised step across processes does not take " + why + " yet");
   }
+  if (sums)
+    check_distributed(parts, model, "the linearised step");
   Impl& I = *impl_;
   I.sums = sums;
   I.model = model;
@@ -127,16 +127,7 @@ void LinearizedStep::init(const Model& model, const StepOptions& options, double
   I.N = model.particles.size();
   if (sums) // this process's particles on their window, with the total masses over all
     I.prep.ops.node_range = NodeRange::Particles;
-  prepare_step(model, options.shape, I.prep); // on the whole grid (NodeRange::Grid)
-  if (sums) {
-    Operators& ops = I.prep.ops;
-    Field m = ops.m;
-    sums->add(m);
-    ops.m = m.col(0);
-    const Index n = ops.m.size();
-    const double largest = sums->maximum(largest_total_mass(ops.m, 1, n, 0, n));
-    active_nodes_of(ops.m, largest, 0, n, ops.active, ops.m_inv);
-  }
+  prepare_step(model, options.shape, I.prep, sums); // on the whole grid (NodeRange::Grid)
   // The BC directions with zero values: walls frozen on the nodes they select now.
   for (VelocityCondition c : I.prep.bcs.conditions) {
     c.value = nullptr;

@@ -48,6 +48,14 @@ private:
   long step_;
 };
 
+/// Thrown by the collective calls of a step across processes (NodeSums) on every process but
+/// the one whose step failed (NodeSums::fail): every process stops at the same step, and only
+/// the one that failed holds the message naming the particle or node.
+class FailedElsewhere : public NumericalError {
+public:
+  using NumericalError::NumericalError;
+};
+
 /// `text` as quoted in a one-line message: control characters written as `\n`, `\t` or `\xNN`
 /// and at most `max` characters, followed by the full length when cut.
 std::string clip(std::string_view text, size_t max = 80);

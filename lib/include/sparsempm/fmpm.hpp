@@ -125,15 +125,30 @@ double residual_polynomial(const FmpmOptions& opt, double lambda);
 /// every process, on every node of the window (ghost nodes included), so that each process
 /// holds its window's totals. The distributed component implements it on PETSc
 /// (sparsempm::petsc); where it is null a step runs in one process. Every call is collective:
-/// the processes make the same calls in the same order.
+/// the processes make the same calls in the same order. A process whose step fails
+/// calls fail() in place of its next call, and the others' next call throws FailedElsewhere
+/// (errors.hpp), so that no process waits for one that stopped.
 class NodeSums {
 public:
   virtual ~NodeSums() = default;
+  /// Takes the columns of a step's operators as the rows of the fields add() sums: `fields`
+  /// blocks of the nodes of `window` (Operators::grid and Operators::fields), each process its
+  /// own window. Every step's preparation binds its operators before the first sum.
+  virtual void bind(const Grid& window, int fields) = 0;
   /// Replaces the partial sums in `window` (one row per column of the operators, any columns)
   /// by the sums over the processes.
   virtual void add(Field& window) const = 0;
   /// The largest of `value` over the processes.
   virtual double maximum(double value) const = 0;
+  /// Replaces each of values[0 .. count) by its sum over the processes.
+  virtual void sum(double* values, int count) const = 0;
+  /// The sum over every node of the grid of the rows of `window` (a field of totals: the same
+  /// row on every process whose window holds the node), each node counted once whichever windows
+  /// hold it: one total per column, into totals[0 .. window.cols()).
+  virtual void sum_rows(const Field& window, double* totals) const = 0;
+  /// Said by a process whose step failed, in place of its next collective call: the other
+  /// processes' pending call throws FailedElsewhere.
+  virtual void fail() const = 0;
 };
 
 /// What the velocity BCs of the loop need.

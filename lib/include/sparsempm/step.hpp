@@ -11,6 +11,7 @@
 #include "sparsempm/step_options.hpp"
 #include "sparsempm/step_preparation.hpp"
 
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -63,6 +64,17 @@ public:
 
   /// Validates the options (validate) and makes the exact solver when one is needed.
   explicit Stepper(const StepOptions& options);
+  /// The same step across processes (NodeSums, fmpm.hpp; `sums` must outlive the Stepper): the
+  /// model of each step holds this process's particles (possibly none) and the whole grid; the
+  /// operators are assembled on the particles' window, every node field the step needs is
+  /// completed by `sums` (m and the active nodes, p, f, each m̃ product of the FMPM loop), the
+  /// periodic FMPM budget takes the largest Courant number over the processes and reactions()
+  /// are the totals over them (each node counted by its owner). The parts that cannot run
+  /// across processes are refused (StepPart::not_distributed), as is XPIC; the exact update's
+  /// options.exact_solver must solve across the processes. A failure on one process stops every
+  /// process at the same step: the others throw FailedElsewhere (errors.hpp). Every call that
+  /// steps or prepares is collective.
+  Stepper(const StepOptions& options, NodeSums& sums);
   ~Stepper();
   /// Takes over the options, solver, preparation and buffers of a Stepper, which may then only
   /// be destroyed or assigned to.
@@ -148,11 +160,15 @@ private:
   bool grid_velocity_step(const Model& model, double dt);
   // prepare_step on the model's configuration, then every part's share (StepPart::prepare).
   void prepare_configuration(const Model& model);
+  // Across processes, before a failure leaves a step or a preparation: the others' pending
+  // collective call throws FailedElsewhere (nothing to do when the failure came from there).
+  void release_others(const std::exception_ptr& failure) const;
   // What the stages of a step of length dt from the model read, before the parts add theirs.
   StepContext stage_context(const Model& model, double dt) const;
   struct Buffers;
   StepOptions opt_;
   std::unique_ptr<MassSolver> solver_;
+  NodeSums* sums_ = nullptr; // across processes: the node sums (null: one process)
   StepPreparation prep_;
   // What prepare() prepared: the model, its clock and its particle storage.
   struct Prepared {

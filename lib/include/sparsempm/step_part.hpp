@@ -91,8 +91,8 @@ public:
   /// prescribed motions, which act through homogeneous conditions). A part refuses only what
   /// switches with the state (contact).
   virtual std::string not_linearised(const Model& /*model*/) const { return {}; }
-  /// Why the linearised step across processes (a NodeSums) cannot take this part on `model`;
-  /// empty when it can.
+  /// Why a step across processes (a NodeSums: the Stepper's and the linearised step's) cannot
+  /// take this part on `model` (its name, as "<name> yet" ends the message); empty when it can.
   virtual std::string not_distributed(const Model& /*model*/) const { return {}; }
   /// The material tangents 𝕂 = ∂σ/∂L of the linearised step, N × d⁴ in stress_tangent's layout,
   /// which start as those of σ(F) of each particle's material (cauchy_stress): a part whose
@@ -152,5 +152,10 @@ void register_step_part(const StepPartEntry& entry);
 /// capability the options leave off is not in the list; a part whose capability the model
 /// lacks, e.g. shocks without Mie–Grüneisen materials, does nothing in its step).
 std::vector<std::unique_ptr<StepPart>> step_parts(const StepOptions& options);
+/// The one rule of a step across processes: throws InputError "<step> across processes does not
+/// take <what> yet" naming the first of `parts` that cannot be distributed on `model`
+/// (StepPart::not_distributed).
+void check_distributed(const std::vector<std::unique_ptr<StepPart>>& parts, const Model& model,
+                       std::string_view step);
 
 } // namespace smpm

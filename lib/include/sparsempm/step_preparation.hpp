@@ -25,6 +25,8 @@
 
 namespace smpm {
 
+class NodeSums; // fmpm.hpp
+
 /// Wall seconds spent in each part of a run, summed over its steps: where a whole run's time
 /// goes (`smpm run --timings`). prepare_step and the parts' preparations (the transport and its
 /// conditions: prepare_heat_transport) fill the first four, Stepper::step the next
@@ -113,7 +115,7 @@ struct StepPreparation {
   const SparseRowMatrix& consistent_capacity();
 
 private:
-  friend void prepare_step(const Model& model, Shape shape, StepPreparation& prep);
+  friend void prepare_step(const Model& model, Shape shape, StepPreparation& prep, NodeSums* sums);
   friend void prepare_heat_transport(const Model& model, StepPreparation& prep,
                                      TransportUpdate update);
   ConsistentMass mt_;
@@ -131,8 +133,16 @@ private:
 /// the preparation (the transport operators of heat transport) is the part's
 /// (StepPart::prepare). Throws NumericalError naming the particle when a particle's support
 /// leaves the grid, and InputError when conditions meet at an angle on a node (FMPM 2026
-/// Table 2).
-void prepare_step(const Model& model, Shape shape, StepPreparation& prep);
+/// Table 2). Across processes (`sums`, fmpm.hpp; prep.ops.node_range Particles): the model holds
+/// this process's particles, `sums` is bound to their window and m, the active nodes and m⁻¹
+/// are those of the totals over the processes (complete_masses), before the conditions are
+/// selected on the active nodes. Collective then.
+void prepare_step(const Model& model, Shape shape, StepPreparation& prep, NodeSums* sums = nullptr);
+
+/// Across processes: binds `sums` to the window of `ops` (this process's particles) and makes
+/// m the total nodal masses over the processes, the active set and m⁻¹ those of the totals by
+/// the serial rule (m^α_i > kMassTolerance max_j Σ_α m^α_j over every node). Collective.
+void complete_masses(NodeSums& sums, Operators& ops);
 
 /// Heat transport's share of a step's preparation (the heat part's, parts/heat.cpp), after
 /// prepare_step, for the Stepper and for those who read the transport operators without one:

@@ -107,6 +107,19 @@ DistributedGrid::DistributedGrid(const Grid& grid, int fields, MPI_Comm comm,
       DMDAGetCorners(dm_, &first[0], &first[1], &first[2], &count[0], &count[1], &count[2]));
   owned_ = grid.window({int(first[0]), int(first[1]), int(first[2])},
                        {int(count[0]), int(count[1]), int(count[2])});
+  // The boxes' first nodes along each axis: the rank of box (a, b, c) is a + P_x (b + P_y c).
+  const PetscInt* boxes[3] = {nullptr, nullptr, nullptr};
+  SMPM_PETSC_CALL(DMDAGetOwnershipRanges(dm_, &boxes[0], &boxes[1], &boxes[2]));
+  PetscInt per_axis[3] = {1, 1, 1};
+  SMPM_PETSC_CALL(DMDAGetInfo(dm_, nullptr, nullptr, nullptr, nullptr, &per_axis[0], &per_axis[1],
+                              &per_axis[2], nullptr, nullptr, nullptr, nullptr, nullptr, nullptr));
+  for (int a = 0; a < grid.dim(); ++a) {
+    int start = 0;
+    for (PetscInt b = 0; b < per_axis[a]; ++b) {
+      box_starts_[size_t(a)].push_back(start);
+      start += int(boxes[a][b]);
+    }
+  }
   OwnedVec x;
   SMPM_PETSC_CALL(DMCreateGlobalVector(dm_, x.out()));
   PetscInt end = 0;
@@ -130,6 +143,16 @@ bool DistributedGrid::owns_cell(const std::array<int, 3>& cell) const {
     if (cell[a] < owned_.first_node(a) || cell[a] >= owned_.first_node(a) + owned_.nodes(a))
       return false;
   return true;
+}
+
+int DistributedGrid::owner_of_cell(const std::array<int, 3>& cell) const {
+  int rank = 0;
+  for (int a = grid_.dim() - 1; a >= 0; --a) {
+    const std::vector<int>& starts = box_starts_[size_t(a)];
+    const auto box = std::upper_bound(starts.begin(), starts.end(), cell[a]) - starts.begin() - 1;
+    rank = rank * int(starts.size()) + int(box);
+  }
+  return rank;
 }
 
 std::array<int, 3> DistributedGrid::cell_of(const double* x) const {

@@ -7,19 +7,26 @@
 
 #include <slepceps.h>
 
+#include <array>
 #include <cmath>
 #include <exception>
 #include <limits>
 #include <map>
 #include <memory>
 #include <optional>
+#include <utility>
 
 namespace smpm::petsc {
 
 struct WindowSums::Impl {
+  Impl(const DistributedGrid& g, std::vector<PetscInt> r, const Grid& w)
+      : grid(g), rows(std::move(r)), window(w) {}
   const DistributedGrid& grid;
   std::vector<PetscInt> rows; // the PETSc row of each window column
-  struct Buffers {            // per number of components
+  Grid window;                // the window bound (bind), and its fields
+  int fields = 0;
+  bool bound = false;
+  struct Buffers { // per number of components
     OwnedVec global, local;
     OwnedScatter scatter;
     std::vector<PetscInt> index;
@@ -56,16 +63,60 @@ struct WindowSums::Impl {
     SMPM_PETSC_CALL(VecRestoreArray(b.local, &a));
     return b;
   }
+
+  // The largest of `flags` over the ranks, the first being whether a rank failed: every
+  // collective call of the sums starts here, so that a rank's fail() meets the others' next
+  // call whichever it is (NodeSums), and they throw.
+  std::array<int, 2> agree(std::array<int, 2> flags) const {
+    std::array<int, 2> any{0, 0};
+    MPI_Allreduce(flags.data(), any.data(), 2, MPI_INT, MPI_MAX, grid.comm());
+    if (any[0] && !flags[0])
+      throw FailedElsewhere("the step failed on another rank");
+    return any;
+  }
 };
 
+WindowSums::WindowSums(const DistributedGrid& grid)
+    : impl_(std::make_unique<Impl>(grid, std::vector<PetscInt>{}, grid.grid())) {}
+
 WindowSums::WindowSums(const DistributedGrid& grid, const DistributedOperators& ops)
-    : impl_(new Impl{grid, ops.rows, {}}) {}
+    : impl_(std::make_unique<Impl>(grid, ops.rows, ops.local.grid)) {
+  impl_->fields = ops.local.fields;
+  impl_->bound = true;
+}
 
 WindowSums::~WindowSums() = default;
+
+void WindowSums::bind(const Grid& window, int fields) {
+  Impl& I = *impl_;
+  if (fields != I.grid.fields())
+    throw UsageError("WindowSums: operators of " + std::to_string(fields) +
+                     " velocity fields on a distributed grid of " +
+                     std::to_string(I.grid.fields()));
+  const bool same = I.bound && window == I.window && fields == I.fields;
+  // Every rank takes its new window's rows (the application ordering) and remakes its scatters
+  // (collective) when any rank's window changed.
+  if (!I.agree({0, same ? 0 : 1})[1])
+    return;
+  I.window = window;
+  I.fields = fields;
+  I.bound = true;
+  I.buffers.clear();
+  const Index ng = window.num_nodes();
+  std::vector<PetscInt> nodes(static_cast<size_t>(ng)), rows;
+  for (Index i = 0; i < ng; ++i)
+    nodes[size_t(i)] = PetscInt(window.whole_node(i));
+  I.rows.resize(size_t(ng * fields));
+  for (int a = 0; a < fields; ++a) {
+    I.grid.petsc_rows(nodes, a, rows);
+    std::copy(rows.begin(), rows.end(), I.rows.begin() + a * ng);
+  }
+}
 
 void WindowSums::add(Field& window) const {
   // The window's partial sums added into the owners' rows by the scatter's reverse (ADD_VALUES),
   // the totals sent back forward: two neighbour exchanges on the scatter's fixed pattern.
+  impl_->agree({0, 0});
   Impl::Buffers& b = impl_->load(window);
   SMPM_PETSC_CALL(VecSet(b.global, 0.0));
   SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, b.global, ADD_VALUES, SCATTER_REVERSE));
@@ -91,9 +142,40 @@ void WindowSums::to_window(Vec global, Field& window) const {
 }
 
 double WindowSums::maximum(double value) const {
+  impl_->agree({0, 0});
   double out = value;
   MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, impl_->grid.comm());
   return out;
+}
+
+void WindowSums::sum(double* values, int count) const {
+  impl_->agree({0, 0});
+  if (count > 0)
+    MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, MPI_SUM, impl_->grid.comm());
+}
+
+void WindowSums::sum_rows(const Field& window, double* totals) const {
+  impl_->agree({0, 0});
+  const Index c = window.cols();
+  if (c == 0)
+    return;
+  Impl::Buffers& b = impl_->load(window);
+  SMPM_PETSC_CALL(VecSet(b.global, 0.0));
+  SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, b.global, INSERT_VALUES, SCATTER_REVERSE));
+  SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.local, b.global, INSERT_VALUES, SCATTER_REVERSE));
+  std::vector<double> owned(size_t(c), 0.0); // this rank's owned rows, column by column
+  PetscInt n = 0;
+  SMPM_PETSC_CALL(VecGetLocalSize(b.global, &n));
+  const PetscScalar* g = nullptr;
+  SMPM_PETSC_CALL(VecGetArrayRead(b.global, &g));
+  for (PetscInt k = 0; k < n; ++k)
+    owned[size_t(k % c)] += g[k];
+  SMPM_PETSC_CALL(VecRestoreArrayRead(b.global, &g));
+  MPI_Allreduce(owned.data(), totals, int(c), MPI_DOUBLE, MPI_SUM, impl_->grid.comm());
+}
+
+void WindowSums::fail() const {
+  impl_->agree({1, 0});
 }
 
 namespace {

@@ -34,6 +34,9 @@ public:
   void prepare(const Model& model, StepPreparation& prep) override {
     prepare_heat_transport(model, prep, update_);
   }
+  std::string not_distributed(const Model&) const override {
+    return "heat transport"; // its node sums (c, τ, K T, c~ products) are one process's
+  }
   void begin(StepStart& s) override {
     Particles& P = s.model.particles;
     TransportContext& t = transport_;

@@ -32,6 +32,12 @@ public:
                          model.particles);
   }
 
+  std::string not_distributed(const Model& model) const override {
+    // Each rank would select the conditions of its own rigid particles' nodes, and move its
+    // particles by partial reactions.
+    return model.rigid.empty() ? "" : "rigid bodies";
+  }
+
 private:
   Field x_start_;                         // the positions at the step's start
   std::vector<Eigen::Vector3d> velocity_; // each rigid motion's velocity at t

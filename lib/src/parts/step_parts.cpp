@@ -57,6 +57,13 @@ std::vector<std::unique_ptr<StepPart>> step_parts(const StepOptions& options) {
   return list;
 }
 
+void check_distributed(const std::vector<std::unique_ptr<StepPart>>& parts, const Model& model,
+                       std::string_view step) {
+  for (const std::unique_ptr<StepPart>& part : parts)
+    if (const std::string why = part->not_distributed(model); !why.empty())
+      throw InputError(std::string(step) + " across processes does not take " + why + " yet");
+}
+
 std::vector<const StepPartEntry*> series_parts(const StepOptions& options) {
   std::vector<const StepPartEntry*> entries;
   for (const StepPartEntry* entry : step_part_entries())

@@ -49,7 +49,7 @@ public:
   /// process's particles. FLIP, PIC, FMPM(k) and the exact update (whose options.exact_solver
   /// must solve across the processes) in single material mode, without moving walls. Collective,
   /// as every perform_op.
-  LinearizedStep(const Model& model, const StepOptions& options, double dt, const NodeSums& sums);
+  LinearizedStep(const Model& model, const StepOptions& options, double dt, NodeSums& sums);
   ~LinearizedStep();
   /// Takes over the frozen configuration and its operators.
   LinearizedStep(LinearizedStep&&) noexcept;
@@ -75,7 +75,7 @@ public:
 private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  void init(const Model& model, const StepOptions& options, double dt, const NodeSums* sums);
+  void init(const Model& model, const StepOptions& options, double dt, NodeSums* sums);
 };
 
 /// How a spectral radius was obtained.

@@ -17,10 +17,12 @@
 /// Results equal the serial library's to round-off, not to the bit: the sums run in another
 /// order across ranks.
 
+#include "sparsempm/diagnostics.hpp"
 #include "sparsempm/fmpm.hpp"
 #include "sparsempm/operators.hpp"
 #include "sparsempm/spectrum.hpp"
 #include "sparsempm/stability.hpp"
+#include "sparsempm/step.hpp"
 #include "sparsempm/step_options.hpp"
 
 #include <petscdmda.h>
@@ -134,6 +136,8 @@ public:
   void petsc_rows(const std::vector<PetscInt>& nodes, int field, std::vector<PetscInt>& rows) const;
   /// Whether this rank owns the cell (i, j, k): it owns the cell's lowest corner node.
   bool owns_cell(const std::array<int, 3>& cell) const;
+  /// The rank that owns the cell (i, j, k) (the DMDA's box of its lowest corner node).
+  int owner_of_cell(const std::array<int, 3>& cell) const;
   /// The cell holding position x (clamped to the grid's cells).
   std::array<int, 3> cell_of(const double* x) const;
   /// The particles of `all` whose cell this rank owns, ascending.
@@ -141,6 +145,7 @@ public:
 
 private:
   Grid grid_, owned_;
+  std::array<std::vector<int>, 3> box_starts_; // each box's first node along each axis, ascending
   int fields_ = 1;
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
@@ -274,22 +279,37 @@ ExactSolveReport exact_solve(const DistributedGrid& grid, const DistributedOpera
 MassSpectrum mass_spectrum(const DistributedGrid& grid, const DistributedOperators& ops,
                            double tol = 1e-12);
 
-/// The node sums of a step across ranks (NodeSums, fmpm.hpp) on the window of `ops` (this rank's
-/// particles' window, DistributedOperators::rows): add() adds every rank's window rows into a
-/// distributed Vec (a VecScatter in reverse with ADD_VALUES) and scatters the totals back to
-/// each window, ghost nodes included (the same scatter forward). A step's operators assembled on
-/// the same particles with the same shape functions have this window. Collective.
+/// The node sums of a step across ranks (NodeSums, fmpm.hpp) on a window of the grid (this rank's
+/// particles' window): add() adds every rank's window rows into a distributed Vec (a VecScatter
+/// in reverse with ADD_VALUES) and scatters the totals back to each window, ghost nodes included
+/// (the same scatter forward). The window is bound by bind() (each step's preparation binds its
+/// operators) or at construction from a DistributedOperators. Every collective call starts with
+/// one MPI_Allreduce of two flags (a rank failed, a window changed), so that a rank's fail()
+/// meets the others' next call. Collective.
 class WindowSums final : public NodeSums {
 public:
+  /// Sums over the ranks of `grid` (which must outlive this), bound to no window yet.
+  explicit WindowSums(const DistributedGrid& grid);
   /// Sums on the window of `ops` over the ranks of `grid` (both must outlive this).
   WindowSums(const DistributedGrid& grid, const DistributedOperators& ops);
   ~WindowSums() override;
   WindowSums(const WindowSums&) = delete;
   WindowSums& operator=(const WindowSums&) = delete;
+  /// Binds the window's PETSc rows (AO(node · fields + α)); its scatters are remade on every rank
+  /// when any rank's window changed. `fields` must be the grid's.
+  void bind(const Grid& window, int fields) override;
   /// The totals over the ranks of every row of `window` (rows: the window's columns).
   void add(Field& window) const override;
   /// The largest of `value` over the ranks.
   double maximum(double value) const override;
+  /// Each of values[0 .. count) summed over the ranks (MPI_Allreduce).
+  void sum(double* values, int count) const override;
+  /// The window's rows inserted into a distributed Vec (the scatter in reverse, inserting: every
+  /// node reaches its owner, held in its window or not), summed per column over the owned rows
+  /// and over the ranks.
+  void sum_rows(const Field& window, double* totals) const override;
+  /// This rank's step failed: the other ranks' pending collective call throws FailedElsewhere.
+  void fail() const override;
   /// A window field of totals (the same on every rank that holds a row) into the owners' rows of
   /// `global`, a node_vector of window.cols() components (the scatter in reverse, inserting).
   void to_global(const Field& window, Vec global) const;
@@ -336,5 +356,63 @@ CriticalCourant critical_courant(const DistributedGrid& grid, const Model& model
                                  const StepOptions& options, double tol = 1e-6, double c_max = 2.0,
                                  double resolution = 1e-3, double hint = 0,
                                  ExactMethod exact = ExactMethod::CgBlockJacobiIcc);
+
+/// This rank's share of a model simulated across ranks: the whole model's grid, materials and
+/// conditions, the particles whose cell this rank owns (DistributedGrid::owns_cell) and the
+/// global id of each (its row in the whole particle set), ascending.
+struct RankModel {
+  Model model;            ///< this rank's particles on the whole grid
+  std::vector<Index> ids; ///< the global id of each of model.particles, ascending
+  Index total = 0;        ///< particles over every rank
+};
+
+/// Each rank's share of `whole` (the same model on every rank). Collective.
+RankModel distribute(const DistributedGrid& grid, const Model& whole);
+
+/// Moves every particle whose cell another rank owns to that rank, with every column it
+/// carries (X, V, F, σ, mass, volume0, material, half-lengths, the parts' columns: energies,
+/// temperatures, heat sources, velocity gradients, the plastic state) and its global id, by
+/// PETSc's DMSwarm (type basic: each leaving particle is one point whose DMSwarm_rank is the
+/// owner of its cell, sent by DMSwarmMigrate to any rank, not only a neighbour); the particles
+/// then stand in ascending global id. `sums` makes the reductions (NodeSums::sum), so that a
+/// failure on another rank is met here. Returns the particles that moved over every rank.
+/// Collective.
+Index migrate(const DistributedGrid& grid, const NodeSums& sums, RankModel& local);
+
+/// The whole particle set on rank 0, in global id order (the serial run's), every column any
+/// rank's particles carry; empty on the other ranks. By a PETSc Vec of the particles' values
+/// in global id order and VecScatterCreateToZero. Collective.
+Particles gather_particles(const DistributedGrid& grid, const RankModel& local);
+
+/// The serial Stepper on each rank's share of a model across ranks (the Stepper's constructor
+/// with NodeSums: the same step, its node sums completed by WindowSums over `grid`), followed by
+/// the migration of the particles that left their rank's cells. FLIP, PIC and FMPM(k) (plain,
+/// blended, periodic, dynamic) with USL, USF, USL+ and USAVG(+), in single material mode, with
+/// the parts that declare themselves distributable (StepPart::not_distributed).
+class DistributedStepper {
+public:
+  /// The step of `options` on `grid` (which must outlive this). Collective.
+  DistributedStepper(const DistributedGrid& grid, const StepOptions& options);
+  /// One step of length dt of every rank's particles, then migrate(); returns the particles that
+  /// moved to another rank. Throws the Stepper's NumericalError on the rank whose step failed
+  /// and FailedElsewhere on the others. Collective.
+  Index step(RankModel& local, double dt);
+  /// Δt = C Δx_min / max(c_wave, max_p |V_p|) over every rank (stable_time_step). Collective.
+  double stable_time_step(const RankModel& local, double courant) const;
+  /// The energies of the whole particle set: sums over the ranks, the largest speed over them.
+  /// Collective.
+  Energies energies(const RankModel& local) const;
+  /// The reactions of the last step, totals over the ranks (Stepper::reactions).
+  const std::vector<double>& reactions() const { return stepper_.reactions(); }
+  /// This rank's Stepper.
+  const Stepper& stepper() const { return stepper_; }
+  /// The node sums of the steps.
+  const WindowSums& sums() const { return sums_; }
+
+private:
+  const DistributedGrid& grid_;
+  WindowSums sums_;
+  Stepper stepper_;
+};
 
 } // namespace smpm::petsc

@@ -1,0 +1,284 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Simulations across ranks (DistributedStepper: the serial Stepper with the node sums over the
+// ranks, and the particles' migration by DMSwarm) against the serial Stepper on the whole model,
+// on 1 to 4 ranks.
+#include "mpi_support.hpp"
+#include "support.hpp"
+
+#include <sparsempm/petsc.hpp>
+#include <sparsempm/problems.hpp>
+
+#include <cmath>
+
+using namespace smpm;
+using smpm::test::all_sum;
+using smpm::test::rank;
+namespace sp = smpm::petsc;
+
+namespace {
+
+// The free-vibrating bar of FMPM 2026 §3.3 at v₀ = 0.4 (displacements of several cells, so that
+// particles cross the boxes' boundaries), fixed at x = 0.
+Model bar_model() {
+  BarSetup setup;
+  setup.v0 = 0.4;
+  return vibrating_bar(setup);
+}
+
+// A free 2D plate (8 × 6 cells of 2 × 2 particles) on a 24 × 16-cell grid, drifting at
+// (1, 0.6) (3 and 1.8 cells in 200 steps at C = 0.2: across x = 8 and 12 and y = 8, the boxes'
+// boundaries on 2 to 4 ranks) with a shear wave v_y = 0.05 sin(0.4 x) on it.
+Model plate_model() {
+  Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {24, 16, 1}));
+  model.materials = {smpm::test::material("plate", MaterialModel::Linear, 100, 0.3)};
+  model.particles = make_block(model.grid, {2, 2, 0}, {10, 8, 0}, {2, 2, 1}, 1.0, 0);
+  model.bcs = BoundaryConditions::none(model.grid);
+  for (Index p = 0; p < model.particles.size(); ++p) {
+    model.particles.V(p, 0) = 1.0;
+    model.particles.V(p, 1) = 0.6 + 0.05 * std::sin(0.4 * model.particles.X(p, 0));
+  }
+  return model;
+}
+
+// max |a − b| / max |b| (0 for two empty or zero fields).
+double relative(const Field& a, const Field& b) {
+  REQUIRE(a.rows() == b.rows());
+  REQUIRE(a.cols() == b.cols());
+  const double scale = b.cwiseAbs().maxCoeff();
+  return scale > 0 ? (a - b).cwiseAbs().maxCoeff() / scale : (a - b).cwiseAbs().maxCoeff();
+}
+
+} // namespace
+
+TEST_CASE("a simulation across ranks equals the serial one", "[petsc][run]") {
+  // 200 steps of the bar (uGIMP) and of the drifting plate (uGIMP; CPDI for FMPM(4)) at C = 0.2
+  // (below C* of every member here), FLIP, PIC, FMPM(8), blended FMPM(8) with USF, periodic
+  // FMPM(4) with USL+, dynamic FMPM(16) (Changes metric, limit 1e-3) with USAVG: X, V, F and σ
+  // gathered in global id order equal the serial run's to 1e-10 of each field's largest entry,
+  // the kinetic and strain energies to 1e-12, the momentum to 1e-12 of its scale, the bar's
+  // reaction at x = 0 to 1e-10 of the largest. The node sums add the ranks' partial sums in
+  // another order than the serial scatter, so the runs agree to round-off only.
+  std::vector<std::pair<std::string, StepOptions>> schemes;
+  StepOptions flip;
+  flip.shape = Shape::GIMP;
+  schemes.push_back({"FLIP", flip});
+  StepOptions pic = flip;
+  pic.velocity = VelocityUpdate::PIC;
+  schemes.push_back({"PIC", pic});
+  StepOptions fmpm8 = flip;
+  fmpm8.velocity = VelocityUpdate::FMPM;
+  fmpm8.fmpm.order = 8;
+  schemes.push_back({"FMPM(8)", fmpm8});
+  StepOptions blended = fmpm8;
+  blended.fmpm.blend_alpha = 0.8;
+  blended.scheme = UpdateScheme::USF;
+  schemes.push_back({"blended FMPM(8) USF", blended});
+  StepOptions periodic = fmpm8;
+  periodic.fmpm.order = 4;
+  periodic.periodic_cx = 2;
+  periodic.scheme = UpdateScheme::USLPlus;
+  schemes.push_back({"periodic FMPM(4) USL+", periodic});
+  StepOptions dynamic = fmpm8;
+  dynamic.fmpm.order = 16;
+  dynamic.fmpm.metric = ConvergenceMetric::Changes;
+  dynamic.fmpm.dynamic_limit = 1e-3;
+  dynamic.scheme = UpdateScheme::USAVG;
+  schemes.push_back({"dynamic FMPM(16) USAVG", dynamic});
+  StepOptions cpdi = fmpm8;
+  cpdi.fmpm.order = 4;
+  cpdi.shape = Shape::CPDI;
+  schemes.push_back({"CPDI FMPM(4)", cpdi});
+
+  const Model bar = bar_model(), plate = plate_model();
+  for (const Model* whole : {&bar, &plate})
+    for (const auto& [name, options] : schemes) {
+      CAPTURE(whole->grid.dim(), name);
+      const sp::DistributedGrid grid(whole->grid);
+      const double dt = stable_time_step(*whole, 0.2);
+      sp::RankModel local = sp::distribute(grid, *whole);
+      sp::DistributedStepper dist(grid, options);
+      CHECK(dist.stable_time_step(local, 0.2) == dt); // the same largest speed
+      long moved = 0;
+      double max_reaction = 0; // the largest |reaction| over the run
+      for (int s = 0; s < 200; ++s) {
+        moved += long(dist.step(local, dt));
+        for (const double r : dist.reactions())
+          max_reaction = std::max(max_reaction, std::abs(r));
+      }
+      const Energies e = dist.energies(local);
+      const Particles gathered = sp::gather_particles(grid, local);
+      if (grid.size() > 1)
+        CHECK(moved > 0); // particles crossed the boxes' boundaries
+      if (rank() != 0)
+        continue;
+      Model serial = *whole;
+      Stepper stepper(options);
+      for (int s = 0; s < 200; ++s)
+        stepper.step(serial, dt);
+      const Energies es = stepper.energies(serial);
+      const Particles& P = serial.particles;
+      CHECK(relative(gathered.X, P.X) < 1e-10);
+      CHECK(relative(gathered.V, P.V) < 1e-10);
+      CHECK(relative(gathered.F, P.F) < 1e-10);
+      CHECK(relative(gathered.stress, P.stress) < 1e-10);
+      CHECK(e.kinetic == smpm::test::approx(es.kinetic, 0, 1e-12));
+      CHECK(e.strain == smpm::test::approx(es.strain, 0, 1e-12));
+      const double p_scale = std::sqrt(2 * es.kinetic * P.mass.sum());
+      CHECK((e.momentum - es.momentum).norm() < 1e-12 * p_scale);
+      if (whole->grid.dim() == 1)
+        CHECK(max_reaction > 0); // the fixed end's
+      const std::vector<double>& r = dist.reactions();
+      REQUIRE(r.size() == stepper.reactions().size());
+      for (size_t c = 0; c < r.size(); ++c)
+        CHECK(std::abs(r[c] - stepper.reactions()[c]) <= 1e-10 * max_reaction);
+    }
+}
+
+TEST_CASE("a moving wall across ranks selects the serial nodes", "[petsc][run]") {
+  // The stretching strip of FMPM 2026 §3.1 (V = ε̇X, ε̇ = 0.025; 960 particles, neo-Hookean),
+  // its right end driven by a wall of depth one cell (s_w = 10(1 + ε̇t), v = 10ε̇,
+  // ∇v = ε̇/(1 + ε̇t)): the wall selects its nodes among the active ones, which across ranks are
+  // those of the total masses, so every rank constrains the serial nodes of its window. 200
+  // steps at C = 0.2 (the right end moves 12 cells, across the boxes' boundaries), FLIP and
+  // FMPM(4): the fields to 1e-10 of their largest entries, the wall's reaction to 1e-10 of its
+  // largest over the run.
+  constexpr double rate = 0.025;
+  Model whole(Grid(2, {-1, -1, 0}, {0.25, 0.25, 1}, {60, 12, 1}));
+  whole.materials = {smpm::test::material("bar", MaterialModel::NeoHookean, 0.75, 0)};
+  whole.particles = make_block(whole.grid, {0, 0, 0}, {10, 1, 0}, {2, 2, 1}, 1.0, 0);
+  whole.particles.V.col(0) = rate * whole.particles.X.col(0);
+  MovingWall wall;
+  wall.position = [](double t) { return 10 * (1 + rate * t); };
+  wall.velocity = [](double) { return 10 * rate; };
+  wall.gradient = [](double t) { return rate / (1 + rate * t); };
+  wall.depth = 0.25;
+  wall.label = "right wall";
+  whole.bcs.add_wall(wall);
+  StepOptions flip;
+  flip.shape = Shape::GIMP;
+  StepOptions fmpm4 = flip;
+  fmpm4.velocity = VelocityUpdate::FMPM;
+  fmpm4.fmpm.order = 4;
+  for (const StepOptions& options : {flip, fmpm4}) {
+    CAPTURE(to_string(options.velocity));
+    const sp::DistributedGrid grid(whole.grid);
+    const double dt = stable_time_step(whole, 0.2);
+    sp::RankModel local = sp::distribute(grid, whole);
+    sp::DistributedStepper dist(grid, options);
+    long moved = 0;
+    double max_reaction = 0;
+    std::vector<double> reactions;
+    for (int s = 0; s < 200; ++s) {
+      moved += long(dist.step(local, dt));
+      reactions.push_back(dist.reactions().at(0));
+      max_reaction = std::max(max_reaction, std::abs(reactions.back()));
+    }
+    const Particles gathered = sp::gather_particles(grid, local);
+    if (grid.size() > 1)
+      CHECK(moved > 0);
+    if (rank() != 0)
+      continue;
+    Model serial = whole;
+    Stepper stepper(options);
+    double worst = 0;
+    for (int s = 0; s < 200; ++s) {
+      stepper.step(serial, dt);
+      worst = std::max(worst, std::abs(stepper.reactions().at(0) - reactions[size_t(s)]));
+    }
+    CHECK(max_reaction > 0);
+    CHECK(worst <= 1e-10 * max_reaction);
+    const Particles& P = serial.particles;
+    CHECK(relative(gathered.X, P.X) < 1e-10);
+    CHECK(relative(gathered.V, P.V) < 1e-10);
+    CHECK(relative(gathered.F, P.F) < 1e-10);
+    CHECK(relative(gathered.stress, P.stress) < 1e-10);
+  }
+}
+
+TEST_CASE("migration moves every column to the owner of the particle's cell", "[petsc][run]") {
+  // Every particle to the last rank's box (the others left without particles), then each jumped
+  // by (7.3, 5.1) cells (across one or more boxes in one migration), then back: each rank ends
+  // with exactly the particles whose cell it owns, in ascending global id, and the gathered set
+  // equals the original in every column (the positions as set).
+  Model whole = plate_model();
+  whole.particles.temperature = Eigen::VectorXd::LinSpaced(whole.particles.size(), 300, 400);
+  whole.particles.plastic_strain = Eigen::VectorXd::LinSpaced(whole.particles.size(), 0, 0.1);
+  for (Index p = 0; p < whole.particles.size(); ++p)
+    whole.particles.F(p, 1) = 0.001 * double(p); // a distinct F per particle
+  const sp::DistributedGrid grid(whole.grid);
+  sp::RankModel local = sp::distribute(grid, whole);
+  const sp::WindowSums sums(grid);
+  auto check_owned = [&](const Field& X_expected) {
+    const Particles& P = local.model.particles;
+    long owned = 0;
+    for (Index p = 0; p < P.size(); ++p)
+      owned += grid.owns_cell(grid.cell_of(P.X.row(p).data())) ? 1 : 0;
+    CHECK(owned == long(P.size()));
+    CHECK(std::is_sorted(local.ids.begin(), local.ids.end()));
+    CHECK(all_sum(long(P.size())) == long(whole.particles.size()));
+    const Particles g = sp::gather_particles(grid, local);
+    if (rank() == 0) {
+      CHECK(relative(g.X, X_expected) == 0);
+      CHECK(relative(g.V, whole.particles.V) == 0);
+      CHECK(relative(g.F, whole.particles.F) == 0);
+      CHECK(g.mass == whole.particles.mass);
+      CHECK(g.volume0 == whole.particles.volume0);
+      CHECK(g.material == whole.particles.material);
+      CHECK(relative(g.half_length, whole.particles.half_length) == 0);
+      REQUIRE(g.temperature.size() == whole.particles.size());
+      CHECK(g.temperature == whole.particles.temperature);
+      CHECK(g.plastic_strain == whole.particles.plastic_strain);
+    }
+  };
+  // All to the cell at the grid's far corner: the last rank's box.
+  Field far = whole.particles.X;
+  far.col(0).setConstant(22.5);
+  far.col(1).setConstant(14.5);
+  for (Index p = 0; p < local.model.particles.size(); ++p)
+    local.model.particles.X.row(p) = far.row(local.ids[size_t(p)]);
+  const long on_last = all_sum(grid.rank() == grid.size() - 1 ? long(local.ids.size()) : 0);
+  const Index moved = sp::migrate(grid, sums, local);
+  CHECK(long(moved) == long(whole.particles.size()) - on_last);
+  if (grid.size() > 1)
+    CHECK((grid.rank() == grid.size() - 1) == (local.model.particles.size() > 0));
+  check_owned(far);
+  // Jumps of several boxes at once.
+  Field jumped = whole.particles.X;
+  jumped.col(0).array() += 7.3;
+  jumped.col(1).array() += 5.1;
+  for (Index p = 0; p < local.model.particles.size(); ++p)
+    local.model.particles.X.row(p) = jumped.row(local.ids[size_t(p)]);
+  sp::migrate(grid, sums, local);
+  check_owned(jumped);
+  for (Index p = 0; p < local.model.particles.size(); ++p)
+    local.model.particles.X.row(p) = whole.particles.X.row(local.ids[size_t(p)]);
+  sp::migrate(grid, sums, local);
+  check_owned(whole.particles.X);
+}
+
+TEST_CASE("a failure on one rank stops every rank at the same step", "[petsc][run]") {
+  // The particle of global id 0 sent off the grid on its rank: that rank's step throws the
+  // serial NumericalError (step 1, its support off the grid), every other rank FailedElsewhere,
+  // and no rank waits.
+  const Model whole = plate_model();
+  const sp::DistributedGrid grid(whole.grid);
+  sp::RankModel local = sp::distribute(grid, whole);
+  StepOptions flip;
+  flip.shape = Shape::GIMP;
+  sp::DistributedStepper dist(grid, flip);
+  const bool holder = !local.ids.empty() && local.ids.front() == 0;
+  if (holder)
+    local.model.particles.X(0, 0) = 1e6;
+  long here = 0, elsewhere = 0;
+  try {
+    dist.step(local, 0.01);
+  } catch (const FailedElsewhere&) {
+    ++elsewhere;
+  } catch (const NumericalError& e) {
+    ++here;
+    CHECK(e.step() == 1);
+  }
+  CHECK(here == (holder ? 1 : 0));
+  CHECK(all_sum(here) == 1);
+  CHECK(all_sum(elsewhere) == grid.size() - 1);
+}
