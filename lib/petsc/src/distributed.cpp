@@ -246,11 +246,8 @@ void add_mass(const DistributedGrid& grid, DistributedOperators& ops) {
 
 // m̃ = Sᵀ diag(M) S: the rank's particles' stencil (assemble_consistent_mass on the window),
 // preallocated by a first insertion into a MATPREALLOCATOR.
-void add_consistent_mass(const DistributedGrid& grid, const Particles& particles,
+void add_consistent_mass(const DistributedGrid& grid, const SparseRowMatrix& local,
                          DistributedOperators& ops) {
-  ConsistentMass local;
-  if (particles.size() > 0)
-    assemble_consistent_mass(ops.local, local);
   const PetscInt n = grid.owned_rows(), N = grid.global_rows();
   std::vector<PetscInt> colidx;
   OwnedMat pre;
@@ -258,14 +255,14 @@ void add_consistent_mass(const DistributedGrid& grid, const Particles& particles
   SMPM_PETSC_CALL(MatSetSizes(pre, n, n, N, N));
   SMPM_PETSC_CALL(MatSetType(pre, MATPREALLOCATOR));
   SMPM_PETSC_CALL(MatSetUp(pre));
-  add_local_rows(grid, ops, local.matrix, pre, colidx);
+  add_local_rows(grid, ops, local, pre, colidx);
   SMPM_PETSC_CALL(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatCreate(grid.comm(), ops.mt.out()));
   SMPM_PETSC_CALL(MatSetSizes(ops.mt, n, n, N, N));
   SMPM_PETSC_CALL(MatSetType(ops.mt, MATAIJ));
   SMPM_PETSC_CALL(MatPreallocatorPreallocate(pre, PETSC_TRUE, ops.mt));
-  add_local_rows(grid, ops, local.matrix, ops.mt, colidx);
+  add_local_rows(grid, ops, local, ops.mt, colidx);
   SMPM_PETSC_CALL(MatAssemblyBegin(ops.mt, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatAssemblyEnd(ops.mt, MAT_FINAL_ASSEMBLY));
   SMPM_PETSC_CALL(MatSetOption(ops.mt, MAT_SYMMETRIC, PETSC_TRUE));
@@ -307,7 +304,21 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
   assemble(grid.grid(), particles, shape, ops.local, fields, fields > 1 ? field : nullptr);
   window_rows(grid, ops);
   add_mass(grid, ops);
-  add_consistent_mass(grid, particles, ops);
+  ConsistentMass local;
+  if (particles.size() > 0)
+    assemble_consistent_mass(ops.local, local);
+  add_consistent_mass(grid, local.matrix, ops);
+  active_rows(grid, ops);
+}
+
+void assemble_step(const DistributedGrid& grid, const WindowSums& sums, const Operators& local,
+                   const SparseRowMatrix& mt, int dim, DistributedOperators& ops) {
+  ops.dim = dim;
+  ops.rows = sums.rows();
+  ops.particles.clear();
+  ops.m = node_vector(grid, 1);
+  sums.to_global(Field(local.m), ops.m); // the window's totals into the owners' rows
+  add_consistent_mass(grid, mt, ops);
   active_rows(grid, ops);
 }
 

@@ -229,8 +229,20 @@ Particles gather_particles(const DistributedGrid& grid, const RankModel& local) 
   return out;
 }
 
-DistributedStepper::DistributedStepper(const DistributedGrid& grid, const StepOptions& options)
-    : grid_(grid), sums_(grid), stepper_(options, sums_) {}
+namespace {
+// The options with the exact update's m̃⁻¹ across the ranks of the step.
+StepOptions across(const StepOptions& options, const DistributedGrid& grid, const WindowSums& sums,
+                   ExactMethod exact) {
+  StepOptions o = options;
+  if (o.velocity == VelocityUpdate::Exact)
+    o.exact_solver = step_mass_solver_factory(grid, sums, exact);
+  return o;
+}
+} // namespace
+
+DistributedStepper::DistributedStepper(const DistributedGrid& grid, const StepOptions& options,
+                                       ExactMethod exact)
+    : grid_(grid), sums_(grid), stepper_(across(options, grid, sums_, exact), sums_) {}
 
 Index DistributedStepper::step(RankModel& local, double dt) {
   stepper_.step(local.model, dt);

@@ -141,6 +141,10 @@ void WindowSums::to_window(Vec global, Field& window) const {
   SMPM_PETSC_CALL(VecRestoreArrayRead(b.local, &t));
 }
 
+const std::vector<PetscInt>& WindowSums::rows() const {
+  return impl_->rows;
+}
+
 double WindowSums::maximum(double value) const {
   impl_->agree({0, 0});
   double out = value;
@@ -209,6 +213,39 @@ private:
   const DistributedOperators& ops_;
   const WindowSums& sums_;
   DistributedExactOptions options_;
+  Index dim_ = 0;
+  OwnedVec p_, v_;
+};
+
+// m̃⁻¹ of the exact update in a simulation across ranks: each solve assembles the step's
+// distributed m̃ from the m̃ the step hands it (the window changes from step to step), then
+// solves as DistributedMassSolver.
+class StepMassSolver final : public MassSolver {
+public:
+  StepMassSolver(const DistributedGrid& grid, const WindowSums& sums,
+                 DistributedExactOptions options)
+      : grid_(grid), sums_(sums), options_(options) {}
+
+  void solve(const Operators& ops, const SparseRowMatrix& mt, const LoopConstraints& bc,
+             const Field& p, Field& v) override {
+    assemble_step(grid_, sums_, ops, mt, int(p.cols()), dops_);
+    if (!p_.get() || dim_ != p.cols()) {
+      dim_ = p.cols();
+      p_ = node_vector(grid_, int(dim_));
+      v_ = node_vector(grid_, int(dim_));
+    }
+    sums_.to_global(p, p_);
+    exact_solve(grid_, dops_, options_, bc, p_, v_);
+    v.resize(p.rows(), p.cols());
+    sums_.to_window(v_, v);
+  }
+  bool across_processes() const override { return true; }
+
+private:
+  const DistributedGrid& grid_;
+  const WindowSums& sums_;
+  DistributedExactOptions options_;
+  DistributedOperators dops_;
   Index dim_ = 0;
   OwnedVec p_, v_;
 };
@@ -393,6 +430,14 @@ MassSolverFactory distributed_mass_solver_factory(const DistributedGrid& grid,
   return [&grid, &ops, &sums, method](const ExactOptions& exact) -> std::unique_ptr<MassSolver> {
     return std::make_unique<DistributedMassSolver>(
         grid, ops, sums, DistributedExactOptions{.exact = exact, .method = method});
+  };
+}
+
+MassSolverFactory step_mass_solver_factory(const DistributedGrid& grid, const WindowSums& sums,
+                                           ExactMethod method) {
+  return [&grid, &sums, method](const ExactOptions& exact) -> std::unique_ptr<MassSolver> {
+    return std::make_unique<StepMassSolver>(
+        grid, sums, DistributedExactOptions{.exact = exact, .method = method});
   };
 }
 

@@ -183,6 +183,16 @@ void assemble(const DistributedGrid& grid, const Particles& particles,
 void assemble(const DistributedGrid& grid, const Particles& all, Shape shape,
               DistributedOperators& ops, const Eigen::VectorXi* field = nullptr);
 
+class WindowSums;
+
+/// The distributed operators of one step across ranks (a Stepper with NodeSums) from each rank's
+/// share: `local`, the step's operators on its window with the total masses (complete_masses),
+/// and `mt`, its particles' m̃ on the window, `sums` bound to that window: m from the window's
+/// totals, m̃ the ranks' m̃ added into an MPIAIJ matrix, the active rows by the serial rule.
+/// ops.local and ops.particles are left empty. Collective.
+void assemble_step(const DistributedGrid& grid, const WindowSums& sums, const Operators& local,
+                   const SparseRowMatrix& mt, int dim, DistributedOperators& ops);
+
 /// A node field of `components` entries per row (rows × components), zero. Collective.
 OwnedVec node_vector(const DistributedGrid& grid, int components);
 /// p = Sᵀ M V of this rank's particles (V: one row per row of ops.local.S) added over ranks.
@@ -315,6 +325,8 @@ public:
   void to_global(const Field& window, Vec global) const;
   /// Every row of the window, ghost rows included, from `global` (the scatter forward).
   void to_window(Vec global, Field& window) const;
+  /// The PETSc row of each column of the bound window.
+  const std::vector<PetscInt>& rows() const;
 
 private:
   struct Impl;
@@ -330,6 +342,12 @@ private:
 MassSolverFactory distributed_mass_solver_factory(const DistributedGrid& grid,
                                                   const DistributedOperators& ops,
                                                   const WindowSums& sums, ExactMethod method);
+/// The exact update's m̃⁻¹ in a simulation across ranks (a Stepper with `sums`, whose window
+/// changes from step to step): each solve assembles the distributed m̃ of the step's operators
+/// (assemble_step, from the m̃ the step hands it) and solves as distributed_mass_solver_factory's
+/// solvers do. The arguments must outlive the solvers. Collective, as every solve.
+MassSolverFactory step_mass_solver_factory(const DistributedGrid& grid, const WindowSums& sums,
+                                           ExactMethod method);
 
 /// ρ(T) of the one-step update linearised at the model's frozen configuration (LinearizedStep,
 /// stability.hpp) across ranks: each rank's LinearizedStep acts on its particles' (V, σ) with the
@@ -386,13 +404,16 @@ Particles gather_particles(const DistributedGrid& grid, const RankModel& local);
 
 /// The serial Stepper on each rank's share of a model across ranks (the Stepper's constructor
 /// with NodeSums: the same step, its node sums completed by WindowSums over `grid`), followed by
-/// the migration of the particles that left their rank's cells. FLIP, PIC and FMPM(k) (plain,
-/// blended, periodic, dynamic) with USL, USF, USL+ and USAVG(+), in single material mode, with
+/// the migration of the particles that left their rank's cells. FLIP, PIC, FMPM(k) (plain,
+/// blended, periodic, dynamic) and the exact update with USL, USF, USL+ and USAVG(+), in single
+/// material mode, with
 /// the parts that declare themselves distributable (StepPart::not_distributed).
 class DistributedStepper {
 public:
-  /// The step of `options` on `grid` (which must outlive this). Collective.
-  DistributedStepper(const DistributedGrid& grid, const StepOptions& options);
+  /// The step of `options` on `grid` (which must outlive this); the exact update solves with
+  /// `exact` (step_mass_solver_factory, in place of options.exact_solver). Collective.
+  DistributedStepper(const DistributedGrid& grid, const StepOptions& options,
+                     ExactMethod exact = ExactMethod::CgBlockJacobiIcc);
   /// One step of length dt of every rank's particles, then migrate(); returns the particles that
   /// moved to another rank. Throws the Stepper's NumericalError on the rank whose step failed
   /// and FailedElsewhere on the others. Collective.
