@@ -14,6 +14,11 @@
 //   Rho/*           one whole ρ(T) evaluation of FMPM(4) on the block of side `arg`: the serial
 //                   spectral_radius (Spectra), and SLEPc's across ranks; SMPM_BENCH_RHO_SIDE adds
 //                   one larger side
+//   Step/*          whole time steps of the 10⁶-particle block (linear hats) and the
+//   40,000-particle
+//                   plate (uGIMP), FLIP and FMPM(4): the serial Stepper on 1 and 2 threads, and
+//                   DistributedStepper (migration included) with the bytes each rank sent and
+//                   received per step (the largest over the ranks)
 // Every benchmark runs a fixed number of iterations: the ranks make the same collective calls.
 #include "problems.hpp"
 
@@ -22,6 +27,7 @@
 #include <sparsempm/petsc.hpp>
 #include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
+#include <sparsempm/threads.hpp>
 
 #include <cstdlib>
 #include <map>
@@ -178,7 +184,61 @@ void BM_Rho_Petsc(benchmark::State& state) {
   state.counters["ranks"] = ranks();
 }
 
+StepOptions step_options(const smpm::bench::Problem& pb, int order) {
+  StepOptions o;
+  o.shape = pb.shape;
+  if (order > 1) {
+    o.velocity = VelocityUpdate::FMPM;
+    o.fmpm.order = order;
+  }
+  return o;
+}
+
+void BM_Step_Serial(benchmark::State& state, const std::string& name, int order, int threads) {
+  smpm::bench::Problem pb = smpm::bench::make_problem(name);
+  const int before = smpm::threads();
+  smpm::set_threads(threads);
+  Stepper stepper(step_options(pb, order));
+  stepper.step(pb.model, pb.dt); // the first step makes the storage the others reuse
+  for (auto _ : state)
+    stepper.step(pb.model, pb.dt);
+  smpm::set_threads(before);
+  state.counters["particles"] = double(pb.model.particles.size());
+}
+
+void BM_Step_Petsc(benchmark::State& state, const std::string& name, int order) {
+  smpm::bench::Problem pb = smpm::bench::make_problem(name);
+  const sp::DistributedGrid grid(pb.model.grid);
+  sp::RankModel local = sp::distribute(grid, pb.model);
+  sp::DistributedStepper stepper(grid, step_options(pb, order));
+  stepper.step(local, pb.dt);
+  const double before = stepper.communicated_bytes();
+  for (auto _ : state)
+    stepper.step(local, pb.dt);
+  double bytes = (stepper.communicated_bytes() - before) / double(state.iterations()), most = 0;
+  MPI_Allreduce(&bytes, &most, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+  state.counters["bytes_per_step"] = most;
+  state.counters["particles"] = double(local.total);
+  state.counters["ranks"] = ranks();
+}
+
 void register_benchmarks() {
+  for (const std::string problem : {"block", "plate"})
+    for (const int order : {1, 4}) {
+      const std::string tail = problem + (order == 1 ? "/FLIP" : "/FMPM4");
+      const int iterations = problem == "block" ? 6 : 40;
+      if (ranks() == 1)
+        for (const int threads : {1, 2})
+          benchmark::RegisterBenchmark(
+              ("Step/serial/" + tail + "/" + std::to_string(threads)).c_str(),
+              [=](benchmark::State& s) { BM_Step_Serial(s, problem, order, threads); })
+              ->Unit(benchmark::kMillisecond)
+              ->Iterations(iterations);
+      benchmark::RegisterBenchmark(("Step/petsc/" + tail).c_str(),
+                                   [=](benchmark::State& s) { BM_Step_Petsc(s, problem, order); })
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(iterations);
+    }
   const bool one = ranks() == 1;
   if (one)
     benchmark::RegisterBenchmark("FmpmPass/serial", BM_FmpmPass_Serial)

@@ -129,24 +129,29 @@ RankModel distribute(const DistributedGrid& grid, const Model& whole) {
   return r;
 }
 
-Index migrate(const DistributedGrid& grid, const NodeSums& sums, RankModel& local) {
+Index migrate(const DistributedGrid& grid, const NodeSums& sums, RankModel& local, double* bytes) {
   Particles& P = local.model.particles;
   const Index n = P.size();
-  std::vector<Index> leaving, staying;
+  std::vector<Index> leaving; // the particles whose cell another rank owns, and that rank
   std::vector<int> target;
   for (Index p = 0; p < n; ++p) {
-    const int owner = grid.owner_of_cell(grid.cell_of(P.X.row(p).data()));
-    if (owner == grid.rank()) {
-      staying.push_back(p);
-    } else {
+    const std::array<int, 3> cell = grid.cell_of(P.X.row(p).data());
+    if (!grid.owns_cell(cell)) {
       leaving.push_back(p);
-      target.push_back(owner);
+      target.push_back(grid.owner_of_cell(cell));
     }
   }
   double moved = double(leaving.size());
   sums.sum(&moved, 1); // meets a failure on another rank first
   if (moved == 0)
     return 0;
+  std::vector<Index> staying;
+  staying.reserve(size_t(n) - leaving.size());
+  for (Index p = 0, k = 0; p < n; ++p)
+    if (k < Index(leaving.size()) && leaving[size_t(k)] == p)
+      ++k;
+    else
+      staying.push_back(p);
   const Layout layout(sums, P);
   const PetscInt bs = PetscInt(layout.width);
   // The leaving particles as the points of a swarm, each with the rank it goes to.
@@ -174,6 +179,8 @@ Index migrate(const DistributedGrid& grid, const NodeSums& sums, RankModel& loca
   SMPM_PETSC_CALL(DMSwarmMigrate(swarm, PETSC_TRUE)); // the sent points leave the swarm
   PetscInt arrived = 0;
   SMPM_PETSC_CALL(DMSwarmGetLocalSize(swarm, &arrived));
+  if (bytes)
+    *bytes += 8.0 * double(layout.width) * double(Index(leaving.size()) + Index(arrived));
   std::vector<Index> ids;
   Particles incoming;
   {
@@ -246,7 +253,7 @@ DistributedStepper::DistributedStepper(const DistributedGrid& grid, const StepOp
 
 Index DistributedStepper::step(RankModel& local, double dt) {
   stepper_.step(local.model, dt);
-  return migrate(grid_, sums_, local);
+  return migrate(grid_, sums_, local, &migrated_bytes_);
 }
 
 double DistributedStepper::stable_time_step(const RankModel& local, double courant) const {

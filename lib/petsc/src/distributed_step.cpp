@@ -7,6 +7,7 @@
 
 #include <slepceps.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <exception>
@@ -32,6 +33,11 @@ struct WindowSums::Impl {
     std::vector<PetscInt> index;
   };
   std::map<Index, Buffers> buffers;
+  Index remote_rows = 0;           // window rows another rank owns
+  mutable double communicated = 0; // bytes this rank sent and received through the scatters
+
+  // One scatter of a field of c components: its remote entries, 8 bytes each.
+  void count(Index c) const { communicated += 8.0 * double(remote_rows * c); }
 
   Buffers& for_components(Index c) {
     Buffers& b = buffers[c];
@@ -111,6 +117,9 @@ void WindowSums::bind(const Grid& window, int fields) {
     I.grid.petsc_rows(nodes, a, rows);
     std::copy(rows.begin(), rows.end(), I.rows.begin() + a * ng);
   }
+  const PetscInt first = I.grid.first_row(), end = first + I.grid.owned_rows();
+  I.remote_rows = Index(std::count_if(I.rows.begin(), I.rows.end(),
+                                      [&](PetscInt r) { return r < first || r >= end; }));
 }
 
 void WindowSums::add(Field& window) const {
@@ -121,6 +130,7 @@ void WindowSums::add(Field& window) const {
   SMPM_PETSC_CALL(VecSet(b.global, 0.0));
   SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, b.global, ADD_VALUES, SCATTER_REVERSE));
   SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.local, b.global, ADD_VALUES, SCATTER_REVERSE));
+  impl_->count(window.cols());
   to_window(b.global, window);
 }
 
@@ -128,6 +138,7 @@ void WindowSums::to_global(const Field& window, Vec global) const {
   Impl::Buffers& b = impl_->load(window);
   SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, global, INSERT_VALUES, SCATTER_REVERSE));
   SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.local, global, INSERT_VALUES, SCATTER_REVERSE));
+  impl_->count(window.cols());
 }
 
 void WindowSums::to_window(Vec global, Field& window) const {
@@ -135,6 +146,7 @@ void WindowSums::to_window(Vec global, Field& window) const {
   Impl::Buffers& b = impl_->for_components(window.cols());
   SMPM_PETSC_CALL(VecScatterBegin(b.scatter, global, b.local, INSERT_VALUES, SCATTER_FORWARD));
   SMPM_PETSC_CALL(VecScatterEnd(b.scatter, global, b.local, INSERT_VALUES, SCATTER_FORWARD));
+  impl_->count(window.cols());
   const PetscScalar* t = nullptr;
   SMPM_PETSC_CALL(VecGetArrayRead(b.local, &t));
   std::copy(t, t + window.size(), window.data());
@@ -143,6 +155,10 @@ void WindowSums::to_window(Vec global, Field& window) const {
 
 const std::vector<PetscInt>& WindowSums::rows() const {
   return impl_->rows;
+}
+
+double WindowSums::communicated_bytes() const {
+  return impl_->communicated;
 }
 
 double WindowSums::maximum(double value) const {
@@ -167,6 +183,7 @@ void WindowSums::sum_rows(const Field& window, double* totals) const {
   SMPM_PETSC_CALL(VecSet(b.global, 0.0));
   SMPM_PETSC_CALL(VecScatterBegin(b.scatter, b.local, b.global, INSERT_VALUES, SCATTER_REVERSE));
   SMPM_PETSC_CALL(VecScatterEnd(b.scatter, b.local, b.global, INSERT_VALUES, SCATTER_REVERSE));
+  impl_->count(c);
   std::vector<double> owned(size_t(c), 0.0); // this rank's owned rows, column by column
   PetscInt n = 0;
   SMPM_PETSC_CALL(VecGetLocalSize(b.global, &n));

@@ -327,6 +327,10 @@ public:
   void to_window(Vec global, Field& window) const;
   /// The PETSc row of each column of the bound window.
   const std::vector<PetscInt>& rows() const;
+  /// The bytes this rank sent and received through the scatters so far: each scatter moves the
+  /// window rows another rank owns (8 bytes per component); the reductions' few values are
+  /// not counted. For the benchmarks' communicated bytes per step.
+  double communicated_bytes() const;
 
 private:
   struct Impl;
@@ -393,9 +397,10 @@ RankModel distribute(const DistributedGrid& grid, const Model& whole);
 /// PETSc's DMSwarm (type basic: each leaving particle is one point whose DMSwarm_rank is the
 /// owner of its cell, sent by DMSwarmMigrate to any rank, not only a neighbour); the particles
 /// then stand in ascending global id. `sums` makes the reductions (NodeSums::sum), so that a
-/// failure on another rank is met here. Returns the particles that moved over every rank.
-/// Collective.
-Index migrate(const DistributedGrid& grid, const NodeSums& sums, RankModel& local);
+/// failure on another rank is met here. Returns the particles that moved over every rank; adds
+/// the bytes of the particles this rank sent and received to `bytes` when given. Collective.
+Index migrate(const DistributedGrid& grid, const NodeSums& sums, RankModel& local,
+              double* bytes = nullptr);
 
 /// The whole particle set on rank 0, in global id order (the serial run's), every column any
 /// rank's particles carry; empty on the other ranks. By a PETSc Vec of the particles' values
@@ -427,6 +432,9 @@ public:
   const std::vector<double>& reactions() const { return stepper_.reactions(); }
   /// This rank's Stepper.
   const Stepper& stepper() const { return stepper_; }
+  /// The bytes this rank sent and received so far: the node sums' scatters
+  /// (WindowSums::communicated_bytes) and the particles it sent and received in migrations.
+  double communicated_bytes() const { return sums_.communicated_bytes() + migrated_bytes_; }
   /// The node sums of the steps.
   const WindowSums& sums() const { return sums_; }
 
@@ -434,6 +442,7 @@ private:
   const DistributedGrid& grid_;
   WindowSums sums_;
   Stepper stepper_;
+  double migrated_bytes_ = 0;
 };
 
 } // namespace smpm::petsc
