@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sparsempm/rigid.hpp"
 
+#include "sparsempm/fmpm.hpp"
+
 #include "sparsempm/errors.hpp"
 #include "sparsempm/operators.hpp"
 
@@ -23,18 +25,21 @@ Eigen::Vector3d RigidMotion::at(double t) const {
   return v;
 }
 
-Eigen::Vector3d rigid_velocity(const RigidMotion& m, const Particles& P, double t) {
+Eigen::Vector3d rigid_velocity(const RigidMotion& m, const Particles& P, double t,
+                               const NodeSums* sums) {
   if (!m.free)
     return m.at(t);
-  Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
-  double mass = 0;
+  double s[4] = {0, 0, 0, 0}; // Σ M_p V_p, Σ M_p
   for (Index p = 0; p < P.size(); ++p)
     if (P.material[p] == m.material) {
-      mass += P.mass[p];
+      s[3] += P.mass[p];
       for (int a = 0; a < P.dim; ++a)
-        momentum[a] += P.mass[p] * P.V(p, a);
+        s[a] += P.mass[p] * P.V(p, a);
     }
-  return mass > 0 ? Eigen::Vector3d(momentum / mass) : Eigen::Vector3d::Zero();
+  if (sums)
+    sums->sum(s, 4);
+  return s[3] > 0 ? Eigen::Vector3d(Eigen::Vector3d(s[0], s[1], s[2]) / s[3])
+                  : Eigen::Vector3d::Zero();
 }
 
 void rigid_fields(const std::vector<RigidMotion>& motions, const std::vector<int>& material_field,
@@ -47,7 +52,7 @@ void rigid_fields(const std::vector<RigidMotion>& motions, const std::vector<int
 
 void add_rigid_conditions(const std::vector<RigidMotion>& motions, const Particles& P,
                           const std::vector<int>& material_field, const Operators& ops, double t,
-                          BoundaryConditions& step) {
+                          BoundaryConditions& step, const NodeSums* sums) {
   if (motions.empty())
     return;
   const int d = ops.grid.dim();
@@ -59,16 +64,29 @@ void add_rigid_conditions(const std::vector<RigidMotion>& motions, const Particl
                           ? material_field[size_t(m.material)]
                           : -1;
     std::vector<Index> nodes;
-    for (Index p = 0; p < S.rows(); ++p) {
-      if (P.material[p] != m.material)
-        continue;
-      for (SparseRowMatrix::InnerIterator it(S, p); it; ++it)
-        if (it.value() > 0)
-          nodes.push_back(ops.grid.whole_node(it.col() % ng)); // conditions name whole nodes
+    if (sums) { // the columns any process's particles of the material reach, summed
+      Field reached = Field::Zero(ops.num_nodes(), 1);
+      for (Index p = 0; p < S.rows(); ++p)
+        if (P.material[p] == m.material)
+          for (SparseRowMatrix::InnerIterator it(S, p); it; ++it)
+            if (it.value() > 0)
+              reached(it.col(), 0) = 1;
+      sums->add(reached);
+      for (Index c = 0; c < reached.rows(); ++c)
+        if (reached(c, 0) > 0)
+          nodes.push_back(ops.grid.whole_node(c % ng));
+    } else {
+      for (Index p = 0; p < S.rows(); ++p) {
+        if (P.material[p] != m.material)
+          continue;
+        for (SparseRowMatrix::InnerIterator it(S, p); it; ++it)
+          if (it.value() > 0)
+            nodes.push_back(ops.grid.whole_node(it.col() % ng)); // conditions name whole nodes
+      }
     }
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-    const Eigen::Vector3d v = rigid_velocity(m, P, t);
+    const Eigen::Vector3d v = rigid_velocity(m, P, t, sums);
     for (int a = 0; a < d; ++a) {
       // A node another condition on the same fields already sets along this axis keeps that
       // condition alone (parallel conditions would add their values): the earlier ones win.
@@ -118,11 +136,11 @@ void check_rigid_motions(const std::vector<RigidMotion>& motions,
 }
 
 void start_rigid_motion(const std::vector<RigidMotion>& motions, double t, Particles& P,
-                        std::vector<Eigen::Vector3d>& velocity) {
+                        std::vector<Eigen::Vector3d>& velocity, const NodeSums* sums) {
   velocity.resize(motions.size());
   for (size_t k = 0; k < motions.size(); ++k) {
     const RigidMotion& m = motions[k];
-    velocity[k] = rigid_velocity(m, P, t);
+    velocity[k] = rigid_velocity(m, P, t, sums);
     if (m.free)
       continue;
     for (Index p = 0; p < P.size(); ++p)

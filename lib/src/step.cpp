@@ -65,8 +65,8 @@ Stepper::Stepper(const StepOptions& options, NodeSums& sums) : Stepper(options) 
                      "XPIC) for now");
   if (solver_ && !solver_->across_processes())
     throw InputError("the exact update across processes needs a MassSolver that solves across "
-                     "them (e.g. sparsempm::petsc's distributed_mass_solver_factory), not "
-                     "one process's");
+                     "them with each step's m~ (sparsempm::petsc's step_mass_solver_factory), "
+                     "not one process's");
   sums_ = &sums;
   prep_.ops.node_range = NodeRange::Particles;
 }
@@ -227,7 +227,9 @@ void Stepper::step(Model& model, double dt) {
   if (sums_) // the same answer on every process: nothing collective has begun
     check_distributed(buf_->parts, model, "a step");
   try {
-    const bool prepared = prepared_.model && prepared_ == prepared_of(model);
+    bool prepared = prepared_.model && prepared_ == prepared_of(model);
+    if (sums_) // every process prepares again when one must (the preparation is collective)
+      prepared = sums_->maximum(prepared ? 0.0 : 1.0) == 0.0;
     prepared_ = {};
     start(model);
     if (!prepared)

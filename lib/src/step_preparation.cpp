@@ -113,8 +113,8 @@ void prepare_step(const Model& model, Shape shape, StepPreparation& s, NodeSums*
   // The conditions of the step on its nodes (the particles' window or the grid, ops.grid); the
   // walls move (FMPM 2026 §3.1).
   model.bcs.step_conditions(s.ops.grid, s.ops.active, model.time, s.bcs);
-  add_rigid_conditions(model.rigid, P, model.contact.material_field, s.ops, model.time,
-                       s.bcs); // rigid.hpp
+  add_rigid_conditions(model.rigid, P, model.contact.material_field, s.ops, model.time, s.bcs,
+                       sums); // rigid.hpp
   clock.lap(s.times.conditions);
   if (nf > 1) {
     rigid_fields(model.rigid, model.contact.material_field, nf, s.contact.rigid);

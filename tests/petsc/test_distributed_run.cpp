@@ -8,6 +8,7 @@
 #include <sparsempm/exact.hpp>
 #include <sparsempm/petsc.hpp>
 #include <sparsempm/problems.hpp>
+#include <sparsempm/rigid.hpp>
 
 #include <cmath>
 
@@ -28,7 +29,10 @@ Model bar_model() {
 
 // A free 2D plate (8 × 6 cells of 2 × 2 particles) on a 24 × 16-cell grid, drifting at
 // (1, 0.6) (3 and 1.8 cells in 200 steps at C = 0.2: across x = 8 and 12 and y = 8, the boxes'
-// boundaries on 2 to 4 ranks) with a shear wave v_y = 0.05 sin(0.4 x) on it.
+// boundaries on 2 to 4 ranks) with a shear wave v_y = 0.05 sin(0.4 x) on it. It starts in the
+// box of rank 0 alone on 2 and 4 ranks (the others step without particles until some arrive).
+// Masses and volumes vary by ±30% from particle to particle, so that a sum taken over the wrong
+// particles does not cancel out.
 Model plate_model() {
   Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {24, 16, 1}));
   model.materials = {smpm::test::material("plate", MaterialModel::Linear, 100, 0.3)};
@@ -37,6 +41,9 @@ Model plate_model() {
   for (Index p = 0; p < model.particles.size(); ++p) {
     model.particles.V(p, 0) = 1.0;
     model.particles.V(p, 1) = 0.6 + 0.05 * std::sin(0.4 * model.particles.X(p, 0));
+    const double f = 1 + 0.3 * std::sin(1.7 * double(p));
+    model.particles.mass[p] *= f;
+    model.particles.volume0[p] *= f;
   }
   return model;
 }
@@ -119,9 +126,17 @@ TEST_CASE("a simulation across ranks equals the serial one", "[petsc][run]") {
       long moved = 0;
       double max_reaction = 0; // the largest |reaction| over the run
       for (int s = 0; s < steps; ++s) {
-        moved += long(dist.step(local, dt));
+        const Index now = dist.step(local, dt);
+        moved += long(now);
         for (const double r : dist.reactions())
           max_reaction = std::max(max_reaction, std::abs(r));
+        if (now > 0) { // after a migration: the energies of the particles each rank now holds
+          const double strain = dist.energies(local).strain;
+          const double here = energies(local.model).strain;
+          double total = 0;
+          MPI_Allreduce(&here, &total, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+          CHECK(strain == smpm::test::approx(total, 0, 1e-14));
+        }
       }
       const Energies e = dist.energies(local);
       const Particles gathered = sp::gather_particles(grid, local);
@@ -135,6 +150,14 @@ TEST_CASE("a simulation across ranks equals the serial one", "[petsc][run]") {
         stepper.step(serial, dt);
       const Energies es = stepper.energies(serial);
       const Particles& P = serial.particles;
+      if (grid.size() == 1 && !exact_update) { // one rank: the serial step, bit for bit
+        CHECK(gathered.X == P.X);
+        CHECK(gathered.V == P.V);
+        CHECK(gathered.F == P.F);
+        CHECK(gathered.stress == P.stress);
+        CHECK(e.kinetic == es.kinetic);
+        CHECK(e.strain == es.strain);
+      }
       CHECK(relative(gathered.X, P.X) < fields);
       CHECK(relative(gathered.V, P.V) < fields);
       CHECK(relative(gathered.F, P.F) < fields);
@@ -213,6 +236,69 @@ TEST_CASE("a moving wall across ranks selects the serial nodes", "[petsc][run]")
   }
 }
 
+TEST_CASE("a rigid piston across ranks drives the serial nodes", "[petsc][run]") {
+  // The bar of FMPM 2026 §3.3 at rest, fixed at x = 0, compressed by a rigid piston of particles
+  // on [40, 44] moving in at 0.2 (10% of the bar's wave speed; tests/lib/test_rigid.cpp's
+  // piston, faster, so that it crosses the boxes' boundaries): the piston's nodes are those its
+  // particles reach on any rank (summed over the ranks), so every rank whose window holds one
+  // sets the piston's velocity there. 300 steps at C = 0.2, FLIP and FMPM(4), CPDI: the fields
+  // to 1e-10 of their largest entries, the piston's reaction (the force it applies) at every
+  // step to 1e-10 of its largest.
+  BarSetup setup;
+  setup.v0 = 0;
+  setup.cells_right = 8;
+  Model whole = vibrating_bar(setup);
+  Material piston;
+  piston.name = "piston";
+  piston.model = MaterialModel::Rigid;
+  piston.density = 0.5;
+  whole.materials.push_back(piston);
+  whole.particles.append(make_block(whole.grid, {40, 0, 0}, {44, 0, 0}, {2, 1, 1}, 0.5, 1));
+  RigidMotion motion;
+  motion.material = 1;
+  motion.velocity[0] = [](double) { return -0.2; };
+  motion.label = "material.piston";
+  whole.rigid.push_back(motion);
+  StepOptions flip;
+  flip.shape = Shape::CPDI;
+  StepOptions fmpm4 = flip;
+  fmpm4.velocity = VelocityUpdate::FMPM;
+  fmpm4.fmpm.order = 4;
+  for (const StepOptions& options : {flip, fmpm4}) {
+    CAPTURE(to_string(options.velocity));
+    const sp::DistributedGrid grid(whole.grid);
+    const double dt = stable_time_step(whole, 0.2);
+    sp::RankModel local = sp::distribute(grid, whole);
+    sp::DistributedStepper dist(grid, options);
+    long moved = 0;
+    std::vector<double> reactions;
+    for (int s = 0; s < 300; ++s) {
+      moved += long(dist.step(local, dt));
+      reactions.push_back(dist.reactions().back()); // the piston's, along x
+    }
+    const Particles gathered = sp::gather_particles(grid, local);
+    if (grid.size() > 1)
+      CHECK(moved > 0);
+    if (rank() != 0)
+      continue;
+    Model serial = whole;
+    Stepper stepper(options);
+    double worst = 0, largest = 0;
+    for (int s = 0; s < 300; ++s) {
+      stepper.step(serial, dt);
+      worst = std::max(worst, std::abs(stepper.reactions().back() - reactions[size_t(s)]));
+      largest = std::max(largest, std::abs(stepper.reactions().back()));
+    }
+    CHECK(largest > 0);
+    CHECK(worst <= 1e-10 * largest);
+    const Particles& P = serial.particles;
+    CHECK(relative(gathered.X, P.X) < 1e-10);
+    CHECK(relative(gathered.V, P.V) < 1e-10);
+    CHECK(relative(gathered.F, P.F) < 1e-10);
+    CHECK(relative(gathered.stress, P.stress) < 1e-10);
+  }
+}
+
 TEST_CASE("migration moves every column to the owner of the particle's cell", "[petsc][run]") {
   // Every particle to the last rank's box (the others left without particles), then each jumped
   // by (7.3, 5.1) cells (across one or more boxes in one migration), then back: each rank ends
@@ -221,8 +307,10 @@ TEST_CASE("migration moves every column to the owner of the particle's cell", "[
   Model whole = plate_model();
   whole.particles.temperature = Eigen::VectorXd::LinSpaced(whole.particles.size(), 300, 400);
   whole.particles.plastic_strain = Eigen::VectorXd::LinSpaced(whole.particles.size(), 0, 0.1);
-  for (Index p = 0; p < whole.particles.size(); ++p)
-    whole.particles.F(p, 1) = 0.001 * double(p); // a distinct F per particle
+  for (Index p = 0; p < whole.particles.size(); ++p) {
+    whole.particles.F(p, 1) = 0.001 * double(p); // a distinct F and σ per particle
+    whole.particles.stress(p, 3) = -0.5 * double(p);
+  }
   const sp::DistributedGrid grid(whole.grid);
   sp::RankModel local = sp::distribute(grid, whole);
   const sp::WindowSums sums(grid);
@@ -239,6 +327,7 @@ TEST_CASE("migration moves every column to the owner of the particle's cell", "[
       CHECK(relative(g.X, X_expected) == 0);
       CHECK(relative(g.V, whole.particles.V) == 0);
       CHECK(relative(g.F, whole.particles.F) == 0);
+      CHECK(relative(g.stress, whole.particles.stress) == 0);
       CHECK(g.mass == whole.particles.mass);
       CHECK(g.volume0 == whole.particles.volume0);
       CHECK(g.material == whole.particles.material);
@@ -272,6 +361,47 @@ TEST_CASE("migration moves every column to the owner of the particle's cell", "[
     local.model.particles.X.row(p) = whole.particles.X.row(local.ids[size_t(p)]);
   sp::migrate(grid, sums, local);
   check_owned(whole.particles.X);
+}
+
+TEST_CASE("energies after particles swap ranks in equal numbers", "[petsc][run]") {
+  // Two 2 × 2-particle blocks in the lowest row of boxes, one crossing the first boundary
+  // between boxes to the right and one to the left in the same step (uniform velocities, so the
+  // grid moves each exactly one cell): the two ranks there swap four particles and keep their
+  // counts. Each particle has its own F (so its own W(F)) and volume: the energies after the
+  // step are those of the particles each rank now holds (1e-14), not of the densities the
+  // stress update stored for the particles it held before.
+  Model whole(Grid(2, {0, 0, 0}, {1, 1, 1}, {24, 16, 1}));
+  whole.materials = {smpm::test::material("soft", MaterialModel::Linear, 1e-4, 0.3)};
+  whole.bcs = BoundaryConditions::none(whole.grid);
+  const sp::DistributedGrid grid(whole.grid);
+  int boundary = 1; // the first cell of the next box along x in the lowest row
+  while (boundary < 23 && grid.owner_of_cell({boundary, 0, 0}) == grid.owner_of_cell({0, 0, 0}))
+    ++boundary;
+  const double xb = boundary;
+  Particles right = make_block(whole.grid, {xb - 1, 1, 0}, {xb, 2, 0}, {2, 2, 1}, 1.0, 0);
+  Particles left = make_block(whole.grid, {xb, 4, 0}, {xb + 1, 5, 0}, {2, 2, 1}, 1.0, 0);
+  right.V.col(0).setConstant(1.0);
+  left.V.col(0).setConstant(-1.0);
+  whole.particles = right;
+  whole.particles.append(left);
+  for (Index p = 0; p < whole.particles.size(); ++p) {
+    whole.particles.F(p, 0) = 1 + 0.01 * double(p % 5);
+    whole.particles.volume0[p] *= 1 + 0.2 * double(p % 3);
+  }
+  StepOptions flip;
+  flip.shape = Shape::Linear;
+  sp::RankModel local = sp::distribute(grid, whole);
+  sp::DistributedStepper dist(grid, flip);
+  const Index moved = dist.step(local, 1.0);
+  if (grid.size() > 1)
+    CHECK(moved == 8);
+  CHECK(all_sum(long(local.model.particles.size())) == 8);
+  const double strain = dist.energies(local).strain;
+  const double here = energies(local.model).strain;
+  double total = 0;
+  MPI_Allreduce(&here, &total, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  CHECK(total > 0);
+  CHECK(strain == smpm::test::approx(total, 0, 1e-14));
 }
 
 TEST_CASE("a failure on one rank stops every rank at the same step", "[petsc][run]") {

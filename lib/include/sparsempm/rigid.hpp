@@ -32,6 +32,8 @@
 
 namespace smpm {
 
+class NodeSums; // fmpm.hpp
+
 struct Operators; // operators.hpp
 
 /// The prescribed motion of the particles of one rigid material (MaterialModel::Rigid).
@@ -49,8 +51,10 @@ struct RigidMotion {
 };
 
 /// The velocity of a motion at time t: v(t) if prescribed; for a free body, the mass-weighted
-/// mean velocity of its particles (they share one).
-Eigen::Vector3d rigid_velocity(const RigidMotion& motion, const Particles& particles, double t);
+/// mean velocity of its particles (they share one), over every process with `sums` (each holding
+/// some of the particles; collective then).
+Eigen::Vector3d rigid_velocity(const RigidMotion& motion, const Particles& particles, double t,
+                               const NodeSums* sums = nullptr);
 
 /// Per velocity field: 1 for the field of a rigid material (ContactNodes::rigid), written into
 /// `rigid` (resized to `fields`); `material_field` is Contact::material_field.
@@ -65,10 +69,12 @@ void rigid_fields(const std::vector<RigidMotion>& motions, const std::vector<int
 /// (`material_field`, Contact::material_field), otherwise on every field. A node that an
 /// earlier condition on the same fields (of the model, or of an earlier rigid material) sets
 /// along the same axis is left to it: parallel conditions would add their values. Checks the
-/// superposition of the conditions (FMPM 2026 §3.1).
+/// superposition of the conditions (FMPM 2026 §3.1). Across processes (`sums`, bound to the
+/// window of `ops`; collective then) a node is the motion's when the particles of any process
+/// reach it, so every process whose window holds the node constrains it.
 void add_rigid_conditions(const std::vector<RigidMotion>& motions, const Particles& particles,
                           const std::vector<int>& material_field, const Operators& ops, double t,
-                          BoundaryConditions& step);
+                          BoundaryConditions& step, const NodeSums* sums = nullptr);
 
 /// Throws InputError naming the material when the rigid motions cannot run with these fields
 /// and options: in multimaterial mode (`material_field` not empty) a rigid material sharing its
@@ -81,9 +87,10 @@ void check_rigid_motions(const std::vector<RigidMotion>& motions,
 
 /// Before a step at t: the particles of each prescribed motion take V = v(t), so that the
 /// extrapolated momenta of a rigid field hold its velocity before its conditions act; each
-/// motion's velocity at t (rigid_velocity) is written to `velocity` (resized).
+/// motion's velocity at t (rigid_velocity, over the processes with `sums`) is written to
+/// `velocity` (resized).
 void start_rigid_motion(const std::vector<RigidMotion>& motions, double t, Particles& particles,
-                        std::vector<Eigen::Vector3d>& velocity);
+                        std::vector<Eigen::Vector3d>& velocity, const NodeSums* sums = nullptr);
 
 /// After a step from t to t + Δt: the particles of each rigid material, from their positions
 /// X_start at t (N × d), to X_start + Δt v_mid with V = v_end, F = I and no stress. Prescribed:

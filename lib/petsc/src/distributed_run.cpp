@@ -253,7 +253,8 @@ DistributedStepper::DistributedStepper(const DistributedGrid& grid, const StepOp
 
 Index DistributedStepper::step(RankModel& local, double dt) {
   stepper_.step(local.model, dt);
-  return migrate(grid_, sums_, local, &migrated_bytes_);
+  moved_ = migrate(grid_, sums_, local, &migrated_bytes_);
+  return moved_;
 }
 
 double DistributedStepper::stable_time_step(const RankModel& local, double courant) const {
@@ -261,7 +262,9 @@ double DistributedStepper::stable_time_step(const RankModel& local, double coura
 }
 
 Energies DistributedStepper::energies(const RankModel& local) const {
-  Energies e = stepper_.energies(local.model);
+  // The step's stored densities W(F_p) are those of the particles before the migration: after
+  // one that moved particles, W is evaluated again (the same bits).
+  Energies e = moved_ == 0 ? stepper_.energies(local.model) : smpm::energies(local.model);
   double s[5] = {e.kinetic, e.strain, e.momentum[0], e.momentum[1], e.momentum[2]};
   sums_.sum(s, 5);
   e.kinetic = s[0];
@@ -270,6 +273,16 @@ Energies DistributedStepper::energies(const RankModel& local) const {
   e.momentum = Eigen::Vector3d(s[2], s[3], s[4]);
   e.max_speed = sums_.maximum(e.max_speed);
   return e;
+}
+
+StepperState DistributedStepper::state() const {
+  StepperState s = stepper_.state();
+  double w[3] = {s.friction_work, s.viscous_work, s.plastic_work};
+  sums_.sum(w, 3);
+  s.friction_work = w[0];
+  s.viscous_work = w[1];
+  s.plastic_work = w[2];
+  return s; // the periodic FMPM budget is the same on every rank
 }
 
 } // namespace smpm::petsc

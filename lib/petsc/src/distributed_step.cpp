@@ -271,6 +271,7 @@ private:
 // callbacks must not throw: the product returns an error code and the caller rethrows this).
 struct ShellContext {
   const LinearizedStep* T = nullptr;
+  const NodeSums* sums = nullptr; // told when this rank's product fails (NodeSums::fail)
   std::exception_ptr failure;
   bool non_finite = false;
 };
@@ -286,11 +287,16 @@ PetscErrorCode shell_mult(Mat a, Vec x, Vec y) {
   PetscErrorCode code = 0;
   try {
     ctx->T->perform_op(xa, ya);
+  } catch (const FailedElsewhere&) { // another rank's product failed, and said so
+    ctx->failure = std::current_exception();
+    code = PETSC_ERR_LIB;
   } catch (const NumericalError&) {
+    ctx->sums->fail(); // the others' pending sum throws FailedElsewhere
     ctx->non_finite = true;
     ctx->failure = std::current_exception();
     code = PETSC_ERR_FP;
   } catch (...) {
+    ctx->sums->fail();
     ctx->failure = std::current_exception();
     code = PETSC_ERR_LIB;
   }
@@ -312,6 +318,7 @@ public:
       options.exact_solver = distributed_mass_solver_factory(grid, ops_, *sums_, exact);
     T_ = std::make_unique<LinearizedStep>(local_, options, dt, *sums_);
     ctx_.T = T_.get();
+    ctx_.sums = sums_.get();
     const PetscInt n = PetscInt(T_->rows());
     SMPM_PETSC_CALL(
         MatCreateShell(grid.comm(), n, n, PETSC_DETERMINE, PETSC_DETERMINE, &ctx_, shell_.out()));

@@ -18,7 +18,7 @@ public:
       return;
     x_start_ = model.particles.X; // the rigid particles' positions at t (storage reused)
     check_rigid_motions(model.rigid, model.contact.material_field, s.options);
-    start_rigid_motion(model.rigid, model.time, s.model.particles, velocity_);
+    start_rigid_motion(model.rigid, model.time, s.model.particles, velocity_, s.context.sums);
   }
   void end(StepEnd& e) override {
     Model& model = e.model;
@@ -30,12 +30,6 @@ public:
     move_rigid_particles(model.rigid, x_start_, model.time, e.dt, velocity_,
                          e.reactions.data() + first, e.condition_mass.data() + first,
                          model.particles);
-  }
-
-  std::string not_distributed(const Model& model) const override {
-    // Each rank would select the conditions of its own rigid particles' nodes, and move its
-    // particles by partial reactions.
-    return model.rigid.empty() ? "" : "rigid bodies";
   }
 
 private:

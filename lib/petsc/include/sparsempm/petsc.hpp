@@ -428,6 +428,9 @@ public:
   /// The energies of the whole particle set: sums over the ranks, the largest speed over them.
   /// Collective.
   Energies energies(const RankModel& local) const;
+  /// The run's tallies (Stepper::state): the work of friction, artificial viscosity and plastic
+  /// flow summed over the ranks. Collective.
+  StepperState state() const;
   /// The reactions of the last step, totals over the ranks (Stepper::reactions).
   const std::vector<double>& reactions() const { return stepper_.reactions(); }
   /// This rank's Stepper.
@@ -443,6 +446,7 @@ private:
   WindowSums sums_;
   Stepper stepper_;
   double migrated_bytes_ = 0;
+  Index moved_ = 0; // the particles the last step's migration moved
 };
 
 } // namespace smpm::petsc
