@@ -405,18 +405,20 @@ TEST_CASE("energies after particles swap ranks in equal numbers", "[petsc][run]"
 }
 
 TEST_CASE("a failure on one rank stops every rank at the same step", "[petsc][run]") {
-  // The particle of global id 0 sent off the grid on its rank: that rank's step throws the
-  // serial NumericalError (step 1, its support off the grid), every other rank FailedElsewhere,
-  // and no rank waits.
-  const Model whole = plate_model();
+  // The bar's last particle (global id 79, on the last rank, where its index is smaller on 2 or
+  // more ranks) sent off the grid: that rank's step throws the serial NumericalError (step 1,
+  // its support off the grid, naming particle 79 as the serial run does), every other rank
+  // FailedElsewhere, and no rank waits.
+  const Model whole = bar_model();
   const sp::DistributedGrid grid(whole.grid);
   sp::RankModel local = sp::distribute(grid, whole);
   StepOptions flip;
   flip.shape = Shape::GIMP;
   sp::DistributedStepper dist(grid, flip);
-  const bool holder = !local.ids.empty() && local.ids.front() == 0;
+  const Index last = whole.particles.size() - 1;
+  const bool holder = !local.ids.empty() && local.ids.back() == last;
   if (holder)
-    local.model.particles.X(0, 0) = 1e6;
+    local.model.particles.X(Index(local.ids.size()) - 1, 0) = 1e6;
   long here = 0, elsewhere = 0;
   try {
     dist.step(local, 0.01);
@@ -425,6 +427,7 @@ TEST_CASE("a failure on one rank stops every rank at the same step", "[petsc][ru
   } catch (const NumericalError& e) {
     ++here;
     CHECK(e.step() == 1);
+    CHECK_THAT(std::string(e.what()), Catch::Contains("particle " + std::to_string(last) + " "));
   }
   CHECK(here == (holder ? 1 : 0));
   CHECK(all_sum(here) == 1);

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <numeric>
+#include <regex>
+#include <string>
 
 namespace smpm::petsc {
 
@@ -251,8 +253,32 @@ DistributedStepper::DistributedStepper(const DistributedGrid& grid, const StepOp
                                        ExactMethod exact)
     : grid_(grid), sums_(grid), stepper_(across(options, grid, sums_, exact), sums_) {}
 
+namespace {
+// A message of the serial library with each "particle <p>" (an index into this rank's share)
+// written as the particle's global id, so that it names the particle as the serial run does.
+std::string global_names(const std::string& what, const std::vector<Index>& ids) {
+  static const std::regex particle(R"(\bparticle (\d+)\b)");
+  std::string out;
+  auto last = what.cbegin();
+  for (std::sregex_iterator m(what.begin(), what.end(), particle), end; m != end; ++m) {
+    out.append(last, (*m)[0].first);
+    const unsigned long p = std::stoul((*m)[1].str());
+    out += "particle " + (p < ids.size() ? std::to_string(ids[p]) : (*m)[1].str());
+    last = (*m)[0].second;
+  }
+  out.append(last, what.cend());
+  return out;
+}
+} // namespace
+
 Index DistributedStepper::step(RankModel& local, double dt) {
-  stepper_.step(local.model, dt);
+  try {
+    stepper_.step(local.model, dt);
+  } catch (const FailedElsewhere&) {
+    throw;
+  } catch (const NumericalError& e) {
+    throw NumericalError(global_names(e.what(), local.ids), e.step());
+  }
   moved_ = migrate(grid_, sums_, local, &migrated_bytes_);
   return moved_;
 }

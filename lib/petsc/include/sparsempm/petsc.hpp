@@ -420,8 +420,9 @@ public:
   DistributedStepper(const DistributedGrid& grid, const StepOptions& options,
                      ExactMethod exact = ExactMethod::CgBlockJacobiIcc);
   /// One step of length dt of every rank's particles, then migrate(); returns the particles that
-  /// moved to another rank. Throws the Stepper's NumericalError on the rank whose step failed
-  /// and FailedElsewhere on the others. Collective.
+  /// moved to another rank. Throws the Stepper's NumericalError on the rank whose step failed,
+  /// each "particle <p>" of its message naming the particle's global id as the serial run
+  /// would, and FailedElsewhere on the others. Collective.
   Index step(RankModel& local, double dt);
   /// Δt = C Δx_min / max(c_wave, max_p |V_p|) over every rank (stable_time_step). Collective.
   double stable_time_step(const RankModel& local, double courant) const;
