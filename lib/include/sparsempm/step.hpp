@@ -65,7 +65,8 @@ public:
   /// Validates the options (validate) and makes the exact solver when one is needed.
   explicit Stepper(const StepOptions& options);
   /// The same step across processes (NodeSums, fmpm.hpp; `sums` must outlive the Stepper): the
-  /// model of each step holds this process's particles (possibly none) and the whole grid; the
+  /// model of each step holds this process's particles (possibly none), its loads naming them
+  /// by their index there (sparsempm::petsc's RankModel does), and the whole grid; the
   /// operators are assembled on the particles' window, every node field the step needs is
   /// completed by `sums` (m and the active nodes, p, f, each m̃ product of the FMPM loop), the
   /// periodic FMPM budget takes the largest Courant number over the processes and reactions()

@@ -120,6 +120,29 @@ void sort_by_id(Particles& P, std::vector<Index>& ids) {
   ids = std::move(sorted);
 }
 
+// The model's loads on this rank's particles: each load of the whole model (local.loads) with
+// the particles this rank holds, by their index here (local.ids is ascending), and their areas.
+void name_loads(RankModel& local) {
+  std::vector<ParticleLoad>& loads = local.model.loads;
+  loads.resize(local.loads.size());
+  for (size_t k = 0; k < loads.size(); ++k) {
+    const ParticleLoad& whole = local.loads[k];
+    ParticleLoad& here = loads[k];
+    here = whole;
+    here.particles.clear();
+    std::vector<double> area;
+    for (size_t j = 0; j < whole.particles.size(); ++j) {
+      const auto at = std::lower_bound(local.ids.begin(), local.ids.end(), whole.particles[j]);
+      if (at == local.ids.end() || *at != whole.particles[j])
+        continue;
+      here.particles.push_back(Index(at - local.ids.begin()));
+      if (whole.area.size() > Index(j))
+        area.push_back(whole.area[Index(j)]);
+    }
+    here.area = Eigen::Map<const Eigen::VectorXd>(area.data(), Index(area.size()));
+  }
+}
+
 } // namespace
 
 RankModel distribute(const DistributedGrid& grid, const Model& whole) {
@@ -128,6 +151,8 @@ RankModel distribute(const DistributedGrid& grid, const Model& whole) {
   r.model = whole;
   r.model.particles = select_particles(whole.particles, r.ids);
   r.total = whole.particles.size();
+  r.loads = whole.loads;
+  name_loads(r);
   return r;
 }
 
@@ -201,6 +226,7 @@ Index migrate(const DistributedGrid& grid, const NodeSums& sums, RankModel& loca
   sort_by_id(kept, kept_ids);
   P = std::move(kept);
   local.ids = std::move(kept_ids);
+  name_loads(local);
   return Index(moved);
 }
 

@@ -19,12 +19,6 @@ public:
     s.context.external = &forces_;
   }
 
-  std::string not_distributed(const Model& model) const override {
-    // A load names its particles by their index in the whole set, which a process's share
-    // renumbers.
-    return model.loads.empty() ? "" : "loads ([[load]])";
-  }
-
 private:
   bool domains_; // CPDI domains: the loaded faces are those of the deformed domains
   ExternalForces forces_;

@@ -381,11 +381,15 @@ CriticalCourant critical_courant(const DistributedGrid& grid, const Model& model
 
 /// This rank's share of a model simulated across ranks: the whole model's grid, materials and
 /// conditions, the particles whose cell this rank owns (DistributedGrid::owns_cell) and the
-/// global id of each (its row in the whole particle set), ascending.
+/// global id of each (its row in the whole particle set), ascending. The model's loads name this
+/// rank's particles (each load's particles that this rank holds, by their index here, with their
+/// areas); `loads` keeps them as the whole model names them, and every migration names them
+/// again.
 struct RankModel {
-  Model model;            ///< this rank's particles on the whole grid
-  std::vector<Index> ids; ///< the global id of each of model.particles, ascending
-  Index total = 0;        ///< particles over every rank
+  Model model;                     ///< this rank's particles on the whole grid
+  std::vector<Index> ids;          ///< the global id of each of model.particles, ascending
+  Index total = 0;                 ///< particles over every rank
+  std::vector<ParticleLoad> loads; ///< the whole model's loads (global ids)
 };
 
 /// Each rank's share of `whole` (the same model on every rank). Collective.
