@@ -25,6 +25,7 @@
 #include <benchmark/benchmark.h>
 #include <sparsempm/exact.hpp>
 #include <sparsempm/petsc.hpp>
+#include <sparsempm/petsc_run.hpp>
 #include <sparsempm/spectrum.hpp>
 #include <sparsempm/stability.hpp>
 #include <sparsempm/threads.hpp>

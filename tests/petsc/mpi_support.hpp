@@ -20,6 +20,13 @@ inline long all_sum(long x) {
   return y;
 }
 
+/// The number of ranks.
+inline int world_size() {
+  int n = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &n);
+  return n;
+}
+
 /// This process's rank.
 inline int rank() {
   int r = 0;

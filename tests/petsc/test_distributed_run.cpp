@@ -1,63 +1,23 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Simulations across ranks (DistributedStepper: the serial Stepper with the node sums over the
 // ranks, and the particles' migration by DMSwarm) against the serial Stepper on the whole model,
-// on 1 to 4 ranks.
-#include "mpi_support.hpp"
-#include "support.hpp"
+// on 1 to 4 ranks: the schemes and velocity updates, a moving wall, a rigid piston, loads.
+#include "run_support.hpp"
 
 #include <sparsempm/exact.hpp>
 #include <sparsempm/loads.hpp>
-#include <sparsempm/petsc.hpp>
-#include <sparsempm/problems.hpp>
+#include <sparsempm/petsc_run.hpp>
 #include <sparsempm/rigid.hpp>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 using namespace smpm;
-using smpm::test::all_sum;
+using smpm::test::bar_model;
+using smpm::test::plate_model;
 using smpm::test::rank;
 namespace sp = smpm::petsc;
-
-namespace {
-
-// The free-vibrating bar of FMPM 2026 §3.3 at v₀ = 0.4 (displacements of several cells, so that
-// particles cross the boxes' boundaries), fixed at x = 0.
-Model bar_model() {
-  BarSetup setup;
-  setup.v0 = 0.4;
-  return vibrating_bar(setup);
-}
-
-// A free 2D plate (8 × 6 cells of 2 × 2 particles) on a 24 × 16-cell grid, drifting at
-// (1, 0.6) (3 and 1.8 cells in 200 steps at C = 0.2: across x = 8 and 12 and y = 8, the boxes'
-// boundaries on 2 to 4 ranks) with a shear wave v_y = 0.05 sin(0.4 x) on it. It starts in the
-// box of rank 0 alone on 2 and 4 ranks (the others step without particles until some arrive).
-// Masses and volumes vary by ±30% from particle to particle, so that a sum taken over the wrong
-// particles does not cancel out.
-Model plate_model() {
-  Model model(Grid(2, {0, 0, 0}, {1, 1, 1}, {24, 16, 1}));
-  model.materials = {smpm::test::material("plate", MaterialModel::Linear, 100, 0.3)};
-  model.particles = make_block(model.grid, {2, 2, 0}, {10, 8, 0}, {2, 2, 1}, 1.0, 0);
-  model.bcs = BoundaryConditions::none(model.grid);
-  for (Index p = 0; p < model.particles.size(); ++p) {
-    model.particles.V(p, 0) = 1.0;
-    model.particles.V(p, 1) = 0.6 + 0.05 * std::sin(0.4 * model.particles.X(p, 0));
-    const double f = 1 + 0.3 * std::sin(1.7 * double(p));
-    model.particles.mass[p] *= f;
-    model.particles.volume0[p] *= f;
-  }
-  return model;
-}
-
-// max |a − b| / max |b| (0 for two empty or zero fields).
-double relative(const Field& a, const Field& b) {
-  REQUIRE(a.rows() == b.rows());
-  REQUIRE(a.cols() == b.cols());
-  const double scale = b.cwiseAbs().maxCoeff();
-  return scale > 0 ? (a - b).cwiseAbs().maxCoeff() / scale : (a - b).cwiseAbs().maxCoeff();
-}
-
-} // namespace
 
 TEST_CASE("a simulation across ranks equals the serial one", "[petsc][run]") {
   // 200 steps of the bar (uGIMP) and of the drifting plate (uGIMP; CPDI for FMPM(4)) at C = 0.2
@@ -114,65 +74,45 @@ TEST_CASE("a simulation across ranks equals the serial one", "[petsc][run]") {
   for (const Model* whole : {&bar, &plate})
     for (const auto& [name, options] : schemes) {
       CAPTURE(whole->grid.dim(), name);
-      const sp::DistributedGrid grid(whole->grid);
       // The exact inverse's C* on the bar is below 0.2 (0.1616 by simulation): it runs at 0.1.
       const bool exact_update = options.velocity == VelocityUpdate::Exact;
       const double courant = exact_update ? 0.1 : 0.2;
       const int steps = exact_update ? 400 : 200;
       const double fields = exact_update ? 1e-9 : 1e-10, sums = exact_update ? 1e-10 : 1e-12;
       const double dt = stable_time_step(*whole, courant);
-      sp::RankModel local = sp::distribute(grid, *whole);
-      sp::DistributedStepper dist(grid, options);
-      CHECK(dist.stable_time_step(local, courant) == dt); // the same largest speed
-      long moved = 0;
-      double max_reaction = 0; // the largest |reaction| over the run
-      for (int s = 0; s < steps; ++s) {
-        const Index now = dist.step(local, dt);
-        moved += long(now);
-        for (const double r : dist.reactions())
-          max_reaction = std::max(max_reaction, std::abs(r));
-        if (now > 0) { // after a migration: the energies of the particles each rank now holds
-          const double strain = dist.energies(local).strain;
-          const double here = energies(local.model).strain;
-          double total = 0;
-          MPI_Allreduce(&here, &total, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
-          CHECK(strain == smpm::test::approx(total, 0, 1e-14));
-        }
+      {
+        const sp::DistributedGrid grid(whole->grid);
+        const sp::RankModel local = sp::distribute(grid, *whole);
+        const sp::DistributedStepper dist(grid, options);
+        CHECK(dist.stable_time_step(local, courant) == dt); // the same largest speed
       }
-      const Energies e = dist.energies(local);
-      const Particles gathered = sp::gather_particles(grid, local);
-      if (grid.size() > 1)
-        CHECK(moved > 0); // particles crossed the boxes' boundaries
-      if (rank() != 0)
-        continue;
-      Model serial = *whole;
-      Stepper stepper(options);
-      for (int s = 0; s < steps; ++s)
-        stepper.step(serial, dt);
-      const Energies es = stepper.energies(serial);
-      const Particles& P = serial.particles;
-      if (grid.size() == 1 && !exact_update) { // one rank: the serial step, bit for bit
-        CHECK(gathered.X == P.X);
-        CHECK(gathered.V == P.V);
-        CHECK(gathered.F == P.F);
-        CHECK(gathered.stress == P.stress);
-        CHECK(e.kinetic == es.kinetic);
-        CHECK(e.strain == es.strain);
+      const test::Compared c =
+          test::run_both(*whole, options, steps, dt,
+                         [](sp::DistributedStepper& d, sp::RankModel& local, Index moved) {
+                           if (moved == 0)
+                             return;
+                           // after a migration: the energies of the particles each rank now holds
+                           const double strain = d.energies(local).strain;
+                           const double here = energies(local.model).strain;
+                           double total = 0;
+                           MPI_Allreduce(&here, &total, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+                           CHECK(strain == test::approx(total, 0, 1e-14));
+                         });
+      if (test::world_size() > 1)
+        CHECK(c.moved > 0); // particles crossed the boxes' boundaries
+      test::check_fields(c, fields);
+      test::check_energies(c, sums);
+      if (whole->grid.dim() == 1) // the fixed end's reaction
+        test::check_reactions(c, fields);
+      if (rank() == 0 && test::world_size() == 1 && !exact_update) { // the serial step's bits
+        const Particles& P = c.serial.particles;
+        CHECK(c.gathered.X == P.X);
+        CHECK(c.gathered.V == P.V);
+        CHECK(c.gathered.F == P.F);
+        CHECK(c.gathered.stress == P.stress);
+        CHECK(c.energies.kinetic == c.serial_energies.kinetic);
+        CHECK(c.energies.strain == c.serial_energies.strain);
       }
-      CHECK(relative(gathered.X, P.X) < fields);
-      CHECK(relative(gathered.V, P.V) < fields);
-      CHECK(relative(gathered.F, P.F) < fields);
-      CHECK(relative(gathered.stress, P.stress) < fields);
-      CHECK(e.kinetic == smpm::test::approx(es.kinetic, 0, sums));
-      CHECK(e.strain == smpm::test::approx(es.strain, 0, sums));
-      const double p_scale = std::sqrt(2 * es.kinetic * P.mass.sum());
-      CHECK((e.momentum - es.momentum).norm() < sums * p_scale);
-      if (whole->grid.dim() == 1)
-        CHECK(max_reaction > 0); // the fixed end's
-      const std::vector<double>& r = dist.reactions();
-      REQUIRE(r.size() == stepper.reactions().size());
-      for (size_t c = 0; c < r.size(); ++c)
-        CHECK(std::abs(r[c] - stepper.reactions()[c]) <= fields * max_reaction);
     }
 }
 
@@ -203,37 +143,11 @@ TEST_CASE("a moving wall across ranks selects the serial nodes", "[petsc][run]")
   fmpm4.fmpm.order = 4;
   for (const StepOptions& options : {flip, fmpm4}) {
     CAPTURE(to_string(options.velocity));
-    const sp::DistributedGrid grid(whole.grid);
-    const double dt = stable_time_step(whole, 0.2);
-    sp::RankModel local = sp::distribute(grid, whole);
-    sp::DistributedStepper dist(grid, options);
-    long moved = 0;
-    double max_reaction = 0;
-    std::vector<double> reactions;
-    for (int s = 0; s < 200; ++s) {
-      moved += long(dist.step(local, dt));
-      reactions.push_back(dist.reactions().at(0));
-      max_reaction = std::max(max_reaction, std::abs(reactions.back()));
-    }
-    const Particles gathered = sp::gather_particles(grid, local);
-    if (grid.size() > 1)
-      CHECK(moved > 0);
-    if (rank() != 0)
-      continue;
-    Model serial = whole;
-    Stepper stepper(options);
-    double worst = 0;
-    for (int s = 0; s < 200; ++s) {
-      stepper.step(serial, dt);
-      worst = std::max(worst, std::abs(stepper.reactions().at(0) - reactions[size_t(s)]));
-    }
-    CHECK(max_reaction > 0);
-    CHECK(worst <= 1e-10 * max_reaction);
-    const Particles& P = serial.particles;
-    CHECK(relative(gathered.X, P.X) < 1e-10);
-    CHECK(relative(gathered.V, P.V) < 1e-10);
-    CHECK(relative(gathered.F, P.F) < 1e-10);
-    CHECK(relative(gathered.stress, P.stress) < 1e-10);
+    const test::Compared c = test::run_both(whole, options, 200, stable_time_step(whole, 0.2));
+    if (test::world_size() > 1)
+      CHECK(c.moved > 0);
+    test::check_reactions(c, 1e-10);
+    test::check_fields(c, 1e-10);
   }
 }
 
@@ -267,36 +181,11 @@ TEST_CASE("a rigid piston across ranks drives the serial nodes", "[petsc][run]")
   fmpm4.fmpm.order = 4;
   for (const StepOptions& options : {flip, fmpm4}) {
     CAPTURE(to_string(options.velocity));
-    const sp::DistributedGrid grid(whole.grid);
-    const double dt = stable_time_step(whole, 0.2);
-    sp::RankModel local = sp::distribute(grid, whole);
-    sp::DistributedStepper dist(grid, options);
-    long moved = 0;
-    std::vector<double> reactions;
-    for (int s = 0; s < 300; ++s) {
-      moved += long(dist.step(local, dt));
-      reactions.push_back(dist.reactions().back()); // the piston's, along x
-    }
-    const Particles gathered = sp::gather_particles(grid, local);
-    if (grid.size() > 1)
-      CHECK(moved > 0);
-    if (rank() != 0)
-      continue;
-    Model serial = whole;
-    Stepper stepper(options);
-    double worst = 0, largest = 0;
-    for (int s = 0; s < 300; ++s) {
-      stepper.step(serial, dt);
-      worst = std::max(worst, std::abs(stepper.reactions().back() - reactions[size_t(s)]));
-      largest = std::max(largest, std::abs(stepper.reactions().back()));
-    }
-    CHECK(largest > 0);
-    CHECK(worst <= 1e-10 * largest);
-    const Particles& P = serial.particles;
-    CHECK(relative(gathered.X, P.X) < 1e-10);
-    CHECK(relative(gathered.V, P.V) < 1e-10);
-    CHECK(relative(gathered.F, P.F) < 1e-10);
-    CHECK(relative(gathered.stress, P.stress) < 1e-10);
+    const test::Compared c = test::run_both(whole, options, 300, stable_time_step(whole, 0.2));
+    if (test::world_size() > 1)
+      CHECK(c.moved > 0);
+    test::check_reactions(c, 1e-10);
+    test::check_fields(c, 1e-10);
   }
 }
 
@@ -348,168 +237,13 @@ TEST_CASE("loads across ranks follow their particles", "[petsc][run]") {
   fmpm4.fmpm.order = 4;
   for (const StepOptions& options : {flip, fmpm4}) {
     CAPTURE(to_string(options.velocity));
-    const sp::DistributedGrid grid(whole.grid);
-    const double dt = stable_time_step(whole, 0.2);
-    sp::RankModel local = sp::distribute(grid, whole);
-    sp::DistributedStepper dist(grid, options);
-    long moved = 0;
-    for (int s = 0; s < 200; ++s)
-      moved += long(dist.step(local, dt));
-    const Energies e = dist.energies(local);
-    const Particles gathered = sp::gather_particles(grid, local);
-    if (grid.size() > 1)
-      CHECK(moved > 0);
-    if (rank() != 0)
-      continue;
-    Model serial = whole;
-    Stepper stepper(options);
-    for (int s = 0; s < 200; ++s)
-      stepper.step(serial, dt);
-    const Energies es = stepper.energies(serial);
-    const Particles& P = serial.particles;
-    CHECK(relative(gathered.X, P.X) < 1e-10);
-    CHECK(relative(gathered.V, P.V) < 1e-10);
-    CHECK(relative(gathered.F, P.F) < 1e-10);
-    CHECK(relative(gathered.stress, P.stress) < 1e-10);
-    CHECK(e.kinetic == smpm::test::approx(es.kinetic, 0, 1e-12));
-    CHECK(e.strain == smpm::test::approx(es.strain, 0, 1e-12));
-    CHECK((e.momentum - es.momentum).norm() < 1e-12 * es.momentum.norm());
-    // the loads' impulse: the body force's alone is about −0.2 × 12 × 3.4 along y
-    CHECK(std::abs(es.momentum[1] - whole.particles.mass.dot(whole.particles.V.col(1))) > 1);
+    const test::Compared c = test::run_both(whole, options, 200, stable_time_step(whole, 0.2));
+    if (test::world_size() > 1)
+      CHECK(c.moved > 0);
+    test::check_fields(c, 1e-10);
+    test::check_energies(c, 1e-12);
+    if (rank() == 0) // the loads' impulse: the body force's alone is about −0.2 × 12 × 3.4 along y
+      CHECK(std::abs(c.serial_energies.momentum[1] -
+                     whole.particles.mass.dot(whole.particles.V.col(1))) > 1);
   }
-}
-
-TEST_CASE("migration moves every column to the owner of the particle's cell", "[petsc][run]") {
-  // Every particle to the last rank's box (the others left without particles), then each jumped
-  // by (7.3, 5.1) cells (across one or more boxes in one migration), then back: each rank ends
-  // with exactly the particles whose cell it owns, in ascending global id, and the gathered set
-  // equals the original in every column (the positions as set).
-  Model whole = plate_model();
-  whole.particles.temperature = Eigen::VectorXd::LinSpaced(whole.particles.size(), 300, 400);
-  whole.particles.plastic_strain = Eigen::VectorXd::LinSpaced(whole.particles.size(), 0, 0.1);
-  for (Index p = 0; p < whole.particles.size(); ++p) {
-    whole.particles.F(p, 1) = 0.001 * double(p); // a distinct F and σ per particle
-    whole.particles.stress(p, 3) = -0.5 * double(p);
-  }
-  const sp::DistributedGrid grid(whole.grid);
-  sp::RankModel local = sp::distribute(grid, whole);
-  const sp::WindowSums sums(grid);
-  auto check_owned = [&](const Field& X_expected) {
-    const Particles& P = local.model.particles;
-    long owned = 0;
-    for (Index p = 0; p < P.size(); ++p)
-      owned += grid.owns_cell(grid.cell_of(P.X.row(p).data())) ? 1 : 0;
-    CHECK(owned == long(P.size()));
-    CHECK(std::is_sorted(local.ids.begin(), local.ids.end()));
-    CHECK(all_sum(long(P.size())) == long(whole.particles.size()));
-    const Particles g = sp::gather_particles(grid, local);
-    if (rank() == 0) {
-      CHECK(relative(g.X, X_expected) == 0);
-      CHECK(relative(g.V, whole.particles.V) == 0);
-      CHECK(relative(g.F, whole.particles.F) == 0);
-      CHECK(relative(g.stress, whole.particles.stress) == 0);
-      CHECK(g.mass == whole.particles.mass);
-      CHECK(g.volume0 == whole.particles.volume0);
-      CHECK(g.material == whole.particles.material);
-      CHECK(relative(g.half_length, whole.particles.half_length) == 0);
-      REQUIRE(g.temperature.size() == whole.particles.size());
-      CHECK(g.temperature == whole.particles.temperature);
-      CHECK(g.plastic_strain == whole.particles.plastic_strain);
-    }
-  };
-  // All to the cell at the grid's far corner: the last rank's box.
-  Field far = whole.particles.X;
-  far.col(0).setConstant(22.5);
-  far.col(1).setConstant(14.5);
-  for (Index p = 0; p < local.model.particles.size(); ++p)
-    local.model.particles.X.row(p) = far.row(local.ids[size_t(p)]);
-  const long on_last = all_sum(grid.rank() == grid.size() - 1 ? long(local.ids.size()) : 0);
-  const Index moved = sp::migrate(grid, sums, local);
-  CHECK(long(moved) == long(whole.particles.size()) - on_last);
-  if (grid.size() > 1)
-    CHECK((grid.rank() == grid.size() - 1) == (local.model.particles.size() > 0));
-  check_owned(far);
-  // Jumps of several boxes at once.
-  Field jumped = whole.particles.X;
-  jumped.col(0).array() += 7.3;
-  jumped.col(1).array() += 5.1;
-  for (Index p = 0; p < local.model.particles.size(); ++p)
-    local.model.particles.X.row(p) = jumped.row(local.ids[size_t(p)]);
-  sp::migrate(grid, sums, local);
-  check_owned(jumped);
-  for (Index p = 0; p < local.model.particles.size(); ++p)
-    local.model.particles.X.row(p) = whole.particles.X.row(local.ids[size_t(p)]);
-  sp::migrate(grid, sums, local);
-  check_owned(whole.particles.X);
-}
-
-TEST_CASE("energies after particles swap ranks in equal numbers", "[petsc][run]") {
-  // Two 2 × 2-particle blocks in the lowest row of boxes, one crossing the first boundary
-  // between boxes to the right and one to the left in the same step (uniform velocities, so the
-  // grid moves each exactly one cell): the two ranks there swap four particles and keep their
-  // counts. Each particle has its own F (so its own W(F)) and volume: the energies after the
-  // step are those of the particles each rank now holds (1e-14), not of the densities the
-  // stress update stored for the particles it held before.
-  Model whole(Grid(2, {0, 0, 0}, {1, 1, 1}, {24, 16, 1}));
-  whole.materials = {smpm::test::material("soft", MaterialModel::Linear, 1e-4, 0.3)};
-  whole.bcs = BoundaryConditions::none(whole.grid);
-  const sp::DistributedGrid grid(whole.grid);
-  int boundary = 1; // the first cell of the next box along x in the lowest row
-  while (boundary < 23 && grid.owner_of_cell({boundary, 0, 0}) == grid.owner_of_cell({0, 0, 0}))
-    ++boundary;
-  const double xb = boundary;
-  Particles right = make_block(whole.grid, {xb - 1, 1, 0}, {xb, 2, 0}, {2, 2, 1}, 1.0, 0);
-  Particles left = make_block(whole.grid, {xb, 4, 0}, {xb + 1, 5, 0}, {2, 2, 1}, 1.0, 0);
-  right.V.col(0).setConstant(1.0);
-  left.V.col(0).setConstant(-1.0);
-  whole.particles = right;
-  whole.particles.append(left);
-  for (Index p = 0; p < whole.particles.size(); ++p) {
-    whole.particles.F(p, 0) = 1 + 0.01 * double(p % 5);
-    whole.particles.volume0[p] *= 1 + 0.2 * double(p % 3);
-  }
-  StepOptions flip;
-  flip.shape = Shape::Linear;
-  sp::RankModel local = sp::distribute(grid, whole);
-  sp::DistributedStepper dist(grid, flip);
-  const Index moved = dist.step(local, 1.0);
-  if (grid.size() > 1)
-    CHECK(moved == 8);
-  CHECK(all_sum(long(local.model.particles.size())) == 8);
-  const double strain = dist.energies(local).strain;
-  const double here = energies(local.model).strain;
-  double total = 0;
-  MPI_Allreduce(&here, &total, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
-  CHECK(total > 0);
-  CHECK(strain == smpm::test::approx(total, 0, 1e-14));
-}
-
-TEST_CASE("a failure on one rank stops every rank at the same step", "[petsc][run]") {
-  // The bar's last particle (global id 79, on the last rank, where its index is smaller on 2 or
-  // more ranks) sent off the grid: that rank's step throws the serial NumericalError (step 1,
-  // its support off the grid, naming particle 79 as the serial run does), every other rank
-  // FailedElsewhere, and no rank waits.
-  const Model whole = bar_model();
-  const sp::DistributedGrid grid(whole.grid);
-  sp::RankModel local = sp::distribute(grid, whole);
-  StepOptions flip;
-  flip.shape = Shape::GIMP;
-  sp::DistributedStepper dist(grid, flip);
-  const Index last = whole.particles.size() - 1;
-  const bool holder = !local.ids.empty() && local.ids.back() == last;
-  if (holder)
-    local.model.particles.X(Index(local.ids.size()) - 1, 0) = 1e6;
-  long here = 0, elsewhere = 0;
-  try {
-    dist.step(local, 0.01);
-  } catch (const FailedElsewhere&) {
-    ++elsewhere;
-  } catch (const NumericalError& e) {
-    ++here;
-    CHECK(e.step() == 1);
-    CHECK_THAT(std::string(e.what()), Catch::Contains("particle " + std::to_string(last) + " "));
-  }
-  CHECK(here == (holder ? 1 : 0));
-  CHECK(all_sum(here) == 1);
-  CHECK(all_sum(elsewhere) == grid.size() - 1);
 }

@@ -314,9 +314,11 @@ updated_velocity(const Operators& ops, const SparseRowMatrix* mt, const FmpmOpti
                  Field* reaction, Field& v, FmpmWorkspace& w,
                  const std::function<void(int ell, Field& dv, const Field& v)>& contact = {});
 
-/// The convergence metric of FMPM 2026 §3.4 for an increment dv and the evolving v⁺(ℓ).
+/// The convergence metric of FMPM 2026 §3.4 for an increment dv and the evolving v⁺(ℓ); across
+/// processes (`sums`, collective then) the sums over every node once (NodeSums::sum_rows), with
+/// ε from the largest |v⁺_i| over the processes, so that every process stops at the same pass.
 double convergence_metric(ConvergenceMetric metric, const Field& dv, const Field& v,
-                          const Operators& ops);
+                          const Operators& ops, const NodeSums* sums = nullptr);
 
 /// The sums of a convergence metric over some of the nodes (convergence_sums): a metric over
 /// nodes held in parts (the ranks of the distributed component) adds the parts' sums.

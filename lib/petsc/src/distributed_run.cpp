@@ -2,7 +2,7 @@
 // Simulations across ranks: each rank's share of the particles, the serial Stepper on it with the
 // node sums over the ranks (WindowSums), the particles' migration by PETSc's DMSwarm and the
 // whole particle set gathered in global id order.
-#include "sparsempm/petsc.hpp"
+#include "sparsempm/petsc_run.hpp"
 
 #include "sparsempm/errors.hpp"
 #include "sparsempm/particle_columns.hpp"
